@@ -1,0 +1,33 @@
+# SPDX-FileCopyrightText: 2026 selfcol authors
+# SPDX-License-Identifier: MIT
+# Thin wrapper over CMake/CTest. `make run`: build and run the demo on the
+# bundled mesh; `make test`: build and pass the tests. Both install missing
+# Debian packages first (make deps).
+BUILD ?= build
+CMAKE_FLAGS ?=
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet-extras-dev \
+                libeigen3-dev libcmocka-dev
+VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
+
+.PHONY: all build deps test run clean version
+all: build
+
+deps:
+	@sh tools/deps.sh $(DEB_PACKAGES)
+
+build: deps
+	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: build
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+run: build
+	$(BUILD)/tools/selfcol-demo tests/data/folded_ribbon.obj
+
+version:
+	@echo $(VERSION)
+
+clean:
+	rm -rf $(BUILD)

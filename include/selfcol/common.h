@@ -1,0 +1,88 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+/**
+ * @file common.h
+ * @defgroup common Common definitions
+ * Export macros, status codes, allocator hooks and plain value types shared by
+ * every selfcol header.
+ * @{
+ */
+#ifndef SELFCOL_COMMON_H
+#define SELFCOL_COMMON_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(SELFCOL_STATIC)
+#define SELFCOL_API
+#elif defined(_WIN32) && defined(SELFCOL_BUILDING)
+#define SELFCOL_API __declspec(dllexport)
+#elif defined(_WIN32)
+#define SELFCOL_API __declspec(dllimport)
+#elif defined(__GNUC__) && __GNUC__ >= 4
+#define SELFCOL_API __attribute__((visibility("default")))
+#else
+#define SELFCOL_API
+#endif
+
+#ifdef __cplusplus
+#define SELFCOL_BEGIN_DECLS extern "C" {
+#define SELFCOL_END_DECLS }
+#else
+#define SELFCOL_BEGIN_DECLS
+#define SELFCOL_END_DECLS
+#endif
+
+#if defined(__GNUC__) || defined(__clang__)
+#define SELFCOL_DEPRECATED(msg) __attribute__((deprecated(msg)))
+#else
+#define SELFCOL_DEPRECATED(msg)
+#endif
+
+SELFCOL_BEGIN_DECLS
+
+/**
+ * Status codes returned by every fallible function: 0 on success, negative on
+ * failure. The values are pinned forever; new codes are only appended.
+ */
+typedef enum selfcol_status {
+    SELFCOL_OK = 0,        /**< success */
+    SELFCOL_ERROR = -1,    /**< unspecified internal error */
+    SELFCOL_ENOMEM = -2,   /**< the allocator returned NULL */
+    SELFCOL_EINVAL = -3,   /**< an argument or the input data is invalid */
+    SELFCOL_EVERSION = -4, /**< options.version is 0 or unknown to this library */
+    SELFCOL_EBUFS = -5,    /**< a caller-provided buffer is too small */
+    SELFCOL_EUSER = -6,    /**< a callback asked to stop */
+    SELFCOL_ERANGE = -7,   /**< a count or index does not fit the library's types */
+    SELFCOL_EMISMATCH = -8 /**< handles that must belong together do not */
+} selfcol_status;
+
+/**
+ * Human-readable text for a status code.
+ * @param[in] status a value returned by a selfcol function (any int is accepted)
+ * @return a static, NUL-terminated string; never NULL. Borrowed: do not free.
+ */
+SELFCOL_API const char *selfcol_status_string(int status);
+
+/**
+ * Allocator hooks, given per handle in its options. All-zero (both function
+ * pointers NULL) selects the C library's allocator. Either both functions are
+ * set or neither; a half-set allocator is rejected with SELFCOL_EINVAL.
+ */
+typedef struct selfcol_allocator {
+    /** Returns size bytes aligned to alignment (a power of two), or NULL. */
+    void *(*alloc)(void *user, size_t size, size_t alignment);
+    /** Frees ptr, which alloc returned for exactly size bytes. ptr is never NULL. */
+    void (*free)(void *user, void *ptr, size_t size);
+    /** Passed unchanged to alloc and free. */
+    void *user;
+} selfcol_allocator;
+
+/** Sentinel index: "no such vertex, edge or triangle". */
+#define SELFCOL_INVALID_INDEX UINT32_MAX
+
+/** @} */
+SELFCOL_END_DECLS
+
+#endif /* SELFCOL_COMMON_H */

@@ -1,0 +1,180 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+/**
+ * @file contacts.h
+ * @defgroup contacts Contacts
+ * Contact records and the `selfcol_contacts` handle that queries fill.
+ *
+ * The contact sets (design.md section 3), for detection distance d:
+ * - VF proximity: vertex v and triangle t, v not a corner of t, dist(v, t) < d;
+ * - EE proximity: edges e and f with no common vertex, dist(e, f) < d;
+ * - EF interference: edge e crosses triangle t, no common vertex.
+ * Between two different meshes the "no common vertex" condition is dropped.
+ * Only vertices used by at least one triangle take part.
+ *
+ * "Crosses" is decided with exact orientation predicates: the two endpoints
+ * of e lie strictly on opposite sides of the plane of t, and the line of e
+ * meets the closed triangle t (its edges and corners included). So:
+ * - an edge that only touches the plane of t (an endpoint exactly on it) does
+ *   not cross t; it shows up as a VF proximity at distance 0;
+ * - an edge lying in the plane of t (coplanar) does not cross t; it shows up
+ *   as EE/VF proximities at distance 0;
+ * - an edge passing exactly through an edge or corner of t crosses t (and
+ *   every triangle sharing that edge or corner: the surface is crossed there);
+ * - a zero-area triangle has no plane, so nothing crosses it.
+ * Distances are computed in double precision; pairs within a relative 1e-9 of d
+ * may fall either way.
+ * @{
+ */
+#ifndef SELFCOL_CONTACTS_H
+#define SELFCOL_CONTACTS_H
+
+#include "common.h"
+
+SELFCOL_BEGIN_DECLS
+
+/** Kind of a contact. Values are pinned. */
+typedef enum selfcol_contact_kind {
+    SELFCOL_CONTACT_VF = 0, /**< vertex-triangle proximity */
+    SELFCOL_CONTACT_EE = 1, /**< edge-edge proximity */
+    SELFCOL_CONTACT_EF = 2  /**< edge-triangle interference (the edge crosses the triangle) */
+} selfcol_contact_kind;
+
+/** Bit masks selecting contact kinds in selfcol_query_options.kinds. */
+#define SELFCOL_KIND_VF (1u << SELFCOL_CONTACT_VF)
+#define SELFCOL_KIND_EE (1u << SELFCOL_CONTACT_EE)
+#define SELFCOL_KIND_EF (1u << SELFCOL_CONTACT_EF)
+#define SELFCOL_KIND_ALL (SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF)
+
+/**
+ * One contact between a first primitive (a vertex or an edge) and a second
+ * primitive (a triangle or an edge). Plain data; the layout is part of the ABI.
+ *
+ * | kind | first       | a            | second      | b                 |
+ * |------|-------------|--------------|-------------|-------------------|
+ * | VF   | vertex      | {v, v}       | triangle    | its 3 corners     |
+ * | EE   | edge        | its vertices | edge        | its vertices, b[2] = SELFCOL_INVALID_INDEX |
+ * | EF   | edge        | its vertices | triangle    | its 3 corners     |
+ *
+ * Edge indices refer to selfcol_mesh_edges(); edge vertices are listed smaller
+ * first. For a self query, EE contacts have first < second. first_mesh and
+ * second_mesh say which mesh each primitive belongs to (0: the first mesh of
+ * the query, 1: the second; both 0 for a self query).
+ */
+typedef struct selfcol_contact {
+    uint32_t kind;        /**< selfcol_contact_kind */
+    uint32_t first;       /**< vertex (VF) or edge (EE, EF) index */
+    uint32_t second;      /**< triangle (VF, EF) or edge (EE) index */
+    uint32_t first_mesh;  /**< 0 or 1 */
+    uint32_t second_mesh; /**< 0 or 1 */
+    uint32_t a[2];        /**< vertices of the first primitive */
+    uint32_t b[3];        /**< vertices of the second primitive */
+    /** Distance between the primitives, >= 0 (0 for EF). */
+    double distance;
+    /** Closest point on the first primitive = wa[0] x(a[0]) + wa[1] x(a[1]).
+     *  EF: the point where the edge crosses the triangle's plane. */
+    double wa[2];
+    /** Closest point on the second primitive = sum of wb[i] x(b[i]) (wb[2] = 0 for EE).
+     *  EF: the same crossing point, in barycentric coordinates of the triangle. */
+    double wb[3];
+    /** Unit vector from the second closest point toward the first. When the
+     *  distance is 0: the triangle's unit normal (VF, EF), the unit common
+     *  normal of the two edges (EE), or any unit vector when neither exists. */
+    double direction[3];
+} selfcol_contact;
+
+/**
+ * Counters and timings of the last query. The caller sets version to
+ * SELFCOL_QUERY_STATS_VERSION; the library writes only the fields that exist in
+ * that version.
+ */
+typedef struct selfcol_query_stats {
+    unsigned int version;      /**< SELFCOL_QUERY_STATS_VERSION */
+    uint64_t candidate_pairs;  /**< primitive or triangle pairs examined by the broad phase */
+    uint64_t vf_tests;         /**< vertex-triangle distance evaluations */
+    uint64_t ee_tests;         /**< edge-edge distance evaluations */
+    uint64_t ef_tests;         /**< edge-triangle crossing evaluations */
+    uint64_t vf_contacts;      /**< VF contacts found */
+    uint64_t ee_contacts;      /**< EE contacts found */
+    uint64_t ef_contacts;      /**< EF contacts found */
+    /** Time spent selecting candidates; 0 for EXHAUSTIVE, whose enumeration
+     *  and primitive tests are interleaved (its whole time is in total_seconds). */
+    double broad_seconds;
+    double narrow_seconds;     /**< time spent in primitive tests; 0 for EXHAUSTIVE */
+    double total_seconds;      /**< wall time of the whole query */
+} selfcol_query_stats;
+
+#define SELFCOL_QUERY_STATS_VERSION 1
+
+/** Opaque set of contacts, filled by the queries of hierarchy.h. */
+typedef struct selfcol_contacts selfcol_contacts;
+
+/** Options for selfcol_contacts_create(). Initialise with selfcol_contacts_options_init(). */
+typedef struct selfcol_contacts_options {
+    unsigned int version;        /**< SELFCOL_CONTACTS_OPTIONS_VERSION */
+    selfcol_allocator allocator; /**< all-zero: malloc/free */
+} selfcol_contacts_options;
+
+#define SELFCOL_CONTACTS_OPTIONS_VERSION 1
+
+/**
+ * Writes the defaults into opts.
+ * @param[out] opts the struct to initialise
+ * @param[in] version SELFCOL_CONTACTS_OPTIONS_VERSION
+ * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_contacts_options_init(selfcol_contacts_options *opts,
+                                              unsigned int version);
+
+/**
+ * Creates an empty contact set.
+ * @param[out] out the new handle; NULL on failure. Caller owns it; free it with
+ *             selfcol_contacts_destroy().
+ * @param[in] opts options, or NULL for defaults
+ * @return SELFCOL_OK; SELFCOL_EINVAL; SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ */
+SELFCOL_API int selfcol_contacts_create(selfcol_contacts **out,
+                                        const selfcol_contacts_options *opts);
+
+/** Destroys a contact set. Accepts NULL. @param[in] contacts the handle */
+SELFCOL_API void selfcol_contacts_destroy(selfcol_contacts *contacts);
+
+/** Removes all contacts and zeroes the statistics; keeps the memory. @param[in,out] contacts the handle */
+SELFCOL_API void selfcol_contacts_clear(selfcol_contacts *contacts);
+
+/**
+ * Number of contacts held.
+ * @return the count; 0 for NULL.
+ */
+SELFCOL_API size_t selfcol_contacts_count(const selfcol_contacts *contacts);
+
+/**
+ * The contacts, sorted by (kind, first_mesh, first, second_mesh, second).
+ * @param[out] data_out borrowed array, valid until the next call that modifies
+ *             the handle (a query, clear, destroy); NULL when empty
+ * @param[out] count_out number of records
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments.
+ */
+SELFCOL_API int selfcol_contacts_data(const selfcol_contacts *contacts,
+                                      const selfcol_contact **data_out, size_t *count_out);
+
+/**
+ * Statistics of the last query that filled the handle.
+ * @param[in,out] stats its version field set by the caller; the rest is written
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL; SELFCOL_EVERSION for version 0
+ *         or a version newer than the library.
+ */
+SELFCOL_API int selfcol_contacts_stats(const selfcol_contacts *contacts,
+                                       selfcol_query_stats *stats);
+
+/**
+ * Bytes of memory held by the contact set.
+ * @return the byte count; 0 for NULL.
+ */
+SELFCOL_API size_t selfcol_contacts_byte_count(const selfcol_contacts *contacts);
+
+SELFCOL_END_DECLS
+/** @} */
+
+#endif /* SELFCOL_CONTACTS_H */

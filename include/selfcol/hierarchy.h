@@ -1,0 +1,134 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+/**
+ * @file hierarchy.h
+ * @defgroup hierarchy Hierarchies and collision queries
+ * A `selfcol_hierarchy` is the search structure over one mesh; collision
+ * queries run on hierarchies and fill a `selfcol_contacts`.
+ * @{
+ */
+#ifndef SELFCOL_HIERARCHY_H
+#define SELFCOL_HIERARCHY_H
+
+#include "common.h"
+#include "contacts.h"
+#include "mesh.h"
+
+SELFCOL_BEGIN_DECLS
+
+/** Opaque hierarchy over one mesh. It borrows the mesh, which must outlive it. */
+typedef struct selfcol_hierarchy selfcol_hierarchy;
+
+/** Options for selfcol_hierarchy_create(). Initialise with selfcol_hierarchy_options_init(). */
+typedef struct selfcol_hierarchy_options {
+    unsigned int version;        /**< SELFCOL_HIERARCHY_OPTIONS_VERSION */
+    selfcol_allocator allocator; /**< all-zero: malloc/free */
+} selfcol_hierarchy_options;
+
+#define SELFCOL_HIERARCHY_OPTIONS_VERSION 1
+
+/**
+ * Writes the defaults into opts.
+ * @param[out] opts the struct to initialise
+ * @param[in] version SELFCOL_HIERARCHY_OPTIONS_VERSION
+ * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
+                                               unsigned int version);
+
+/**
+ * Creates a hierarchy over a mesh.
+ * @param[out] out the new hierarchy; NULL on failure. Caller owns it; free it
+ *             with selfcol_hierarchy_destroy() before destroying the mesh.
+ * @param[in] mesh the mesh; borrowed for the hierarchy's lifetime
+ * @param[in] opts options, or NULL for defaults
+ * @return SELFCOL_OK; SELFCOL_EINVAL; SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ */
+SELFCOL_API int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
+                                         const selfcol_hierarchy_options *opts);
+
+/** Destroys a hierarchy. Accepts NULL. @param[in] hierarchy the handle */
+SELFCOL_API void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy);
+
+/**
+ * The mesh a hierarchy was built on.
+ * @return borrowed pointer; NULL for NULL.
+ */
+SELFCOL_API const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *hierarchy);
+
+/**
+ * Bytes of memory held by the hierarchy (not counting its mesh).
+ * @return the byte count; 0 for NULL.
+ */
+SELFCOL_API size_t selfcol_hierarchy_byte_count(const selfcol_hierarchy *hierarchy);
+
+/** Search methods. Values are pinned; new methods are appended. */
+typedef enum selfcol_method {
+    /** The O(n^2) reference: every vertex against every triangle, every edge
+     *  against every edge and every triangle. Defines the exact contact sets. */
+    SELFCOL_METHOD_EXHAUSTIVE = 0
+} selfcol_method;
+
+/** Narrow-phase implementations. Values are pinned. */
+typedef enum selfcol_narrow {
+    /** Closed-form distances and exact orientation predicates (default). */
+    SELFCOL_NARROW_CLOSED_FORM = 0,
+    /** libccd's GJK (distances) and GJK intersection (edge-triangle). Agrees
+     *  with the closed form within libccd's tolerance; kept as a cross-check. */
+    SELFCOL_NARROW_LIBCCD = 1
+} selfcol_narrow;
+
+/** Options of a collision query. Initialise with selfcol_query_options_init(). */
+typedef struct selfcol_query_options {
+    unsigned int version; /**< SELFCOL_QUERY_OPTIONS_VERSION */
+    uint32_t method;      /**< selfcol_method; default SELFCOL_METHOD_EXHAUSTIVE */
+    uint32_t narrow;      /**< selfcol_narrow; default SELFCOL_NARROW_CLOSED_FORM */
+    uint32_t kinds;       /**< SELFCOL_KIND_* mask; default SELFCOL_KIND_ALL */
+    /** Detection distance d >= 0 in mesh units; default 0 (interferences
+     *  only). The standard setting is 0.1 x selfcol_mesh_mean_edge_length(). */
+    double distance;
+} selfcol_query_options;
+
+#define SELFCOL_QUERY_OPTIONS_VERSION 1
+
+/**
+ * Writes the defaults into opts.
+ * @param[out] opts the struct to initialise
+ * @param[in] version SELFCOL_QUERY_OPTIONS_VERSION
+ * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version);
+
+/**
+ * Finds the self-contacts of the hierarchy's mesh at its current positions,
+ * replacing the content of contacts (see contacts.h for the exact sets).
+ * @param[in] hierarchy the hierarchy (read only: concurrent queries on one
+ *            hierarchy with different contact sets are allowed)
+ * @param[out] contacts receives the contacts and the statistics
+ * @param[in] opts query options, or NULL for defaults
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL handle, unknown method, narrow or
+ *         kinds bits, negative or non-finite distance); SELFCOL_EVERSION;
+ *         SELFCOL_ENOMEM (contacts is then left empty).
+ */
+SELFCOL_API int selfcol_hierarchy_self_collide(const selfcol_hierarchy *hierarchy,
+                                               selfcol_contacts *contacts,
+                                               const selfcol_query_options *opts);
+
+/**
+ * Finds the contacts between two hierarchies' meshes (not the self-contacts of
+ * either), replacing the content of contacts. In the records, mesh 0 is
+ * first's mesh and mesh 1 is second's. Two hierarchies over the same mesh
+ * (or the same hierarchy twice) are SELFCOL_EINVAL: use
+ * selfcol_hierarchy_self_collide().
+ * @return as selfcol_hierarchy_self_collide().
+ */
+SELFCOL_API int selfcol_hierarchy_collide(const selfcol_hierarchy *first,
+                                          const selfcol_hierarchy *second,
+                                          selfcol_contacts *contacts,
+                                          const selfcol_query_options *opts);
+
+SELFCOL_END_DECLS
+/** @} */
+
+#endif /* SELFCOL_HIERARCHY_H */

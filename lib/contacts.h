@@ -1,0 +1,33 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The contact set: a growable array of records, the statistics of the last
+// query, and a scratch buffer that queries reuse from frame to frame (no
+// allocation in steady state).
+#ifndef SELFCOL_CONTACTS_INTERNAL_H
+#define SELFCOL_CONTACTS_INTERNAL_H
+
+#include <selfcol/contacts.h>
+
+struct selfcol_contacts {
+    selfcol_allocator allocator;
+    selfcol_contact *items;
+    size_t count;
+    size_t capacity;
+    void *scratch;
+    size_t scratch_bytes;
+    selfcol_query_stats stats; // always the latest version
+};
+
+// Appends one record, growing geometrically. SELFCOL_OK or SELFCOL_ENOMEM.
+int selfcol_contacts__push(selfcol_contacts *contacts, const selfcol_contact *contact);
+
+// Returns a scratch buffer of at least bytes (aligned to SELFCOL_ALIGNMENT),
+// kept and reused by later calls; NULL on allocation failure.
+void *selfcol_contacts__scratch(selfcol_contacts *contacts, size_t bytes);
+
+// Sorts the records by (kind, first_mesh, first, second_mesh, second); O(n)
+// when they already are.
+void selfcol_contacts__sort(selfcol_contacts *contacts);
+
+#endif // SELFCOL_CONTACTS_INTERNAL_H

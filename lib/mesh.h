@@ -1,0 +1,60 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The mesh object: positions plus the topology built once at creation.
+#ifndef SELFCOL_MESH_INTERNAL_H
+#define SELFCOL_MESH_INTERNAL_H
+
+#include <selfcol/mesh.h>
+
+// Largest triangle count: slot ids (3 t + i) and CSR offsets are uint32_t.
+#define SELFCOL_MESH_MAX_TRIANGLES ((size_t)(UINT32_MAX - 1) / 3)
+#define SELFCOL_MESH_MAX_VERTICES ((size_t)UINT32_MAX - 1)
+
+struct selfcol_mesh {
+    selfcol_allocator allocator;
+    size_t vertex_count;
+    size_t triangle_count;
+    size_t edge_count;
+
+    double *positions;  // 3 V, current frame
+    uint32_t *triangles; // 3 F, as given
+
+    uint32_t *edges;             // 2 E, (lo, hi), sorted
+    uint32_t *triangle_edges;    // 3 F, slot i = edge (t[i], t[i+1]); INVALID if collapsed
+    uint32_t *edge_tri_offsets;  // E + 1
+    uint32_t *edge_tris;         // edge -> triangles, ascending
+    uint32_t *vertex_tri_offsets; // V + 1
+    uint32_t *vertex_tris;        // vertex -> triangles, ascending
+    uint32_t *triangle_component; // F
+    uint8_t *triangle_flags;      // F: REPEATED_INDEX | DUPLICATE
+
+    size_t edge_tri_total;   // entries of edge_tris
+    size_t vertex_tri_total; // entries of vertex_tris
+    size_t boundary_edges;
+    size_t nonmanifold_edges;
+    size_t components;
+    size_t unreferenced_vertices;
+    size_t repeated_index_triangles;
+    size_t duplicate_triangles;
+};
+
+// Builds every topology array of a mesh whose vertex_count, triangle_count and
+// triangles are set. Returns SELFCOL_OK, SELFCOL_ENOMEM or SELFCOL_ERANGE; on
+// failure the arrays built so far stay in the mesh for destroy to free.
+int selfcol_mesh__build_topology(selfcol_mesh *mesh);
+
+// Frees the topology arrays (used by destroy).
+void selfcol_mesh__free_topology(selfcol_mesh *mesh);
+
+// Position of vertex v.
+static inline const double *selfcol_mesh__position(const selfcol_mesh *mesh, uint32_t v) {
+    return mesh->positions + 3 * (size_t)v;
+}
+
+// Number of triangles around vertex v (0: the vertex takes part in no contact).
+static inline uint32_t selfcol_mesh__vertex_degree(const selfcol_mesh *mesh, uint32_t v) {
+    return mesh->vertex_tri_offsets[v + 1] - mesh->vertex_tri_offsets[v];
+}
+
+#endif // SELFCOL_MESH_INTERNAL_H

@@ -1,0 +1,47 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Narrow phase: primitive-pair queries. Two implementations with one shape:
+// closed form (narrow.c, the default) and libccd (narrow_ccd.c).
+#ifndef SELFCOL_NARROW_H
+#define SELFCOL_NARROW_H
+
+// Result of a primitive query, in the convention of selfcol_contact:
+// closest point on the first primitive = wa[0] p0 + wa[1] p1 (a vertex: wa = {1, 0}),
+// closest point on the second = wb[0] b0 + wb[1] b1 + wb[2] b2 (an edge: wb[2] = 0),
+// direction = unit vector from the second closest point toward the first.
+typedef struct selfcol_narrow_result {
+    double distance;
+    double wa[2];
+    double wb[3];
+    double direction[3];
+} selfcol_narrow_result;
+
+// Vertex p against triangle (a, b, c); any triangle, degenerate ones included.
+// Returns the distance; fills out when out != NULL.
+double selfcol_narrow__vf(const double p[3], const double a[3], const double b[3],
+                          const double c[3], selfcol_narrow_result *out);
+
+// Segment (p0, p1) against segment (q0, q1); zero-length and parallel included.
+double selfcol_narrow__ee(const double p0[3], const double p1[3], const double q0[3],
+                          const double q1[3], selfcol_narrow_result *out);
+
+// Does segment (p0, p1) cross triangle (a, b, c)? Decided exactly (see
+// contacts.h for the definition). Returns 1 or 0; on 1 fills out (distance 0,
+// the crossing point as weights, direction = triangle unit normal).
+int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3],
+                       const double b[3], const double c[3], selfcol_narrow_result *out);
+
+// libccd backend, same conventions. `tolerance` is libccd's dist_tolerance (and
+// mpr/epa tolerance), absolute, in mesh units. The EF test is libccd's GJK
+// intersection of the segment and the triangle: it also reports touching
+// (within tolerance) configurations that the exact test does not call crossing.
+double selfcol_narrow_ccd__vf(const double p[3], const double a[3], const double b[3],
+                              const double c[3], double tolerance, selfcol_narrow_result *out);
+double selfcol_narrow_ccd__ee(const double p0[3], const double p1[3], const double q0[3],
+                              const double q1[3], double tolerance, selfcol_narrow_result *out);
+int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double a[3],
+                           const double b[3], const double c[3], double tolerance,
+                           selfcol_narrow_result *out);
+
+#endif // SELFCOL_NARROW_H

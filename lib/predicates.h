@@ -1,0 +1,27 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Exact orientation predicates on double coordinates: a floating-point filter
+// with a proven error bound, and an exact expansion-arithmetic fallback
+// (Shewchuk 1997, "Adaptive precision floating-point arithmetic and fast robust
+// geometric predicates", for the error-free transformations and the bounds).
+// Exact for every finite input whose intermediate products neither overflow
+// nor underflow (coordinates of magnitude in [2^-300, 2^300], or zero).
+#ifndef SELFCOL_PREDICATES_H
+#define SELFCOL_PREDICATES_H
+
+// Sign (+1, 0, -1) of det[b - a, c - a] = (b-a) x (c-a): +1 when a, b, c turn
+// counter-clockwise.
+int selfcol_predicates__orient2d(const double a[2], const double b[2], const double c[2]);
+
+// Sign (+1, 0, -1) of det[b - a; c - a; d - a] = ((b-a) x (c-a)) . (d-a):
+// +1 when d lies on the side the normal of the counter-clockwise triangle
+// a, b, c points to.
+int selfcol_predicates__orient3d(const double a[3], const double b[3], const double c[3],
+                                 const double d[3]);
+
+// 1 when the three 3D points are exactly collinear (or coincide): all three
+// axis-aligned projections are collinear.
+int selfcol_predicates__collinear3d(const double a[3], const double b[3], const double c[3]);
+
+#endif // SELFCOL_PREDICATES_H

@@ -1,0 +1,36 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// A collision query in progress: which meshes, which distance and contact
+// kinds, which narrow phase, and where contacts go. Every search method
+// (exhaustive today, the hierarchy traversals later) feeds primitive pairs to
+// the selfcol_query__test_* functions, so exclusion rules, the narrow-phase
+// choice and record filling exist once.
+#ifndef SELFCOL_QUERY_H
+#define SELFCOL_QUERY_H
+
+#include "contacts.h"
+#include "mesh.h"
+
+typedef struct selfcol_query {
+    const selfcol_mesh *mesh[2]; // mesh[1] == mesh[0] for a self query
+    int self;
+    double distance;
+    uint32_t kinds;
+    uint32_t narrow;
+    double ccd_tolerance; // absolute tolerance for libccd, from the meshes' extent
+    selfcol_contacts *out;
+} selfcol_query;
+
+// Vertex v of mesh[mv] against triangle t of mesh[mt]. The caller guarantees
+// (for self queries) that v is not a corner of t.
+int selfcol_query__test_vf(selfcol_query *q, int mv, uint32_t v, int mt, uint32_t t);
+// Edge e of mesh[me] against edge f of mesh[mf]; no shared vertex for self.
+int selfcol_query__test_ee(selfcol_query *q, int me, uint32_t e, int mf, uint32_t f);
+// Edge e of mesh[me] against triangle t of mesh[mt]; no shared vertex for self.
+int selfcol_query__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_t t);
+
+// The exhaustive reference (exhaustive.c).
+int selfcol_exhaustive__run(selfcol_query *q);
+
+#endif // SELFCOL_QUERY_H

@@ -1,0 +1,54 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Small 3-vector helpers on double[3], inlined into every user.
+#ifndef SELFCOL_VEC3_H
+#define SELFCOL_VEC3_H
+
+#include <math.h>
+
+static inline void vec3_sub(double out[3], const double a[3], const double b[3]) {
+    out[0] = a[0] - b[0];
+    out[1] = a[1] - b[1];
+    out[2] = a[2] - b[2];
+}
+
+static inline double vec3_dot(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void vec3_cross(double out[3], const double a[3], const double b[3]) {
+    double x = a[1] * b[2] - a[2] * b[1];
+    double y = a[2] * b[0] - a[0] * b[2];
+    double z = a[0] * b[1] - a[1] * b[0];
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
+}
+
+// out = a + t * (b - a)
+static inline void vec3_lerp(double out[3], const double a[3], const double b[3], double t) {
+    out[0] = a[0] + t * (b[0] - a[0]);
+    out[1] = a[1] + t * (b[1] - a[1]);
+    out[2] = a[2] + t * (b[2] - a[2]);
+}
+
+static inline double vec3_dist2(const double a[3], const double b[3]) {
+    double d[3];
+    vec3_sub(d, a, b);
+    return vec3_dot(d, d);
+}
+
+// Normalises v into out; returns 0 (and leaves out untouched) for a zero or
+// non-finite length.
+static inline int vec3_normalize(double out[3], const double v[3]) {
+    double len = sqrt(vec3_dot(v, v));
+    if (!(len > 0.0) || !isfinite(len))
+        return 0;
+    out[0] = v[0] / len;
+    out[1] = v[1] / len;
+    out[2] = v[2] / len;
+    return 1;
+}
+
+#endif // SELFCOL_VEC3_H

@@ -1,0 +1,24 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// A selfcol_allocator backed by cmocka's test_malloc/test_free, so cmocka
+// reports leaks and overruns, aligning by hand (test_malloc only aligns to
+// sizeof(size_t)); it can be told to fail at the Nth allocation to drive every
+// SELFCOL_ENOMEM path.
+#ifndef SELFCOL_TEST_ALLOC_H
+#define SELFCOL_TEST_ALLOC_H
+
+#include <selfcol/common.h>
+
+typedef struct test_allocator_state {
+    long fail_at;    // 1-based allocation number that fails; 0: never
+    long calls;      // allocations attempted so far
+    long live;       // allocations not yet freed
+    size_t live_bytes;
+    int misaligned;  // set if a free came with a size different from its alloc
+} test_allocator_state;
+
+// Returns an allocator bound to state (which the caller zero-initialises).
+selfcol_allocator test_allocator(test_allocator_state *state);
+
+#endif

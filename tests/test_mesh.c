@@ -1,0 +1,348 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Mesh creation, validation and topology, through the public API.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <selfcol/selfcol.h>
+
+#include "scenes.h"
+#include "test_alloc.h"
+
+// Two triangles sharing edge (1, 2): a unit square.
+static const double square_positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+static const uint32_t square_triangles[] = {0, 1, 2, 2, 1, 3};
+
+static void test_mesh_create_builds_square_topology(void **state) {
+    (void)state;
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 2, square_triangles, NULL),
+                     SELFCOL_OK);
+    assert_non_null(m);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_VERTICES), 4);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_TRIANGLES), 2);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_EDGES), 5);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_EDGES), 4);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_NONMANIFOLD_EDGES), 0);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_COMPONENTS), 1);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_UNREFERENCED_VERTICES), 0);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_ZERO_AREA_TRIANGLES), 0);
+
+    // Edges sorted by (lo, hi): (0,1) (0,2) (1,2) (1,3) (2,3).
+    const uint32_t expected_edges[] = {0, 1, 0, 2, 1, 2, 1, 3, 2, 3};
+    assert_memory_equal(selfcol_mesh_edges(m), expected_edges, sizeof expected_edges);
+
+    // Triangle 0 = (0,1,2): slots (0,1)=e0, (1,2)=e2, (2,0)=e1.
+    uint32_t te[3];
+    assert_int_equal(selfcol_mesh_triangle_edges(m, 0, te), SELFCOL_OK);
+    assert_int_equal(te[0], 0);
+    assert_int_equal(te[1], 2);
+    assert_int_equal(te[2], 1);
+
+    const uint32_t *tris;
+    size_t count;
+    assert_int_equal(selfcol_mesh_edge_triangles(m, 2, &tris, &count), SELFCOL_OK);
+    assert_int_equal(count, 2);
+    assert_int_equal(tris[0], 0);
+    assert_int_equal(tris[1], 1);
+    assert_int_equal(selfcol_mesh_vertex_triangles(m, 3, &tris, &count), SELFCOL_OK);
+    assert_int_equal(count, 1);
+    assert_int_equal(tris[0], 1);
+    assert_true(fabs(selfcol_mesh_mean_edge_length(m) - (4.0 + sqrt(2.0)) / 5.0) < 1e-15);
+    assert_true(selfcol_mesh_byte_count(m) > 0);
+    selfcol_mesh_destroy(m);
+}
+
+static void test_mesh_create_rejects_invalid_input(void **state) {
+    (void)state;
+    selfcol_mesh *m = (selfcol_mesh *)&m; // must be reset to NULL on failure
+    const uint32_t out_of_range[] = {0, 1, 4};
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 1, out_of_range, NULL),
+                     SELFCOL_EINVAL);
+    assert_null(m);
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 0, square_triangles, NULL),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_create(&m, 0, square_positions, 2, square_triangles, NULL),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_create(&m, 4, NULL, 2, square_triangles, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 2, NULL, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_create(NULL, 4, square_positions, 2, square_triangles, NULL),
+                     SELFCOL_EINVAL);
+
+    double bad[12];
+    memcpy(bad, square_positions, sizeof bad);
+    bad[7] = NAN;
+    assert_int_equal(selfcol_mesh_create(&m, 4, bad, 2, square_triangles, NULL), SELFCOL_EINVAL);
+    bad[7] = INFINITY;
+    assert_int_equal(selfcol_mesh_create(&m, 4, bad, 2, square_triangles, NULL), SELFCOL_EINVAL);
+    bad[7] = -INFINITY;
+    assert_int_equal(selfcol_mesh_create(&m, 4, bad, 2, square_triangles, NULL), SELFCOL_EINVAL);
+    assert_null(m);
+
+    // Counts beyond the uint32_t index range, rejected before any data is read.
+    assert_int_equal(selfcol_mesh_create(&m, (size_t)UINT32_MAX + 1, square_positions, 2,
+                                         square_triangles, NULL),
+                     SELFCOL_ERANGE);
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, (size_t)UINT32_MAX,
+                                         square_triangles, NULL),
+                     SELFCOL_ERANGE);
+}
+
+static void test_mesh_options_check_version_and_allocator(void **state) {
+    (void)state;
+    selfcol_mesh_options opts;
+    assert_int_equal(selfcol_mesh_options_init(&opts, 0), SELFCOL_EVERSION);
+    assert_int_equal(selfcol_mesh_options_init(&opts, SELFCOL_MESH_OPTIONS_VERSION + 1),
+                     SELFCOL_EVERSION);
+    assert_int_equal(selfcol_mesh_options_init(NULL, SELFCOL_MESH_OPTIONS_VERSION),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_options_init(&opts, SELFCOL_MESH_OPTIONS_VERSION), SELFCOL_OK);
+    selfcol_mesh *m = NULL;
+    opts.version = 0; // uninitialised struct
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 2, square_triangles, &opts),
+                     SELFCOL_EVERSION);
+    selfcol_mesh_options_init(&opts, SELFCOL_MESH_OPTIONS_VERSION);
+    test_allocator_state st = {0};
+    opts.allocator = test_allocator(&st);
+    opts.allocator.free = NULL; // half-set allocator
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 2, square_triangles, &opts),
+                     SELFCOL_EINVAL);
+    assert_int_equal(st.calls, 0);
+}
+
+static void test_mesh_float_stride_matches_double(void **state) {
+    (void)state;
+    // Interleaved buffer: x y z plus two padding floats per vertex.
+    float interleaved[4 * 5];
+    for (int v = 0; v < 4; ++v) {
+        for (int k = 0; k < 3; ++k)
+            interleaved[5 * v + k] = (float)square_positions[3 * v + k];
+        interleaved[5 * v + 3] = NAN; // padding is never read
+        interleaved[5 * v + 4] = 7.0f;
+    }
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create_float(&m, 4, interleaved, 5 * sizeof(float), 2,
+                                               square_triangles, NULL),
+                     SELFCOL_OK);
+    assert_memory_equal(selfcol_mesh_positions(m), square_positions, sizeof square_positions);
+    interleaved[5 * 3 + 2] = 2.5f;
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 5 * sizeof(float)),
+                     SELFCOL_OK);
+    assert_true(selfcol_mesh_positions(m)[3 * 3 + 2] == 2.5);
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 2 * sizeof(float)),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 13), SELFCOL_EINVAL);
+    selfcol_mesh_destroy(m);
+    assert_int_equal(selfcol_mesh_create_float(&m, 4, interleaved, 5, 2, square_triangles, NULL),
+                     SELFCOL_EINVAL);
+}
+
+static void test_mesh_set_positions_rejects_nan_and_keeps_old_positions(void **state) {
+    (void)state;
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 2, square_triangles, NULL),
+                     SELFCOL_OK);
+    double next[12];
+    for (int i = 0; i < 12; ++i)
+        next[i] = square_positions[i] + 1.0;
+    next[11] = NAN;
+    assert_int_equal(selfcol_mesh_set_positions(m, next), SELFCOL_EINVAL);
+    assert_memory_equal(selfcol_mesh_positions(m), square_positions, sizeof square_positions);
+    next[11] = 1.0;
+    assert_int_equal(selfcol_mesh_set_positions(m, next), SELFCOL_OK);
+    assert_memory_equal(selfcol_mesh_positions(m), next, sizeof next);
+    assert_int_equal(selfcol_mesh_set_positions(m, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_set_positions(NULL, next), SELFCOL_EINVAL);
+    selfcol_mesh_destroy(m);
+}
+
+static void test_mesh_handles_nonmanifold_degenerate_and_duplicate_triangles(void **state) {
+    (void)state;
+    // Vertices: 0..3 a fin of three triangles on edge (0,1); 4 collinear with
+    // 0 and 1; 5 unreferenced; 6, 7 a separate component.
+    const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 2, 0, 0, 9, 9, 9, 5, 5, 5, 6, 5, 5};
+    const uint32_t t[] = {
+        0, 1, 2, // 0
+        1, 0, 3, // 1
+        0, 1, 4, // 2: zero area (collinear), third triangle on edge (0,1)
+        2, 1, 0, // 3: duplicate of 0 (other order), fourth on (0,1)
+        6, 6, 7, // 4: repeated index, a segment of its own component
+        7, 7, 7, // 5: a point
+    };
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, 8, p, 6, t, NULL), SELFCOL_OK);
+    // Edges: (0,1) (0,2) (0,3) (0,4) (1,2) (1,3) (1,4) (6,7).
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_EDGES), 8);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_NONMANIFOLD_EDGES), 1);
+    // Boundary: (0,3) (0,4) (1,3) (1,4) (6,7); (0,2) and (1,2) carry the duplicates.
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_EDGES), 5);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_COMPONENTS), 2);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_UNREFERENCED_VERTICES), 1);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_REPEATED_INDEX_TRIANGLES), 2);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_DUPLICATE_TRIANGLES), 1);
+    // Zero area: 2 (collinear), 4 and 5 (collapsed).
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_ZERO_AREA_TRIANGLES), 3);
+    assert_int_equal(selfcol_mesh_triangle_flags(m, 0), 0);
+    assert_int_equal(selfcol_mesh_triangle_flags(m, 2), SELFCOL_TRIANGLE_ZERO_AREA);
+    assert_int_equal(selfcol_mesh_triangle_flags(m, 3), SELFCOL_TRIANGLE_DUPLICATE);
+    assert_int_equal(selfcol_mesh_triangle_flags(m, 4),
+                     SELFCOL_TRIANGLE_REPEATED_INDEX | SELFCOL_TRIANGLE_ZERO_AREA);
+    assert_int_equal(selfcol_mesh_triangle_flags(m, 99), 0);
+    assert_int_equal(selfcol_mesh_triangle_component(m, 3), 0);
+    assert_int_equal(selfcol_mesh_triangle_component(m, 4), 1);
+    assert_int_equal(selfcol_mesh_triangle_component(m, 5), 1);
+    assert_int_equal(selfcol_mesh_triangle_component(m, 6), SELFCOL_INVALID_INDEX);
+
+    const uint32_t *tris;
+    size_t count;
+    assert_int_equal(selfcol_mesh_edge_triangles(m, 0, &tris, &count), SELFCOL_OK);
+    assert_int_equal(count, 4);
+    for (uint32_t i = 0; i < 4; ++i)
+        assert_int_equal(tris[i], i);
+    // Triangle (6,6,7): slot (6,6) collapsed; (6,7) and (7,6) are one edge,
+    // listed once for the triangle.
+    uint32_t te[3];
+    assert_int_equal(selfcol_mesh_triangle_edges(m, 4, te), SELFCOL_OK);
+    assert_int_equal(te[0], SELFCOL_INVALID_INDEX);
+    assert_int_equal(te[1], 7);
+    assert_int_equal(te[2], 7);
+    assert_int_equal(selfcol_mesh_edge_triangles(m, 7, &tris, &count), SELFCOL_OK);
+    assert_int_equal(count, 1);
+    assert_int_equal(selfcol_mesh_triangle_edges(m, 5, te), SELFCOL_OK);
+    assert_int_equal(te[0] & te[1] & te[2], SELFCOL_INVALID_INDEX);
+    assert_int_equal(selfcol_mesh_vertex_triangles(m, 5, &tris, &count), SELFCOL_OK);
+    assert_int_equal(count, 0);
+    assert_int_equal(selfcol_mesh_vertex_triangles(m, 6, &tris, &count), SELFCOL_OK);
+    assert_int_equal(count, 1);
+    assert_int_equal(selfcol_mesh_vertex_triangles(m, 8, &tris, &count), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_edge_triangles(m, 8, &tris, &count), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_triangle_edges(m, 6, te), SELFCOL_EINVAL);
+    selfcol_mesh_destroy(m);
+}
+
+// Independent count of a grid's topology: E = nx(ny+1) + ny(nx+1) + nx ny,
+// boundary 2 (nx + ny), one component.
+static void test_mesh_grid_topology_matches_formula(void **state) {
+    (void)state;
+    const unsigned sizes[][2] = {{1, 1}, {3, 7}, {40, 25}};
+    for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; ++s) {
+        unsigned nx = sizes[s][0], ny = sizes[s][1];
+        scene g;
+        assert_int_equal(scene_grid(&g, nx, ny, 0.5), 0);
+        selfcol_mesh *m = NULL;
+        assert_int_equal(selfcol_mesh_create(&m, g.vertex_count, g.positions, g.triangle_count,
+                                             g.triangles, NULL),
+                         SELFCOL_OK);
+        size_t E = (size_t)nx * (ny + 1) + (size_t)ny * (nx + 1) + (size_t)nx * ny;
+        assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_EDGES), E);
+        assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_EDGES), 2 * (nx + ny));
+        assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_COMPONENTS), 1);
+        // Every edge's vertices are sorted, edges strictly increasing, and
+        // every triangle's slot edge really joins the slot's two corners.
+        const uint32_t *edges = selfcol_mesh_edges(m);
+        for (size_t e = 0; e < E; ++e) {
+            assert_true(edges[2 * e] < edges[2 * e + 1]);
+            if (e > 0)
+                assert_true(edges[2 * e - 2] < edges[2 * e] ||
+                            (edges[2 * e - 2] == edges[2 * e] &&
+                             edges[2 * e - 1] < edges[2 * e + 1]));
+        }
+        for (uint32_t t = 0; t < g.triangle_count; ++t) {
+            uint32_t te[3];
+            selfcol_mesh_triangle_edges(m, t, te);
+            for (int i = 0; i < 3; ++i) {
+                uint32_t a = g.triangles[3 * t + i], b = g.triangles[3 * t + (i + 1) % 3];
+                uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
+                assert_int_equal(edges[2 * te[i]], lo);
+                assert_int_equal(edges[2 * te[i] + 1], hi);
+            }
+        }
+        selfcol_mesh_destroy(m);
+        scene_free(&g);
+    }
+}
+
+// A vertex of valence 200 (a fan) exercises the large-bucket sort path.
+static void test_mesh_fan_has_expected_edges(void **state) {
+    (void)state;
+    enum { N = 200 };
+    double p[3 * (N + 1)];
+    uint32_t t[3 * N];
+    p[0] = p[1] = p[2] = 0.0;
+    for (int i = 0; i < N; ++i) {
+        double a = 2.0 * 3.14159265358979 * i / N;
+        p[3 * (i + 1)] = cos(a);
+        p[3 * (i + 1) + 1] = sin(a);
+        p[3 * (i + 1) + 2] = 0.0;
+        t[3 * i] = 0;
+        t[3 * i + 1] = (uint32_t)(i + 1);
+        t[3 * i + 2] = (uint32_t)((i + 1) % N + 1);
+    }
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, N + 1, p, N, t, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_EDGES), 2 * N);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_EDGES), N);
+    const uint32_t *tris;
+    size_t count;
+    assert_int_equal(selfcol_mesh_vertex_triangles(m, 0, &tris, &count), SELFCOL_OK);
+    assert_int_equal(count, N);
+    selfcol_mesh_destroy(m);
+}
+
+// Every allocation of create can fail: each failure returns SELFCOL_ENOMEM,
+// leaks nothing (cmocka checks test_malloc blocks), and frees with the size it
+// allocated.
+static void test_mesh_create_survives_every_allocation_failure(void **state) {
+    (void)state;
+    scene g;
+    assert_int_equal(scene_grid(&g, 6, 5, 1.0), 0);
+    long failures = 0;
+    for (long n = 1;; ++n) {
+        test_allocator_state st = {0};
+        st.fail_at = n;
+        selfcol_mesh_options opts;
+        selfcol_mesh_options_init(&opts, SELFCOL_MESH_OPTIONS_VERSION);
+        opts.allocator = test_allocator(&st);
+        selfcol_mesh *m = NULL;
+        int status = selfcol_mesh_create(&m, g.vertex_count, g.positions, g.triangle_count,
+                                         g.triangles, &opts);
+        if (status == SELFCOL_OK) {
+            assert_true(st.calls < n); // no allocation was left to fail
+            assert_true(selfcol_mesh_byte_count(m) >= st.live_bytes / 2);
+            selfcol_mesh_destroy(m);
+            assert_int_equal(st.live, 0);
+            break;
+        }
+        assert_int_equal(status, SELFCOL_ENOMEM);
+        assert_null(m);
+        assert_int_equal(st.live, 0);
+        assert_false(st.misaligned);
+        failures++;
+    }
+    assert_true(failures >= 10); // every array of the topology was exercised
+    scene_free(&g);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_mesh_create_builds_square_topology),
+        cmocka_unit_test(test_mesh_create_rejects_invalid_input),
+        cmocka_unit_test(test_mesh_options_check_version_and_allocator),
+        cmocka_unit_test(test_mesh_float_stride_matches_double),
+        cmocka_unit_test(test_mesh_set_positions_rejects_nan_and_keeps_old_positions),
+        cmocka_unit_test(test_mesh_handles_nonmanifold_degenerate_and_duplicate_triangles),
+        cmocka_unit_test(test_mesh_grid_topology_matches_formula),
+        cmocka_unit_test(test_mesh_fan_has_expected_edges),
+        cmocka_unit_test(test_mesh_create_survives_every_allocation_failure),
+    };
+    return cmocka_run_group_tests_name("mesh", tests, NULL, NULL);
+}
