@@ -17,6 +17,7 @@
 
 #include <selfcol/selfcol.h>
 
+#include "contact_keys.h"
 #include "scenes.h"
 #include "test_alloc.h"
 
@@ -438,6 +439,111 @@ static void test_exhaustive_counts_candidate_pairs(void **state) {
     scene_free(&g);
 }
 
+// Keys of the contacts currently in w (see contact_keys.h); caller frees.
+static contact_key *keys_of(const selfcol_contacts *contacts, const uint32_t *map,
+                            uint32_t offset1, size_t *n) {
+    const selfcol_contact *c;
+    selfcol_contacts_data(contacts, &c, n);
+    contact_key *keys = malloc((*n + 1) * sizeof *keys);
+    assert_non_null(keys);
+    const uint32_t offset[2] = {0, offset1};
+    contact_keys(c, *n, map, offset, keys);
+    return keys;
+}
+
+// Renumbering the vertices, reordering the triangles and rotating each
+// triangle's corners describes the same surface: the contact sets must map
+// onto each other exactly (exclusion rules, edge numbering and loop order are
+// all index-dependent, so this catches any dependence on them).
+static void test_exhaustive_is_invariant_under_renumbering(void **state) {
+    (void)state;
+    size_t total_ef = 0;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        scene s;
+        assert_int_equal(scene_crumpled(&s, 14, 10, seed, 5.0), 0);
+        world w;
+        world_make(&w, &s);
+        const double d = (seed == 2 ? 0.5 : 0.1) * selfcol_mesh_mean_edge_length(w.mesh);
+        size_t n0, n1;
+        run_self(&w, d, SELFCOL_NARROW_CLOSED_FORM, &n0);
+        // The mesh holds its own copy, so the scene can be renumbered now;
+        // the original contacts are then keyed in the new numbering.
+        uint32_t *new_of_old = NULL;
+        assert_int_equal(scene_shuffle(&s, seed, &new_of_old), 0);
+        contact_key *before = keys_of(w.contacts, new_of_old, 0, &n0);
+        world_free(&w);
+        world_make(&w, &s);
+        const selfcol_contact *c = run_self(&w, d, SELFCOL_NARROW_CLOSED_FORM, &n1);
+        total_ef += count_kind(c, n1, SELFCOL_CONTACT_EF);
+        contact_key *after = keys_of(w.contacts, NULL, 0, &n1);
+        assert_true(n0 > 0);
+        assert_true(contact_keys_equal(before, n0, after, n1));
+        free(before);
+        free(after);
+        free(new_of_old);
+        world_free(&w);
+        scene_free(&s);
+    }
+    assert_true(total_ef > 0); // the crumpled sheets really cross themselves
+}
+
+// For two disjoint surfaces A and B in one mesh, self(A u B) is exactly
+// self(A), self(B) and the contacts between A and B: the self path (with its
+// shared-vertex exclusions) and the two-mesh path (without them) must agree.
+static void test_exhaustive_self_of_union_is_selves_plus_between(void **state) {
+    (void)state;
+    scene a, b, u;
+    assert_int_equal(scene_crumpled(&a, 12, 9, 7, 5.0), 0);
+    assert_int_equal(scene_crumpled(&b, 9, 12, 8, 5.0), 0);
+    const double shift[3] = {2.5, 1.5, 0.5};
+    scene_translate(&b, shift);
+    assert_int_equal(scene_crumpled(&u, 12, 9, 7, 5.0), 0);
+    assert_int_equal(scene_append(&u, &b), 0);
+    world wa, wb, wu;
+    world_make(&wa, &a);
+    world_make(&wb, &b);
+    world_make(&wu, &u);
+    const double d = 0.25 * selfcol_mesh_mean_edge_length(wu.mesh);
+    size_t nu, na, nb, nab;
+    run_self(&wu, d, SELFCOL_NARROW_CLOSED_FORM, &nu);
+    contact_key *ku = keys_of(wu.contacts, NULL, 0, &nu);
+    run_self(&wa, d, SELFCOL_NARROW_CLOSED_FORM, &na);
+    contact_key *ka = keys_of(wa.contacts, NULL, 0, &na);
+    run_self(&wb, d, SELFCOL_NARROW_CLOSED_FORM, &nb);
+    uint32_t va = (uint32_t)a.vertex_count;
+    const selfcol_contact *cb;
+    selfcol_contacts_data(wb.contacts, &cb, &nb);
+    contact_key *kb = malloc((nb + 1) * sizeof *kb);
+    assert_non_null(kb);
+    const uint32_t offset_b[2] = {va, va};
+    contact_keys(cb, nb, NULL, offset_b, kb);
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.distance = d;
+    assert_int_equal(selfcol_hierarchy_collide(wa.hierarchy, wb.hierarchy, wa.contacts, &q),
+                     SELFCOL_OK);
+    contact_key *kab = keys_of(wa.contacts, NULL, va, &nab);
+    assert_true(nab > 0 && na > 0 && nb > 0);
+    contact_key *all = malloc((na + nb + nab + 1) * sizeof *all);
+    assert_non_null(all);
+    memcpy(all, ka, na * sizeof *all);
+    memcpy(all + na, kb, nb * sizeof *all);
+    memcpy(all + na + nb, kab, nab * sizeof *all);
+    contact_keys_sort(all, na + nb + nab);
+    assert_true(contact_keys_equal(ku, nu, all, na + nb + nab));
+    free(all);
+    free(ka);
+    free(kb);
+    free(kab);
+    free(ku);
+    world_free(&wa);
+    world_free(&wb);
+    world_free(&wu);
+    scene_free(&a);
+    scene_free(&b);
+    scene_free(&u);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_exhaustive_flat_grid_has_no_contacts_below_half_diagonal),
@@ -448,6 +554,8 @@ int main(void) {
         cmocka_unit_test(test_exhaustive_rejects_bad_query_options),
         cmocka_unit_test(test_exhaustive_query_survives_allocation_failure),
         cmocka_unit_test(test_exhaustive_counts_candidate_pairs),
+        cmocka_unit_test(test_exhaustive_is_invariant_under_renumbering),
+        cmocka_unit_test(test_exhaustive_self_of_union_is_selves_plus_between),
     };
     return cmocka_run_group_tests_name("exhaustive", tests, NULL, NULL);
 }

@@ -3,6 +3,7 @@
 
 #include "scenes.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -114,4 +115,86 @@ void scene_translate(scene *s, const double offset[3]) {
     for (size_t v = 0; v < s->vertex_count; ++v)
         for (int k = 0; k < 3; ++k)
             s->positions[3 * v + (size_t)k] += offset[k];
+}
+
+static unsigned next_random(unsigned *state) {
+    *state = *state * 1664525u + 1013904223u;
+    return *state >> 8;
+}
+
+static double unit_random(unsigned *state) {
+    return (double)next_random(state) / (double)(1u << 24);
+}
+
+int scene_crumpled(scene *s, unsigned nx, unsigned ny, unsigned seed, double amplitude) {
+    if (scene_grid(s, nx, ny, 1.0) != 0)
+        return -1;
+    // Sum of a few random plane waves per coordinate, wavelengths of a few
+    // cells: smooth, but with amplitude several cells it folds and crosses.
+    enum { WAVES = 6 };
+    double k[3][WAVES][2], phase[3][WAVES];
+    unsigned st = seed * 2654435761u + 1u;
+    for (int c = 0; c < 3; ++c)
+        for (int w = 0; w < WAVES; ++w) {
+            double wavelength = 4.0 + 12.0 * unit_random(&st);
+            double angle = 6.283185307179586 * unit_random(&st);
+            k[c][w][0] = 6.283185307179586 / wavelength * cos(angle);
+            k[c][w][1] = 6.283185307179586 / wavelength * sin(angle);
+            phase[c][w] = 6.283185307179586 * unit_random(&st);
+        }
+    for (size_t v = 0; v < s->vertex_count; ++v) {
+        double *p = s->positions + 3 * v;
+        double x = p[0], y = p[1];
+        for (int c = 0; c < 3; ++c) {
+            double sum = 0.0;
+            for (int w = 0; w < WAVES; ++w)
+                sum += sin(k[c][w][0] * x + k[c][w][1] * y + phase[c][w]);
+            p[c] += amplitude * sum / WAVES * (c == 2 ? 2.0 : 1.0);
+        }
+    }
+    return 0;
+}
+
+int scene_shuffle(scene *s, unsigned seed, uint32_t **new_of_old) {
+    unsigned st = seed + 17u;
+    uint32_t *perm = malloc(s->vertex_count * sizeof(uint32_t));
+    double *pos = malloc(3 * s->vertex_count * sizeof(double));
+    if (perm == NULL || pos == NULL) {
+        free(perm);
+        free(pos);
+        return -1;
+    }
+    for (size_t i = 0; i < s->vertex_count; ++i)
+        perm[i] = (uint32_t)i;
+    for (size_t i = s->vertex_count; i > 1; --i) {
+        size_t j = next_random(&st) % i;
+        uint32_t t = perm[i - 1];
+        perm[i - 1] = perm[j];
+        perm[j] = t;
+    }
+    for (size_t v = 0; v < s->vertex_count; ++v)
+        memcpy(pos + 3 * (size_t)perm[v], s->positions + 3 * v, 3 * sizeof(double));
+    free(s->positions);
+    s->positions = pos;
+    for (size_t i = 0; i < 3 * s->triangle_count; ++i)
+        s->triangles[i] = perm[s->triangles[i]];
+    for (size_t t = s->triangle_count; t > 1; --t) {
+        size_t j = next_random(&st) % t;
+        uint32_t tmp[3];
+        memcpy(tmp, s->triangles + 3 * (t - 1), sizeof tmp);
+        memcpy(s->triangles + 3 * (t - 1), s->triangles + 3 * j, sizeof tmp);
+        memcpy(s->triangles + 3 * j, tmp, sizeof tmp);
+    }
+    for (size_t t = 0; t < s->triangle_count; ++t) {
+        unsigned r = next_random(&st) % 3;
+        uint32_t *tri = s->triangles + 3 * t;
+        for (unsigned i = 0; i < r; ++i) {
+            uint32_t x = tri[0];
+            tri[0] = tri[1];
+            tri[1] = tri[2];
+            tri[2] = x;
+        }
+    }
+    *new_of_old = perm;
+    return 0;
 }

@@ -32,6 +32,15 @@ int scene_hairpin(scene *s, unsigned n, double gap);
 uint32_t hairpin_twin(unsigned n, uint32_t v);
 unsigned hairpin_column(unsigned n, uint32_t v);
 
+// An nx x ny unit-spaced grid crumpled by a random smooth displacement strong
+// enough to fold it and make it cross itself (deterministic for a seed).
+int scene_crumpled(scene *s, unsigned nx, unsigned ny, unsigned seed, double amplitude);
+
+// Renumbers vertices by a random permutation and shuffles the triangle order
+// and each triangle's rotation; new_of_old receives the vertex map (caller
+// frees). The surface is unchanged.
+int scene_shuffle(scene *s, unsigned seed, uint32_t **new_of_old);
+
 // Appends scene b to scene a (b's indices shifted by a's vertex count).
 int scene_append(scene *a, const scene *b);
 
