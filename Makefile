@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet
                 libeigen3-dev libcmocka-dev
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
-.PHONY: all build deps test run clean version
+.PHONY: all build deps test run clean version abi-dump abi-check
 all: build
 
 deps:
@@ -25,6 +25,16 @@ test: build
 
 run: build
 	$(BUILD)/tools/selfcol-demo tests/data/folded_ribbon.obj
+
+# ABI baseline of this version (at a release), and the check against the newest one.
+abi-dump: build
+	@sh tools/deps.sh abigail-tools
+	abidw --headers-dir include/selfcol --out-file tests/abi/libselfcol-$(VERSION).abi \
+	  $(BUILD)/lib/libselfcol.so
+
+abi-check: build
+	@sh tools/deps.sh abigail-tools
+	sh tools/abi_check.sh $(BUILD)/lib/libselfcol.so
 
 version:
 	@echo $(VERSION)

@@ -92,28 +92,42 @@ double selfcol_narrow__vf(const double p[3], const double a[3], const double b[3
 
     // Interior candidate: orthogonal projection onto the plane, when its
     // barycentric coordinates (ratios of sub-triangle areas) are all >= 0.
-    double ab[3], ac[3], ap[3], n[3];
-    vec3_sub(ab, b, a);
-    vec3_sub(ac, c, a);
-    vec3_sub(ap, p, a);
-    vec3_cross(n, ab, ac);
+    // The frame is based at an endpoint of the shortest edge: on a needle
+    // triangle the two long edges are nearly parallel and their cross product
+    // loses most of its digits, while short x long keeps them.
+    int i0 = 0;
+    double shortest = HUGE_VAL;
+    for (int i = 0; i < 3; ++i) {
+        double l2 = vec3_dist2(corner[i], corner[(i + 1) % 3]);
+        if (l2 < shortest) {
+            shortest = l2;
+            i0 = i;
+        }
+    }
+    const int i1 = (i0 + 1) % 3, i2 = (i0 + 2) % 3;
+    const double *o = corner[i0];
+    double u[3], v[3], op[3], n[3];
+    vec3_sub(u, corner[i1], o);
+    vec3_sub(v, corner[i2], o);
+    vec3_sub(op, p, o);
+    vec3_cross(n, u, v);
     double nn = vec3_dot(n, n);
     if (nn > 0.0) {
         double t1[3], t2[3];
-        vec3_cross(t1, ap, ac);
-        vec3_cross(t2, ab, ap);
-        double s = vec3_dot(t1, n) / nn; // weight of b
-        double t = vec3_dot(t2, n) / nn; // weight of c
+        vec3_cross(t1, op, v);
+        vec3_cross(t2, u, op);
+        double s = vec3_dot(t1, n) / nn; // weight of corner i1
+        double t = vec3_dot(t2, n) / nn; // weight of corner i2
         if (s >= 0.0 && t >= 0.0 && s + t <= 1.0) {
             double q[3];
             for (int k = 0; k < 3; ++k)
-                q[k] = a[k] + s * ab[k] + t * ac[k];
+                q[k] = o[k] + s * u[k] + t * v[k];
             double d2 = vec3_dist2(p, q);
             if (d2 < best2) {
                 best2 = d2;
-                w[0] = 1.0 - s - t;
-                w[1] = s;
-                w[2] = t;
+                w[i0] = 1.0 - s - t;
+                w[i1] = s;
+                w[i2] = t;
                 closest[0] = q[0];
                 closest[1] = q[1];
                 closest[2] = q[2];
@@ -161,28 +175,37 @@ double selfcol_narrow__ee(const double p0[3], const double p1[3], const double q
         }
     }
 
-    // Interior candidate: the stationary point of |p(s) - q(t)|^2, when the
-    // lines are not parallel and it lies inside [0,1]^2.
-    double d1[3], d2v[3], r[3];
+    // Interior candidate: the stationary point of |p(s) - q(t)|^2 when the
+    // lines are not parallel. With n = d1 x d2 and w = q0 - p0, the closest
+    // points satisfy p(s) - q(t) = lambda n, which gives
+    //   s = ((w x d2) . n) / |n|^2,   t = ((w x d1) . n) / |n|^2.
+    // Taking |n|^2 from the cross product (rather than a e - b^2) loses a
+    // factor 1/sin(angle) less on nearly parallel segments. The solution is
+    // then clamped and refined by two projections (t from s, then s from t;
+    // Ericson 5.1.9), which turns what rounding is left into a pair of real
+    // points that are as close as the projections can make them.
+    double d1[3], d2v[3], w[3], n[3];
     vec3_sub(d1, p1, p0);
     vec3_sub(d2v, q1, q0);
-    vec3_sub(r, p0, q0);
-    double a = vec3_dot(d1, d1), e = vec3_dot(d2v, d2v), b = vec3_dot(d1, d2v);
-    double c = vec3_dot(d1, r), f = vec3_dot(d2v, r);
-    double denom = a * e - b * b;
-    if (denom > 0.0) {
-        double s = (b * f - c * e) / denom;
-        double t = (a * f - b * c) / denom;
-        if (s >= 0.0 && s <= 1.0 && t >= 0.0 && t <= 1.0) {
-            double pa[3], qb[3];
-            vec3_lerp(pa, p0, p1, s);
-            vec3_lerp(qb, q0, q1, t);
-            double dd = vec3_dist2(pa, qb);
-            if (dd < best2) {
-                best2 = dd;
-                s_best = s;
-                t_best = t;
-            }
+    vec3_sub(w, q0, p0);
+    vec3_cross(n, d1, d2v);
+    double nn = vec3_dot(n, n);
+    if (nn > 0.0) {
+        double c1[3];
+        vec3_cross(c1, w, d2v);
+        double s = vec3_dot(c1, n) / nn;
+        s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
+        double pa[3], qb[3];
+        vec3_lerp(pa, p0, p1, s);
+        double t = segment_parameter(pa, q0, q1);
+        vec3_lerp(qb, q0, q1, t);
+        s = segment_parameter(qb, p0, p1);
+        vec3_lerp(pa, p0, p1, s);
+        double dd = vec3_dist2(pa, qb);
+        if (dd < best2) {
+            best2 = dd;
+            s_best = s;
+            t_best = t;
         }
     }
 

@@ -32,14 +32,28 @@ double selfcol_narrow__ee(const double p0[3], const double p1[3], const double q
 int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3],
                        const double b[3], const double c[3], selfcol_narrow_result *out);
 
-// libccd backend, same conventions. `tolerance` is libccd's dist_tolerance (and
-// mpr/epa tolerance), absolute, in mesh units. The EF test is libccd's GJK
-// intersection of the segment and the triangle: it also reports touching
-// (within tolerance) configurations that the exact test does not call crossing.
+// libccd backend, same conventions, for the cross-check. libccd 2.1 has no
+// distance query (ccdGJKDist2 exists only in FCL's fork), so proximities are
+// answered with libccd's own algorithms on an inflated shape: the first
+// primitive swept by a ball of radius `radius` (the detection distance) meets
+// the second iff their distance is below radius (ccdGJKIntersect), and then
+// the penetration depth of the two (ccdGJKPenetration, GJK + EPA) is
+// radius - distance. The functions return that distance when it is below
+// radius, and HUGE_VAL otherwise (out is then not filled). `tolerance` is
+// libccd's epa/mpr/dist tolerance, absolute, in mesh units. EPA allocates
+// inside libccd (with malloc): the cross-check backend is not allocation-free.
+//
+// The EF test is ccdGJKIntersect on the segment and the triangle. libccd 2.1
+// decides touching with fixed DBL_EPSILON tests on squared lengths and ignores
+// `tolerance` there, so it also reports touching and near-touching
+// configurations (about 1.5e-8 at unit scale, more for small triangles) that
+// the exact test does not call crossing.
 double selfcol_narrow_ccd__vf(const double p[3], const double a[3], const double b[3],
-                              const double c[3], double tolerance, selfcol_narrow_result *out);
+                              const double c[3], double radius, double tolerance,
+                              selfcol_narrow_result *out);
 double selfcol_narrow_ccd__ee(const double p0[3], const double p1[3], const double q0[3],
-                              const double q1[3], double tolerance, selfcol_narrow_result *out);
+                              const double q1[3], double radius, double tolerance,
+                              selfcol_narrow_result *out);
 int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double a[3],
                            const double b[3], const double c[3], double tolerance,
                            selfcol_narrow_result *out);

@@ -50,7 +50,7 @@ int selfcol_query__test_vf(selfcol_query *q, int mv, uint32_t v, int mt, uint32_
     const double *c = selfcol_mesh__position(mesht, tri[2]);
     selfcol_narrow_result r;
     double dist = q->narrow == SELFCOL_NARROW_LIBCCD
-                      ? selfcol_narrow_ccd__vf(p, a, b, c, q->ccd_tolerance, &r)
+                      ? selfcol_narrow_ccd__vf(p, a, b, c, q->distance, q->ccd_tolerance, &r)
                       : selfcol_narrow__vf(p, a, b, c, &r);
     q->out->stats.vf_tests++;
     if (!(dist < q->distance))
@@ -72,7 +72,7 @@ int selfcol_query__test_ee(selfcol_query *q, int me, uint32_t e, int mf, uint32_
     const double *q1 = selfcol_mesh__position(q->mesh[mf], fv[1]);
     selfcol_narrow_result r;
     double dist = q->narrow == SELFCOL_NARROW_LIBCCD
-                      ? selfcol_narrow_ccd__ee(p0, p1, q0, q1, q->ccd_tolerance, &r)
+                      ? selfcol_narrow_ccd__ee(p0, p1, q0, q1, q->distance, q->ccd_tolerance, &r)
                       : selfcol_narrow__ee(p0, p1, q0, q1, &r);
     q->out->stats.ee_tests++;
     if (!(dist < q->distance))
@@ -112,25 +112,6 @@ int selfcol_query__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_
     return selfcol_contacts__push(q->out, &rec);
 }
 
-// libccd's tolerances are absolute: scale them with the meshes' extent so the
-// same relative accuracy (1e-9 of the bounding-box diagonal) holds at any size.
-static double ccd_tolerance(const selfcol_query *q) {
-    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (int m = 0; m < (q->self ? 1 : 2); ++m) {
-        const selfcol_mesh *mesh = q->mesh[m];
-        for (size_t i = 0; i < 3 * mesh->vertex_count; ++i) {
-            double x = mesh->positions[i];
-            lo[i % 3] = x < lo[i % 3] ? x : lo[i % 3];
-            hi[i % 3] = x > hi[i % 3] ? x : hi[i % 3];
-        }
-    }
-    double diag2 = 0.0;
-    for (int k = 0; k < 3; ++k)
-        diag2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    double tol = 1e-9 * sqrt(diag2);
-    return tol > 0.0 ? tol : 1e-12;
-}
-
 static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
                      selfcol_contacts *contacts, const selfcol_query_options *opts) {
     SELFCOL_CHECK(first != NULL && second != NULL && contacts != NULL);
@@ -155,7 +136,9 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     q.distance = opts->distance;
     q.kinds = opts->kinds;
     q.narrow = opts->narrow;
-    q.ccd_tolerance = q.narrow == SELFCOL_NARROW_LIBCCD ? ccd_tolerance(&q) : 0.0;
+    // libccd's tolerances are absolute: its penetration depths (hence the
+    // distances) are asked to 1e-7 of the detection distance.
+    q.ccd_tolerance = 1e-7 * q.distance;
     q.out = contacts;
 
     int status = selfcol_exhaustive__run(&q);

@@ -18,7 +18,7 @@ typedef struct selfcol_query {
     double distance;
     uint32_t kinds;
     uint32_t narrow;
-    double ccd_tolerance; // absolute tolerance for libccd, from the meshes' extent
+    double ccd_tolerance; // absolute tolerance for libccd (relative to the distance)
     selfcol_contacts *out;
 } selfcol_query;
 

@@ -262,6 +262,29 @@ static void test_narrow_ee_symmetric_and_never_above_sampled_minimum(void **stat
     }
 }
 
+// Inputs that broke earlier versions (found by the libccd cross-check against
+// a quad-precision reference): a needle triangle whose short edge is opposite
+// the first corner, and nearly parallel, nearly touching segments.
+static void test_narrow_closed_form_regressions(void **state) {
+    (void)state;
+    const double p[3] = {0x1.4d1824bab9d83p-1, -0x1.aa8fdaaa650d3p-1, -0x1.50038b5d3a1c4p-2};
+    const double a[3] = {-0x1.680a75bf24d26p-1, 0x1.de7c033a38674p-1, 0x1.1bcdc4d18e28p-1};
+    const double b[3] = {0x1.8331e6d5760cdp-1, -0x1.f133dffadf822p-1, -0x1.968b18b624d2dp-2};
+    const double c[3] = {0x1.8331e5ff07b26p-1, -0x1.f133e0e3ae11p-1, -0x1.968b178ad16bp-2};
+    double d = selfcol_narrow__vf(p, a, b, c, NULL);
+    print_message("needle VF: %.6g (reference 3.4314e-11)\n", d);
+    assert_true(fabs(d - 3.4314e-11) < 1e-14);
+    assert_true(fabs(selfcol_narrow__vf(p, b, c, a, NULL) - d) < 1e-14);
+
+    const double p0[3] = {-0x1.cfb2acc6bf422p-1, -0x1.8374bfa13c404p-1, 0x1.1dd2bcf8920dcp-1};
+    const double p1[3] = {0x1.bae94958f20dp-1, 0x1.af4fca67c986p-1, -0x1.a045c2ff868ep-1};
+    const double q0[3] = {-0x1.29909cf83a41bp-1, -0x1.dad551ac1daf4p-2, 0x1.3a55994c03608p-2};
+    const double q1[3] = {0x1.9fbd7963bebdep-1, 0x1.96c50d82de9d4p-1, -0x1.8b3b3b2eae0a1p-1};
+    d = selfcol_narrow__ee(p0, p1, q0, q1, NULL);
+    print_message("near-parallel EE: %.6g (reference 1.6137e-11)\n", d);
+    assert_true(fabs(d - 1.6137e-11) < 1e-13);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_narrow_vf_hand_computed_regions),
@@ -270,6 +293,7 @@ int main(void) {
         cmocka_unit_test(test_narrow_ef_documented_configurations),
         cmocka_unit_test(test_narrow_vf_never_above_sampled_minimum),
         cmocka_unit_test(test_narrow_ee_symmetric_and_never_above_sampled_minimum),
+        cmocka_unit_test(test_narrow_closed_form_regressions),
     };
     return cmocka_run_group_tests_name("narrow_internal", tests, NULL, NULL);
 }
