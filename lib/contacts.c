@@ -6,6 +6,7 @@
 #include "alloc.h"
 #include "core.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -42,7 +43,8 @@ void selfcol_contacts_destroy(selfcol_contacts *contacts) {
     selfcol_allocator allocator = contacts->allocator;
     selfcol_alloc__free_array(&allocator, contacts->items, contacts->capacity,
                               sizeof(selfcol_contact));
-    selfcol_alloc__free(&allocator, contacts->scratch, contacts->scratch_bytes);
+    for (int i = 0; i < SELFCOL_SCRATCH_SLOTS; ++i)
+        selfcol_alloc__free(&allocator, contacts->scratch[i], contacts->scratch_bytes[i]);
     selfcol_alloc__free(&allocator, contacts, sizeof *contacts);
 }
 
@@ -70,10 +72,12 @@ int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats
     SELFCOL_CHECK(contacts != NULL && stats != NULL);
     if (stats->version == 0 || stats->version > SELFCOL_QUERY_STATS_VERSION)
         return SELFCOL_EVERSION;
-    // Version 1 is the whole struct today; later versions append fields and
-    // copy only the prefix that the caller's version knows.
+    // Each version appends fields: copy only the prefix the caller's version
+    // knows (its struct may be shorter than ours).
+    static const size_t size_of_version[SELFCOL_QUERY_STATS_VERSION + 1] = {
+        0, offsetof(selfcol_query_stats, nodes_visited), sizeof(selfcol_query_stats)};
     unsigned int version = stats->version;
-    *stats = contacts->stats;
+    memcpy(stats, &contacts->stats, size_of_version[version]);
     stats->version = version;
     return SELFCOL_OK;
 }
@@ -81,8 +85,10 @@ int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats
 size_t selfcol_contacts_byte_count(const selfcol_contacts *contacts) {
     if (contacts == NULL)
         return 0;
-    return sizeof *contacts + contacts->capacity * sizeof(selfcol_contact) +
-           contacts->scratch_bytes;
+    size_t bytes = sizeof *contacts + contacts->capacity * sizeof(selfcol_contact);
+    for (int i = 0; i < SELFCOL_SCRATCH_SLOTS; ++i)
+        bytes += contacts->scratch_bytes[i];
+    return bytes;
 }
 
 int selfcol_contacts__push(selfcol_contacts *c, const selfcol_contact *contact) {
@@ -102,15 +108,20 @@ int selfcol_contacts__push(selfcol_contacts *c, const selfcol_contact *contact) 
     return SELFCOL_OK;
 }
 
-void *selfcol_contacts__scratch(selfcol_contacts *c, size_t bytes) {
-    if (bytes <= c->scratch_bytes)
-        return c->scratch;
-    void *buffer = selfcol_alloc__raw(&c->allocator, bytes);
+void *selfcol_contacts__scratch(selfcol_contacts *c, int slot, size_t bytes, size_t keep) {
+    if (bytes <= c->scratch_bytes[slot])
+        return c->scratch[slot];
+    // Grow geometrically so a stack or list grown one step at a time costs
+    // amortised O(1) per step.
+    size_t size = c->scratch_bytes[slot] * 2 > bytes ? c->scratch_bytes[slot] * 2 : bytes;
+    void *buffer = selfcol_alloc__raw(&c->allocator, size);
     if (buffer == NULL)
         return NULL;
-    selfcol_alloc__free(&c->allocator, c->scratch, c->scratch_bytes);
-    c->scratch = buffer;
-    c->scratch_bytes = bytes;
+    if (keep > 0)
+        memcpy(buffer, c->scratch[slot], keep);
+    selfcol_alloc__free(&c->allocator, c->scratch[slot], c->scratch_bytes[slot]);
+    c->scratch[slot] = buffer;
+    c->scratch_bytes[slot] = size;
     return buffer;
 }
 

@@ -9,22 +9,27 @@
 
 #include <selfcol/contacts.h>
 
+// Scratch buffers kept by the contact set for the queries that fill it.
+#define SELFCOL_SCRATCH_SLOTS 2
+
 struct selfcol_contacts {
     selfcol_allocator allocator;
     selfcol_contact *items;
     size_t count;
     size_t capacity;
-    void *scratch;
-    size_t scratch_bytes;
+    void *scratch[SELFCOL_SCRATCH_SLOTS];
+    size_t scratch_bytes[SELFCOL_SCRATCH_SLOTS];
     selfcol_query_stats stats; // always the latest version
 };
 
 // Appends one record, growing geometrically. SELFCOL_OK or SELFCOL_ENOMEM.
 int selfcol_contacts__push(selfcol_contacts *contacts, const selfcol_contact *contact);
 
-// Returns a scratch buffer of at least bytes (aligned to SELFCOL_ALIGNMENT),
-// kept and reused by later calls; NULL on allocation failure.
-void *selfcol_contacts__scratch(selfcol_contacts *contacts, size_t bytes);
+// Returns scratch buffer `slot` with at least bytes (aligned to
+// SELFCOL_ALIGNMENT), kept and reused by later calls. When it has to grow,
+// the first `keep` bytes of its old content are copied. NULL on allocation
+// failure (the old buffer stays valid).
+void *selfcol_contacts__scratch(selfcol_contacts *contacts, int slot, size_t bytes, size_t keep);
 
 // Sorts the records by (kind, first_mesh, first, second_mesh, second); O(n)
 // when they already are.

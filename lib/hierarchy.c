@@ -30,8 +30,15 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
     selfcol_hierarchy *h = selfcol_alloc__raw(&allocator, sizeof *h);
     if (h == NULL)
         return SELFCOL_ENOMEM;
+    memset(h, 0, sizeof *h);
     h->allocator = allocator;
     h->mesh = mesh;
+    int status = selfcol_hierarchy__build(h);
+    if (status != SELFCOL_OK) {
+        selfcol_hierarchy_destroy(h);
+        return status;
+    }
+    selfcol_hierarchy__refit(h);
     *out = h;
     return SELFCOL_OK;
 }
@@ -40,6 +47,13 @@ void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy) {
     if (hierarchy == NULL)
         return;
     selfcol_allocator allocator = hierarchy->allocator;
+    size_t F = hierarchy->mesh->triangle_count;
+    selfcol_alloc__free_array(&allocator, hierarchy->nodes, hierarchy->node_count,
+                              sizeof(selfcol_node));
+    selfcol_alloc__free_array(&allocator, hierarchy->tri_order, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(&allocator, hierarchy->owned, F, sizeof(uint8_t));
+    selfcol_alloc__free_array(&allocator, hierarchy->boundary, hierarchy->boundary_total,
+                              sizeof(uint32_t));
     selfcol_alloc__free(&allocator, hierarchy, sizeof *hierarchy);
 }
 
@@ -47,6 +61,28 @@ const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *hierarchy) {
     return hierarchy != NULL ? hierarchy->mesh : NULL;
 }
 
+int selfcol_hierarchy_refit(selfcol_hierarchy *hierarchy) {
+    SELFCOL_CHECK(hierarchy != NULL);
+    selfcol_hierarchy__refit(hierarchy);
+    return SELFCOL_OK;
+}
+
+size_t selfcol_hierarchy_count(const selfcol_hierarchy *hierarchy,
+                               selfcol_hierarchy_quantity quantity) {
+    if (hierarchy == NULL)
+        return 0;
+    switch (quantity) {
+    case SELFCOL_HIERARCHY_NODES: return hierarchy->node_count;
+    case SELFCOL_HIERARCHY_LEAVES: return hierarchy->leaf_count;
+    case SELFCOL_HIERARCHY_DEPTH: return hierarchy->depth;
+    }
+    return 0;
+}
+
 size_t selfcol_hierarchy_byte_count(const selfcol_hierarchy *hierarchy) {
-    return hierarchy != NULL ? sizeof *hierarchy : 0;
+    if (hierarchy == NULL)
+        return 0;
+    size_t F = hierarchy->mesh->triangle_count;
+    return sizeof *hierarchy + hierarchy->node_count * sizeof(selfcol_node) +
+           F * (sizeof(uint32_t) + sizeof(uint8_t)) + hierarchy->boundary_total * sizeof(uint32_t);
 }

@@ -145,6 +145,7 @@ static int set_positions(selfcol_mesh *mesh, const position_source *src) {
     if (!positions_finite(src, mesh->vertex_count))
         return SELFCOL_EINVAL;
     copy_positions(mesh->positions, src, mesh->vertex_count);
+    mesh->positions_version++;
     return SELFCOL_OK;
 }
 

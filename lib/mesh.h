@@ -18,6 +18,7 @@ struct selfcol_mesh {
     size_t edge_count;
 
     double *positions;  // 3 V, current frame
+    uint64_t positions_version; // bumped by every accepted set_positions
     uint32_t *triangles; // 3 F, as given
 
     uint32_t *edges;             // 2 E, (lo, hi), sorted

@@ -121,11 +121,16 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
         selfcol_query_options_init(&defaults, SELFCOL_QUERY_OPTIONS_VERSION);
         opts = &defaults;
     }
-    SELFCOL_CHECK(opts->method == SELFCOL_METHOD_EXHAUSTIVE);
+    SELFCOL_CHECK(opts->method <= SELFCOL_METHOD_CONE);
     SELFCOL_CHECK(opts->narrow == SELFCOL_NARROW_CLOSED_FORM ||
                   opts->narrow == SELFCOL_NARROW_LIBCCD);
     SELFCOL_CHECK((opts->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);
     SELFCOL_CHECK(isfinite(opts->distance) && opts->distance >= 0.0);
+
+    if (opts->method != SELFCOL_METHOD_EXHAUSTIVE &&
+        (first->refit_version != first->mesh->positions_version ||
+         second->refit_version != second->mesh->positions_version))
+        return SELFCOL_ESTALE;
 
     double start = selfcol_core__seconds();
     selfcol_contacts_clear(contacts);
@@ -141,7 +146,9 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     q.ccd_tolerance = 1e-7 * q.distance;
     q.out = contacts;
 
-    int status = selfcol_exhaustive__run(&q);
+    int status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
+                     ? selfcol_exhaustive__run(&q)
+                     : selfcol_traverse__run(&q, first, second, opts->method);
     if (status != SELFCOL_OK) {
         selfcol_contacts_clear(contacts);
         return status;

@@ -33,4 +33,10 @@ int selfcol_query__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_
 // The exhaustive reference (exhaustive.c).
 int selfcol_exhaustive__run(selfcol_query *q);
 
+// The hierarchy traversal (traverse.c) for methods BVH, SEED and CONE; for a
+// self query h1 == h0.
+struct selfcol_hierarchy;
+int selfcol_traverse__run(selfcol_query *q, const struct selfcol_hierarchy *h0,
+                          const struct selfcol_hierarchy *h1, uint32_t method);
+
 #endif // SELFCOL_QUERY_H

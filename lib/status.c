@@ -14,6 +14,7 @@ const char *selfcol_status_string(int status) {
     case SELFCOL_EUSER: return "stopped by a callback";
     case SELFCOL_ERANGE: return "count or index out of the supported range";
     case SELFCOL_EMISMATCH: return "handles do not belong together";
+    case SELFCOL_ESTALE: return "hierarchy not refit since its mesh moved";
     default: return "unknown status";
     }
 }

@@ -55,7 +55,8 @@ typedef enum selfcol_status {
     SELFCOL_EBUFS = -5,    /**< a caller-provided buffer is too small */
     SELFCOL_EUSER = -6,    /**< a callback asked to stop */
     SELFCOL_ERANGE = -7,   /**< a count or index does not fit the library's types */
-    SELFCOL_EMISMATCH = -8 /**< handles that must belong together do not */
+    SELFCOL_EMISMATCH = -8, /**< handles that must belong together do not */
+    SELFCOL_ESTALE = -9     /**< a hierarchy was not refit after its mesh moved */
 } selfcol_status;
 
 /**

@@ -103,9 +103,15 @@ typedef struct selfcol_query_stats {
     double broad_seconds;
     double narrow_seconds;     /**< time spent in primitive tests; 0 for EXHAUSTIVE */
     double total_seconds;      /**< wall time of the whole query */
+    /* Version 2: the hierarchy traversal (all 0 for EXHAUSTIVE). */
+    uint64_t nodes_visited;    /**< nodes and node pairs examined */
+    uint64_t culled_box;       /**< node pairs skipped because their boxes are apart */
+    uint64_t culled_curvature; /**< nodes skipped by the curvature criterion (self) */
+    uint64_t culled_adjacency; /**< adjacent node pairs skipped by the joint curvature criterion */
+    uint64_t triangle_pairs;   /**< triangle pairs handed to the narrow phase */
 } selfcol_query_stats;
 
-#define SELFCOL_QUERY_STATS_VERSION 1
+#define SELFCOL_QUERY_STATS_VERSION 2
 
 /** Opaque set of contacts, filled by the queries of hierarchy.h. */
 typedef struct selfcol_contacts selfcol_contacts;

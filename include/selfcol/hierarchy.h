@@ -38,7 +38,12 @@ SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
                                                unsigned int version);
 
 /**
- * Creates a hierarchy over a mesh.
+ * Creates a hierarchy over a mesh, from its topology (Volino & Magnenat
+ * Thalmann's automatic hierarchisation): every node is an edge-connected
+ * patch of triangles, built bottom-up by matching each patch with an adjacent
+ * one (the one giving the most compact merged box), so children are connected
+ * sub-patches of similar size. O(n) expected time and memory; the hierarchy
+ * is refit to the mesh's current positions.
  * @param[out] out the new hierarchy; NULL on failure. Caller owns it; free it
  *             with selfcol_hierarchy_destroy() before destroying the mesh.
  * @param[in] mesh the mesh; borrowed for the hierarchy's lifetime
@@ -58,6 +63,30 @@ SELFCOL_API void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy);
 SELFCOL_API const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *hierarchy);
 
 /**
+ * Recomputes the bounding boxes, direction masks and normal cones from the
+ * mesh's current positions (after selfcol_mesh_set_positions()). O(n), no
+ * allocation. Queries with a hierarchy method (BVH, SEED, CONE) on a
+ * hierarchy whose mesh moved since the last refit return SELFCOL_ESTALE.
+ * @param[in,out] hierarchy the hierarchy
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL.
+ */
+SELFCOL_API int selfcol_hierarchy_refit(selfcol_hierarchy *hierarchy);
+
+/** Quantities reported by selfcol_hierarchy_count(). Values are pinned. */
+typedef enum selfcol_hierarchy_quantity {
+    SELFCOL_HIERARCHY_NODES = 0,  /**< all nodes */
+    SELFCOL_HIERARCHY_LEAVES = 1, /**< leaf nodes (a few triangles each) */
+    SELFCOL_HIERARCHY_DEPTH = 2   /**< levels from the root to the deepest leaf */
+} selfcol_hierarchy_quantity;
+
+/**
+ * Returns a count describing the hierarchy.
+ * @return the count; 0 for NULL or an unknown quantity.
+ */
+SELFCOL_API size_t selfcol_hierarchy_count(const selfcol_hierarchy *hierarchy,
+                                           selfcol_hierarchy_quantity quantity);
+
+/**
  * Bytes of memory held by the hierarchy (not counting its mesh).
  * @return the byte count; 0 for NULL.
  */
@@ -67,7 +96,18 @@ SELFCOL_API size_t selfcol_hierarchy_byte_count(const selfcol_hierarchy *hierarc
 typedef enum selfcol_method {
     /** The O(n^2) reference: every vertex against every triangle, every edge
      *  against every edge and every triangle. Defines the exact contact sets. */
-    SELFCOL_METHOD_EXHAUSTIVE = 0
+    SELFCOL_METHOD_EXHAUSTIVE = 0,
+    /** The hierarchy with bounding-box culling only. Exact. */
+    SELFCOL_METHOD_BVH = 1,
+    /** Volino & Magnenat Thalmann 1995 as written: boxes, the 14-direction
+     *  curvature masks and adjacency, no contour test. Not exact: it can miss
+     *  contacts inside or between smooth patches that touch themselves (a
+     *  spiral ramp, a rolled sheet) and proximities closer than d inside a
+     *  smooth patch. Its misses are measured, never hidden. */
+    SELFCOL_METHOD_SEED = 2,
+    /** SEED with exact normal cones (axis and half-angle) in place of the 14
+     *  sampled directions. Not exact, for the same reasons as SEED. */
+    SELFCOL_METHOD_CONE = 3
 } selfcol_method;
 
 /** Narrow-phase implementations. Values are pinned. */
@@ -109,7 +149,8 @@ SELFCOL_API int selfcol_query_options_init(selfcol_query_options *opts, unsigned
  * @param[in] opts query options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL handle, unknown method, narrow or
  *         kinds bits, negative or non-finite distance); SELFCOL_EVERSION;
- *         SELFCOL_ENOMEM (contacts is then left empty).
+ *         SELFCOL_ESTALE (a hierarchy method on a hierarchy not refit since
+ *         its mesh moved); SELFCOL_ENOMEM (contacts is then left empty).
  */
 SELFCOL_API int selfcol_hierarchy_self_collide(const selfcol_hierarchy *hierarchy,
                                                selfcol_contacts *contacts,

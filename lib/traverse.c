@@ -1,0 +1,254 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Hierarchy traversal (Volino & Magnenat Thalmann 1995, section 2.2), in two
+// stages so each can be timed and the narrow phase runs over a flat list:
+//
+// 1. Broad phase. A stack of node pairs; (a, a) means Self(a).
+//    Self(node): skip it when the method uses curvature, the patch is
+//      connected and all its normals lie in one open half-space (a non-empty
+//      14-direction mask for SEED, a cone narrower than pi/2 for CONE);
+//      otherwise push Self(child) for each child and Pair(ci, cj) for each
+//      pair of children. A leaf's triangle pairs go to the list.
+//    Pair(a, b): skip when the boxes are farther apart than d on some axis;
+//      with curvature, skip when both patches are connected, adjacent (they
+//      share a boundary vertex) and their normals together lie in one open
+//      half-space; otherwise split the larger node. Two leaves put their
+//      triangle pairs (whose boxes are within d) on the list.
+//    BVH uses the box test alone and is exact.
+//
+// 2. Narrow phase. Each triangle pair generates the primitive pairs made of a
+//    vertex or edge *owned* by one triangle and the other triangle (or an
+//    owned edge of the other): every vertex and edge has exactly one owner
+//    triangle, and every triangle pair is listed at most once, so every
+//    primitive pair is tested at most once. For a self query, pairs sharing a
+//    vertex are dropped before any test. Ownership keeps the broad phase
+//    sound: a vertex within d of a triangle lies in its owner's box, so the
+//    owner's box is within d of the triangle's box too.
+#include "query.h"
+
+#include "core.h"
+#include "hierarchy.h"
+
+#include <math.h>
+
+typedef struct node_pair {
+    uint32_t a, b;
+} node_pair;
+
+typedef struct traversal {
+    selfcol_query *q;
+    const selfcol_hierarchy *h[2];
+    uint32_t method;
+    node_pair *stack;
+    size_t stack_size, stack_capacity;
+    node_pair *pairs; // triangle pairs (t0 of mesh 0, t1 of mesh 1)
+    size_t pair_count, pair_capacity;
+} traversal;
+
+static int push(traversal *t, int list, uint32_t a, uint32_t b) {
+    node_pair **items = list ? &t->pairs : &t->stack;
+    size_t *size = list ? &t->pair_count : &t->stack_size;
+    size_t *capacity = list ? &t->pair_capacity : &t->stack_capacity;
+    if (*size == *capacity) {
+        size_t want = *capacity < 256 ? 256 : 2 * *capacity;
+        node_pair *grown = selfcol_contacts__scratch(t->q->out, list, want * sizeof(node_pair),
+                                                     *size * sizeof(node_pair));
+        if (grown == NULL)
+            return SELFCOL_ENOMEM;
+        *items = grown;
+        *capacity = t->q->out->scratch_bytes[list] / sizeof(node_pair);
+    }
+    (*items)[(*size)++] = (node_pair){a, b};
+    return SELFCOL_OK;
+}
+
+static int boxes_apart(const selfcol_node *a, const selfcol_node *b, double d) {
+    for (int k = 0; k < 3; ++k)
+        if ((double)a->lo[k] - d > (double)b->hi[k] || (double)b->lo[k] - d > (double)a->hi[k])
+            return 1;
+    return 0;
+}
+
+#define HALF_PI 1.5707963267948966
+
+// All normals of the node in one open half-space, by the method's measure.
+static int smooth(uint32_t method, const selfcol_node *n) {
+    if (!(n->flags & SELFCOL_NODE_CONNECTED))
+        return 0;
+    return method == SELFCOL_METHOD_CONE ? n->cone_angle < HALF_PI : n->mask != 0;
+}
+
+// The same for the union of two nodes.
+static int jointly_smooth(uint32_t method, const selfcol_node *a, const selfcol_node *b) {
+    if (!(a->flags & b->flags & SELFCOL_NODE_CONNECTED))
+        return 0;
+    if (method != SELFCOL_METHOD_CONE)
+        return (a->mask & b->mask) != 0;
+    if (!(a->cone_angle < HALF_PI && b->cone_angle < HALF_PI))
+        return 0;
+    double c = 0.0;
+    for (int k = 0; k < 3; ++k)
+        c += (double)a->cone_axis[k] * (double)b->cone_axis[k];
+    double phi = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
+    double lo = phi + b->cone_angle <= a->cone_angle   ? a->cone_angle
+                : phi + a->cone_angle <= b->cone_angle ? b->cone_angle
+                                                       : 0.5 * (a->cone_angle + phi + b->cone_angle);
+    return lo < HALF_PI;
+}
+
+static void triangle_box(const selfcol_mesh *m, uint32_t t, double lo[3], double hi[3]) {
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    for (int k = 0; k < 3; ++k) {
+        double a = m->positions[3 * (size_t)tri[0] + k], b = m->positions[3 * (size_t)tri[1] + k];
+        double c = m->positions[3 * (size_t)tri[2] + k];
+        lo[k] = a < b ? (a < c ? a : c) : (b < c ? b : c);
+        hi[k] = a > b ? (a > c ? a : c) : (b > c ? b : c);
+    }
+}
+
+static int leaf_pair(traversal *t, const selfcol_node *a, const selfcol_node *b, int same) {
+    const selfcol_mesh *m0 = t->h[0]->mesh, *m1 = t->h[1]->mesh;
+    const double d = t->q->distance;
+    for (uint32_t i = 0; i < a->tri_count; ++i) {
+        uint32_t ta = t->h[0]->tri_order[a->tri_begin + i];
+        double alo[3], ahi[3];
+        triangle_box(m0, ta, alo, ahi);
+        for (uint32_t j = same ? i + 1 : 0; j < b->tri_count; ++j) {
+            uint32_t tb = t->h[1]->tri_order[b->tri_begin + j];
+            double blo[3], bhi[3];
+            triangle_box(m1, tb, blo, bhi);
+            int apart = 0;
+            for (int k = 0; k < 3; ++k)
+                apart |= (alo[k] - d > bhi[k]) | (blo[k] - d > ahi[k]);
+            if (apart)
+                continue;
+            int status = push(t, 1, ta, tb);
+            if (status != SELFCOL_OK)
+                return status;
+        }
+    }
+    return SELFCOL_OK;
+}
+
+static int broad_phase(traversal *t) {
+    selfcol_query_stats *st = &t->q->out->stats;
+    const int self = t->q->self;
+    const int curvature = self && t->method != SELFCOL_METHOD_BVH;
+    const selfcol_node *n0 = t->h[0]->nodes, *n1 = t->h[1]->nodes;
+    int status = push(t, 0, 0, 0);
+    while (status == SELFCOL_OK && t->stack_size > 0) {
+        node_pair p = t->stack[--t->stack_size];
+        const selfcol_node *a = &n0[p.a], *b = &n1[p.b];
+        st->nodes_visited++;
+        if (self && p.a == p.b) {
+            if (curvature && smooth(t->method, a)) {
+                st->culled_curvature++;
+                continue;
+            }
+            if (a->child_count == 0) {
+                status = leaf_pair(t, a, a, 1);
+                continue;
+            }
+            for (uint32_t i = 0; i < a->child_count && status == SELFCOL_OK; ++i) {
+                uint32_t ci = a->first_child + i;
+                status = push(t, 0, ci, ci);
+                for (uint32_t j = i + 1; j < a->child_count && status == SELFCOL_OK; ++j)
+                    status = push(t, 0, ci, a->first_child + j);
+            }
+            continue;
+        }
+        if (boxes_apart(a, b, t->q->distance)) {
+            st->culled_box++;
+            continue;
+        }
+        if (curvature && jointly_smooth(t->method, a, b) &&
+            selfcol_hierarchy__adjacent(t->h[0], a, b)) {
+            st->culled_adjacency++;
+            continue;
+        }
+        if (a->child_count == 0 && b->child_count == 0) {
+            status = leaf_pair(t, a, b, 0);
+            continue;
+        }
+        // Split the node with more triangles (a leaf is never split).
+        int split_a = b->child_count == 0 || (a->child_count > 0 && a->tri_count >= b->tri_count);
+        const selfcol_node *s = split_a ? a : b;
+        for (uint32_t i = 0; i < s->child_count && status == SELFCOL_OK; ++i)
+            status = split_a ? push(t, 0, s->first_child + i, p.b)
+                             : push(t, 0, p.a, s->first_child + i);
+    }
+    return status;
+}
+
+static int is_corner(uint32_t v, const uint32_t *tri) {
+    return v == tri[0] || v == tri[1] || v == tri[2];
+}
+
+// Vertices owned by triangle ta (mesh ma) against triangle tb (mesh mb), and
+// edges owned by ta against tb.
+static int one_way(traversal *t, int ma, uint32_t ta, int mb, uint32_t tb) {
+    const selfcol_mesh *A = t->q->mesh[ma], *B = t->q->mesh[mb];
+    const uint8_t owned = t->h[ma]->owned[ta];
+    const uint32_t *tri_a = A->triangles + 3 * (size_t)ta, *tri_b = B->triangles + 3 * (size_t)tb;
+    const int self = t->q->self;
+    int status = SELFCOL_OK;
+    for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
+        if ((t->q->kinds & SELFCOL_KIND_VF) && (owned & SELFCOL_OWNS_VERTEX(i)) &&
+            !(self && is_corner(tri_a[i], tri_b)))
+            status = selfcol_query__test_vf(t->q, ma, tri_a[i], mb, tb);
+        if (status == SELFCOL_OK && (t->q->kinds & SELFCOL_KIND_EF) &&
+            (owned & SELFCOL_OWNS_EDGE(i))) {
+            uint32_t e = A->triangle_edges[3 * (size_t)ta + (size_t)i];
+            const uint32_t *ev = A->edges + 2 * (size_t)e;
+            if (!(self && (is_corner(ev[0], tri_b) || is_corner(ev[1], tri_b))))
+                status = selfcol_query__test_ef(t->q, ma, e, mb, tb);
+        }
+    }
+    return status;
+}
+
+static int triangle_pair(traversal *t, uint32_t t0, uint32_t t1) {
+    int status = one_way(t, 0, t0, 1, t1);
+    if (status == SELFCOL_OK)
+        status = one_way(t, 1, t1, 0, t0);
+    if (status != SELFCOL_OK || !(t->q->kinds & SELFCOL_KIND_EE))
+        return status;
+    const selfcol_mesh *A = t->q->mesh[0], *B = t->q->mesh[1];
+    const uint8_t own0 = t->h[0]->owned[t0], own1 = t->h[1]->owned[t1];
+    for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
+        if (!(own0 & SELFCOL_OWNS_EDGE(i)))
+            continue;
+        uint32_t e = A->triangle_edges[3 * (size_t)t0 + (size_t)i];
+        const uint32_t *ev = A->edges + 2 * (size_t)e;
+        for (int j = 0; j < 3 && status == SELFCOL_OK; ++j) {
+            if (!(own1 & SELFCOL_OWNS_EDGE(j)))
+                continue;
+            uint32_t f = B->triangle_edges[3 * (size_t)t1 + (size_t)j];
+            if (t->q->self) {
+                const uint32_t *fv = B->edges + 2 * (size_t)f;
+                if (ev[0] == fv[0] || ev[0] == fv[1] || ev[1] == fv[0] || ev[1] == fv[1])
+                    continue;
+                status = e < f ? selfcol_query__test_ee(t->q, 0, e, 0, f)
+                               : selfcol_query__test_ee(t->q, 0, f, 0, e);
+            } else {
+                status = selfcol_query__test_ee(t->q, 0, e, 1, f);
+            }
+        }
+    }
+    return status;
+}
+
+int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
+                          const selfcol_hierarchy *h1, uint32_t method) {
+    traversal t = {q, {h0, h1}, method, NULL, 0, 0, NULL, 0, 0};
+    double start = selfcol_core__seconds();
+    int status = broad_phase(&t);
+    double middle = selfcol_core__seconds();
+    q->out->stats.broad_seconds = middle - start;
+    q->out->stats.triangle_pairs = t.pair_count;
+    for (size_t i = 0; i < t.pair_count && status == SELFCOL_OK; ++i)
+        status = triangle_pair(&t, t.pairs[i].a, t.pairs[i].b);
+    q->out->stats.narrow_seconds = selfcol_core__seconds() - middle;
+    return status;
+}
