@@ -185,23 +185,54 @@ static int is_corner(uint32_t v, const uint32_t *tri) {
     return v == tri[0] || v == tri[1] || v == tri[2];
 }
 
+typedef struct box3 {
+    double lo[3], hi[3];
+} box3;
+
+static void segment_box(box3 *b, const double *p, const double *q) {
+    for (int k = 0; k < 3; ++k) {
+        b->lo[k] = p[k] < q[k] ? p[k] : q[k];
+        b->hi[k] = p[k] > q[k] ? p[k] : q[k];
+    }
+}
+
+static int near(const box3 *a, const box3 *b, double d) {
+    for (int k = 0; k < 3; ++k)
+        if (a->lo[k] - d > b->hi[k] || b->lo[k] - d > a->hi[k])
+            return 0;
+    return 1;
+}
+
+static int point_near(const double *p, const box3 *b, double d) {
+    for (int k = 0; k < 3; ++k)
+        if (p[k] < b->lo[k] - d || p[k] > b->hi[k] + d)
+            return 0;
+    return 1;
+}
+
 // Vertices owned by triangle ta (mesh ma) against triangle tb (mesh mb), and
-// edges owned by ta against tb.
-static int one_way(traversal *t, int ma, uint32_t ta, int mb, uint32_t tb) {
+// edges owned by ta against tb. Each primitive test is preceded by the same
+// conservative box rejection as the exhaustive reference.
+static int one_way(traversal *t, int ma, uint32_t ta, int mb, uint32_t tb, const box3 *box_b) {
     const selfcol_mesh *A = t->q->mesh[ma], *B = t->q->mesh[mb];
     const uint8_t owned = t->h[ma]->owned[ta];
     const uint32_t *tri_a = A->triangles + 3 * (size_t)ta, *tri_b = B->triangles + 3 * (size_t)tb;
     const int self = t->q->self;
+    const double d = t->q->distance;
     int status = SELFCOL_OK;
     for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
         if ((t->q->kinds & SELFCOL_KIND_VF) && (owned & SELFCOL_OWNS_VERTEX(i)) &&
-            !(self && is_corner(tri_a[i], tri_b)))
+            !(self && is_corner(tri_a[i], tri_b)) &&
+            point_near(selfcol_mesh__position(A, tri_a[i]), box_b, d))
             status = selfcol_query__test_vf(t->q, ma, tri_a[i], mb, tb);
         if (status == SELFCOL_OK && (t->q->kinds & SELFCOL_KIND_EF) &&
             (owned & SELFCOL_OWNS_EDGE(i))) {
             uint32_t e = A->triangle_edges[3 * (size_t)ta + (size_t)i];
             const uint32_t *ev = A->edges + 2 * (size_t)e;
-            if (!(self && (is_corner(ev[0], tri_b) || is_corner(ev[1], tri_b))))
+            box3 eb;
+            segment_box(&eb, selfcol_mesh__position(A, ev[0]), selfcol_mesh__position(A, ev[1]));
+            if (!(self && (is_corner(ev[0], tri_b) || is_corner(ev[1], tri_b))) &&
+                near(&eb, box_b, 0.0))
                 status = selfcol_query__test_ef(t->q, ma, e, mb, tb);
         }
     }
@@ -209,31 +240,43 @@ static int one_way(traversal *t, int ma, uint32_t ta, int mb, uint32_t tb) {
 }
 
 static int triangle_pair(traversal *t, uint32_t t0, uint32_t t1) {
-    int status = one_way(t, 0, t0, 1, t1);
+    const selfcol_mesh *A = t->q->mesh[0], *B = t->q->mesh[1];
+    box3 b0, b1;
+    triangle_box(A, t0, b0.lo, b0.hi);
+    triangle_box(B, t1, b1.lo, b1.hi);
+    int status = one_way(t, 0, t0, 1, t1, &b1);
     if (status == SELFCOL_OK)
-        status = one_way(t, 1, t1, 0, t0);
+        status = one_way(t, 1, t1, 0, t0, &b0);
     if (status != SELFCOL_OK || !(t->q->kinds & SELFCOL_KIND_EE))
         return status;
-    const selfcol_mesh *A = t->q->mesh[0], *B = t->q->mesh[1];
     const uint8_t own0 = t->h[0]->owned[t0], own1 = t->h[1]->owned[t1];
+    const double d = t->q->distance;
     for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
         if (!(own0 & SELFCOL_OWNS_EDGE(i)))
             continue;
         uint32_t e = A->triangle_edges[3 * (size_t)t0 + (size_t)i];
         const uint32_t *ev = A->edges + 2 * (size_t)e;
+        box3 eb;
+        segment_box(&eb, selfcol_mesh__position(A, ev[0]), selfcol_mesh__position(A, ev[1]));
+        if (!near(&eb, &b1, d))
+            continue;
         for (int j = 0; j < 3 && status == SELFCOL_OK; ++j) {
             if (!(own1 & SELFCOL_OWNS_EDGE(j)))
                 continue;
             uint32_t f = B->triangle_edges[3 * (size_t)t1 + (size_t)j];
-            if (t->q->self) {
-                const uint32_t *fv = B->edges + 2 * (size_t)f;
-                if (ev[0] == fv[0] || ev[0] == fv[1] || ev[1] == fv[0] || ev[1] == fv[1])
-                    continue;
+            const uint32_t *fv = B->edges + 2 * (size_t)f;
+            if (t->q->self &&
+                (ev[0] == fv[0] || ev[0] == fv[1] || ev[1] == fv[0] || ev[1] == fv[1]))
+                continue;
+            box3 fb;
+            segment_box(&fb, selfcol_mesh__position(B, fv[0]), selfcol_mesh__position(B, fv[1]));
+            if (!near(&eb, &fb, d))
+                continue;
+            if (t->q->self)
                 status = e < f ? selfcol_query__test_ee(t->q, 0, e, 0, f)
                                : selfcol_query__test_ee(t->q, 0, f, 0, e);
-            } else {
+            else
                 status = selfcol_query__test_ee(t->q, 0, e, 1, f);
-            }
         }
     }
     return status;
