@@ -15,6 +15,12 @@
 // The patch of the node is edge-connected (every node built by matching; the
 // nodes that join separate components at the top are not).
 #define SELFCOL_NODE_CONNECTED 1u
+// The patch's triangles are consistently oriented (after the build's flips)
+// and it has no interior non-manifold edge: its normals can be compared.
+#define SELFCOL_NODE_ORIENTED 2u
+// A bad edge (non-manifold, or not orientable) joins the patch to the rest:
+// the union with an adjacent patch may not be consistently oriented.
+#define SELFCOL_NODE_BAD_BOUNDARY 4u
 
 // The 14 sample directions: the 8 cube corners and the 6 face centres.
 #define SELFCOL_DIRECTIONS 14
@@ -43,6 +49,8 @@ typedef struct selfcol_node {
 // slots owned.
 #define SELFCOL_OWNS_VERTEX(i) (1u << (i))
 #define SELFCOL_OWNS_EDGE(i) (1u << (3 + (i)))
+// Bit 6: the triangle's normal is reversed to orient its component consistently.
+#define SELFCOL_TRIANGLE_FLIPPED (1u << 6)
 
 struct selfcol_hierarchy {
     selfcol_allocator allocator;

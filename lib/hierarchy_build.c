@@ -286,12 +286,12 @@ static int layout(selfcol_hierarchy *h, const builder *b, uint32_t root, const u
     const selfcol_allocator *al = &h->allocator;
     const size_t N = b->node_count;
     h->nodes = selfcol_alloc__array(al, N, sizeof(selfcol_node));
-    uint32_t *build_of = selfcol_alloc__array(al, N, sizeof(uint32_t)); // BFS queue
-    if (h->nodes == NULL || build_of == NULL) {
-        selfcol_alloc__free_array(al, build_of, N, sizeof(uint32_t));
+    if (h->nodes == NULL)
         return SELFCOL_ENOMEM;
-    }
-    h->node_count = N;
+    h->node_count = N; // destroy frees nodes with this size, whatever fails next
+    uint32_t *build_of = selfcol_alloc__array(al, N, sizeof(uint32_t)); // BFS queue
+    if (build_of == NULL)
+        return SELFCOL_ENOMEM;
     memset(h->nodes, 0, N * sizeof(selfcol_node));
     size_t head = 0, tail = 0;
     build_of[tail++] = root;
@@ -458,6 +458,106 @@ static void assign_owners(selfcol_hierarchy *h) {
     }
 }
 
+// Direction of edge slot i of triangle t: +1 when it runs from the smaller to
+// the larger vertex index.
+static int slot_direction(const selfcol_mesh *m, uint32_t t, int i) {
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    return tri[i] < tri[(i + 1) % 3] ? 1 : -1;
+}
+
+static int slot_of_edge(const selfcol_mesh *m, uint32_t t, uint32_t e) {
+    const uint32_t *te = m->triangle_edges + 3 * (size_t)t;
+    return te[0] == e ? 0 : (te[1] == e ? 1 : 2);
+}
+
+// The curvature criterion compares normals, so it needs the triangles of a
+// patch oriented consistently. Triangles are flipped (SELFCOL_TRIANGLE_FLIPPED
+// in owned) by a breadth-first walk across manifold edges, so every
+// orientable component comes out consistent whatever the file's winding; an
+// edge that stays inconsistent (a Moebius band), a non-manifold edge and an
+// edge of a repeated-index triangle are marked bad: no node containing both
+// sides of a bad edge may be skipped for curvature. `queue` has F entries,
+// `bad` one byte per edge.
+static void orient(selfcol_hierarchy *h, uint32_t *queue, uint8_t *seen, uint8_t *bad) {
+    const selfcol_mesh *m = h->mesh;
+    const size_t F = m->triangle_count;
+    memset(seen, 0, F);
+    memset(bad, 0, m->edge_count);
+    for (size_t e = 0; e < m->edge_count; ++e)
+        if (m->edge_tri_offsets[e + 1] - m->edge_tri_offsets[e] > 2)
+            bad[e] = 1;
+    for (size_t t = 0; t < F; ++t)
+        if (m->triangle_flags[t] & SELFCOL_TRIANGLE_REPEATED_INDEX)
+            for (int i = 0; i < 3; ++i)
+                if (m->triangle_edges[3 * t + (size_t)i] != SELFCOL_INVALID_INDEX)
+                    bad[m->triangle_edges[3 * t + (size_t)i]] = 1;
+    for (size_t start = 0; start < F; ++start) {
+        if (seen[start])
+            continue;
+        size_t head = 0, tail = 0;
+        queue[tail++] = (uint32_t)start;
+        seen[start] = 1;
+        while (head < tail) {
+            uint32_t t = queue[head++];
+            int flip_t = (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED) != 0;
+            for (int i = 0; i < 3; ++i) {
+                uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)i];
+                if (e == SELFCOL_INVALID_INDEX || bad[e])
+                    continue;
+                uint32_t first = m->edge_tri_offsets[e];
+                if (m->edge_tri_offsets[e + 1] - first != 2)
+                    continue; // boundary edge
+                uint32_t u = m->edge_tris[first] == t ? m->edge_tris[first + 1] : m->edge_tris[first];
+                int same = slot_direction(m, t, i) == slot_direction(m, u, slot_of_edge(m, u, e));
+                int flip_u = flip_t ^ same; // consistent: opposite directions after flips
+                if (!seen[u]) {
+                    seen[u] = 1;
+                    if (flip_u)
+                        h->owned[u] |= (uint8_t)SELFCOL_TRIANGLE_FLIPPED;
+                    queue[tail++] = u;
+                } else if (((h->owned[u] & SELFCOL_TRIANGLE_FLIPPED) != 0) != flip_u) {
+                    bad[e] = 1; // not orientable across this edge
+                }
+            }
+        }
+    }
+}
+
+// Clears SELFCOL_NODE_ORIENTED on every node that contains both sides of a
+// bad edge (the lowest common ancestor of the edge's leaves and its
+// ancestors), and sets SELFCOL_NODE_BAD_BOUNDARY on the nodes that contain
+// only some of its sides (the nodes below that ancestor on the way up).
+static void mark_unoriented(selfcol_hierarchy *h, const uint8_t *bad, const uint32_t *parent,
+                            const uint32_t *depth, const uint32_t *leaf_of_tri) {
+    const selfcol_mesh *m = h->mesh;
+    for (size_t id = 0; id < h->node_count; ++id)
+        h->nodes[id].flags |= SELFCOL_NODE_ORIENTED;
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        if (!bad[e])
+            continue;
+        uint32_t lca = leaf_of_tri[m->edge_tris[m->edge_tri_offsets[e]]];
+        for (uint32_t j = m->edge_tri_offsets[e] + 1; j < m->edge_tri_offsets[e + 1]; ++j) {
+            uint32_t other = leaf_of_tri[m->edge_tris[j]];
+            // Every node climbed from holds some but not all of the edge's
+            // triangles: the bad edge is on its boundary.
+            while (lca != other) {
+                if (depth[lca] >= depth[other]) {
+                    h->nodes[lca].flags |= SELFCOL_NODE_BAD_BOUNDARY;
+                    lca = parent[lca];
+                } else {
+                    h->nodes[other].flags |= SELFCOL_NODE_BAD_BOUNDARY;
+                    other = parent[other];
+                }
+            }
+        }
+        h->nodes[lca].flags &= (uint8_t)~SELFCOL_NODE_ORIENTED;
+    }
+    // Children come after their parents: one reverse sweep propagates upward.
+    for (size_t id = h->node_count; id-- > 1;)
+        if (!(h->nodes[id].flags & SELFCOL_NODE_ORIENTED))
+            h->nodes[parent[id]].flags &= (uint8_t)~SELFCOL_NODE_ORIENTED;
+}
+
 int selfcol_hierarchy__build(selfcol_hierarchy *h) {
     const selfcol_mesh *m = h->mesh;
     const selfcol_allocator *al = &h->allocator;
@@ -573,6 +673,18 @@ int selfcol_hierarchy__build(selfcol_hierarchy *h) {
     if ((status = layout(h, &b, node_of[0], tri_patch, parent, depth, group)) != SELFCOL_OK)
         goto done;
     assign_owners(h);
+    // partner and stamp are free now: a BFS queue and the per-edge bad flags
+    // (edges may outnumber triangles: allocate that one).
+    {
+        uint8_t *bad = selfcol_alloc__array(al, m->edge_count + 1, sizeof(uint8_t));
+        if (bad == NULL) {
+            status = SELFCOL_ENOMEM;
+            goto done;
+        }
+        orient(h, partner, (uint8_t *)stamp, bad);
+        mark_unoriented(h, bad, parent, depth, group);
+        selfcol_alloc__free_array(al, bad, m->edge_count + 1, sizeof(uint8_t));
+    }
     status = build_boundaries(h, parent, depth, group);
 done:
     free_graph(al, &g);

@@ -112,6 +112,9 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n) {
         nrm[0] = u[1] * v[2] - u[2] * v[1];
         nrm[1] = u[2] * v[0] - u[0] * v[2];
         nrm[2] = u[0] * v[1] - u[1] * v[0];
+        if (h->owned[h->tri_order[s]] & SELFCOL_TRIANGLE_FLIPPED)
+            for (int k = 0; k < 3; ++k)
+                nrm[k] = -nrm[k];
         double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
         uint16_t bits = 0;
         if (len > 0.0) {

@@ -73,15 +73,20 @@ static int boxes_apart(const selfcol_node *a, const selfcol_node *b, double d) {
 #define HALF_PI 1.5707963267948966
 
 // All normals of the node in one open half-space, by the method's measure.
+static const uint8_t SMOOTHABLE = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED;
+
 static int smooth(uint32_t method, const selfcol_node *n) {
-    if (!(n->flags & SELFCOL_NODE_CONNECTED))
+    if ((n->flags & SMOOTHABLE) != SMOOTHABLE)
         return 0;
     return method == SELFCOL_METHOD_CONE ? n->cone_angle < HALF_PI : n->mask != 0;
 }
 
 // The same for the union of two nodes.
 static int jointly_smooth(uint32_t method, const selfcol_node *a, const selfcol_node *b) {
-    if (!(a->flags & b->flags & SELFCOL_NODE_CONNECTED))
+    // The union of two oriented patches is consistently oriented unless a
+    // bad edge joins them, and such an edge marks both sides.
+    if ((a->flags & b->flags & SMOOTHABLE) != SMOOTHABLE ||
+        ((a->flags | b->flags) & SELFCOL_NODE_BAD_BOUNDARY))
         return 0;
     if (method != SELFCOL_METHOD_CONE)
         return (a->mask & b->mask) != 0;
