@@ -125,6 +125,7 @@ static void check_real_mesh(const char *path, const scene *s) {
     assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.distance = 0.1 * selfcol_mesh_mean_edge_length(m);
     assert_int_equal(selfcol_hierarchy_self_collide(h, c, &q), SELFCOL_OK);
     const selfcol_contact *rec;

@@ -45,6 +45,7 @@ static void world_free(world *w) {
 static const selfcol_contact *run_self(world *w, double d, uint32_t narrow, size_t *count) {
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.distance = d;
     q.narrow = narrow;
     assert_int_equal(selfcol_hierarchy_self_collide(w->hierarchy, w->contacts, &q), SELFCOL_OK);
@@ -244,7 +245,10 @@ static void test_exhaustive_two_meshes_match_the_combined_self_query(void **stat
     assert_int_equal(selfcol_hierarchy_create(&ha, a, NULL), 0);
     assert_int_equal(selfcol_hierarchy_create(&hb, b, NULL), 0);
     assert_int_equal(selfcol_contacts_create(&contacts, NULL), 0);
-    assert_int_equal(selfcol_hierarchy_collide(ha, hb, contacts, NULL), SELFCOL_OK);
+    selfcol_query_options exhaustive;
+    selfcol_query_options_init(&exhaustive, SELFCOL_QUERY_OPTIONS_VERSION);
+    exhaustive.method = SELFCOL_METHOD_EXHAUSTIVE;
+    assert_int_equal(selfcol_hierarchy_collide(ha, hb, contacts, &exhaustive), SELFCOL_OK);
     const selfcol_contact *c;
     size_t n;
     selfcol_contacts_data(contacts, &c, &n);
@@ -274,6 +278,7 @@ static void test_exhaustive_two_meshes_match_the_combined_self_query(void **stat
     assert_int_equal(selfcol_hierarchy_create(&ha2, a2, NULL), 0);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.distance = 1e-3;
     assert_int_equal(selfcol_hierarchy_collide(ha, ha2, contacts, &q), SELFCOL_OK);
     selfcol_contacts_data(contacts, &c, &n);
@@ -298,6 +303,7 @@ static void test_exhaustive_kinds_mask_selects_contact_kinds(void **state) {
     world_make(&w, &s);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.distance = 0.11;
     size_t all_vf, all_ee, n;
     const selfcol_contact *c;
@@ -326,6 +332,7 @@ static void test_exhaustive_rejects_bad_query_options(void **state) {
     world_make(&w, &g);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.distance = NAN;
     assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_EINVAL);
     q.distance = -1.0;
@@ -386,6 +393,7 @@ static void test_exhaustive_query_survives_allocation_failure(void **state) {
         assert_int_equal(status, SELFCOL_OK);
         selfcol_query_options q;
         selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+        q.method = SELFCOL_METHOD_EXHAUSTIVE;
         q.distance = 0.11;
         status = selfcol_hierarchy_self_collide(w.hierarchy, contacts, &q);
         if (status == SELFCOL_OK) {
@@ -420,6 +428,7 @@ static void test_exhaustive_counts_candidate_pairs(void **state) {
     world_make(&w, &g);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.kinds = SELFCOL_KIND_VF;
     q.distance = 0.1;
     assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_OK);
@@ -519,6 +528,7 @@ static void test_exhaustive_self_of_union_is_selves_plus_between(void **state) {
     contact_keys(cb, nb, NULL, offset_b, kb);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.distance = d;
     assert_int_equal(selfcol_hierarchy_collide(wa.hierarchy, wb.hierarchy, wa.contacts, &q),
                      SELFCOL_OK);

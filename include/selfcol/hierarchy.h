@@ -122,7 +122,7 @@ typedef enum selfcol_narrow {
 /** Options of a collision query. Initialise with selfcol_query_options_init(). */
 typedef struct selfcol_query_options {
     unsigned int version; /**< SELFCOL_QUERY_OPTIONS_VERSION */
-    uint32_t method;      /**< selfcol_method; default SELFCOL_METHOD_EXHAUSTIVE */
+    uint32_t method;      /**< selfcol_method; default SELFCOL_METHOD_BVH (exact) */
     uint32_t narrow;      /**< selfcol_narrow; default SELFCOL_NARROW_CLOSED_FORM */
     uint32_t kinds;       /**< SELFCOL_KIND_* mask; default SELFCOL_KIND_ALL */
     /** Detection distance d >= 0 in mesh units; default 0 (interferences
