@@ -33,15 +33,14 @@ int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3]
                        const double b[3], const double c[3], selfcol_narrow_result *out);
 
 // libccd backend, same conventions, for the cross-check. libccd 2.1 has no
-// distance query (ccdGJKDist2 exists only in FCL's fork), so proximities are
-// answered with libccd's own algorithms on an inflated shape: the first
-// primitive swept by a ball of radius `radius` (the detection distance) meets
-// the second iff their distance is below radius (ccdGJKIntersect), and then
-// the penetration depth of the two (ccdGJKPenetration, GJK + EPA) is
-// radius - distance. The functions return that distance when it is below
-// radius, and HUGE_VAL otherwise (out is then not filled). `tolerance` is
-// libccd's epa/mpr/dist tolerance, absolute, in mesh units. EPA allocates
-// inside libccd (with malloc): the cross-check backend is not allocation-free.
+// distance query (ccdGJKDist2 exists only in FCL's fork), and its GJK + EPA
+// penetration depth is wrong on the shapes needed here (see narrow_ccd.c), so
+// proximities use libccd's yes/no MPR test, ccdMPRIntersect, on the first
+// primitive swept by a ball of radius rho: asked at rho = radius (no: the
+// functions return HUGE_VAL and leave out untouched), then by bisection on rho
+// down to `tolerance` (absolute, mesh units). The distance is within
+// `tolerance` of the truth (0 when below it); the weights and direction come
+// from the closest points. No allocation.
 //
 // The EF test is ccdGJKIntersect on the segment and the triangle. libccd 2.1
 // decides touching with fixed DBL_EPSILON tests on squared lengths and ignores

@@ -141,8 +141,8 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     q.distance = opts->distance;
     q.kinds = opts->kinds;
     q.narrow = opts->narrow;
-    // libccd's tolerances are absolute: its penetration depths (hence the
-    // distances) are asked to 1e-7 of the detection distance.
+    // libccd's tolerances are absolute: its distances (a bisection on the
+    // inflation radius) are asked to 1e-7 of the detection distance.
     q.ccd_tolerance = 1e-7 * q.distance;
     q.out = contacts;
 

@@ -114,8 +114,11 @@ typedef enum selfcol_method {
 typedef enum selfcol_narrow {
     /** Closed-form distances and exact orientation predicates (default). */
     SELFCOL_NARROW_CLOSED_FORM = 0,
-    /** libccd's GJK (distances) and GJK intersection (edge-triangle). Agrees
-     *  with the closed form within libccd's tolerance; kept as a cross-check. */
+    /** libccd (proximities by its MPR intersection test on a primitive
+     *  swept by a ball, bisected on the radius to 1e-7 d; interferences by
+     *  its GJK intersection test). Agrees with the closed form within that
+     *  tolerance, but also reports edges that only touch a triangle (within
+     *  about 1.5e-8 of the mesh scale). Much slower; kept as a cross-check. */
     SELFCOL_NARROW_LIBCCD = 1
 } selfcol_narrow;
 
