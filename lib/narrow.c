@@ -230,18 +230,34 @@ double selfcol_narrow__ee(const double p0[3], const double p1[3], const double q
 
 int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3],
                        const double b[3], const double c[3], selfcol_narrow_result *out) {
+    // First the five signs the filter can prove cheaply: when they already
+    // show the endpoints on one side of the plane, or the line passing beside
+    // the triangle (two lateral volumes of opposite signs), the answer is no
+    // and no exact evaluation is paid for. That is the common case between
+    // neighbouring, nearly coplanar triangles of a smooth surface, where the
+    // plane tests alone would all need the exact path.
+    int f0 = selfcol_predicates__orient3d_filter(a, b, c, p0);
+    int f1 = selfcol_predicates__orient3d_filter(a, b, c, p1);
+    if (f0 != 0 && f0 == f1)
+        return 0;
+    int g_ab = selfcol_predicates__orient3d_filter(p0, p1, a, b);
+    int g_bc = selfcol_predicates__orient3d_filter(p0, p1, b, c);
+    int g_ca = selfcol_predicates__orient3d_filter(p0, p1, c, a);
+    if ((g_ab > 0 || g_bc > 0 || g_ca > 0) && (g_ab < 0 || g_bc < 0 || g_ca < 0))
+        return 0;
+
     // Endpoints strictly on opposite sides of the plane (exact). A zero-area
     // triangle gives 0 for both and never crosses.
-    int o0 = selfcol_predicates__orient3d(a, b, c, p0);
-    int o1 = selfcol_predicates__orient3d(a, b, c, p1);
+    int o0 = f0 != 0 ? f0 : selfcol_predicates__orient3d(a, b, c, p0);
+    int o1 = f1 != 0 ? f1 : selfcol_predicates__orient3d(a, b, c, p1);
     if (o0 == 0 || o1 == 0 || o0 == o1)
         return 0;
     // The line p0p1 meets the closed triangle iff the three volumes
     // [p0, p1, a, b], [p0, p1, b, c], [p0, p1, c, a] do not have strictly
     // opposite signs (the line passes on the same side of all three edges).
-    int s_ab = selfcol_predicates__orient3d(p0, p1, a, b);
-    int s_bc = selfcol_predicates__orient3d(p0, p1, b, c);
-    int s_ca = selfcol_predicates__orient3d(p0, p1, c, a);
+    int s_ab = g_ab != 0 ? g_ab : selfcol_predicates__orient3d(p0, p1, a, b);
+    int s_bc = g_bc != 0 ? g_bc : selfcol_predicates__orient3d(p0, p1, b, c);
+    int s_ca = g_ca != 0 ? g_ca : selfcol_predicates__orient3d(p0, p1, c, a);
     int pos = (s_ab > 0) + (s_bc > 0) + (s_ca > 0);
     int neg = (s_ab < 0) + (s_bc < 0) + (s_ca < 0);
     if (pos > 0 && neg > 0)

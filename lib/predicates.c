@@ -269,8 +269,10 @@ int selfcol_predicates__orient2d(const double a[2], const double b[2], const dou
 // underflows to zero, as nonzero outer products are at least 2^-1056 and round
 // to nonzero), hence an exactly zero determinant: coplanar axis-aligned input
 // needs no exact path.
-int selfcol_predicates__orient3d(const double a[3], const double b[3], const double c[3],
-                                 const double d[3]) {
+// Shared by orient3d and its filter-only form: the filtered sign, or 2 when
+// the exact path is needed.
+static int orient3d_filtered(const double a[3], const double b[3], const double c[3],
+                             const double d[3]) {
     double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
     double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
     double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
@@ -291,7 +293,19 @@ int selfcol_predicates__orient3d(const double a[3], const double b[3], const dou
     } else if (permanent == 0.0) {
         return 0;
     }
-    return orient3d_exact(a, b, c, d);
+    return 2;
+}
+
+int selfcol_predicates__orient3d(const double a[3], const double b[3], const double c[3],
+                                 const double d[3]) {
+    int sign = orient3d_filtered(a, b, c, d);
+    return sign != 2 ? sign : orient3d_exact(a, b, c, d);
+}
+
+int selfcol_predicates__orient3d_filter(const double a[3], const double b[3], const double c[3],
+                                        const double d[3]) {
+    int sign = orient3d_filtered(a, b, c, d);
+    return sign != 2 ? sign : 0;
 }
 
 // The three components of (b - a) x (c - a) are the orient2d determinants of

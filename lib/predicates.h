@@ -20,6 +20,13 @@ int selfcol_predicates__orient2d(const double a[2], const double b[2], const dou
 int selfcol_predicates__orient3d(const double a[3], const double b[3], const double c[3],
                                  const double d[3]);
 
+// The floating-point filter of orient3d alone: +1 or -1 when it proves the
+// sign, 0 when the sign is 0 or the filter cannot tell. A few nanoseconds;
+// callers that can often decide from proven signs alone (see narrow.c's
+// edge-triangle test) call it before paying for the exact path.
+int selfcol_predicates__orient3d_filter(const double a[3], const double b[3], const double c[3],
+                                        const double d[3]);
+
 // 1 when the three 3D points are exactly collinear (or coincide): all three
 // axis-aligned projections are collinear.
 int selfcol_predicates__collinear3d(const double a[3], const double b[3], const double c[3]);

@@ -376,6 +376,10 @@ static void check3(const double a[3], const double b[3], const double c[3], cons
                       a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], got,
                       expected);
     assert_int_equal(got, expected);
+    // The filter alone answers only when it is sure: its nonzero answers are
+    // the exact sign.
+    int filtered = selfcol_predicates__orient3d_filter(a, b, c, d);
+    assert_true(filtered == 0 || filtered == expected);
     g_checked++;
     if (sgn(naive_orient3d(a, b, c, d)) != expected) {
         (*naive_wrong)++;
