@@ -972,6 +972,54 @@ static void test_hierarchy_structure_of_small_and_disconnected_meshes(void **sta
     assert_null(selfcol_hierarchy_mesh(NULL));
 }
 
+// Steady state allocates nothing: after a first frame has sized the contact
+// set's buffers, moving the mesh, refitting and querying again make no
+// allocation through either handle's allocator (the counting allocator sees
+// every call).
+static void test_hierarchy_steady_state_frames_allocate_nothing(void **state) {
+    (void)state;
+    scene s;
+    assert_int_equal(scene_crumpled(&s, 16, 12, 4, 5.0), 0);
+    test_allocator_state hs = {0}, cs = {0};
+    selfcol_hierarchy_options hopts;
+    selfcol_hierarchy_options_init(&hopts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+    hopts.allocator = test_allocator(&hs);
+    selfcol_contacts_options copts;
+    selfcol_contacts_options_init(&copts, SELFCOL_CONTACTS_OPTIONS_VERSION);
+    copts.allocator = test_allocator(&cs);
+    selfcol_mesh *m = NULL;
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count,
+                                         s.triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &hopts), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&c, &copts), SELFCOL_OK);
+    const uint32_t methods[] = {SELFCOL_METHOD_BVH, SELFCOL_METHOD_SEED, SELFCOL_METHOD_CONE};
+    double *moved = malloc(3 * s.vertex_count * sizeof(double));
+    assert_non_null(moved);
+    for (int frame = 0; frame < 3; ++frame) {
+        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
+            moved[i] = s.positions[i] * (1.0 - 0.01 * frame);
+        long hierarchy_calls = hs.calls, contacts_calls = cs.calls;
+        assert_int_equal(selfcol_mesh_set_positions(m, moved), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
+        for (size_t k = 0; k < sizeof methods / sizeof methods[0]; ++k) {
+            selfcol_query_options q = query(methods[k], 0.1 * selfcol_mesh_mean_edge_length(m));
+            assert_int_equal(selfcol_hierarchy_self_collide(h, c, &q), SELFCOL_OK);
+        }
+        assert_int_equal(hs.calls, hierarchy_calls); // refit never allocates
+        if (frame > 0)
+            assert_int_equal(cs.calls, contacts_calls); // buffers sized by frame 0
+    }
+    free(moved);
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(m);
+    assert_int_equal(hs.live + cs.live, 0);
+    scene_free(&s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hierarchy_flat_sheet_all_methods_find_nothing),
@@ -994,6 +1042,7 @@ int main(void) {
         cmocka_unit_test(test_hierarchy_create_survives_every_allocation_failure),
         cmocka_unit_test(test_hierarchy_structure_and_memory_on_4000_triangle_sheet),
         cmocka_unit_test(test_hierarchy_structure_of_small_and_disconnected_meshes),
+        cmocka_unit_test(test_hierarchy_steady_state_frames_allocate_nothing),
     };
     return cmocka_run_group_tests_name("hierarchy", tests, NULL, NULL);
 }
