@@ -10,7 +10,7 @@
 #include <selfcol/contacts.h>
 
 // Scratch buffers kept by the contact set for the queries that fill it.
-#define SELFCOL_SCRATCH_SLOTS 2
+#define SELFCOL_SCRATCH_SLOTS 3
 
 struct selfcol_contacts {
     selfcol_allocator allocator;

@@ -52,8 +52,10 @@ void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy) {
                               sizeof(selfcol_node));
     selfcol_alloc__free_array(&allocator, hierarchy->tri_order, F, sizeof(uint32_t));
     selfcol_alloc__free_array(&allocator, hierarchy->owned, F, sizeof(uint8_t));
-    selfcol_alloc__free_array(&allocator, hierarchy->boundary, hierarchy->boundary_total,
+    selfcol_alloc__free_array(&allocator, hierarchy->bedge, hierarchy->bedge_total,
                               sizeof(uint32_t));
+    selfcol_alloc__free_array(&allocator, hierarchy->min_altitude, hierarchy->node_count,
+                              sizeof(float));
     selfcol_alloc__free(&allocator, hierarchy, sizeof *hierarchy);
 }
 
@@ -84,5 +86,6 @@ size_t selfcol_hierarchy_byte_count(const selfcol_hierarchy *hierarchy) {
         return 0;
     size_t F = hierarchy->mesh->triangle_count;
     return sizeof *hierarchy + hierarchy->node_count * sizeof(selfcol_node) +
-           F * (sizeof(uint32_t) + sizeof(uint8_t)) + hierarchy->boundary_total * sizeof(uint32_t);
+           F * (sizeof(uint32_t) + sizeof(uint8_t)) + hierarchy->bedge_total * sizeof(uint32_t) +
+           hierarchy->node_count * sizeof(float);
 }

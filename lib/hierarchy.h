@@ -3,8 +3,8 @@
 
 // The hierarchy over one mesh (Volino & Magnenat Thalmann 1995, section 2.2):
 // a tree of edge-connected triangle patches whose nodes carry a bounding box,
-// the 14-direction curvature mask, a normal cone and the sorted list of the
-// patch's boundary vertices (for the adjacency test).
+// the 14-direction curvature mask, a normal cone and the list of the patch's
+// boundary half-edges (for the adjacency and contour tests).
 #ifndef SELFCOL_HIERARCHY_INTERNAL_H
 #define SELFCOL_HIERARCHY_INTERNAL_H
 
@@ -21,6 +21,10 @@
 // A bad edge (non-manifold, or not orientable) joins the patch to the rest:
 // the union with an adjacent patch may not be consistently oriented.
 #define SELFCOL_NODE_BAD_BOUNDARY 4u
+// The patch is a topological disk: connected, oriented, manifold edges and
+// vertices, Euler characteristic 1 (so one boundary loop). EXACT's contour
+// criterion applies only to disks.
+#define SELFCOL_NODE_DISK 8u
 
 // The 14 sample directions: the 8 cube corners and the 6 face centres.
 #define SELFCOL_DIRECTIONS 14
@@ -36,7 +40,7 @@ typedef struct selfcol_node {
     uint32_t first_child;  // index of the first child (internal nodes)
     uint32_t tri_begin;    // first slot in tri_order
     uint32_t tri_count;    // triangles in the patch
-    uint32_t boundary_begin; // slice of the boundary vertex array
+    uint32_t boundary_begin; // slice of the boundary half-edge array
     uint32_t boundary_count;
     uint16_t mask;         // bit j: every triangle normal has a positive dot with direction j
     uint8_t child_count;   // 0 for a leaf
@@ -61,8 +65,10 @@ struct selfcol_hierarchy {
     size_t depth;
     uint32_t *tri_order;  // triangle_count: triangle in each slot
     uint8_t *owned;       // triangle_count, by triangle index
-    uint32_t *boundary;   // boundary_total vertex indices, sorted per node
-    size_t boundary_total;
+    uint32_t *bedge;      // boundary half-edges, (edge << 1) | reversed, the patch on
+                          // the left; a node's slice sorted by edge
+    size_t bedge_total;   // entries allocated
+    float *min_altitude;  // node_count: lower bound of the patch's triangle altitudes
     uint64_t refit_version; // the mesh's positions_version at the last refit
 };
 
@@ -76,7 +82,9 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *hierarchy);
 // The 14 sample directions (unnormalised: components in {-1, 0, 1}).
 extern const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3];
 
-// 1 when the two nodes' patches share a vertex (sorted boundary lists meet).
+// 1 when the two nodes' patches share an edge (their sorted boundary lists
+// meet). Patches touching only at a vertex count as not adjacent, which only
+// costs culling.
 int selfcol_hierarchy__adjacent(const selfcol_hierarchy *h, const selfcol_node *a,
                                 const selfcol_node *b);
 

@@ -18,11 +18,10 @@
 //
 // The nodes are then laid out breadth-first (children contiguous) and the
 // triangles depth-first (every patch a contiguous range), each vertex and edge
-// is given one owner triangle, and each node gets the sorted list of its
-// boundary vertices: a vertex belongs to the list of exactly the nodes that
-// contain some but not all of its triangles, i.e. the nodes on the paths from
-// the leaves of its triangles up to (not including) their lowest common
-// ancestor.
+// is given one owner triangle, triangles are flipped to orient each component
+// consistently, and each node gets the list of its boundary half-edges,
+// sorted by edge (the adjacency test of SEED/CONE and the contour test of
+// EXACT read it) and its disk flag (see build_disks).
 #include "alloc.h"
 #include "hierarchy.h"
 
@@ -351,93 +350,6 @@ static int layout(selfcol_hierarchy *h, const builder *b, uint32_t root, const u
     return SELFCOL_OK;
 }
 
-// Sorted boundary-vertex lists (see the file comment).
-static int build_boundaries(selfcol_hierarchy *h, const uint32_t *parent, const uint32_t *depth,
-                            const uint32_t *leaf_of_tri) {
-    const selfcol_mesh *m = h->mesh;
-    const selfcol_allocator *al = &h->allocator;
-    size_t max_degree = 0;
-    for (size_t v = 0; v < m->vertex_count; ++v) {
-        size_t d = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
-        max_degree = d > max_degree ? d : max_degree;
-    }
-    int status = SELFCOL_ENOMEM;
-    uint32_t *cur = selfcol_alloc__array(al, max_degree + 1, sizeof(uint32_t));
-    uint32_t *pair_node = NULL, *pair_vertex = NULL, *offset = NULL;
-    size_t pairs = 0, cap_node = 0, cap_vertex = 0;
-    if (cur == NULL)
-        goto done;
-    for (size_t v = 0; v < m->vertex_count; ++v) {
-        size_t k = 0;
-        for (uint32_t j = m->vertex_tri_offsets[v]; j < m->vertex_tri_offsets[v + 1]; ++j) {
-            uint32_t leaf = leaf_of_tri[m->vertex_tris[j]];
-            size_t i = 0;
-            while (i < k && cur[i] != leaf)
-                ++i;
-            if (i == k)
-                cur[k++] = leaf;
-        }
-        // Climb from the deepest nodes until one node (the lowest common
-        // ancestor) is left; every node replaced on the way holds part of
-        // v's triangles but not all: v is on its boundary.
-        while (k > 1) {
-            uint32_t deepest = 0;
-            for (size_t i = 0; i < k; ++i)
-                deepest = depth[cur[i]] > deepest ? depth[cur[i]] : deepest;
-            size_t kept = 0;
-            for (size_t i = 0; i < k; ++i) {
-                uint32_t node = cur[i];
-                if (depth[node] == deepest) {
-                    uint32_t *pn = grow(al, pair_node, &cap_node, pairs + 1, sizeof(uint32_t));
-                    if (pn != NULL)
-                        pair_node = pn;
-                    size_t cap_before = cap_vertex;
-                    uint32_t *pv = grow(al, pair_vertex, &cap_vertex, pairs + 1, sizeof(uint32_t));
-                    if (pv != NULL)
-                        pair_vertex = pv;
-                    if (pn == NULL || pv == NULL) {
-                        (void)cap_before;
-                        goto done;
-                    }
-                    pair_node[pairs] = node;
-                    pair_vertex[pairs++] = (uint32_t)v;
-                    node = parent[node];
-                }
-                size_t q = 0;
-                while (q < kept && cur[q] != node)
-                    ++q;
-                if (q == kept)
-                    cur[kept++] = node;
-            }
-            k = kept;
-        }
-    }
-    // Counting sort by node; vertices were visited in increasing order, so
-    // each node's list comes out sorted.
-    offset = selfcol_alloc__array(al, h->node_count + 1, sizeof(uint32_t));
-    h->boundary = selfcol_alloc__array(al, pairs + 1, sizeof(uint32_t));
-    h->boundary_total = pairs + 1;
-    if (offset == NULL || h->boundary == NULL)
-        goto done;
-    memset(offset, 0, (h->node_count + 1) * sizeof(uint32_t));
-    for (size_t i = 0; i < pairs; ++i)
-        offset[pair_node[i] + 1]++;
-    for (size_t n = 0; n < h->node_count; ++n) {
-        h->nodes[n].boundary_begin = offset[n];
-        h->nodes[n].boundary_count = offset[n + 1];
-        offset[n + 1] += offset[n];
-    }
-    for (size_t i = 0; i < pairs; ++i)
-        h->boundary[offset[pair_node[i]]++] = pair_vertex[i];
-    status = SELFCOL_OK;
-done:
-    selfcol_alloc__free_array(al, cur, max_degree + 1, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, pair_node, cap_node, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, pair_vertex, cap_vertex, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, offset, h->node_count + 1, sizeof(uint32_t));
-    return status;
-}
-
 // One owner triangle per vertex and per edge: its first incident triangle.
 static void assign_owners(selfcol_hierarchy *h) {
     const selfcol_mesh *m = h->mesh;
@@ -558,10 +470,203 @@ static void mark_unoriented(selfcol_hierarchy *h, const uint8_t *bad, const uint
             h->nodes[parent[id]].flags &= (uint8_t)~SELFCOL_NODE_ORIENTED;
 }
 
+// The boundary half-edge of triangle t on edge e, oriented with t (after the
+// build's flip) so the patch containing t lies on its left, encoded as
+// (e << 1) | reversed: reversed when it runs from the edge's larger vertex to
+// its smaller one.
+static uint32_t half_edge_of(const selfcol_hierarchy *h, uint32_t t, uint32_t e) {
+    const selfcol_mesh *m = h->mesh;
+    int i = slot_of_edge(m, t, e);
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    int reversed = tri[i] > tri[(i + 1) % 3];
+    if (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED)
+        reversed = !reversed;
+    return (e << 1) | (uint32_t)reversed;
+}
+
+typedef struct pair_list {
+    uint32_t *node, *half_edge;
+    size_t count, capacity;
+} pair_list;
+
+static int pair_add(const selfcol_allocator *al, pair_list *l, uint32_t node, uint32_t half_edge) {
+    if (l->count == l->capacity) {
+        size_t cap = l->capacity ? 2 * l->capacity : 1024;
+        uint32_t *node_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
+        uint32_t *he_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
+        if (node_grown == NULL || he_grown == NULL) {
+            selfcol_alloc__free_array(al, node_grown, cap, sizeof(uint32_t));
+            selfcol_alloc__free_array(al, he_grown, cap, sizeof(uint32_t));
+            return SELFCOL_ENOMEM; // the old arrays stay valid
+        }
+        if (l->count > 0) {
+            memcpy(node_grown, l->node, l->count * sizeof(uint32_t));
+            memcpy(he_grown, l->half_edge, l->count * sizeof(uint32_t));
+        }
+        selfcol_alloc__free_array(al, l->node, l->capacity, sizeof(uint32_t));
+        selfcol_alloc__free_array(al, l->half_edge, l->capacity, sizeof(uint32_t));
+        l->node = node_grown;
+        l->half_edge = he_grown;
+        l->capacity = cap;
+    }
+    l->node[l->count] = node;
+    l->half_edge[l->count++] = half_edge;
+    return SELFCOL_OK;
+}
+
+static void mark_path(uint8_t *mark, const uint32_t *parent, uint32_t node) {
+    for (; node != SELFCOL_INVALID_INDEX && !mark[node]; node = parent[node])
+        mark[node] = 1;
+}
+
+// Boundary half-edges of every node, and SELFCOL_NODE_DISK.
+// - A manifold edge is on the boundary of the nodes below the lowest common
+//   ancestor of its two triangles' leaves (each side with its own triangle's
+//   orientation); a mesh-boundary edge on the boundary of every ancestor of
+//   its triangle's leaf. A non-manifold edge makes every node holding one of
+//   its triangles a non-disk.
+// - Vertex counts: a vertex belongs to every ancestor of its triangles'
+//   leaves (each counted once with a stamp). A vertex whose triangles do not
+//   form one edge-connected fan (a bowtie) makes its ancestors non-disks.
+// - With interior edges manifold (the ORIENTED flag), a patch of F triangles
+//   and b boundary edges has E = (3F + b) / 2 edges; it is a disk iff it is
+//   connected, oriented, manifold and V - E + F = 1 (an orientable connected
+//   surface has chi = 2 - 2 genus - loops).
+static int build_disks(selfcol_hierarchy *h, const uint32_t *parent, const uint32_t *depth,
+                       const uint32_t *leaf_of_tri) {
+    const selfcol_mesh *m = h->mesh;
+    const selfcol_allocator *al = &h->allocator;
+    const size_t N = h->node_count;
+    int status = SELFCOL_ENOMEM;
+    pair_list l;
+    memset(&l, 0, sizeof l);
+    uint32_t *stamp = selfcol_alloc__array(al, N, sizeof(uint32_t));
+    uint32_t *vcount = selfcol_alloc__array(al, N, sizeof(uint32_t));
+    uint8_t *nondisk = selfcol_alloc__array(al, N, sizeof(uint8_t));
+    size_t max_degree = 1;
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        size_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
+        max_degree = k > max_degree ? k : max_degree;
+    }
+    uint32_t *uf = selfcol_alloc__array(al, max_degree, sizeof(uint32_t));
+    uint32_t *offset = selfcol_alloc__array(al, N + 1, sizeof(uint32_t));
+    if (stamp == NULL || vcount == NULL || nondisk == NULL || uf == NULL || offset == NULL)
+        goto done;
+    memset(nondisk, 0, N);
+    memset(vcount, 0, N * sizeof(uint32_t));
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
+        const uint32_t *tris = m->edge_tris + first;
+        if (k >= 3) {
+            for (uint32_t j = 0; j < k; ++j)
+                mark_path(nondisk, parent, leaf_of_tri[tris[j]]);
+            continue;
+        }
+        if (k == 1) {
+            uint32_t he = half_edge_of(h, tris[0], (uint32_t)e);
+            for (uint32_t n = leaf_of_tri[tris[0]]; n != SELFCOL_INVALID_INDEX; n = parent[n])
+                if ((status = pair_add(al, &l, n, he)) != SELFCOL_OK)
+                    goto done;
+            continue;
+        }
+        uint32_t n1 = leaf_of_tri[tris[0]], n2 = leaf_of_tri[tris[1]];
+        uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e);
+        uint32_t he2 = half_edge_of(h, tris[1], (uint32_t)e);
+        while (n1 != n2) {
+            if (depth[n1] >= depth[n2]) {
+                if ((status = pair_add(al, &l, n1, he1)) != SELFCOL_OK)
+                    goto done;
+                n1 = parent[n1];
+            } else {
+                if ((status = pair_add(al, &l, n2, he2)) != SELFCOL_OK)
+                    goto done;
+                n2 = parent[n2];
+            }
+        }
+    }
+    status = SELFCOL_ENOMEM;
+    memset(stamp, 0xff, N * sizeof(uint32_t));
+    for (uint32_t v = 0; v < m->vertex_count; ++v) {
+        const uint32_t *star = m->vertex_tris + m->vertex_tri_offsets[v];
+        uint32_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
+        for (uint32_t j = 0; j < k; ++j)
+            for (uint32_t n = leaf_of_tri[star[j]]; n != SELFCOL_INVALID_INDEX && stamp[n] != v;
+                 n = parent[n]) {
+                stamp[n] = v;
+                vcount[n]++;
+            }
+        // Fan connectivity: union the star's triangles across their edges at v.
+        for (uint32_t j = 0; j < k; ++j)
+            uf[j] = j;
+        uint32_t components = k;
+        for (uint32_t j = 0; j < k; ++j) {
+            const uint32_t *te = m->triangle_edges + 3 * (size_t)star[j];
+            for (int i = 0; i < 3; ++i) {
+                uint32_t e = te[i];
+                if (e == SELFCOL_INVALID_INDEX || (m->edges[2 * e] != v && m->edges[2 * e + 1] != v))
+                    continue;
+                for (uint32_t q = m->edge_tri_offsets[e]; q < m->edge_tri_offsets[e + 1]; ++q) {
+                    uint32_t other = m->edge_tris[q], pos = 0;
+                    while (pos < k && star[pos] != other)
+                        ++pos;
+                    uint32_t ra = j, rb = pos;
+                    while (uf[ra] != ra)
+                        ra = uf[ra];
+                    while (uf[rb] != rb)
+                        rb = uf[rb];
+                    if (ra != rb) {
+                        uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+                        components--;
+                    }
+                }
+            }
+        }
+        if (components > 1)
+            for (uint32_t j = 0; j < k; ++j)
+                mark_path(nondisk, parent, leaf_of_tri[star[j]]);
+    }
+    // Counting sort of the half-edges by node. Edges were visited in
+    // increasing order, so each node's slice comes out sorted by edge.
+    memset(offset, 0, (N + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < l.count; ++i)
+        offset[l.node[i] + 1]++;
+    for (size_t n = 0; n < N; ++n) {
+        selfcol_node *node = &h->nodes[n];
+        uint64_t b = offset[n + 1], F = node->tri_count;
+        int disk = !nondisk[n] && (3 * F + b) % 2 == 0 &&
+                   (int64_t)vcount[n] - (int64_t)((3 * F + b) / 2) + (int64_t)F == 1;
+        const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED;
+        if (disk && (node->flags & need) == need)
+            node->flags |= SELFCOL_NODE_DISK;
+        node->boundary_begin = offset[n];
+        node->boundary_count = (uint32_t)b;
+        offset[n + 1] += offset[n];
+    }
+    h->bedge_total = l.count + 1;
+    h->bedge = selfcol_alloc__array(al, l.count + 1, sizeof(uint32_t));
+    if (h->bedge == NULL)
+        goto done;
+    for (size_t i = 0; i < l.count; ++i)
+        h->bedge[offset[l.node[i]]++] = l.half_edge[i];
+    status = SELFCOL_OK;
+done:
+    selfcol_alloc__free_array(al, l.node, l.capacity, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, l.half_edge, l.capacity, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, offset, N + 1, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, stamp, N, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, vcount, N, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, nondisk, N, sizeof(uint8_t));
+    selfcol_alloc__free_array(al, uf, max_degree, sizeof(uint32_t));
+    return status;
+}
+
 int selfcol_hierarchy__build(selfcol_hierarchy *h) {
     const selfcol_mesh *m = h->mesh;
     const selfcol_allocator *al = &h->allocator;
     const size_t F = m->triangle_count;
+    // Boundary half-edges are stored as (edge << 1) | direction.
+    if (m->edge_count >= ((size_t)1 << 31))
+        return SELFCOL_ERANGE;
     int status = SELFCOL_ENOMEM;
     patch_graph g, next;
     memset(&g, 0, sizeof g);
@@ -685,7 +790,11 @@ int selfcol_hierarchy__build(selfcol_hierarchy *h) {
         mark_unoriented(h, bad, parent, depth, group);
         selfcol_alloc__free_array(al, bad, m->edge_count + 1, sizeof(uint8_t));
     }
-    status = build_boundaries(h, parent, depth, group);
+    status = build_disks(h, parent, depth, group);
+    if (status == SELFCOL_OK) {
+        h->min_altitude = selfcol_alloc__array(al, h->node_count, sizeof(float));
+        status = h->min_altitude != NULL ? SELFCOL_OK : SELFCOL_ENOMEM;
+    }
 done:
     free_graph(al, &g);
     free_graph(al, &next);
@@ -706,12 +815,15 @@ done:
 
 int selfcol_hierarchy__adjacent(const selfcol_hierarchy *h, const selfcol_node *a,
                                 const selfcol_node *b) {
-    const uint32_t *x = h->boundary + a->boundary_begin, *y = h->boundary + b->boundary_begin;
+    // Both boundary lists are sorted by edge: a shared edge shows up as the
+    // same edge in both (with opposite directions).
+    const uint32_t *x = h->bedge + a->boundary_begin, *y = h->bedge + b->boundary_begin;
     const uint32_t *xe = x + a->boundary_count, *ye = y + b->boundary_count;
     while (x < xe && y < ye) {
-        if (*x == *y)
+        uint32_t ex = *x >> 1, ey = *y >> 1;
+        if (ex == ey)
             return 1;
-        if (*x < *y)
+        if (ex < ey)
             ++x;
         else
             ++y;

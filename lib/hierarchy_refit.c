@@ -90,11 +90,12 @@ static void load_cone(cone *c, const selfcol_node *n) {
     c->angle = n->cone_angle;
 }
 
-static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n) {
+static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altitude_out) {
     const selfcol_mesh *m = h->mesh;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     uint16_t mask = (1u << SELFCOL_DIRECTIONS) - 1u;
     cone acc = {{0, 0, 1}, NO_CONE};
+    double min_altitude = INFINITY;
     for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
         const uint32_t *tri = m->triangles + 3 * (size_t)h->tri_order[s];
         const double *p[3] = {selfcol_mesh__position(m, tri[0]), selfcol_mesh__position(m, tri[1]),
@@ -112,6 +113,11 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n) {
         nrm[0] = u[1] * v[2] - u[2] * v[1];
         nrm[1] = u[2] * v[0] - u[0] * v[2];
         nrm[2] = u[0] * v[1] - u[1] * v[0];
+        // Bound on |computed normal - exact normal|: each component is a
+        // difference of two products of rounded differences, so its error is
+        // below 4 eps (|p1| + |p2|) to first order; 8 eps covers the rest.
+        double err = 0x1p-50 * (fabs(u[1] * v[2]) + fabs(u[2] * v[1]) + fabs(u[2] * v[0]) +
+                                fabs(u[0] * v[2]) + fabs(u[0] * v[1]) + fabs(u[1] * v[0]));
         if (h->owned[h->tri_order[s]] & SELFCOL_TRIANGLE_FLIPPED)
             for (int k = 0; k < 3; ++k)
                 nrm[k] = -nrm[k];
@@ -124,13 +130,30 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n) {
                 if (nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 1e-9 * len * dn)
                     bits |= (uint16_t)(1u << j);
             }
-            cone one = {{nrm[0] / len, nrm[1] / len, nrm[2] / len}, 0.0};
+            // The exact normal is within err of the computed one: within an
+            // angle asin(err / len) < 1.5 err / len of it (err < len / 100).
+            cone one = {{nrm[0] / len, nrm[1] / len, nrm[2] / len},
+                        err < 0.01 * len ? 1.5 * err / len + 1e-12 : NO_CONE};
+            // Smallest altitude = twice the area over the longest side, with
+            // the area bounded below through the same error bound.
+            double l2 = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                double e2 = 0.0;
+                for (int k = 0; k < 3; ++k) {
+                    double x = p[(i + 1) % 3][k] - p[i][k];
+                    e2 += x * x;
+                }
+                l2 = e2 > l2 ? e2 : l2;
+            }
+            double altitude = (len - err) / (sqrt(l2) * (1.0 + 1e-12)) * (1.0 - 1e-12);
+            min_altitude = altitude < min_altitude ? altitude : min_altitude;
             if (s == n->tri_begin)
                 acc = one;
             else
                 cone_merge(&acc, &one);
         } else {
             acc.angle = NO_CONE;
+            min_altitude = 0.0;
         }
         mask &= bits;
         if (len == 0.0)
@@ -142,13 +165,14 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n) {
     }
     n->mask = mask;
     store_cone(n, &acc);
+    *altitude_out = min_altitude > 0.0 ? round_down(min_altitude) : 0.0f;
 }
 
 void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
     for (size_t id = h->node_count; id-- > 0;) {
         selfcol_node *n = &h->nodes[id];
         if (n->child_count == 0) {
-            refit_leaf(h, n);
+            refit_leaf(h, n, &h->min_altitude[id]);
             continue;
         }
         const selfcol_node *c = &h->nodes[n->first_child];
@@ -161,6 +185,7 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
             n->hi[k] = c->hi[k];
         }
         n->mask = c->mask;
+        h->min_altitude[id] = h->min_altitude[n->first_child];
         cone acc;
         load_cone(&acc, c);
         for (uint32_t i = 1; i < n->child_count; ++i) {
@@ -170,6 +195,9 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
                 n->hi[k] = ci->hi[k] > n->hi[k] ? ci->hi[k] : n->hi[k];
             }
             n->mask &= ci->mask;
+            float alt = h->min_altitude[n->first_child + i];
+            if (alt < h->min_altitude[id])
+                h->min_altitude[id] = alt;
             cone other;
             load_cone(&other, ci);
             cone_merge(&acc, &other);

@@ -308,6 +308,51 @@ int selfcol_predicates__orient3d_filter(const double a[3], const double b[3], co
     return sign != 2 ? sign : 0;
 }
 
+// Exact sign of ((b - a) x (c - a)) . v = det[b - a; c - a; v]. By
+// multilinearity in the first two rows,
+//   det[b - a; c - a; v] = det[b; c; v] + det[c; a; v] + det[a; b; v],
+// 18 triple products of raw inputs, each exact as four doubles (v's
+// components obey the same range assumption as coordinates).
+static int orient_along_exact(const double a[3], const double b[3], const double c[3],
+                              const double v[3]) {
+    const double *rows[3][2] = {{b, c}, {c, a}, {a, b}};
+    double e[72];
+    int n = 0;
+    for (int t = 0; t < 3; t++) {
+        const double *p = rows[t][0], *q = rows[t][1];
+        for (int i = 0; i < 3; i++) {
+            int j = i == 2 ? 0 : i + 1;
+            int k = j == 2 ? 0 : j + 1;
+            n = add_triple_product(e, n, p[i], q[j], v[k]);
+            n = add_triple_product(e, n, -p[i], q[k], v[j]);
+        }
+    }
+    return expansion_sign(e, n);
+}
+
+// The filter is orient3d's with the third difference replaced by v itself:
+// one rounding fewer per term, so orient3d's bound (and its underflow guard)
+// holds a fortiori.
+int selfcol_predicates__orient_along(const double a[3], const double b[3], const double c[3],
+                                     const double v[3]) {
+    double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    double wx = c[0] - a[0], wy = c[1] - a[1], wz = c[2] - a[2];
+    double p1 = uy * wz, p2 = uz * wy, p3 = uz * wx, p4 = ux * wz, p5 = ux * wy, p6 = uy * wx;
+    double det = v[0] * (p1 - p2) + v[1] * (p3 - p4) + v[2] * (p5 - p6);
+    double permanent = fabs(v[0]) * (fabs(p1) + fabs(p2)) + fabs(v[1]) * (fabs(p3) + fabs(p4)) +
+                       fabs(v[2]) * (fabs(p5) + fabs(p6));
+    if (permanent >= ORIENT3D_FILTER_MIN) {
+        double errbound = ORIENT3D_BOUND * permanent;
+        if (det > errbound)
+            return 1;
+        if (-det > errbound)
+            return -1;
+    } else if (permanent == 0.0) {
+        return 0;
+    }
+    return orient_along_exact(a, b, c, v);
+}
+
 // The three components of (b - a) x (c - a) are the orient2d determinants of
 // the yz, zx and xy projections; the points are collinear iff all vanish.
 int selfcol_predicates__collinear3d(const double a[3], const double b[3], const double c[3]) {

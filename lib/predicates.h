@@ -27,6 +27,12 @@ int selfcol_predicates__orient3d(const double a[3], const double b[3], const dou
 int selfcol_predicates__orient3d_filter(const double a[3], const double b[3], const double c[3],
                                         const double d[3]);
 
+// Sign (+1, 0, -1) of ((b-a) x (c-a)) . v: the orientation of a, b, c
+// projected along v onto a plane orthogonal to v, seen from +v (+1: counter-
+// clockwise). Exact, as orient3d.
+int selfcol_predicates__orient_along(const double a[3], const double b[3], const double c[3],
+                                     const double v[3]);
+
 // 1 when the three 3D points are exactly collinear (or coincide): all three
 // axis-aligned projections are collinear.
 int selfcol_predicates__collinear3d(const double a[3], const double b[3], const double c[3]);

@@ -121,7 +121,7 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
         selfcol_query_options_init(&defaults, SELFCOL_QUERY_OPTIONS_VERSION);
         opts = &defaults;
     }
-    SELFCOL_CHECK(opts->method <= SELFCOL_METHOD_CONE);
+    SELFCOL_CHECK(opts->method <= SELFCOL_METHOD_EXACT);
     SELFCOL_CHECK(opts->narrow == SELFCOL_NARROW_CLOSED_FORM ||
                   opts->narrow == SELFCOL_NARROW_LIBCCD);
     SELFCOL_CHECK((opts->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);

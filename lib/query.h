@@ -39,4 +39,9 @@ struct selfcol_hierarchy;
 int selfcol_traverse__run(selfcol_query *q, const struct selfcol_hierarchy *h0,
                           const struct selfcol_hierarchy *h1, uint32_t method);
 
+// EXACT's criterion (contour.c): 1 when Self(node id) provably holds no
+// contact at distance d. Uses scratch slot 2 of `scratch_owner`.
+int selfcol_contour__self_skippable(const struct selfcol_hierarchy *h, uint32_t id, double d,
+                                    selfcol_contacts *scratch_owner);
+
 #endif // SELFCOL_QUERY_H

@@ -139,7 +139,9 @@ static int leaf_pair(traversal *t, const selfcol_node *a, const selfcol_node *b,
 static int broad_phase(traversal *t) {
     selfcol_query_stats *st = &t->q->out->stats;
     const int self = t->q->self;
-    const int curvature = self && t->method != SELFCOL_METHOD_BVH;
+    // EXACT culls pairs by boxes only; SEED and CONE also by joint curvature.
+    const int curvature = self && (t->method == SELFCOL_METHOD_SEED ||
+                                   t->method == SELFCOL_METHOD_CONE);
     const selfcol_node *n0 = t->h[0]->nodes, *n1 = t->h[1]->nodes;
     int status = push(t, 0, 0, 0);
     while (status == SELFCOL_OK && t->stack_size > 0) {
@@ -147,7 +149,9 @@ static int broad_phase(traversal *t) {
         const selfcol_node *a = &n0[p.a], *b = &n1[p.b];
         st->nodes_visited++;
         if (self && p.a == p.b) {
-            if (curvature && smooth(t->method, a)) {
+            if (t->method == SELFCOL_METHOD_EXACT
+                    ? selfcol_contour__self_skippable(t->h[0], p.a, t->q->distance, t->q->out)
+                    : curvature && smooth(t->method, a)) {
                 st->culled_curvature++;
                 continue;
             }

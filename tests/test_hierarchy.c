@@ -67,8 +67,8 @@ static selfcol_query_options query(uint32_t method, double d) {
 }
 
 static const char *method_name(uint32_t method) {
-    static const char *names[] = {"EXHAUSTIVE", "BVH", "SEED", "CONE"};
-    return method < 4 ? names[method] : "?";
+    static const char *names[] = {"EXHAUSTIVE", "BVH", "SEED", "CONE", "EXACT"};
+    return method < 5 ? names[method] : "?";
 }
 
 // The statistics must agree with the records, and the traversal counters
@@ -191,12 +191,17 @@ static outcome check_scene(const char *name, const scene *s) {
         out.total[di] = n_ref;
         out.ef[di] = kinds[SELFCOL_CONTACT_EF];
 
-        contact_key *bvh = run_keys(&w, SELFCOL_METHOD_BVH, d, &n_bvh);
-        if (!contact_keys_equal(ref, n_ref, bvh, n_bvh))
-            fail_msg("%s (%zu triangles), d = %.1f x mean edge = %.17g: BVH differs from "
-                     "EXHAUSTIVE (%zu vs %zu contacts)",
-                     name, s->triangle_count, distance_factors[di], d, n_bvh, n_ref);
-        free(bvh);
+        // The exact methods: BVH and EXACT return the reference set itself.
+        const uint32_t exact_methods[2] = {SELFCOL_METHOD_BVH, SELFCOL_METHOD_EXACT};
+        for (int e = 0; e < 2; ++e) {
+            contact_key *bvh = run_keys(&w, exact_methods[e], d, &n_bvh);
+            if (!contact_keys_equal(ref, n_ref, bvh, n_bvh))
+                fail_msg("%s (%zu triangles), d = %.1f x mean edge = %.17g: %s differs from "
+                         "EXHAUSTIVE (%zu vs %zu contacts)",
+                         name, s->triangle_count, distance_factors[di], d,
+                         method_name(exact_methods[e]), n_bvh, n_ref);
+            free(bvh);
+        }
 
         for (int m = 0; m < 2; ++m) {
             const uint32_t method = m == 0 ? SELFCOL_METHOD_SEED : SELFCOL_METHOD_CONE;

@@ -1019,6 +1019,33 @@ static void test_predicates_collinear3d_random(void **state) {
     assert_true(collinear > 0 && collinear < COUNT);
 }
 
+// orient_along(a, b, c, v) is orient3d(a, b, c, a + v) whenever a + v is
+// exact (integer coordinates), including exact zeros and near-degenerate
+// integer configurations where the filter must defer to the exact path.
+static void test_predicates_orient_along_matches_orient3d(void **state) {
+    (void)state;
+    rng_seed(0xa10a9);
+    unsigned long zeros = 0;
+    for (int n = 0; n < 40000; n++) {
+        double p[4][3];
+        gen_int_adversarial3(p);
+        double v[3] = {p[3][0] - p[0][0], p[3][1] - p[0][1], p[3][2] - p[0][2]};
+        int expected = selfcol_predicates__orient3d(p[0], p[1], p[2], p[3]);
+        assert_int_equal(selfcol_predicates__orient_along(p[0], p[1], p[2], v), expected);
+        zeros += expected == 0;
+    }
+    // Projection along an axis is the 2D orientation of the dropped axis.
+    const double a[3] = {0.1, 0.2, 5}, b[3] = {0.3, 0.2, -7}, c[3] = {0.1, 0.7, 1e9};
+    const double z[3] = {0, 0, 1}, mz[3] = {0, 0, -1}, x[3] = {1, 0, 0};
+    assert_int_equal(selfcol_predicates__orient_along(a, b, c, z), 1);
+    assert_int_equal(selfcol_predicates__orient_along(a, b, c, mz), -1);
+    const double c2[3] = {0.5, 0.2, 3};
+    assert_int_equal(selfcol_predicates__orient_along(a, b, c2, z), 0); // collinear in xy
+    (void)x;
+    print_message("orient_along: 40000 integer cases, %lu exact zeros\n", zeros);
+    assert_true(zeros > 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_predicates_orient2d_hand_cases),
@@ -1038,6 +1065,7 @@ int main(void) {
         cmocka_unit_test(test_predicates_collinear3d_exact_constructions),
         cmocka_unit_test(test_predicates_collinear3d_grid),
         cmocka_unit_test(test_predicates_collinear3d_random),
+        cmocka_unit_test(test_predicates_orient_along_matches_orient3d),
     };
     int failed = cmocka_run_group_tests_name("predicates_internal", tests, NULL, NULL);
     print_message("predicates_internal: %lu results checked against exact references, naive "

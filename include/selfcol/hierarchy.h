@@ -107,7 +107,15 @@ typedef enum selfcol_method {
     SELFCOL_METHOD_SEED = 2,
     /** SEED with exact normal cones (axis and half-angle) in place of the 14
      *  sampled directions. Not exact, for the same reasons as SEED. */
-    SELFCOL_METHOD_CONE = 3
+    SELFCOL_METHOD_CONE = 3,
+    /** The seed's curvature criterion made exact: a node is skipped only when
+     *  its patch is a topological disk whose normals lie in a cone narrower
+     *  than pi/2 (rigorous bounds on rounding), whose boundary, projected along
+     *  the cone's axis, is star-shaped (exact predicates: the projection is
+     *  then one-to-one, so nothing inside crosses), and whose projected
+     *  altitudes and boundary clearance are at least d (so nothing inside is
+     *  closer than d). Pairs of nodes are culled by boxes. Exact. */
+    SELFCOL_METHOD_EXACT = 4
 } selfcol_method;
 
 /** Narrow-phase implementations. Values are pinned. */
