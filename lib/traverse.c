@@ -15,7 +15,9 @@
 //      share a boundary vertex) and their normals together lie in one open
 //      half-space; otherwise split the larger node. Two leaves put their
 //      triangle pairs (whose boxes are within d) on the list.
-//    BVH uses the box test alone and is exact.
+//    BVH uses the box test alone and is exact. EXACT skips Self(node) only
+//    when contour.c proves the patch free of contacts, and culls pairs by
+//    boxes alone; it is exact too.
 //
 // 2. Narrow phase. Each triangle pair generates the primitive pairs made of a
 //    vertex or edge *owned* by one triangle and the other triangle (or an
