@@ -143,7 +143,20 @@ double selfcol_narrow__vf(const double p[3], const double a[3], const double b[3
         out->wb[0] = w[0];
         out->wb[1] = w[1];
         out->wb[2] = w[2];
-        set_direction(out->direction, p, closest, n);
+        // Fallback for a touching point: the normal, or for a zero-area
+        // triangle a vector orthogonal to the line it collapses to.
+        double fallback[3] = {n[0], n[1], n[2]};
+        if (!(nn > 0.0)) {
+            int longest = 0;
+            for (int i = 1; i < 3; ++i)
+                if (vec3_dist2(corner[i], corner[(i + 1) % 3]) >
+                    vec3_dist2(corner[longest], corner[(longest + 1) % 3]))
+                    longest = i;
+            double line[3];
+            vec3_sub(line, corner[(longest + 1) % 3], corner[longest]);
+            any_perpendicular(fallback, line);
+        }
+        set_direction(out->direction, p, closest, fallback);
     }
     return dist;
 }

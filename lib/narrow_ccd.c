@@ -84,13 +84,9 @@
 //
 // Closest points and direction. libccd 2.1 gives no reliable closest points or
 // direction here (EPA's and MPR's are off as above; ccdGJKSeparate is EPA).
-// So the weights come from a small helper of our own: the closest points of
-// the two primitives (the classical candidates: the interior stationary point
-// and the point-segment pairs of the boundary, each evaluated as an actual
-// pair of points, the closest kept), and the direction is the unit vector
-// between those points, or the fallback normal when libccd's distance is 0.
-// The distance is libccd's; tests check that the helper's points are that far
-// apart, within the band.
+// So the weights and the direction of `out` are the closed form's
+// (narrow.c); only the distance is libccd's. The tests check that the closed
+// form's points are libccd's distance apart, within the band.
 //
 // Interference (EF) is libccd's GJK intersection test, ccdGJKIntersect(), on
 // the segment and the triangle as given. It reports touching configurations as
@@ -348,208 +344,12 @@ static double proximity_distance(proximity *q) {
     return ldexp(d, -q->exponent);
 }
 
-// ---------------------------------------------------------------------------
-// Closest points (weights) and directions: the helper for `out`.
-
-// Closest point of segment (a, b) to x, as the parameter t in [0, 1].
-static double segment_parameter(const double x[3], const double a[3], const double b[3]) {
-    double ab[3], ax[3];
-    vec3_sub(ab, b, a);
-    vec3_sub(ax, x, a);
-    double len2 = vec3_dot(ab, ab);
-    if (!(len2 > 0.0))
-        return 0.0; // zero-length: every parameter is the same point
-    double t = vec3_dot(ax, ab) / len2;
-    return t > 0.0 ? (t < 1.0 ? t : 1.0) : 0.0;
-}
-
-// Closest point of triangle (a, b, c) to x, as barycentric weights w; returns
-// the squared distance. Candidates: the orthogonal projection when it falls
-// strictly inside (weights as ratios of signed areas against the normal, in a
-// frame starting with the shortest edge: for a needle triangle the two long
-// edges are nearly parallel and a frame made of them would lose the weights to
-// cancellation), and the closest points of the three edges. Each candidate is
-// evaluated as an actual point, the closest wins: a zero-area triangle simply
-// loses its interior candidate.
-static double triangle_closest(const double x[3], const double a[3], const double b[3],
-                               const double c[3], double w[3]) {
-    const double *v[3] = {a, b, c};
-    double best = HUGE_VAL;
-    w[0] = 1.0;
-    w[1] = w[2] = 0.0;
-    for (int i = 0; i < 3; ++i) {
-        int j = (i + 1) % 3;
-        double t = segment_parameter(x, v[i], v[j]), p[3];
-        vec3_lerp(p, v[i], v[j], t);
-        double d2 = vec3_dist2(x, p);
-        if (d2 < best) {
-            best = d2;
-            w[i] = 1.0 - t;
-            w[j] = t;
-            w[3 - i - j] = 0.0;
-        }
-    }
-    // Frame: e1 = v[o1] - v[o0] is the shortest edge, e2 = v[o2] - v[o0].
-    double l[3]; // l[i]: squared length of the edge opposite corner i
-    for (int i = 0; i < 3; ++i)
-        l[i] = vec3_dist2(v[(i + 1) % 3], v[(i + 2) % 3]);
-    int s = l[0] <= l[1] ? (l[0] <= l[2] ? 0 : 2) : (l[1] <= l[2] ? 1 : 2); // shortest
-    int o0 = (s + 1) % 3, o1 = (s + 2) % 3, o2 = s; // e1 = o1 - o0 is the shortest edge
-    double e1[3], e2[3], r[3], n[3], cr[3];
-    vec3_sub(e1, v[o1], v[o0]);
-    vec3_sub(e2, v[o2], v[o0]);
-    vec3_sub(r, x, v[o0]);
-    vec3_cross(n, e1, e2);
-    double nn = vec3_dot(n, n);
-    if (!(nn > 0.0) || !isfinite(nn))
-        return best;
-    vec3_cross(cr, r, e2);
-    double su = vec3_dot(cr, n) / nn; // weight of o1
-    vec3_cross(cr, e1, r);
-    double tu = vec3_dot(cr, n) / nn; // weight of o2
-    if (!(su > 0.0 && tu > 0.0 && su + tu < 1.0))
-        return best;
-    double p[3];
-    for (int k = 0; k < 3; ++k)
-        p[k] = v[o0][k] + su * e1[k] + tu * e2[k];
-    double d2 = vec3_dist2(x, p);
-    if (d2 < best) {
-        best = d2;
-        w[o0] = 1.0 - su - tu;
-        w[o1] = su;
-        w[o2] = tu;
-    }
-    return best;
-}
-
-// Closest points of segments (p0, p1) and (q0, q1) as parameters s and t;
-// returns the squared distance. Candidates: the four endpoint-segment pairs
-// (they hold the minimum whenever it is on the boundary of [0, 1]^2, and for
-// parallel segments), and the interior stationary point, where the segment
-// between the points is along the common normal n = d1 x d2: s and t are the
-// 2D crossing of the segments projected along n (triple products; s = [w, d2,
-// n] / |n|^2, t = [w, d1, n] / |n|^2 with w = q0 - p0), clamped, then
-// refined by one projection each way (t from s, then s from t), which removes
-// most of the error of the crossing for nearly parallel segments.
-static double segments_closest(const double p0[3], const double p1[3], const double q0[3],
-                               const double q1[3], double *ps, double *pt) {
-    double best = HUGE_VAL, x[3], y[3];
-    const double *ends[4] = {p0, p1, q0, q1};
-    for (int i = 0; i < 4; ++i) {
-        double s, t;
-        if (i < 2) {
-            s = (double)i;
-            t = segment_parameter(ends[i], q0, q1);
-        } else {
-            t = (double)(i - 2);
-            s = segment_parameter(ends[i], p0, p1);
-        }
-        vec3_lerp(x, p0, p1, s);
-        vec3_lerp(y, q0, q1, t);
-        double d2 = vec3_dist2(x, y);
-        if (d2 < best) {
-            best = d2;
-            *ps = s;
-            *pt = t;
-        }
-    }
-    double d1[3], d2v[3], n[3], w[3], c[3];
-    vec3_sub(d1, p1, p0);
-    vec3_sub(d2v, q1, q0);
-    vec3_sub(w, q0, p0);
-    vec3_cross(n, d1, d2v);
-    double nn = vec3_dot(n, n);
-    if (!(nn > 0.0) || !isfinite(nn))
-        return best;
-    vec3_cross(c, d2v, n);
-    double s = vec3_dot(w, c) / nn;
-    vec3_cross(c, d1, n);
-    double t = vec3_dot(w, c) / nn;
-    if (!(s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0))
-        return best;
-    vec3_lerp(x, p0, p1, s);
-    t = segment_parameter(x, q0, q1);
-    vec3_lerp(y, q0, q1, t);
-    s = segment_parameter(y, p0, p1);
-    vec3_lerp(x, p0, p1, s);
-    double d2 = vec3_dist2(x, y);
-    if (d2 < best) {
-        best = d2;
-        *ps = s;
-        *pt = t;
-    }
-    return best;
-}
-
-// Fallback direction: a unit vector orthogonal to v, or (1, 0, 0) when v is
-// zero.
-static void unit_orthogonal(double out[3], const double v[3]) {
-    double axis[3] = {0.0, 0.0, 0.0}, c[3];
-    // Cross with the axis along which v is smallest: never parallel to v.
-    int k = fabs(v[0]) <= fabs(v[1]) ? (fabs(v[0]) <= fabs(v[2]) ? 0 : 2)
-                                     : (fabs(v[1]) <= fabs(v[2]) ? 1 : 2);
-    axis[k] = 1.0;
-    vec3_cross(c, v, axis);
-    if (!unit_vector(out, c)) {
-        out[0] = 1.0;
-        out[1] = 0.0;
-        out[2] = 0.0;
-    }
-}
-
-// Unit normal of triangle (a, b, c), or, for a zero-area triangle, a unit
-// vector orthogonal to its longest edge (any unit vector if it is a point).
-static void triangle_direction(double out[3], const double a[3], const double b[3],
-                               const double c[3]) {
-    double ab[3], ac[3], bc[3], n[3];
-    vec3_sub(ab, b, a);
-    vec3_sub(ac, c, a);
-    vec3_sub(bc, c, b);
-    vec3_cross(n, ab, ac);
-    if (unit_vector(out, n))
-        return;
-    const double *e = ab;
-    if (vec3_dot(ac, ac) > vec3_dot(e, e))
-        e = ac;
-    if (vec3_dot(bc, bc) > vec3_dot(e, e))
-        e = bc;
-    unit_orthogonal(out, e);
-}
-
-// Unit common normal of two edges; for parallel (or zero-length) edges, a
-// unit vector orthogonal to the longer one.
-static void edges_direction(double out[3], const double p0[3], const double p1[3],
-                            const double q0[3], const double q1[3]) {
-    double d1[3], d2[3], n[3];
-    vec3_sub(d1, p1, p0);
-    vec3_sub(d2, q1, q0);
-    vec3_cross(n, d1, d2);
-    if (!unit_vector(out, n))
-        unit_orthogonal(out, vec3_dot(d1, d1) >= vec3_dot(d2, d2) ? d1 : d2);
-}
-
 static double max_abs(int n, const double *const pts[]) {
     double m = 0.0;
     for (int i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k)
             m = fmax(m, fabs(pts[i][k]));
     return m;
-}
-
-// Fills out->distance and out->direction: the unit vector from q (second
-// closest point) toward p (first), or the fallback when the distance is 0 or
-// the points coincide within rounding.
-static void finish(selfcol_narrow_result *out, double distance, const double p[3],
-                   const double q[3], double scale, const double fallback[3]) {
-    double d[3];
-    vec3_sub(d, p, q);
-    out->distance = distance;
-    if (!(distance > 0.0) || !(sqrt(vec3_dot(d, d)) > NARROW_CCD_ROUNDING * DBL_EPSILON * scale) ||
-        !unit_vector(out->direction, d)) {
-        out->direction[0] = fallback[0];
-        out->direction[1] = fallback[1];
-        out->direction[2] = fallback[2];
-    }
 }
 
 // ---------------------------------------------------------------------------
@@ -564,15 +364,8 @@ double selfcol_narrow_ccd__vf(const double p[3], const double a[3], const double
         return HUGE_VAL;
     double dist = proximity_distance(&q);
     if (out != NULL && dist < HUGE_VAL) {
-        double x[3], normal[3];
-        (void)triangle_closest(p, a, b, c, out->wb);
-        out->wa[0] = 1.0;
-        out->wa[1] = 0.0;
-        for (int k = 0; k < 3; ++k)
-            x[k] = out->wb[0] * a[k] + out->wb[1] * b[k] + out->wb[2] * c[k];
-        triangle_direction(normal, a, b, c);
-        const double *pts[4] = {p, a, b, c};
-        finish(out, dist, p, x, max_abs(4, pts), normal);
+        selfcol_narrow__vf(p, a, b, c, out);
+        out->distance = dist;
     }
     return dist;
 }
@@ -586,18 +379,8 @@ double selfcol_narrow_ccd__ee(const double p0[3], const double p1[3], const doub
         return HUGE_VAL;
     double dist = proximity_distance(&q);
     if (out != NULL && dist < HUGE_VAL) {
-        double s, t, x[3], y[3], normal[3];
-        (void)segments_closest(p0, p1, q0, q1, &s, &t);
-        out->wa[0] = 1.0 - s;
-        out->wa[1] = s;
-        out->wb[0] = 1.0 - t;
-        out->wb[1] = t;
-        out->wb[2] = 0.0;
-        vec3_lerp(x, p0, p1, s);
-        vec3_lerp(y, q0, q1, t);
-        edges_direction(normal, p0, p1, q0, q1);
-        const double *pts[4] = {p0, p1, q0, q1};
-        finish(out, dist, x, y, max_abs(4, pts), normal);
+        selfcol_narrow__ee(p0, p1, q0, q1, out);
+        out->distance = dist;
     }
     return dist;
 }
@@ -626,71 +409,44 @@ int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double 
     if (out == NULL)
         return 1;
 
-    // The reported point. Usually the segment crosses the plane: take the
-    // crossing point (parameter from the signed plane distances h0, h1) and
-    // its barycentric weights (signed areas against the normal). libccd also
-    // accepts touching configurations (an endpoint on the triangle, a
-    // coplanar overlap, a crossing within rounding outside an edge, a
-    // zero-area triangle); there the plane point may be undefined or off the
-    // triangle, and the segment does not pass through the triangle's interior,
-    // so the closest pair of points is an endpoint against the triangle or the
-    // segment against an edge: those points lie on the primitives, within
-    // libccd's touching threshold of each other.
-    double ab[3], ac[3], n[3], r0[3], r1[3];
-    vec3_sub(ab, b, a);
-    vec3_sub(ac, c, a);
-    vec3_cross(n, ab, ac);
-    vec3_sub(r0, p0, a);
-    vec3_sub(r1, p1, a);
-    double h0 = vec3_dot(r0, n), h1 = vec3_dot(r1, n), nn = vec3_dot(n, n);
-    int have_point = 0;
-    if (nn > 0.0 && h0 != h1 && isfinite(nn)) {
-        double t = h0 / (h0 - h1);
-        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-        double x[3], ax[3], cr[3];
-        vec3_lerp(x, p0, p1, t);
-        vec3_sub(ax, x, a);
-        vec3_cross(cr, ax, ac);
-        double s = vec3_dot(cr, n) / nn; // weight of b
-        vec3_cross(cr, ab, ax);
-        double u = vec3_dot(cr, n) / nn; // weight of c
-        if (s >= 0.0 && u >= 0.0 && s + u <= 1.0) {
-            out->wa[0] = 1.0 - t;
-            out->wa[1] = t;
-            out->wb[0] = 1.0 - s - u;
-            out->wb[1] = s;
-            out->wb[2] = u;
-            have_point = 1;
+    // The reported point: where the segment crosses the triangle when the
+    // exact test agrees that it does; otherwise libccd accepted a touching
+    // configuration (an endpoint on the triangle, a coplanar overlap, a
+    // crossing within rounding outside an edge, a zero-area triangle), whose
+    // closest pair of points is an endpoint against the triangle or the
+    // segment against an edge of it.
+    if (selfcol_narrow__ef(p0, p1, a, b, c, out))
+        return 1;
+    const double *tri[3] = {a, b, c};
+    selfcol_narrow_result r;
+    double best = HUGE_VAL;
+    for (int i = 0; i < 2; ++i) { // an endpoint against the triangle
+        double d = selfcol_narrow__vf(i ? p1 : p0, a, b, c, &r);
+        if (d < best) {
+            best = d;
+            *out = r;
+            out->wa[0] = i ? 0.0 : 1.0;
+            out->wa[1] = i ? 1.0 : 0.0;
         }
     }
-    if (!have_point) {
-        const double *tri[3] = {a, b, c};
-        double best = HUGE_VAL, w[3];
-        for (int i = 0; i < 2; ++i) { // an endpoint against the triangle
-            double d2 = triangle_closest(i ? p1 : p0, a, b, c, w);
-            if (d2 < best) {
-                best = d2;
-                out->wa[0] = i ? 0.0 : 1.0;
-                out->wa[1] = i ? 1.0 : 0.0;
-                out->wb[0] = w[0];
-                out->wb[1] = w[1];
-                out->wb[2] = w[2];
-            }
-        }
-        for (int i = 0; i < 3; ++i) { // the segment against an edge
-            int j = (i + 1) % 3;
-            double s, t, d2 = segments_closest(p0, p1, tri[i], tri[j], &s, &t);
-            if (d2 < best) {
-                best = d2;
-                out->wa[0] = 1.0 - s;
-                out->wa[1] = s;
-                out->wb[i] = 1.0 - t;
-                out->wb[j] = t;
-                out->wb[3 - i - j] = 0.0;
-            }
+    for (int i = 0; i < 3; ++i) { // the segment against an edge
+        int j = (i + 1) % 3;
+        double d = selfcol_narrow__ee(p0, p1, tri[i], tri[j], &r);
+        if (d < best) {
+            best = d;
+            *out = r;
+            out->wb[i] = r.wb[0];
+            out->wb[j] = r.wb[1];
+            out->wb[3 - i - j] = 0.0;
         }
     }
     out->distance = 0.0;
-    triangle_direction(out->direction, a, b, c);
+    // EF records carry the triangle's normal (contacts.h); keep the closed
+    // form's fallback when the triangle has no area.
+    double ab[3], ac[3], n[3];
+    vec3_sub(ab, b, a);
+    vec3_sub(ac, c, a);
+    vec3_cross(n, ab, ac);
+    vec3_normalize(out->direction, n);
     return 1;
 }

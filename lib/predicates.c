@@ -269,21 +269,18 @@ int selfcol_predicates__orient2d(const double a[2], const double b[2], const dou
 // underflows to zero, as nonzero outer products are at least 2^-1056 and round
 // to nonzero), hence an exactly zero determinant: coplanar axis-aligned input
 // needs no exact path.
-// Shared by orient3d and its filter-only form: the filtered sign, or 2 when
-// the exact path is needed.
-static int orient3d_filtered(const double a[3], const double b[3], const double c[3],
-                             const double d[3]) {
-    double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-    double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-    double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+//
+// Stage-A filter on det[u; v; w] for rows that are (rounded) differences,
+// expanded along the z column as in Shewchuk's orient3d: the proven sign, 0
+// for an exactly zero determinant, or 2 when the exact path is needed.
+static int det3_filtered(const double u[3], const double v[3], const double w[3]) {
+    double vxwy = v[0] * w[1], wxvy = w[0] * v[1];
+    double wxuy = w[0] * u[1], uxwy = u[0] * w[1];
+    double uxvy = u[0] * v[1], vxuy = v[0] * u[1];
 
-    double vxwy = vx * wy, wxvy = wx * vy;
-    double wxuy = wx * uy, uxwy = ux * wy;
-    double uxvy = ux * vy, vxuy = vx * uy;
-
-    double det = uz * (vxwy - wxvy) + vz * (wxuy - uxwy) + wz * (uxvy - vxuy);
-    double permanent = (fabs(vxwy) + fabs(wxvy)) * fabs(uz) + (fabs(wxuy) + fabs(uxwy)) * fabs(vz) +
-                       (fabs(uxvy) + fabs(vxuy)) * fabs(wz);
+    double det = u[2] * (vxwy - wxvy) + v[2] * (wxuy - uxwy) + w[2] * (uxvy - vxuy);
+    double permanent = (fabs(vxwy) + fabs(wxvy)) * fabs(u[2]) +
+                       (fabs(wxuy) + fabs(uxwy)) * fabs(v[2]) + (fabs(uxvy) + fabs(vxuy)) * fabs(w[2]);
     if (permanent >= ORIENT3D_FILTER_MIN) {
         double errbound = ORIENT3D_BOUND * permanent;
         if (det > errbound)
@@ -294,6 +291,14 @@ static int orient3d_filtered(const double a[3], const double b[3], const double 
         return 0;
     }
     return 2;
+}
+
+static int orient3d_filtered(const double a[3], const double b[3], const double c[3],
+                             const double d[3]) {
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    return det3_filtered(u, v, w);
 }
 
 int selfcol_predicates__orient3d(const double a[3], const double b[3], const double c[3],
@@ -335,22 +340,10 @@ static int orient_along_exact(const double a[3], const double b[3], const double
 // holds a fortiori.
 int selfcol_predicates__orient_along(const double a[3], const double b[3], const double c[3],
                                      const double v[3]) {
-    double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-    double wx = c[0] - a[0], wy = c[1] - a[1], wz = c[2] - a[2];
-    double p1 = uy * wz, p2 = uz * wy, p3 = uz * wx, p4 = ux * wz, p5 = ux * wy, p6 = uy * wx;
-    double det = v[0] * (p1 - p2) + v[1] * (p3 - p4) + v[2] * (p5 - p6);
-    double permanent = fabs(v[0]) * (fabs(p1) + fabs(p2)) + fabs(v[1]) * (fabs(p3) + fabs(p4)) +
-                       fabs(v[2]) * (fabs(p5) + fabs(p6));
-    if (permanent >= ORIENT3D_FILTER_MIN) {
-        double errbound = ORIENT3D_BOUND * permanent;
-        if (det > errbound)
-            return 1;
-        if (-det > errbound)
-            return -1;
-    } else if (permanent == 0.0) {
-        return 0;
-    }
-    return orient_along_exact(a, b, c, v);
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    int sign = det3_filtered(u, w, v);
+    return sign != 2 ? sign : orient_along_exact(a, b, c, v);
 }
 
 // The three components of (b - a) x (c - a) are the orient2d determinants of

@@ -260,7 +260,6 @@ typedef struct figures {
     double max_diff;     // max |d_ccd - d_closed| over the found pairs
     double min_rel;      // min (d_ccd - d_closed) / tol
     double max_rel;      // max (d_ccd - d_closed) / tol
-    double max_dir_diff; // max |dir_ccd - dir_closed| over pairs with d > 1e-6
     int hits_closed, hits_ccd, agree_hits, in_band, in_band_ccd_only;
     double max_touch_dist;  // max segment-triangle distance of a libccd-only hit
     double max_miss_height; // max min-endpoint-plane distance of a libccd-only miss
@@ -272,12 +271,8 @@ static void print_pair(int n, const double *const pts[]) {
 }
 
 // Both backends on one proximity pair at one radius (see the bands at the top).
-// The direction is unique when the distance is positive (the minimum-norm
-// vector of the Minkowski difference), and any pair of points within `band`
-// of the minimum has its direction within sqrt(2 d band) / d of it.
 // On a disagreement, prints the n input points exactly (hex floats).
-static void compare_distance(figures *f, double dc, double dg, const selfcol_narrow_result *rc,
-                             const selfcol_narrow_result *rg, double radius, double band, int n,
+static void compare_distance(figures *f, double dc, double dg, double radius, double band, int n,
                              const double *const pts[]) {
     f->pairs++;
     int must_find = dc<radius - band, must_miss = dc> radius + band;
@@ -310,12 +305,10 @@ static void compare_distance(figures *f, double dc, double dg, const selfcol_nar
         print_pair(n, pts);
     }
     assert_true(diff <= band);
-    if (dc > 1e-6) {
-        double dd[3];
-        sub3(dd, rc->direction, rg->direction);
-        f->max_dir_diff = fmax(f->max_dir_diff, norm3(dd));
-        assert_true(norm3(dd) <= sqrt(2.0 * band / dc) + 1e-9);
-    }
+    // The libccd backend takes its closest points and direction from the
+    // closed form (narrow_ccd.c), so comparing directions would compare the
+    // closed form with itself; check_*_result checks that those points are
+    // libccd's distance apart instead.
 }
 
 // `out` must be left alone when the answer is HUGE_VAL.
@@ -348,7 +341,7 @@ static void run_vf(figures *f, const double p[3], const double a[3], const doubl
     } else {
         assert_true(untouched(&rg));
     }
-    compare_distance(f, dc, dg, &rc, &rg, radius, band, 4, pts);
+    compare_distance(f, dc, dg, radius, band, 4, pts);
 }
 
 // extra: added to the band (see near_parallel_band).
@@ -368,7 +361,7 @@ static void run_ee(figures *f, const double p0[3], const double p1[3], const dou
     } else {
         assert_true(untouched(&rg));
     }
-    compare_distance(f, dc, dg, &rc, &rg, radius, band, 4, pts);
+    compare_distance(f, dc, dg, radius, band, 4, pts);
 }
 
 static void run_vf_radii(figures *f, const double p[3], const double a[3], const double b[3],
@@ -522,10 +515,9 @@ static void print_distance_figures(const char *kind, const figures *f) {
     print_message("%s: %d queries (radii 1, 0.3, 0.03; tol = 1e-7 radius): %d within radius - "
                   "band, all found; %d beyond radius + band, all HUGE_VAL; %d inside the band "
                   "around the radius (%d found). Found pairs: max |d_ccd - d_closed| = %.3g, "
-                  "(d_ccd - d_closed) / tol in [%.3f, %.3f]; max |dir_ccd - dir_closed| "
-                  "(d > 1e-6) = %.3g\n",
+                  "(d_ccd - d_closed) / tol in [%.3f, %.3f]\n",
                   kind, f->pairs, f->within, f->beyond, f->near_radius, f->near_found, f->max_diff,
-                  f->min_rel, f->max_rel, f->max_dir_diff);
+                  f->min_rel, f->max_rel);
 }
 
 static void test_narrow_ccd_random_vf(void **state) {
