@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet
                 libeigen3-dev libcmocka-dev
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
-.PHONY: all build deps test run clean version abi-dump abi-check
+.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke plot
 all: build
 
 deps:
@@ -25,6 +25,20 @@ test: build
 
 run: build
 	$(BUILD)/tools/selfcol-demo tests/data/folded_ribbon.obj
+
+# Benchmarks (tools/bench): a representative subset in a few minutes, everything,
+# and the tiny smoke run CI uses (never a timing assertion). `make plot` draws docs/.
+bench: build
+	sh tools/bench/run.sh --subset default --build $(BUILD)
+
+bench-full: build
+	sh tools/bench/run.sh --subset full --build $(BUILD)
+
+bench-smoke: build
+	sh tools/bench/run.sh --subset smoke --build $(BUILD)
+
+plot:
+	sh tools/plot/plot.sh
 
 # ABI baseline of this version (at a release), and the check against the newest one.
 abi-dump: build
