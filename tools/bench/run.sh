@@ -1,0 +1,96 @@
+#!/bin/sh
+# SPDX-FileCopyrightText: 2026 selfcol authors
+# SPDX-License-Identifier: MIT
+# Usage: sh tools/bench/run.sh [--subset smoke|default|full] [--build DIR]
+#                              [--out DIR] [--data DIR] [--only REGEX]
+# Runs every case of a subset with selfcol-bench, one process per case (so
+# that peak memory is per case), and writes
+#   OUT/SUBSET.csv   one row per case x method x d (the header line first)
+#   OUT/SUBSET.meta  machine, date, commit, compiler, Bullet, command, runtime
+# OUT defaults to tools/bench/results. Called by `make bench` (default),
+# `make bench-full` (full) and `make bench-smoke` (smoke, what CI runs: tiny
+# sizes, no timing assertion: it only fails when the runner fails).
+set -eu
+
+subset=default
+build=build
+out=""
+data=""
+only=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --subset) subset=$2; shift 2 ;;
+    --build) build=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --data) data=$2; shift 2 ;;
+    --only) only=$2; shift 2 ;;
+    *) echo "run.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root"
+[ -n "$out" ] || out=tools/bench/results
+case "$build" in /*) ;; *) build="$root/$build" ;; esac
+runner="$build/tools/bench/selfcol-bench"
+if [ ! -x "$runner" ]; then
+  echo "run.sh: $runner not found; build first (make build, or cmake --build $build)" >&2
+  exit 1
+fi
+[ -n "$data" ] || data=${SELFCOL_SHARED_DATA:-"$root/../shared/data"}
+
+mkdir -p "$out"
+csv="$out/$subset.csv"
+meta="$out/$subset.meta"
+tmp="$csv.tmp"
+log="$out/$subset.log"
+
+start=$(date +%s)
+"$runner" --header > "$tmp"
+: > "$log"
+failed=0
+for c in $("$runner" --list "$subset"); do
+  if [ -n "$only" ] && ! echo "$c" | grep -Eq "$only"; then
+    continue
+  fi
+  t0=$(date +%s)
+  if "$runner" --case "$c" --subset "$subset" --data "$data" >> "$tmp" 2>> "$log"; then
+    echo "bench: $c ($(( $(date +%s) - t0 )) s)"
+  else
+    echo "bench: $c FAILED (see $log)" >&2
+    failed=1
+  fi
+  grep -h "skipped" "$log" | grep -F "$c skipped" | tail -1 || true
+done
+mv "$tmp" "$csv"
+elapsed=$(( $(date +%s) - start ))
+
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
+cores=$(nproc 2>/dev/null || echo "?")
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+dirty=$(git status --porcelain -- lib include 2>/dev/null | head -1)
+[ -z "$dirty" ] || commit="$commit (lib/ or include/ modified)"
+cc=$(sed -n 's/^CMAKE_C_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null | head -1)
+ccver=$($cc --version 2>/dev/null | head -1 || true)
+btype=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null | head -1)
+bullet=$("$runner" --bullet 2>/dev/null || echo absent)
+if [ -d "$data/sample-scalable-ccd-data" ]; then frames="present ($data/sample-scalable-ccd-data)"
+else frames="absent ($data/sample-scalable-ccd-data): real-frame cases skipped"; fi
+{
+  echo "subset=$subset"
+  echo "date=$(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  echo "commit=$commit"
+  echo "cpu=$cpu"
+  echo "cores=$cores"
+  echo "memory_kb=$(sed -n 's/^MemTotal:[[:space:]]*\([0-9]*\).*/\1/p' /proc/meminfo 2>/dev/null)"
+  echo "kernel=$(uname -sr)"
+  echo "compiler=$ccver"
+  echo "build_type=$btype"
+  echo "bullet=$bullet"
+  echo "frames=$frames"
+  echo "threads=1 (selfcol and Bullet run single-threaded)"
+  echo "command=make bench$( [ "$subset" = default ] || echo "-$subset")  (sh tools/bench/run.sh --subset $subset)"
+  echo "runtime_s=$elapsed"
+} > "$meta"
+echo "bench: $(( $(wc -l < "$csv") - 1 )) rows in $csv, $elapsed s ($meta)"
+exit $failed

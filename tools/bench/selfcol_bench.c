@@ -1,0 +1,789 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// selfcol-bench: the benchmark runner (issue 5). One named case (a scene at
+// one size) per process, so that the peak resident memory of a row is that
+// of its case alone; tools/bench/run.sh runs the cases of a subset one after
+// the other and collects the CSV rows.
+//
+// For each case: the mesh is generated (tests/support/scenes.c) or read
+// (real frames from the Sample-Scalable-CCD-Data layout), the hierarchy is
+// built once, and for each detection distance d = 0.1 and 0.5 x mean edge
+// every method runs on the same mesh and d: EXHAUSTIVE (small sizes only), BVH,
+// SEED, CONE, EXACT, BVH with the libccd narrow phase (small sizes), and
+// Bullet 3.24's own self-collision. Each timed quantity is the median of
+// `reps` runs after one warm-up run, with min and max. Every method's
+// contact set is compared with a reference: EXHAUSTIVE when it ran, else
+// EXACT (which the test suite and the smaller rows hold equal to EXHAUSTIVE);
+// the `reference` column says which.
+//
+// usage: selfcol-bench --list SUBSET        names of the cases of a subset
+//        selfcol-bench --header             the CSV header line
+//        selfcol-bench --case NAME --subset SUBSET [--data DIR]
+//                                           rows of one case on stdout
+// SUBSET is smoke, default or full; it sets the repetitions and the size
+// limits of the slow methods.
+#include <selfcol/selfcol.h>
+
+#include "bench_bullet.h"
+#include "ply.h"
+#include "scenes.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <time.h>
+
+#ifndef BENCH_DEFAULT_DATA_DIR
+#define BENCH_DEFAULT_DATA_DIR "../shared/data"
+#endif
+
+enum { SMOKE = 1, DEFAULT = 2, FULL = 4, ALL = SMOKE | DEFAULT | FULL, BIG = DEFAULT | FULL };
+
+// ---------------------------------------------------------------------------
+// Scenes
+
+typedef int (*generator)(scene *s, const double *p, const char *data_dir, char *note, size_t n);
+
+static int gen_flat(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_grid(s, (unsigned)p[0], (unsigned)p[0], 1.0);
+}
+static int gen_wrinkled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_wrinkled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], p[2]);
+}
+static int gen_crumpled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0);
+}
+static int gen_hairpin(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_hairpin(s, (unsigned)p[0], p[1]);
+}
+static int gen_zfold(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_zfold(s, (unsigned)p[0], (unsigned)p[1], p[2], (unsigned)p[3], p[4]);
+}
+static int gen_ramp(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_ramp(s, (unsigned)p[0], (unsigned)p[1], p[2], p[3], p[4]);
+}
+static int gen_rolled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_rolled(s, (unsigned)p[0], p[1], p[2], p[3], p[4]);
+}
+// Radius 2^level keeps the edges near unit length at every level.
+static int gen_icosphere(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_icosphere(s, (unsigned)p[0], ldexp(1.0, (int)p[0]));
+}
+static int gen_uv_sphere(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    return scene_uv_sphere(s, (unsigned)p[0], (unsigned)p[1], p[2]);
+}
+static int gen_sheet_pair(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    scene b;
+    if (scene_sheet_pair(s, &b, (unsigned)p[0], (unsigned)p[1], p[2], p[3]) != 0)
+        return -1;
+    int rc = scene_append(s, &b);
+    scene_free(&b);
+    return rc;
+}
+
+// Real frames, laid out as the public Sample-Scalable-CCD-Data repository
+// keeps them: <data>/sample-scalable-ccd-data/<scene>/frames/<frame>.ply
+// (some scenes prefix the frame number, e.g. balls16_18.ply; OBJ copies are
+// accepted too). Returns 1 when the file is absent (the case is skipped).
+static const char *frame_scene_names[] = {"cloth-ball", "cloth-funnel", "rod-twist"};
+
+static int read_obj(const char *path, scene *s) {
+    FILE *f = fopen(path, "r");
+    if (f == NULL)
+        return -1;
+    size_t vcap = 1024, tcap = 1024, nv = 0, nt = 0;
+    double *v = malloc(3 * vcap * sizeof *v);
+    uint32_t *t = malloc(3 * tcap * sizeof *t);
+    char line[4096];
+    int rc = (v && t) ? 0 : -1;
+    while (rc == 0 && fgets(line, sizeof line, f)) {
+        if (line[0] == 'v' && line[1] == ' ') {
+            if (nv == vcap && (v = realloc(v, 3 * (vcap *= 2) * sizeof *v)) == NULL)
+                rc = -1;
+            else if (sscanf(line + 2, "%lf %lf %lf", v + 3 * nv, v + 3 * nv + 1, v + 3 * nv + 2) == 3)
+                nv++;
+        } else if (line[0] == 'f' && line[1] == ' ') {
+            long idx[64];
+            int k = 0;
+            for (char *tok = strtok(line + 2, " \t\r\n"); tok && k < 64; tok = strtok(NULL, " \t\r\n"))
+                idx[k++] = strtol(tok, NULL, 10);
+            for (int i = 1; rc == 0 && i + 1 < k; ++i) {
+                if (nt == tcap && (t = realloc(t, 3 * (tcap *= 2) * sizeof *t)) == NULL) {
+                    rc = -1;
+                    break;
+                }
+                long c[3] = {idx[0], idx[i], idx[i + 1]};
+                for (int j = 0; j < 3; ++j) {
+                    long q = c[j] < 0 ? (long)nv + c[j] : c[j] - 1;
+                    if (q < 0 || q >= (long)nv)
+                        rc = -1;
+                    t[3 * nt + j] = (uint32_t)q;
+                }
+                nt++;
+            }
+        }
+    }
+    fclose(f);
+    if (rc != 0 || nt == 0) {
+        free(v);
+        free(t);
+        return -1;
+    }
+    s->vertex_count = nv;
+    s->triangle_count = nt;
+    s->positions = v;
+    s->triangles = t;
+    return 0;
+}
+
+static int gen_frame(scene *s, const double *p, const char *data_dir, char *note, size_t n) {
+    const char *name = frame_scene_names[(int)p[0]];
+    unsigned frame = (unsigned)p[1];
+    char path[4096], err[256];
+    const char *patterns[] = {"%s/sample-scalable-ccd-data/%s/frames/%u.ply",
+                              "%s/sample-scalable-ccd-data/%s/frames/%u.obj"};
+    for (int i = 0; i < 2; ++i) {
+        snprintf(path, sizeof path, patterns[i], data_dir, name, frame);
+        FILE *f = fopen(path, "rb");
+        if (f == NULL)
+            continue;
+        fclose(f);
+        int rc = i == 0 ? ply_read(path, s, err, sizeof err) : read_obj(path, s);
+        if (rc != 0)
+            fprintf(stderr, "selfcol-bench: %s: %s\n", path, i == 0 ? err : "unreadable OBJ");
+        snprintf(note, n, "frame %s", path);
+        return rc;
+    }
+    snprintf(note, n, "absent: %s/sample-scalable-ccd-data/%s/frames/%u.{ply,obj}", data_dir, name,
+             frame);
+    return 1;
+}
+
+typedef struct bench_case {
+    const char *name;
+    const char *scene; // the scene family (the plots group by it)
+    unsigned subsets;
+    generator gen;
+    double p[6];
+} bench_case;
+
+// Sizes are chosen for about 1k, 2k, 10k, 20k, 100k, 200k and 1M triangles.
+// The generators keep edges near unit length, far above Bullet's ~1.8 cm
+// dead zone, so no scaling is needed for Bullet on them (the `scale`
+// column says so); real frames are scaled x10 when their edges are short.
+static const bench_case cases[] = {
+    {"flat-1k", "flat", ALL, gen_flat, {22}},
+    {"flat-10k", "flat", BIG, gen_flat, {71}},
+    {"flat-100k", "flat", BIG, gen_flat, {224}},
+    {"flat-300k", "flat", BIG, gen_flat, {387}},
+    {"flat-1M", "flat", FULL, gen_flat, {707}},
+    {"wrinkled-1k", "wrinkled", BIG, gen_wrinkled, {22, 1, 1.0}},
+    {"wrinkled-20k", "wrinkled", BIG, gen_wrinkled, {100, 1, 1.0}},
+    {"wrinkled-200k", "wrinkled", FULL, gen_wrinkled, {316, 1, 1.0}},
+    {"crumpled-500", "crumpled", SMOKE, gen_crumpled, {16, 1}},
+    {"crumpled-2k", "crumpled", BIG, gen_crumpled, {32, 1}},
+    {"crumpled-20k-s1", "crumpled", BIG, gen_crumpled, {100, 1}},
+    {"crumpled-20k-s2", "crumpled", BIG, gen_crumpled, {100, 2}},
+    {"crumpled-20k-s3", "crumpled", BIG, gen_crumpled, {100, 3}},
+    {"crumpled-200k", "crumpled", BIG, gen_crumpled, {316, 1}},
+    {"crumpled-1M", "crumpled", FULL, gen_crumpled, {707, 1}},
+    {"hairpin-1k", "hairpin", ALL, gen_hairpin, {250, 0.1}},
+    {"hairpin-10k", "hairpin", BIG, gen_hairpin, {2500, 0.1}},
+    {"zfold-2k", "zfold", BIG, gen_zfold, {40, 8, 0.1, 1, 0.25}},
+    {"zfold-20k", "zfold", BIG, gen_zfold, {170, 20, 0.1, 1, 0.25}},
+    {"ramp-600", "ramp", SMOKE, gen_ramp, {3, 48, 8.0, 1.0, -0.3}},
+    {"ramp-2k", "ramp", BIG, gen_ramp, {8, 64, 10.0, 1.0, -0.3}},
+    {"ramp-20k", "ramp", BIG, gen_ramp, {20, 256, 40.0, 1.0, -0.3}},
+    {"rolled-2k", "rolled", BIG, gen_rolled, {20, 2.25, 3.0, -0.15, 0.5}},
+    {"rolled-20k", "rolled", BIG, gen_rolled, {60, 3.0, 8.0, -0.15, 0.5}},
+    {"sphere-1k", "sphere", ALL, gen_icosphere, {3}},
+    {"sphere-5k", "sphere", BIG, gen_icosphere, {4}},
+    {"sphere-20k", "sphere", BIG, gen_icosphere, {5}},
+    {"sphere-80k", "sphere", BIG, gen_icosphere, {6}},
+    {"sphere-330k", "sphere", BIG, gen_icosphere, {7}},
+    {"sphere-1.3M", "sphere", FULL, gen_icosphere, {8}},
+    {"uv-sphere-4k", "uv-sphere", BIG, gen_uv_sphere, {32, 64, 10.0}},
+    {"sheet-pair-1k", "sheet-pair", BIG, gen_sheet_pair, {16, 1, 1.0471975511965976, 0.0}},
+    {"sheet-pair-10k", "sheet-pair", BIG, gen_sheet_pair, {50, 1, 1.0471975511965976, 0.0}},
+    {"cloth-ball-92", "cloth-ball", BIG, gen_frame, {0, 92}},
+    {"cloth-ball-93", "cloth-ball", BIG, gen_frame, {0, 93}},
+    {"cloth-funnel-227", "cloth-funnel", BIG, gen_frame, {1, 227}},
+    {"cloth-funnel-228", "cloth-funnel", BIG, gen_frame, {1, 228}},
+    {"rod-twist-3036", "rod-twist", BIG, gen_frame, {2, 3036}},
+    {"rod-twist-3037", "rod-twist", BIG, gen_frame, {2, 3037}},
+};
+
+// ---------------------------------------------------------------------------
+// Subset limits: how many repetitions, and up to which size the O(n^2)
+// reference, libccd and Bullet (O(F^2) build) run.
+
+typedef struct limits {
+    unsigned reps;
+    size_t exhaustive, libccd, bullet;
+} limits;
+
+static limits limits_of(unsigned subset) {
+    limits l;
+    switch (subset) {
+    case SMOKE:
+        l.reps = 2, l.exhaustive = 2000, l.libccd = 2000, l.bullet = 2000;
+        break;
+    case FULL:
+        l.reps = 7, l.exhaustive = 20500, l.libccd = 20500, l.bullet = 200000;
+        break;
+    default:
+        l.reps = 5, l.exhaustive = 5200, l.libccd = 5200, l.bullet = 20500;
+        break;
+    }
+    return l;
+}
+
+// ---------------------------------------------------------------------------
+// Timing
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct timing {
+    double med, min, max;
+    unsigned reps;
+} timing;
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static timing summarize(double *t, unsigned n) {
+    timing r = {0, 0, 0, n};
+    if (n == 0)
+        return r;
+    qsort(t, n, sizeof *t, cmp_double);
+    r.min = t[0];
+    r.max = t[n - 1];
+    r.med = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    return r;
+}
+
+// A run slower than this after the warm-up gets 3 repetitions instead of
+// `reps`, so that the O(n^2) rows of the full subset stay affordable.
+#define SLOW_SECONDS 2.0
+enum { MAX_REPS = 16 };
+
+static unsigned reps_after_warmup(double warmup_seconds, unsigned reps) {
+    return warmup_seconds > SLOW_SECONDS && reps > 3 ? 3 : reps;
+}
+
+// ---------------------------------------------------------------------------
+// Contact sets
+
+typedef struct key {
+    uint32_t kind, first, second;
+} key;
+
+static int cmp_key(const void *a, const void *b) {
+    const key *x = a, *y = b;
+    if (x->kind != y->kind)
+        return x->kind < y->kind ? -1 : 1;
+    if (x->first != y->first)
+        return x->first < y->first ? -1 : 1;
+    return (x->second > y->second) - (x->second < y->second);
+}
+
+typedef struct keyset {
+    key *k;
+    size_t n;
+} keyset;
+
+static int keys_of(const selfcol_contacts *c, keyset *out) {
+    const selfcol_contact *data;
+    size_t n;
+    selfcol_contacts_data(c, &data, &n);
+    out->k = malloc((n ? n : 1) * sizeof(key));
+    if (out->k == NULL)
+        return -1;
+    for (size_t i = 0; i < n; ++i) {
+        out->k[i].kind = data[i].kind;
+        out->k[i].first = data[i].first;
+        out->k[i].second = data[i].second;
+    }
+    qsort(out->k, n, sizeof(key), cmp_key);
+    out->n = n;
+    return 0;
+}
+
+// misses[kind]: in ref, not in got; extras[kind]: in got, not in ref.
+static void compare(const keyset *ref, const keyset *got, uint64_t misses[3], uint64_t extras[3]) {
+    size_t i = 0, j = 0;
+    memset(misses, 0, 3 * sizeof *misses);
+    memset(extras, 0, 3 * sizeof *extras);
+    while (i < ref->n || j < got->n) {
+        int c = i == ref->n ? 1 : j == got->n ? -1 : cmp_key(&ref->k[i], &got->k[j]);
+        if (c == 0)
+            ++i, ++j;
+        else if (c < 0)
+            misses[ref->k[i++].kind]++;
+        else
+            extras[got->k[j++].kind]++;
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Rows
+
+typedef struct row {
+    const char *method, *narrow, *reference;
+    timing refit, query;
+    double build_ms;
+    selfcol_query_stats st;
+    uint64_t found[3], ref[3], miss[3], extra[3];
+    uint64_t raw_contacts;
+    size_t struct_bytes;
+    char note[256];
+} row;
+
+typedef struct context {
+    const char *subset, *case_name, *scene_name;
+    size_t triangles, vertices, edges;
+    double scale, d_factor, d, mean_edge;
+    long peak_rss_kb;
+} context;
+
+static const char *header =
+    "subset,case,scene,triangles,vertices,edges,scale,d_factor,d,method,narrow,reference,reps,"
+    "build_ms,refit_ms,refit_min_ms,refit_max_ms,query_ms,query_min_ms,query_max_ms,frame_ms,"
+    "triangle_pairs,candidate_pairs,vf_tests,ee_tests,ef_tests,nodes_visited,culled_box,"
+    "culled_curvature,culled_adjacency,vf,ee,ef,contacts,raw_contacts,ref_vf,ref_ee,ref_ef,"
+    "miss_vf,miss_ee,miss_ef,misses,extra_vf,extra_ee,extra_ef,extras,struct_bytes,"
+    "bytes_per_tri,peak_rss_kb,note";
+
+static void print_row(const context *cx, const row *r) {
+    const selfcol_query_stats *s = &r->st;
+    uint64_t found = r->found[0] + r->found[1] + r->found[2];
+    uint64_t misses = r->miss[0] + r->miss[1] + r->miss[2];
+    uint64_t extras = r->extra[0] + r->extra[1] + r->extra[2];
+    printf("%s,%s,%s,%zu,%zu,%zu,%g,%g,%.9g,%s,%s,%s,%u,", cx->subset, cx->case_name,
+           cx->scene_name, cx->triangles, cx->vertices, cx->edges, cx->scale, cx->d_factor, cx->d,
+           r->method, r->narrow, r->reference, r->query.reps);
+    printf("%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,", r->build_ms, 1e3 * r->refit.med,
+           1e3 * r->refit.min, 1e3 * r->refit.max, 1e3 * r->query.med, 1e3 * r->query.min,
+           1e3 * r->query.max, 1e3 * (r->refit.med + r->query.med));
+    printf("%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,", (unsigned long long)s->triangle_pairs,
+           (unsigned long long)s->candidate_pairs, (unsigned long long)s->vf_tests,
+           (unsigned long long)s->ee_tests, (unsigned long long)s->ef_tests,
+           (unsigned long long)s->nodes_visited, (unsigned long long)s->culled_box,
+           (unsigned long long)s->culled_curvature, (unsigned long long)s->culled_adjacency);
+    printf("%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,", (unsigned long long)r->found[0],
+           (unsigned long long)r->found[1], (unsigned long long)r->found[2],
+           (unsigned long long)found, (unsigned long long)r->raw_contacts,
+           (unsigned long long)r->ref[0], (unsigned long long)r->ref[1],
+           (unsigned long long)r->ref[2]);
+    printf("%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,", (unsigned long long)r->miss[0],
+           (unsigned long long)r->miss[1], (unsigned long long)r->miss[2],
+           (unsigned long long)misses, (unsigned long long)r->extra[0],
+           (unsigned long long)r->extra[1], (unsigned long long)r->extra[2],
+           (unsigned long long)extras);
+    printf("%zu,%.2f,%ld,\"%s\"\n", r->struct_bytes,
+           cx->triangles ? (double)r->struct_bytes / (double)cx->triangles : 0.0, cx->peak_rss_kb,
+           r->note);
+    fflush(stdout);
+}
+
+static long peak_rss_kb(void) {
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : -1;
+}
+
+// ---------------------------------------------------------------------------
+// One method on the hierarchy: warm-up, reps timed queries, contacts, stats.
+
+static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method, uint32_t narrow,
+                      double d, unsigned reps, timing *t, selfcol_query_stats *st, keyset *keys) {
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.method = method;
+    o.narrow = narrow;
+    o.distance = d;
+    double t0 = now();
+    int rc = selfcol_hierarchy_self_collide(h, c, &o);
+    double warm = now() - t0;
+    double times[MAX_REPS];
+    unsigned n = reps_after_warmup(warm, reps);
+    for (unsigned i = 0; rc == SELFCOL_OK && i < n; ++i) {
+        t0 = now();
+        rc = selfcol_hierarchy_self_collide(h, c, &o);
+        times[i] = now() - t0;
+    }
+    if (rc != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: query: %s\n", selfcol_status_string(rc));
+        return rc;
+    }
+    *t = summarize(times, n);
+    st->version = SELFCOL_QUERY_STATS_VERSION;
+    selfcol_contacts_stats(c, st);
+    return keys_of(c, keys);
+}
+
+static void count_kinds(const keyset *k, uint64_t out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    for (size_t i = 0; i < k->n; ++i)
+        out[k->k[i].kind]++;
+}
+
+static const char *method_name(uint32_t m) {
+    static const char *names[] = {"EXHAUSTIVE", "BVH", "SEED", "CONE", "EXACT"};
+    return m < 5 ? names[m] : "?";
+}
+
+// Bullet rows: refit and self-collision times, its unique node-face pairs
+// against the reference VF set (it finds no EE or EF contact: all of those
+// count as misses).
+static void bullet_rows(bench_bullet *bb, context *cx, const keyset *ref, const char *ref_name,
+                        double build_ms, size_t tree_bytes, unsigned reps) {
+    row r;
+    memset(&r, 0, sizeof r);
+    r.method = "BULLET";
+    r.narrow = "bullet";
+    r.reference = ref_name;
+    r.build_ms = build_ms;
+    r.struct_bytes = tree_bytes;
+    bench_bullet_set_distance(bb, cx->d * cx->scale);
+    double refit[MAX_REPS], query[MAX_REPS];
+    bench_bullet_refit(bb); // warm-up
+    double warm = bench_bullet_self_collide(bb);
+    unsigned n = reps_after_warmup(warm, reps);
+    for (unsigned i = 0; i < n; ++i) {
+        refit[i] = bench_bullet_refit(bb);
+        query[i] = bench_bullet_self_collide(bb);
+    }
+    r.refit = summarize(refit, n);
+    r.query = summarize(query, n);
+    uint64_t *pairs = NULL;
+    size_t raw = 0;
+    size_t unique = bench_bullet_contacts(bb, &raw, &pairs);
+    if (unique == (size_t)-1) {
+        fprintf(stderr, "selfcol-bench: out of memory\n");
+        return;
+    }
+    keyset got;
+    got.n = unique;
+    got.k = malloc((unique ? unique : 1) * sizeof(key));
+    if (got.k == NULL) {
+        free(pairs);
+        return;
+    }
+    for (size_t i = 0; i < unique; ++i) {
+        got.k[i].kind = SELFCOL_CONTACT_VF;
+        got.k[i].first = (uint32_t)(pairs[i] >> 32);
+        got.k[i].second = (uint32_t)(pairs[i] & 0xffffffffu);
+    }
+    free(pairs);
+    qsort(got.k, got.n, sizeof(key), cmp_key);
+    count_kinds(&got, r.found);
+    count_kinds(ref, r.ref);
+    compare(ref, &got, r.miss, r.extra);
+    r.raw_contacts = raw;
+    snprintf(r.note, sizeof r.note,
+             "Bullet %s VF only; struct_bytes = heap kept by initializeFaceTree%s",
+             bench_bullet_version(), cx->scale != 1.0 ? "; mesh scaled for its size dead zone" : "");
+    cx->peak_rss_kb = peak_rss_kb();
+    print_row(cx, &r);
+    free(got.k);
+}
+
+// ---------------------------------------------------------------------------
+
+static double median_build(const selfcol_mesh *mesh, unsigned reps, selfcol_hierarchy **keep) {
+    double times[MAX_REPS];
+    unsigned n = 0;
+    *keep = NULL;
+    for (unsigned i = 0; i < reps && i < MAX_REPS; ++i) {
+        selfcol_hierarchy *h = NULL;
+        double t0 = now();
+        int rc = selfcol_hierarchy_create(&h, mesh, NULL);
+        double t = now() - t0;
+        if (rc != SELFCOL_OK) {
+            fprintf(stderr, "selfcol-bench: hierarchy: %s\n", selfcol_status_string(rc));
+            return -1.0;
+        }
+        times[n++] = t;
+        if (*keep == NULL)
+            *keep = h;
+        else
+            selfcol_hierarchy_destroy(h);
+        if (t > SLOW_SECONDS / 4 && n >= 1)
+            break; // large meshes: one build is enough to time
+    }
+    return summarize(times, n).med;
+}
+
+static int run_case(const bench_case *bc, unsigned subset, const char *subset_name,
+                    const char *data_dir) {
+    limits lim = limits_of(subset);
+    scene s;
+    memset(&s, 0, sizeof s);
+    char note[512] = "";
+    int g = bc->gen(&s, bc->p, data_dir, note, sizeof note);
+    if (g == 1) {
+        fprintf(stderr, "selfcol-bench: %s skipped (%s)\n", bc->name, note);
+        return 0;
+    }
+    if (g != 0) {
+        fprintf(stderr, "selfcol-bench: %s: cannot generate or read the scene\n", bc->name);
+        return 1;
+    }
+
+    selfcol_mesh *mesh = NULL;
+    int rc = selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
+                                 s.triangles, NULL);
+    if (rc != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: %s: mesh: %s\n", bc->name, selfcol_status_string(rc));
+        scene_free(&s);
+        return 1;
+    }
+    context cx;
+    memset(&cx, 0, sizeof cx);
+    cx.subset = subset_name;
+    cx.case_name = bc->name;
+    cx.scene_name = bc->scene;
+    cx.triangles = s.triangle_count;
+    cx.vertices = s.vertex_count;
+    cx.edges = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
+    cx.mean_edge = selfcol_mesh_mean_edge_length(mesh);
+    // Bullet rejects triangles with edges under ~1.8 cm (an absolute epsilon
+    // on a length^4); short-edged meshes are scaled by powers of 10 until the
+    // mean edge is at least 0.2, for selfcol and Bullet alike.
+    cx.scale = 1.0;
+    while (cx.mean_edge * cx.scale < 0.2)
+        cx.scale *= 10.0;
+    if (cx.scale != 1.0) {
+        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
+            s.positions[i] *= cx.scale;
+        rc = selfcol_mesh_set_positions(mesh, s.positions);
+        cx.mean_edge *= cx.scale;
+    }
+
+    selfcol_hierarchy *h = NULL;
+    double build_s = median_build(mesh, subset == SMOKE ? 1 : 3, &h);
+    selfcol_contacts *c = NULL;
+    if (h == NULL || selfcol_contacts_create(&c, NULL) != SELFCOL_OK) {
+        selfcol_hierarchy_destroy(h);
+        selfcol_mesh_destroy(mesh);
+        scene_free(&s);
+        return 1;
+    }
+    size_t hier_bytes = selfcol_hierarchy_byte_count(h);
+
+    // Refit: positions unchanged, the cost of a frame's refit all the same.
+    double refit_t[MAX_REPS];
+    selfcol_hierarchy_refit(h);
+    for (unsigned i = 0; i < lim.reps; ++i) {
+        double t0 = now();
+        selfcol_hierarchy_refit(h);
+        refit_t[i] = now() - t0;
+    }
+    timing refit = summarize(refit_t, lim.reps);
+
+    // Bullet: one body and one face-tree build per case, reused for both d.
+    bench_bullet *bb = NULL;
+    double bullet_build_s = 0.0;
+    size_t bullet_bytes = 0;
+#ifdef SELFCOL_BENCH_BULLET
+    if (s.triangle_count <= lim.bullet) {
+        fprintf(stderr, "selfcol-bench: %s: Bullet face-tree build (%zu faces)...\n", bc->name,
+                s.triangle_count);
+        bb = bench_bullet_create(s.vertex_count, s.positions, s.triangle_count, s.triangles,
+                                 cx.edges, selfcol_mesh_edges(mesh), &bullet_build_s,
+                                 &bullet_bytes);
+        if (bb == NULL)
+            fprintf(stderr, "selfcol-bench: %s: Bullet body failed\n", bc->name);
+    }
+#endif
+
+    const double factors[2] = {0.1, 0.5};
+    int status = 0;
+    for (int fi = 0; fi < 2 && status == 0; ++fi) {
+        cx.d_factor = factors[fi];
+        cx.d = factors[fi] * cx.mean_edge;
+        keyset ref = {NULL, 0};
+        const char *ref_name = NULL;
+        const int exhaustive = s.triangle_count <= lim.exhaustive;
+        const struct {
+            uint32_t method, narrow;
+            int run;
+        } methods[] = {
+            {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, exhaustive},
+            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, 1},
+            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_CLOSED_FORM, 1},
+            {SELFCOL_METHOD_SEED, SELFCOL_NARROW_CLOSED_FORM, 1},
+            {SELFCOL_METHOD_CONE, SELFCOL_NARROW_CLOSED_FORM, 1},
+            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_LIBCCD, s.triangle_count <= lim.libccd},
+        };
+        for (size_t mi = 0; mi < sizeof methods / sizeof methods[0] && status == 0; ++mi) {
+            if (!methods[mi].run)
+                continue;
+            row r;
+            memset(&r, 0, sizeof r);
+            keyset got = {NULL, 0};
+            fprintf(stderr, "selfcol-bench: %s d=%.1fx %s%s\n", bc->name, cx.d_factor,
+                    method_name(methods[mi].method),
+                    methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "");
+            if (run_method(h, c, methods[mi].method, methods[mi].narrow, cx.d, lim.reps, &r.query,
+                           &r.st, &got) != 0) {
+                status = 1;
+                break;
+            }
+            if (ref_name == NULL) {
+                // The first method run is the reference: EXHAUSTIVE if it
+                // ran, else EXACT (proven equal on the smaller rows).
+                ref = got;
+                ref_name = method_name(methods[mi].method);
+                got.k = malloc((ref.n ? ref.n : 1) * sizeof(key));
+                if (got.k == NULL) {
+                    status = 1;
+                    break;
+                }
+                memcpy(got.k, ref.k, ref.n * sizeof(key));
+                got.n = ref.n;
+            }
+            r.method = method_name(methods[mi].method);
+            r.narrow = methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? "libccd" : "closed-form";
+            r.reference = ref_name;
+            r.refit = refit;
+            r.build_ms = 1e3 * build_s;
+            r.struct_bytes = methods[mi].method == SELFCOL_METHOD_EXHAUSTIVE ? 0 : hier_bytes;
+            count_kinds(&got, r.found);
+            count_kinds(&ref, r.ref);
+            compare(&ref, &got, r.miss, r.extra);
+            if (methods[mi].method == SELFCOL_METHOD_EXHAUSTIVE) {
+                // No hierarchy: its frame is the query alone.
+                r.refit.med = r.refit.min = r.refit.max = 0.0;
+                r.build_ms = 0.0;
+            }
+            if (strncmp(note, "frame", 5) == 0)
+                snprintf(r.note, sizeof r.note, "%s", note);
+            cx.peak_rss_kb = peak_rss_kb();
+            print_row(&cx, &r);
+            free(got.k);
+        }
+        if (status == 0 && bb != NULL) {
+            fprintf(stderr, "selfcol-bench: %s d=%.1fx Bullet\n", bc->name, cx.d_factor);
+            bullet_rows(bb, &cx, &ref, ref_name, 1e3 * bullet_build_s, bullet_bytes, lim.reps);
+        }
+        // Future rows (the contact store, the Bullet adapter) go here: same
+        // mesh, same d, compared with the same reference.
+        free(ref.k);
+    }
+
+    bench_bullet_destroy(bb);
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(mesh);
+    scene_free(&s);
+    return status;
+}
+
+#ifndef SELFCOL_BENCH_BULLET
+// Without Bullet the runner still links: no Bullet rows.
+bench_bullet *bench_bullet_create(size_t vertex_count, const double *xyz, size_t triangle_count,
+                                  const uint32_t *triangles, size_t edge_count,
+                                  const uint32_t *edges, double *build_seconds,
+                                  size_t *tree_bytes) {
+    (void)vertex_count, (void)xyz, (void)triangle_count, (void)triangles, (void)edge_count;
+    (void)edges, (void)build_seconds, (void)tree_bytes;
+    return NULL;
+}
+void bench_bullet_set_distance(bench_bullet *b, double d) { (void)b, (void)d; }
+double bench_bullet_refit(bench_bullet *b) { return (void)b, 0.0; }
+double bench_bullet_self_collide(bench_bullet *b) { return (void)b, 0.0; }
+size_t bench_bullet_contacts(bench_bullet *b, size_t *raw, uint64_t **pairs) {
+    (void)b, (void)raw, (void)pairs;
+    return (size_t)-1;
+}
+void bench_bullet_destroy(bench_bullet *b) { (void)b; }
+const char *bench_bullet_version(void) { return "absent"; }
+#endif
+
+static unsigned subset_of(const char *name) {
+    if (name == NULL)
+        return 0;
+    return strcmp(name, "smoke") == 0 ? SMOKE : strcmp(name, "default") == 0 ? DEFAULT
+                                            : strcmp(name, "full") == 0       ? FULL
+                                                                              : 0;
+}
+
+int main(int argc, char **argv) {
+    const char *list = NULL, *case_name = NULL, *subset_name = NULL, *data_dir = NULL;
+    int want_header = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--list") == 0 && i + 1 < argc)
+            list = argv[++i];
+        else if (strcmp(argv[i], "--case") == 0 && i + 1 < argc)
+            case_name = argv[++i];
+        else if (strcmp(argv[i], "--subset") == 0 && i + 1 < argc)
+            subset_name = argv[++i];
+        else if (strcmp(argv[i], "--data") == 0 && i + 1 < argc)
+            data_dir = argv[++i];
+        else if (strcmp(argv[i], "--header") == 0)
+            want_header = 1;
+        else if (strcmp(argv[i], "--bullet") == 0) {
+#ifdef SELFCOL_BENCH_BULLET
+            printf("%s\n", bench_bullet_version());
+            return 0;
+#else
+            printf("absent\n");
+            return 1;
+#endif
+        } else {
+            fprintf(stderr,
+                    "usage: %s --list SUBSET | --header | --bullet | --case NAME --subset SUBSET "
+                    "[--data DIR]\n",
+                    argv[0]);
+            return 2;
+        }
+    }
+    if (want_header) {
+        printf("%s\n", header);
+        return 0;
+    }
+    if (list != NULL) {
+        unsigned sub = subset_of(list);
+        if (sub == 0) {
+            fprintf(stderr, "selfcol-bench: unknown subset '%s'\n", list);
+            return 2;
+        }
+        for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
+            if (cases[i].subsets & sub)
+                printf("%s\n", cases[i].name);
+        return 0;
+    }
+    unsigned sub = subset_of(subset_name);
+    if (case_name == NULL || sub == 0) {
+        fprintf(stderr, "selfcol-bench: --case NAME and --subset smoke|default|full needed\n");
+        return 2;
+    }
+    if (data_dir == NULL)
+        data_dir = getenv("SELFCOL_SHARED_DATA") ? getenv("SELFCOL_SHARED_DATA")
+                                                 : BENCH_DEFAULT_DATA_DIR;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
+        if (strcmp(cases[i].name, case_name) == 0)
+            return run_case(&cases[i], sub, subset_name, data_dir);
+    fprintf(stderr, "selfcol-bench: unknown case '%s'\n", case_name);
+    return 2;
+}
