@@ -1,0 +1,316 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// From library contacts to the output contract: index arrays in file
+// indices (sorted, the second mesh's indices after the first's), the
+// intersecting triangle pairs derived from the EF interferences, and the JSON,
+// CSV and coloured-PLY writers.
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+void cli_sets_init(cli_sets *sets) {
+    memset(sets, 0, sizeof *sets);
+    sets->vf.item_size = sets->ee.item_size = sets->ef.item_size = sets->tt.item_size =
+        sizeof(cli_item);
+    sets->stats.version = SELFCOL_QUERY_STATS_VERSION;
+}
+
+void cli_sets_clear(cli_sets *sets) {
+    sets->vf.count = sets->ee.count = sets->ef.count = sets->tt.count = 0;
+    memset(&sets->stats, 0, sizeof sets->stats);
+    sets->stats.version = SELFCOL_QUERY_STATS_VERSION;
+}
+
+void cli_sets_free(cli_sets *sets) {
+    free(sets->vf.data);
+    free(sets->ee.data);
+    free(sets->ef.data);
+    free(sets->tt.data);
+    memset(sets, 0, sizeof *sets);
+}
+
+static int push(cli_array *array, uint32_t k0, uint32_t k1, uint32_t k2, uint32_t k3,
+                double distance) {
+    if (cli_array_reserve(array, 1))
+        return -1;
+    cli_item *item = (cli_item *)array->data + array->count++;
+    item->k[0] = k0;
+    item->k[1] = k1;
+    item->k[2] = k2;
+    item->k[3] = k3;
+    item->distance = distance;
+    return 0;
+}
+
+static void raise_class(unsigned char *classes, uint32_t t, unsigned char c) {
+    if (classes != NULL && classes[t] < c)
+        classes[t] = c;
+}
+
+static void raise_edge(unsigned char *classes, const cli_part *part, uint32_t edge) {
+    const uint32_t *tris;
+    size_t n;
+    if (classes != NULL && selfcol_mesh_edge_triangles(part->mesh, edge, &tris, &n) == SELFCOL_OK)
+        for (size_t i = 0; i < n; ++i)
+            raise_class(classes, tris[i] + part->triangle_offset, 1);
+}
+
+int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *const parts[2],
+                 unsigned char *classes) {
+    const selfcol_contact *c;
+    size_t n;
+    if (selfcol_contacts_data(contacts, &c, &n) != SELFCOL_OK)
+        return -1;
+    selfcol_query_stats stats;
+    stats.version = SELFCOL_QUERY_STATS_VERSION;
+    if (selfcol_contacts_stats(contacts, &stats) == SELFCOL_OK) {
+        selfcol_query_stats *sum = &sets->stats;
+        sum->candidate_pairs += stats.candidate_pairs;
+        sum->vf_tests += stats.vf_tests;
+        sum->ee_tests += stats.ee_tests;
+        sum->ef_tests += stats.ef_tests;
+        sum->vf_contacts += stats.vf_contacts;
+        sum->ee_contacts += stats.ee_contacts;
+        sum->ef_contacts += stats.ef_contacts;
+        sum->broad_seconds += stats.broad_seconds;
+        sum->narrow_seconds += stats.narrow_seconds;
+        sum->total_seconds += stats.total_seconds;
+        sum->nodes_visited += stats.nodes_visited;
+        sum->culled_box += stats.culled_box;
+        sum->culled_curvature += stats.culled_curvature;
+        sum->culled_adjacency += stats.culled_adjacency;
+        sum->triangle_pairs += stats.triangle_pairs;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const cli_part *pf = parts[c[i].first_mesh ? 1 : 0];
+        const cli_part *ps = parts[c[i].second_mesh ? 1 : 0];
+        uint32_t vo = pf->vertex_offset, so = ps->vertex_offset;
+        uint32_t t = c[i].second + ps->triangle_offset;
+        int status = 0;
+        if (c[i].kind == SELFCOL_CONTACT_VF) {
+            status = push(&sets->vf, c[i].a[0] + vo, t, 0, 0, c[i].distance);
+            raise_class(classes, t, 1);
+            const uint32_t *tris;
+            size_t m;
+            if (classes != NULL &&
+                selfcol_mesh_vertex_triangles(pf->mesh, c[i].a[0], &tris, &m) == SELFCOL_OK)
+                for (size_t j = 0; j < m; ++j)
+                    raise_class(classes, tris[j] + pf->triangle_offset, 1);
+        } else if (c[i].kind == SELFCOL_CONTACT_EE) {
+            uint32_t a0 = c[i].a[0] + vo, a1 = c[i].a[1] + vo;
+            uint32_t b0 = c[i].b[0] + so, b1 = c[i].b[1] + so;
+            if (a0 > a1) {
+                uint32_t s = a0;
+                a0 = a1;
+                a1 = s;
+            }
+            if (b0 > b1) {
+                uint32_t s = b0;
+                b0 = b1;
+                b1 = s;
+            }
+            if (b0 < a0 || (b0 == a0 && b1 < a1))
+                status = push(&sets->ee, b0, b1, a0, a1, c[i].distance);
+            else
+                status = push(&sets->ee, a0, a1, b0, b1, c[i].distance);
+            raise_edge(classes, pf, c[i].first);
+            raise_edge(classes, ps, c[i].second);
+        } else if (c[i].kind == SELFCOL_CONTACT_EF) {
+            uint32_t a0 = c[i].a[0] + vo, a1 = c[i].a[1] + vo;
+            status = push(&sets->ef, a0 < a1 ? a0 : a1, a0 < a1 ? a1 : a0, t, 0, 0.0);
+            // The edge passes through t, so every triangle having that edge
+            // intersects t (their intersection holds the crossing point). Two
+            // triangles that intersect away from their common vertices always
+            // have such an edge: the intersection segment ends on an edge of
+            // one crossing the other. So these pairs are exactly the
+            // intersecting triangle pairs of the EF set.
+            raise_class(classes, t, 2);
+            const uint32_t *tris;
+            size_t m;
+            if (status == 0 &&
+                selfcol_mesh_edge_triangles(pf->mesh, c[i].first, &tris, &m) == SELFCOL_OK) {
+                for (size_t j = 0; j < m && status == 0; ++j) {
+                    uint32_t s = tris[j] + pf->triangle_offset;
+                    status = push(&sets->tt, s < t ? s : t, s < t ? t : s, 0, 0, 0.0);
+                    raise_class(classes, s, 2);
+                }
+            }
+        }
+        if (status != 0)
+            return -1;
+    }
+    return 0;
+}
+
+static int item_compare(const void *a, const void *b) {
+    const cli_item *x = a, *y = b;
+    for (int k = 0; k < 4; ++k)
+        if (x->k[k] != y->k[k])
+            return x->k[k] < y->k[k] ? -1 : 1;
+    return 0;
+}
+
+static void sort_items(cli_array *array) {
+    if (array->count > 1)
+        qsort(array->data, array->count, sizeof(cli_item), item_compare);
+}
+
+int cli_sets_finish(cli_sets *sets) {
+    sort_items(&sets->vf);
+    sort_items(&sets->ee);
+    sort_items(&sets->ef);
+    sort_items(&sets->tt);
+    // A triangle pair appears once per crossing edge: keep one.
+    cli_item *tt = sets->tt.data;
+    size_t kept = 0;
+    for (size_t i = 0; i < sets->tt.count; ++i)
+        if (kept == 0 || item_compare(&tt[kept - 1], &tt[i]) != 0)
+            tt[kept++] = tt[i];
+    sets->tt.count = kept;
+    return 0;
+}
+
+void cli_json_string(FILE *out, const char *s) {
+    fputc('"', out);
+    for (const unsigned char *p = (const unsigned char *)s; *p; ++p) {
+        if (*p == '"' || *p == '\\')
+            fprintf(out, "\\%c", *p);
+        else if (*p < 0x20)
+            fprintf(out, "\\u%04x", *p);
+        else
+            fputc(*p, out);
+    }
+    fputc('"', out);
+}
+
+static void json_array(FILE *out, const char *key, const cli_array *array, int width) {
+    fprintf(out, ",\"%s\":[", key);
+    const cli_item *items = array->data;
+    for (size_t i = 0; i < array->count; ++i) {
+        fputs(i ? ",[" : "[", out);
+        for (int k = 0; k < width; ++k)
+            fprintf(out, k ? ",%u" : "%u", (unsigned)items[i].k[k]);
+        fputc(']', out);
+    }
+    fputc(']', out);
+}
+
+void cli_write_json(FILE *out, const cli_run_info *info, const cli_sets *sets) {
+    fprintf(out, "{\"selfcol_version\":");
+    cli_json_string(out, selfcol_version_string());
+    fprintf(out, ",\"files\":[");
+    for (int i = 0; i < info->file_count; ++i) {
+        if (i)
+            fputc(',', out);
+        cli_json_string(out, info->files[i]);
+    }
+    fputc(']', out);
+    if (info->frame >= 0)
+        fprintf(out, ",\"frame\":%ld", info->frame);
+    fprintf(out, ",\"distance\":%.17g", info->distance);
+    if (info->distance_rel >= 0)
+        fprintf(out, ",\"distance_rel\":%.17g", info->distance_rel);
+    fprintf(out, ",\"mean_edge_length\":%.17g,\"method\":\"%s\",\"narrow\":\"%s\"",
+            info->mean_edge, info->method, info->narrow);
+    fprintf(out, ",\"counts\":{\"vf\":%zu,\"ee\":%zu,\"ef\":%zu,\"intersecting_triangles\":%zu}",
+            sets->vf.count, sets->ee.count, sets->ef.count, sets->tt.count);
+    json_array(out, "vf", &sets->vf, 2);
+    json_array(out, "ee", &sets->ee, 4);
+    json_array(out, "ef", &sets->ef, 3);
+    json_array(out, "intersecting_triangles", &sets->tt, 2);
+    const selfcol_query_stats *s = &sets->stats;
+    fprintf(out,
+            ",\"stats\":{\"vertices\":%zu,\"welded_vertices\":%zu,\"triangles\":%zu,"
+            "\"edges\":%zu,\"candidate_pairs\":%llu,\"triangle_pairs\":%llu,"
+            "\"vf_tests\":%llu,\"ee_tests\":%llu,\"ef_tests\":%llu,\"nodes_visited\":%llu,"
+            "\"culled_box\":%llu,\"culled_curvature\":%llu,\"culled_adjacency\":%llu,",
+            info->vertices, info->merged_vertices, info->triangles, info->edges,
+            (unsigned long long)s->candidate_pairs, (unsigned long long)s->triangle_pairs,
+            (unsigned long long)s->vf_tests, (unsigned long long)s->ee_tests,
+            (unsigned long long)s->ef_tests, (unsigned long long)s->nodes_visited,
+            (unsigned long long)s->culled_box, (unsigned long long)s->culled_curvature,
+            (unsigned long long)s->culled_adjacency);
+    fprintf(out,
+            "\"seconds\":{\"load\":%.6f,\"topology\":%.6f,\"hierarchy\":%.6f,\"refit\":%.6f,"
+            "\"query\":%.6f,\"broad\":%.6f,\"narrow\":%.6f}}}\n",
+            info->seconds_load, info->seconds_topology, info->seconds_hierarchy,
+            info->seconds_refit, info->seconds_query, s->broad_seconds, s->narrow_seconds);
+}
+
+void cli_write_csv_header(FILE *out) { fputs("frame,kind,i0,i1,i2,i3,distance\n", out); }
+
+static void csv_rows(FILE *out, long frame, const char *kind, const cli_array *array, int width,
+                     int with_distance) {
+    const cli_item *items = array->data;
+    for (size_t i = 0; i < array->count; ++i) {
+        fprintf(out, "%ld,%s", frame, kind);
+        for (int k = 0; k < 4; ++k) {
+            if (k < width)
+                fprintf(out, ",%u", (unsigned)items[i].k[k]);
+            else
+                fputc(',', out);
+        }
+        if (with_distance)
+            fprintf(out, ",%.17g\n", items[i].distance);
+        else
+            fputs(",\n", out);
+    }
+}
+
+void cli_write_csv(FILE *out, long frame, const cli_sets *sets) {
+    csv_rows(out, frame, "vf", &sets->vf, 2, 1);
+    csv_rows(out, frame, "ee", &sets->ee, 4, 1);
+    csv_rows(out, frame, "ef", &sets->ef, 3, 1);
+    csv_rows(out, frame, "tt", &sets->tt, 2, 0);
+}
+
+static const unsigned char class_colours[3][3] = {
+    {190, 196, 206}, /* plain */
+    {245, 166, 35},  /* proximity */
+    {214, 39, 40}    /* intersecting */
+};
+
+int cli_write_marked_ply(const char *path, const double *positions, size_t vertex_count,
+                         const uint32_t *triangles, size_t triangle_count,
+                         const unsigned char *classes, cli_error *err) {
+    // Vertex colours too: Blender's importer reads only those; a vertex takes
+    // the most severe class of its triangles.
+    unsigned char *vertex_class = calloc(vertex_count + 1, 1);
+    if (vertex_class == NULL)
+        return cli_fail(err, "%s: out of memory", path);
+    for (size_t t = 0; t < triangle_count; ++t)
+        for (int k = 0; k < 3; ++k)
+            if (vertex_class[triangles[3 * t + k]] < classes[t])
+                vertex_class[triangles[3 * t + k]] = classes[t];
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        free(vertex_class);
+        return cli_fail(err, "%s: cannot write: %s", path, strerror(errno));
+    }
+    fprintf(f,
+            "ply\nformat ascii 1.0\ncomment selfcol-cli %s: red faces intersect, orange faces "
+            "are within the detection distance\nelement vertex %zu\nproperty double x\n"
+            "property double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
+            "property uchar blue\nelement face %zu\nproperty list uchar uint vertex_indices\n"
+            "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n",
+            selfcol_version_string(), vertex_count, triangle_count);
+    for (size_t v = 0; v < vertex_count; ++v) {
+        const unsigned char *c = class_colours[vertex_class[v]];
+        fprintf(f, "%.17g %.17g %.17g %u %u %u\n", positions[3 * v], positions[3 * v + 1],
+                positions[3 * v + 2], c[0], c[1], c[2]);
+    }
+    for (size_t t = 0; t < triangle_count; ++t) {
+        const unsigned char *c = class_colours[classes[t]];
+        fprintf(f, "3 %u %u %u %u %u %u\n", (unsigned)triangles[3 * t],
+                (unsigned)triangles[3 * t + 1], (unsigned)triangles[3 * t + 2], c[0], c[1], c[2]);
+    }
+    free(vertex_class);
+    int bad = ferror(f);
+    if (fclose(f) != 0 || bad)
+        return cli_fail(err, "%s: write error", path);
+    return 0;
+}
