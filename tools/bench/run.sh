@@ -60,7 +60,8 @@ for c in $("$runner" --list "$subset"); do
     echo "bench: $c FAILED (see $log)" >&2
     failed=1
   fi
-  grep -h "skipped" "$log" | grep -F "$c skipped" | tail -1 || true
+  # Say why a case or its Bullet rows were left out (absent data, Bullet limits).
+  grep -F "selfcol-bench: $c" "$log" | grep -E "skipped|no Bullet rows" | sed 's/^selfcol-bench: /bench:   /' || true
 done
 mv "$tmp" "$csv"
 elapsed=$(( $(date +%s) - start ))

@@ -509,6 +509,42 @@ static void bullet_rows(bench_bullet *bb, context *cx, const keyset *ref, const 
 
 // ---------------------------------------------------------------------------
 
+// Number of edge-connected pieces of the surface (triangles joined through
+// shared edges). Bullet 3.24's bottom-up face-tree build only merges
+// edge-adjacent nodes and loops forever when more than one piece is left,
+// so Bullet rows are skipped on such meshes.
+static uint32_t find_root(uint32_t *parent, uint32_t x) {
+    while (parent[x] != x)
+        x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+static size_t edge_pieces(const selfcol_mesh *mesh) {
+    size_t nt = selfcol_mesh_count(mesh, SELFCOL_MESH_TRIANGLES);
+    size_t ne = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
+    uint32_t *parent = malloc((nt ? nt : 1) * sizeof *parent);
+    if (parent == NULL)
+        return 0;
+    for (size_t t = 0; t < nt; ++t)
+        parent[t] = (uint32_t)t;
+    for (size_t e = 0; e < ne; ++e) {
+        const uint32_t *tris;
+        size_t n;
+        if (selfcol_mesh_edge_triangles(mesh, (uint32_t)e, &tris, &n) != SELFCOL_OK)
+            continue;
+        for (size_t i = 1; i < n; ++i) {
+            uint32_t a = find_root(parent, tris[0]), b = find_root(parent, tris[i]);
+            if (a != b)
+                parent[a] = b;
+        }
+    }
+    size_t pieces = 0;
+    for (size_t t = 0; t < nt; ++t)
+        pieces += parent[t] == t;
+    free(parent);
+    return pieces;
+}
+
 static double median_build(const selfcol_mesh *mesh, unsigned reps, selfcol_hierarchy **keep) {
     double times[MAX_REPS];
     unsigned n = 0;
@@ -605,7 +641,13 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     double bullet_build_s = 0.0;
     size_t bullet_bytes = 0;
 #ifdef SELFCOL_BENCH_BULLET
-    if (s.triangle_count <= lim.bullet) {
+    size_t pieces = edge_pieces(mesh);
+    if (s.triangle_count <= lim.bullet && pieces != 1)
+        fprintf(stderr,
+                "selfcol-bench: %s: no Bullet rows: %zu edge-connected pieces (Bullet 3.24's "
+                "initializeFaceTree never terminates on more than one)\n",
+                bc->name, pieces);
+    if (s.triangle_count <= lim.bullet && pieces == 1) {
         fprintf(stderr, "selfcol-bench: %s: Bullet face-tree build (%zu faces)...\n", bc->name,
                 s.triangle_count);
         bb = bench_bullet_create(s.vertex_count, s.positions, s.triangle_count, s.triangles,
