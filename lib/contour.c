@@ -1,24 +1,31 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// The exact curvature criterion (method EXACT): when may Self(P) be skipped,
-// i.e. when is there provably no contact between primitives of the patch P
-// that share no vertex? Volino & Magnenat Thalmann (1995, 2.1) state the
-// criterion for intersections: all normals in one open half-space of V, and
-// the contour of P projected along V without self-intersection. We use it in
-// this form, and extend it to proximities.
+// The exact curvature criterion (method EXACT): when may Self(P) -- or
+// Pair(A, B), with P = A u B -- be skipped, i.e. when is there provably no
+// contact between primitives of the triangle set P that share no vertex?
+// Volino & Magnenat Thalmann (1995, 2.1) state the criterion for
+// intersections: all normals in one open half-space of V, and the contour of
+// P projected along V without self-intersection. We use it in this form,
+// decide the contour part with exact predicates, and extend it to
+// proximities.
 //
 // Conditions (all checked; any failure means "descend"):
-//  (1) P is a topological disk (SELFCOL_NODE_DISK: connected, consistently
-//      oriented, manifold, Euler characteristic 1), and every triangle
-//      normal lies within the cone (axis V, half-angle theta < pi/2) kept by
-//      the refit, whose per-triangle angles include a rigorous bound on the
-//      rounding of the computed normal. So the projection pi along V maps
-//      every triangle of P with positive orientation.
-//  (2) The boundary of P (one closed loop of half-edges, P on their left) is
-//      star-shaped around a point c in projection: every boundary half-edge
-//      (u, w) has orient_along(c, u, w, V) > 0 (exact predicate), and their
-//      angles around c add up to 2 pi (the loop winds once).
+//  (1) P is consistently oriented (each node ORIENTED: no interior
+//      non-manifold or inconsistently oriented edge; for a pair, every edge
+//      shared by A and B has opposite directions on the two sides), and
+//      every triangle normal lies within angle theta < pi/2 of V. Each node's
+//      cone (kept by the refit) bounds its normals rigorously, including the
+//      rounding of the computed normal; for a pair, theta is the larger of
+//      angle(V, axis_X) + theta_X over X in {A, B}, plus 1e-7 rad for the
+//      rounding of the acos. So the projection pi along V maps every
+//      triangle of P with positive orientation.
+//  (2) The boundary chain dP of P (the half-edges of P whose edge has one
+//      triangle in P, P on their left; for a pair, the two nodes' boundary
+//      lists minus the shared edges, which cancel) is one closed loop that
+//      visits no vertex twice and whose projection is a simple polygon: no
+//      two non-consecutive boundary edges meet in projection, and two
+//      consecutive ones meet only at their common vertex (exact predicates).
 //  (3) d <= alpha = h cos(theta), h a lower bound of the altitudes of P's
 //      triangles: a triangle tilted by at most theta from the projection
 //      plane keeps at least cos(theta) of each altitude (its area scales by
@@ -26,20 +33,23 @@
 //  (4) d <= beta: no boundary vertex lies within projected distance d of a
 //      boundary edge not incident to it.
 //
-// Why (1) and (2) rule out interferences. pi restricted to P is a PL map of
-// a disk that preserves orientation on every triangle; for a point x not on
-// the image of the boundary, the number of preimages (counted with their
-// local degree, >= 1 each, more at a branch vertex) equals the winding
-// number of the boundary's image around x. By (2) that image is a simple
-// closed curve (a star-shaped polygon winding once), whose winding numbers
-// are 0 or 1: so pi is one-to-one on P (continuity extends this to the
-// boundary's image). Two points of P at the same place in space project to
-// the same place, so P is embedded: an edge meets a triangle of P only where
-// they share a vertex or an edge, which the contact sets exclude.
+// Why (1) and (2) rule out interferences. Consider the 2-chain sum of the
+// projected triangles of P, each with multiplicity +1 by (1). Its boundary
+// is pi(dP) (interior edges cancel by consistent orientation), so the
+// number of triangles covering a point x off the projected edges equals the
+// winding number of pi(dP) around x. By (2) pi(dP) is a simple closed
+// polygon, whose winding numbers are 0 and either +1 or -1 inside; the
+// coverage is never negative and somewhere positive, so it is 0 or 1: the
+// projected triangles do not overlap. Two primitives of P that meet in space
+// without sharing a vertex would project onto overlapping triangles (at the
+// meeting point the stars of the two pieces both cover a neighbourhood
+// side, or a boundary edge would touch the contour, which (2) excludes). No
+// interference exists inside P. The argument needs no topology of P beyond
+// (1): a pinched or multiply connected P fails (2) by itself.
 //
 // Why (3) and (4) rule out proximities. Projection does not increase
 // distances, so it suffices that non-adjacent primitives of P are at least d
-// apart in projection, where P is an embedded planar triangulation T.
+// apart in projection, where P is now an embedded planar triangulation T.
 //  - Vertex v and a triangle or edge y not incident to it: follow the
 //    segment from pi(v) to the closest point q of pi(y). Near pi(v), T is
 //    the image of v's star in P. Either the segment leaves that star
@@ -56,10 +66,12 @@
 // Every contact inside P is a VF or EE pair at projected distance < d, or an
 // EF crossing: none exists.
 //
-// Costs: (2) is O(b) for a boundary of b edges; (4) is a sweep over the
-// boundary vertices sorted along one axis of the projection plane against
-// the edges whose extent along that axis comes within d, O(b log b) for a
-// compact boundary.
+// Costs: (2) and (4) share one sort-and-sweep over the b boundary edges
+// along a direction of the projection plane (at an angle no mesh favours,
+// so straight boundary runs do not pile up in the active list): O(b log b)
+// for a compact boundary, exact predicates only on edge pairs that come
+// within d in projection. Self(P) is tried only on disks
+// (SELFCOL_NODE_DISK), Pair(A, B) only on adjacent nodes.
 #include "query.h"
 
 #include "hierarchy.h"
@@ -69,16 +81,24 @@
 #include <stdlib.h>
 
 #define HALF_PI 1.5707963267948966
-#define TWO_PI 6.283185307179586
 
-typedef struct projected {
-    double x, y;    // coordinates in the projection plane
-    uint32_t index; // vertex (for points) or half-edge (for edges)
-} projected;
+// One boundary half-edge in the projection plane.
+typedef struct projected_edge {
+    double x0, y0, x1, y1; // endpoints (from, to) in the plane basis (e1, e2)
+    double lo_x, lo_y, hi_x, hi_y; // box, grown by the margin
+    uint32_t from, to;     // mesh vertices
+} projected_edge;
 
-static int by_x(const void *pa, const void *pb) {
-    const projected *a = pa, *b = pb;
-    return a->x < b->x ? -1 : (a->x > b->x ? 1 : 0);
+// One entry of the hashed grid: an edge whose box (grown by the margin)
+// covers cell (ix, iy).
+typedef struct cell_entry {
+    int32_t ix, iy;
+    uint32_t edge;
+} cell_entry;
+
+static int by_vertex(const void *pa, const void *pb) {
+    uint32_t a = *(const uint32_t *)pa, b = *(const uint32_t *)pb;
+    return a < b ? -1 : (a > b ? 1 : 0);
 }
 
 // Endpoints of an encoded boundary half-edge ((edge << 1) | reversed).
@@ -100,6 +120,220 @@ static double point_segment(double px, double py, double ax, double ay, double b
     return sqrt(dx * dx + dy * dy);
 }
 
+// Edges e and f of the boundary (exact where it matters): 1 when they are
+// compatible with a simple polygon and, for d > 0, every endpoint of one not
+// incident to the other is at projected distance >= margin from it.
+static int edges_clear(const selfcol_mesh *m, const projected_edge *e, const projected_edge *f,
+                       const double v[3], double margin, int proximity) {
+    const double *e0 = selfcol_mesh__position(m, e->from), *e1 = selfcol_mesh__position(m, e->to);
+    const double *f0 = selfcol_mesh__position(m, f->from), *f1 = selfcol_mesh__position(m, f->to);
+    if (e->to == f->from || f->to == e->from) {
+        // Consecutive: they may not fold back onto each other. The shared
+        // vertex w, the other ends u (of the earlier edge) and x.
+        const projected_edge *first = e->to == f->from ? e : f, *second = first == e ? f : e;
+        const double *u = first == e ? e0 : f0, *w = first == e ? e1 : f1;
+        const double *x = second == e ? e1 : f1;
+        if (selfcol_predicates__orient_along(u, w, x, v) == 0) {
+            double dot = (first->x0 - first->x1) * (second->x1 - second->x0) +
+                         (first->y0 - first->y1) * (second->y1 - second->y0);
+            if (dot > 0.0)
+                return 0; // x lies back along w -> u
+        }
+        if (!proximity)
+            return 1;
+        // The far ends against the other edge.
+        return point_segment(second->x1, second->y1, first->x0, first->y0, first->x1,
+                             first->y1) >= margin &&
+               point_segment(first->x0, first->y0, second->x0, second->y0, second->x1,
+                             second->y1) >= margin;
+    }
+    if (e->from == f->from || e->to == f->to || e->from == f->to || e->to == f->from)
+        return 0; // a vertex visited twice by the boundary (a pinch)
+    int o1 = selfcol_predicates__orient_along(e0, e1, f0, v);
+    int o2 = selfcol_predicates__orient_along(e0, e1, f1, v);
+    int o3 = selfcol_predicates__orient_along(f0, f1, e0, v);
+    int o4 = selfcol_predicates__orient_along(f0, f1, e1, v);
+    if (o1 * o2 <= 0 && o3 * o4 <= 0) {
+        if (o1 != 0 || o2 != 0 || o3 != 0 || o4 != 0)
+            return 0; // they cross or touch
+        // Collinear in projection: apart only if their extents along the
+        // line are (clearly) disjoint.
+        double dx = e->x1 - e->x0, dy = e->y1 - e->y0;
+        double a0 = 0.0, a1 = dx * dx + dy * dy;
+        double b0 = (f->x0 - e->x0) * dx + (f->y0 - e->y0) * dy;
+        double b1 = (f->x1 - e->x0) * dx + (f->y1 - e->y0) * dy;
+        double blo = b0 < b1 ? b0 : b1, bhi = b0 < b1 ? b1 : b0;
+        double slack = 1e-9 * a1 + margin * sqrt(a1);
+        if (!(blo > a1 + slack || bhi < a0 - slack))
+            return 0;
+    }
+    if (!proximity)
+        return 1;
+    return point_segment(e->x0, e->y0, f->x0, f->y0, f->x1, f->y1) >= margin &&
+           point_segment(e->x1, e->y1, f->x0, f->y0, f->x1, f->y1) >= margin &&
+           point_segment(f->x0, f->y0, e->x0, e->y0, e->x1, e->y1) >= margin &&
+           point_segment(f->x1, f->y1, e->x0, e->y0, e->x1, e->y1) >= margin;
+}
+
+// The work area of contour_clear for b half-edges: the projected edges, the
+// grid's bucket offsets and its entries (at most 4 per edge, see below).
+static size_t work_bytes(size_t b) {
+    size_t buckets = 1;
+    while (buckets < 2 * b)
+        buckets *= 2;
+    return b * sizeof(projected_edge) + 9 * b * sizeof(cell_entry) +
+           (buckets + 1) * sizeof(uint32_t);
+}
+
+static uint32_t cell_hash(int32_t ix, int32_t iy, uint32_t mask) {
+    return ((uint32_t)ix * 0x9E3779B1u ^ (uint32_t)iy * 0x85EBCA77u) & mask;
+}
+
+// Conditions (2) and (4) for the boundary chain he[0..b) projected along
+// the unit vector v; the caller has shown that the chain is one loop (a
+// disk's boundary, or two disks' boundaries joined along one path). A pinch
+// (a vertex visited twice) shows up here as two edges into one vertex.
+//
+// Candidate edge pairs come from a hashed uniform grid whose cells are at
+// least half as wide as every projected edge plus twice the margin: each
+// edge's grown box covers at most 3 x 3 cells, and two edges whose grown
+// boxes meet share a cell (cell indices are a monotone function of the
+// coordinates); a pair is examined in one cell only (the lowest cell of the
+// overlap of their cell ranges). O(b) expected, no sorting.
+static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, const double v[3],
+                         double d, void *work) {
+    if (b < 3)
+        return 0;
+    // An orthonormal basis (e1, e2) of the projection plane.
+    double helper[3] = {fabs(v[0]) < 0.6 ? 1.0 : 0.0, fabs(v[0]) < 0.6 ? 0.0 : 1.0, 0.0};
+    double e1[3] = {helper[1] * v[2] - helper[2] * v[1], helper[2] * v[0] - helper[0] * v[2],
+                    helper[0] * v[1] - helper[1] * v[0]};
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int k = 0; k < 3; ++k)
+        e1[k] /= l1;
+    double e2[3] = {v[1] * e1[2] - v[2] * e1[1], v[2] * e1[0] - v[0] * e1[2],
+                    v[0] * e1[1] - v[1] * e1[0]};
+
+    projected_edge *pe = work;
+    double scale = 0.0, longest = 0.0;
+    double min_x = INFINITY, min_y = INFINITY;
+    for (size_t i = 0; i < b; ++i) {
+        projected_edge *e = &pe[i];
+        e->from = from_vertex(m, he[i]);
+        e->to = to_vertex(m, he[i]);
+        const double *u = selfcol_mesh__position(m, e->from), *w = selfcol_mesh__position(m, e->to);
+        for (int k = 0; k < 3; ++k)
+            scale = fabs(u[k]) > scale ? fabs(u[k]) : scale;
+        e->x0 = u[0] * e1[0] + u[1] * e1[1] + u[2] * e1[2];
+        e->y0 = u[0] * e2[0] + u[1] * e2[1] + u[2] * e2[2];
+        e->x1 = w[0] * e1[0] + w[1] * e1[1] + w[2] * e1[2];
+        e->y1 = w[0] * e2[0] + w[1] * e2[1] + w[2] * e2[2];
+        double dx = fabs(e->x1 - e->x0), dy = fabs(e->y1 - e->y0);
+        longest = dx > longest ? dx : longest;
+        longest = dy > longest ? dy : longest;
+        min_x = e->x0 < min_x ? e->x0 : min_x;
+        min_y = e->y0 < min_y ? e->y0 : min_y;
+    }
+    // The margin covers d and the rounding of the projected coordinates.
+    const int proximity = d > 0.0;
+    const double margin = (proximity ? d * (1.0 + 1e-9) : 0.0) + 1e-12 * scale;
+    const double cell = 0.5 * (longest + 2.0 * margin) * (1.0 + 1e-9);
+    if (!(cell > 0.0) || !isfinite(cell))
+        return 0;
+    const double inverse = 1.0 / cell;
+    // Grown boxes, relative to the lowest corner (so cell indices are >= 0).
+    const double ox = min_x - margin, oy = min_y - margin;
+    for (size_t i = 0; i < b; ++i) {
+        projected_edge *e = &pe[i];
+        e->lo_x = (e->x0 < e->x1 ? e->x0 : e->x1) - margin - ox;
+        e->hi_x = (e->x0 < e->x1 ? e->x1 : e->x0) + margin - ox;
+        e->lo_y = (e->y0 < e->y1 ? e->y0 : e->y1) - margin - oy;
+        e->hi_y = (e->y0 < e->y1 ? e->y1 : e->y0) + margin - oy;
+    }
+    uint32_t buckets = 1;
+    while (buckets < 2 * b)
+        buckets *= 2;
+    const uint32_t mask = buckets - 1;
+    cell_entry *entries = (cell_entry *)(pe + b);
+    uint32_t *offset = (uint32_t *)(entries + 9 * b);
+    for (uint32_t k = 0; k <= buckets; ++k)
+        offset[k] = 0;
+    // Pass 1 counts the entries per bucket, pass 2 places them (counting sort).
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            uint32_t sum = 0;
+            for (uint32_t k = 0; k <= buckets; ++k) {
+                uint32_t c = offset[k];
+                offset[k] = sum;
+                sum += c;
+            }
+        }
+        for (size_t i = 0; i < b; ++i) {
+            const projected_edge *e = &pe[i];
+            // Truncation is floor here: the coordinates are >= 0 up to a
+            // rounding, and the same expression serves every use below.
+            int32_t ix0 = (int32_t)(e->lo_x * inverse), ix1 = (int32_t)(e->hi_x * inverse);
+            int32_t iy0 = (int32_t)(e->lo_y * inverse), iy1 = (int32_t)(e->hi_y * inverse);
+            if (ix1 > ix0 + 2 || iy1 > iy0 + 2)
+                return 0; // cannot happen with the cell size above; stay safe
+            for (int32_t ix = ix0; ix <= ix1; ++ix)
+                for (int32_t iy = iy0; iy <= iy1; ++iy) {
+                    uint32_t k = cell_hash(ix, iy, mask);
+                    if (pass == 0)
+                        offset[k]++;
+                    else
+                        entries[offset[k]++] = (cell_entry){ix, iy, (uint32_t)i};
+                }
+        }
+    }
+    // After pass 2, offset[k] is the end of bucket k and the start of k + 1.
+    uint32_t begin = 0;
+    for (uint32_t k = 0; k < buckets; ++k) {
+        uint32_t end = offset[k];
+        for (uint32_t p = begin; p < end; ++p) {
+            const cell_entry *ep = &entries[p];
+            const projected_edge *e = &pe[ep->edge];
+            for (uint32_t q = p + 1; q < end; ++q) {
+                const cell_entry *eq = &entries[q];
+                if (eq->ix != ep->ix || eq->iy != ep->iy)
+                    continue; // another cell in the same bucket
+                const projected_edge *f = &pe[eq->edge];
+                // Grown boxes apart: no test needed.
+                if (e->hi_x < f->lo_x || f->hi_x < e->lo_x || e->hi_y < f->lo_y ||
+                    f->hi_y < e->lo_y)
+                    continue;
+                // Examine the pair in the lowest cell both cover only.
+                int32_t cx = (int32_t)((e->lo_x > f->lo_x ? e->lo_x : f->lo_x) * inverse);
+                int32_t cy = (int32_t)((e->lo_y > f->lo_y ? e->lo_y : f->lo_y) * inverse);
+                if (cx != ep->ix || cy != ep->iy)
+                    continue;
+                if (!edges_clear(m, e, f, v, margin, proximity))
+                    return 0;
+            }
+        }
+        begin = end;
+    }
+    return 1;
+}
+
+// Scratch for contour_clear over b half-edges, plus `extra` half-edge slots
+// (the caller's) after it. NULL without memory.
+static void *work_area(selfcol_contacts *owner, size_t b, size_t extra) {
+    return selfcol_contacts__scratch(owner, 2, work_bytes(b) + extra * sizeof(uint32_t), 0);
+}
+
+// Unit vector of a float axis, in double.
+static void unit_axis(const selfcol_node *n, double out[3]) {
+    double len = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        out[k] = n->cone_axis[k];
+        len += out[k] * out[k];
+    }
+    len = sqrt(len);
+    for (int k = 0; k < 3; ++k)
+        out[k] /= len;
+}
+
 int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, double d,
                                     selfcol_contacts *scratch_owner) {
     const selfcol_node *n = &h->nodes[id];
@@ -111,107 +345,102 @@ int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, dou
     double cos_theta = cos((double)n->cone_angle);
     if (!(d <= (double)h->min_altitude[id] * cos_theta))
         return 0;
-
-    const selfcol_mesh *m = h->mesh;
-    const uint32_t *he = h->bedge + n->boundary_begin;
     const size_t b = n->boundary_count;
     if (b < 3)
         return 0;
-    double axis[3] = {n->cone_axis[0], n->cone_axis[1], n->cone_axis[2]};
-    // An orthonormal basis (e1, e2) of the projection plane.
-    double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-    double a[3] = {axis[0] / len, axis[1] / len, axis[2] / len};
-    double helper[3] = {fabs(a[0]) < 0.6 ? 1.0 : 0.0, fabs(a[0]) < 0.6 ? 0.0 : 1.0, 0.0};
-    double e1[3] = {helper[1] * a[2] - helper[2] * a[1], helper[2] * a[0] - helper[0] * a[2],
-                    helper[0] * a[1] - helper[1] * a[0]};
-    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    for (int k = 0; k < 3; ++k)
-        e1[k] /= l1;
-    double e2[3] = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2],
-                    a[0] * e1[1] - a[1] * e1[0]};
-
-    // (2): star-shaped around the centroid of the boundary vertices.
-    double c[3] = {0.0, 0.0, 0.0}, scale = 0.0;
-    for (size_t i = 0; i < b; ++i) {
-        const double *p = selfcol_mesh__position(m, from_vertex(m, he[i]));
-        for (int k = 0; k < 3; ++k) {
-            c[k] += p[k];
-            scale = fabs(p[k]) > scale ? fabs(p[k]) : scale;
-        }
-    }
-    for (int k = 0; k < 3; ++k)
-        c[k] /= (double)b;
-    double cx = c[0] * e1[0] + c[1] * e1[1] + c[2] * e1[2];
-    double cy = c[0] * e2[0] + c[1] * e2[1] + c[2] * e2[2];
-    double turned = 0.0;
-    for (size_t i = 0; i < b; ++i) {
-        const double *u = selfcol_mesh__position(m, from_vertex(m, he[i]));
-        const double *w = selfcol_mesh__position(m, to_vertex(m, he[i]));
-        if (selfcol_predicates__orient_along(c, u, w, axis) <= 0)
-            return 0;
-        double ux = u[0] * e1[0] + u[1] * e1[1] + u[2] * e1[2] - cx;
-        double uy = u[0] * e2[0] + u[1] * e2[1] + u[2] * e2[2] - cy;
-        double wx = w[0] * e1[0] + w[1] * e1[1] + w[2] * e1[2] - cx;
-        double wy = w[0] * e2[0] + w[1] * e2[1] + w[2] * e2[2] - cy;
-        turned += atan2(ux * wy - uy * wx, ux * wx + uy * wy);
-    }
-    // Each angle is in (0, pi), so the sum is 2 pi times the winding number,
-    // far from any other multiple even after rounding.
-    if (!(fabs(turned - TWO_PI) < 1.0))
-        return 0;
-    if (!(d > 0.0))
-        return 1; // (4) is vacuous: no proximity is below 0
-
-    // (4): boundary clearance, with a margin for the rounding of the
-    // projected coordinates.
-    // Sweep along e1: vertices in increasing x; an edge is active while its
-    // x-extent comes within `margin` of the sweep position.
-    projected *pts = selfcol_contacts__scratch(
-        scratch_owner, 2, 2 * b * sizeof(projected) + b * sizeof(uint32_t), 0);
-    if (pts == NULL)
+    void *work = work_area(scratch_owner, b, 0);
+    if (work == NULL)
         return 0; // no memory: do not skip (still exact)
-    projected *edges = pts + b; // x: smaller x of the edge, y: larger x
-    uint32_t *active = (uint32_t *)(edges + b);
-    for (size_t i = 0; i < b; ++i) {
-        const double *u = selfcol_mesh__position(m, from_vertex(m, he[i]));
-        const double *w = selfcol_mesh__position(m, to_vertex(m, he[i]));
-        double ux = u[0] * e1[0] + u[1] * e1[1] + u[2] * e1[2];
-        double wx = w[0] * e1[0] + w[1] * e1[1] + w[2] * e1[2];
-        pts[i].x = ux;
-        pts[i].y = u[0] * e2[0] + u[1] * e2[1] + u[2] * e2[2];
-        pts[i].index = (uint32_t)i;
-        edges[i].x = ux < wx ? ux : wx;
-        edges[i].y = ux < wx ? wx : ux;
-        edges[i].index = (uint32_t)i;
-    }
-    qsort(pts, b, sizeof *pts, by_x);
-    qsort(edges, b, sizeof *edges, by_x);
-    const double margin = d * (1.0 + 1e-9) + 1e-12 * scale;
-    size_t next = 0, active_count = 0;
-    for (size_t i = 0; i < b; ++i) {
-        const projected *p = &pts[i];
-        uint32_t v = from_vertex(m, he[p->index]);
-        while (next < b && edges[next].x <= p->x + margin)
-            active[active_count++] = (uint32_t)next++;
-        size_t kept = 0;
-        for (size_t j = 0; j < active_count; ++j) {
-            const projected *e = &edges[active[j]];
-            if (e->y < p->x - margin)
-                continue; // left behind for good: later vertices have larger x
-            active[kept++] = active[j];
-            uint32_t k = e->index;
-            uint32_t from = from_vertex(m, he[k]), to = to_vertex(m, he[k]);
-            if (from == v || to == v)
-                continue;
-            const double *q0 = selfcol_mesh__position(m, from), *q1 = selfcol_mesh__position(m, to);
-            double ax = q0[0] * e1[0] + q0[1] * e1[1] + q0[2] * e1[2];
-            double ay = q0[0] * e2[0] + q0[1] * e2[1] + q0[2] * e2[2];
-            double bx = q1[0] * e1[0] + q1[1] * e1[1] + q1[2] * e1[2];
-            double by = q1[0] * e2[0] + q1[1] * e2[1] + q1[2] * e2[2];
-            if (point_segment(p->x, p->y, ax, ay, bx, by) < margin)
-                return 0;
+    double v[3];
+    unit_axis(n, v);
+    // A disk's boundary is one loop.
+    return contour_clear(h->mesh, h->bedge + n->boundary_begin, b, v, d, work);
+}
+
+static double angle_between_units(const double u[3], const double v[3]) {
+    double c = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    return acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
+}
+
+int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib,
+                                    double d, selfcol_contacts *scratch_owner) {
+    const selfcol_node *na = &h->nodes[ia], *nb = &h->nodes[ib];
+    const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
+    if ((na->flags & nb->flags & need) != need || !(na->cone_angle < HALF_PI) ||
+        !(nb->cone_angle < HALF_PI))
+        return 0;
+    // (1): a projection direction V inside the smallest cone around both
+    // cones, and a rigorous half-angle around V.
+    double ua[3], ub[3], v[3];
+    unit_axis(na, ua);
+    unit_axis(nb, ub);
+    double phi = angle_between_units(ua, ub);
+    double ta = na->cone_angle, tb = nb->cone_angle;
+    if (phi + tb <= ta || !(phi > 1e-9)) {
+        for (int k = 0; k < 3; ++k)
+            v[k] = ua[k];
+    } else if (phi + ta <= tb) {
+        for (int k = 0; k < 3; ++k)
+            v[k] = ub[k];
+    } else {
+        double half = 0.5 * (ta + phi + tb);
+        if (!(half < HALF_PI))
+            return 0;
+        double t = (half - ta) / phi;
+        double s0 = sin((1.0 - t) * phi) / sin(phi), s1 = sin(t * phi) / sin(phi);
+        double len = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            v[k] = s0 * ua[k] + s1 * ub[k];
+            len += v[k] * v[k];
         }
-        active_count = kept;
+        len = sqrt(len);
+        for (int k = 0; k < 3; ++k)
+            v[k] /= len;
     }
-    return 1;
+    double theta_a = angle_between_units(v, ua) + ta, theta_b = angle_between_units(v, ub) + tb;
+    double theta = (theta_a > theta_b ? theta_a : theta_b) + 1e-7;
+    if (!(theta < HALF_PI))
+        return 0;
+    // (3)
+    double h_min = h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia]
+                                                              : h->min_altitude[ib];
+    if (!(d <= h_min * cos(theta)))
+        return 0;
+
+    // (2) and (4) on the joint boundary: both lists are sorted by edge; a
+    // shared edge must appear with opposite directions and drops out.
+    const size_t ba = na->boundary_count, bb = nb->boundary_count, cap = ba + bb;
+    void *work = work_area(scratch_owner, cap, 2 * cap);
+    if (work == NULL)
+        return 0;
+    uint32_t *joint = (uint32_t *)((char *)work + work_bytes(cap));
+    uint32_t *path = joint + cap; // endpoints of the shared edges
+    const uint32_t *x = h->bedge + na->boundary_begin, *y = h->bedge + nb->boundary_begin;
+    size_t i = 0, j = 0, b = 0, shared = 0;
+    while (i < ba || j < bb) {
+        if (j == bb || (i < ba && (x[i] >> 1) < (y[j] >> 1))) {
+            joint[b++] = x[i++];
+        } else if (i == ba || (y[j] >> 1) < (x[i] >> 1)) {
+            joint[b++] = y[j++];
+        } else {
+            if ((x[i] ^ y[j]) != 1u)
+                return 0; // same direction on both sides: not consistently oriented
+            path[2 * shared] = from_vertex(h->mesh, x[i]);
+            path[2 * shared + 1] = to_vertex(h->mesh, x[i]);
+            ++i, ++j, ++shared;
+        }
+    }
+    // The joint boundary is one loop when both patches are disks (one
+    // boundary loop each) and the shared edges, a subset of each loop, form
+    // one path: s edges on s + 1 distinct vertices (several paths have more,
+    // the whole loop as many).
+    if (shared == 0)
+        return 0; // not adjacent: two loops can never be one
+    qsort(path, 2 * shared, sizeof *path, by_vertex);
+    size_t distinct = 1;
+    for (size_t k = 1; k < 2 * shared; ++k)
+        distinct += path[k] != path[k - 1];
+    if (distinct != shared + 1)
+        return 0;
+    return contour_clear(h->mesh, joint, b, v, d, work);
 }

@@ -44,4 +44,10 @@ int selfcol_traverse__run(selfcol_query *q, const struct selfcol_hierarchy *h0,
 int selfcol_contour__self_skippable(const struct selfcol_hierarchy *h, uint32_t id, double d,
                                     selfcol_contacts *scratch_owner);
 
+// The same for Pair(a, b) of two nodes of one hierarchy: 1 when no primitive
+// of a has a contact with a primitive of b (judged on the union of the two
+// patches, joined along shared edges). Uses scratch slot 2.
+int selfcol_contour__pair_skippable(const struct selfcol_hierarchy *h, uint32_t a, uint32_t b,
+                                    double d, selfcol_contacts *scratch_owner);
+
 #endif // SELFCOL_QUERY_H

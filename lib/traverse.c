@@ -12,12 +12,12 @@
 //      pair of children. A leaf's triangle pairs go to the list.
 //    Pair(a, b): skip when the boxes are farther apart than d on some axis;
 //      with curvature, skip when both patches are connected, adjacent (they
-//      share a boundary vertex) and their normals together lie in one open
+//      share a boundary edge) and their normals together lie in one open
 //      half-space; otherwise split the larger node. Two leaves put their
 //      triangle pairs (whose boxes are within d) on the list.
-//    BVH uses the box test alone and is exact. EXACT skips Self(node) only
-//    when contour.c proves the patch free of contacts, and culls pairs by
-//    boxes alone; it is exact too.
+//    BVH uses the box test alone and is exact. EXACT skips Self(node), and
+//    Pair(a, b) of adjacent nodes, only when contour.c proves the patch (or
+//    the union of the two patches) free of contacts; it is exact too.
 //
 // 2. Narrow phase. Each triangle pair generates the primitive pairs made of a
 //    vertex or edge *owned* by one triangle and the other triangle (or an
@@ -141,9 +141,11 @@ static int leaf_pair(traversal *t, const selfcol_node *a, const selfcol_node *b,
 static int broad_phase(traversal *t) {
     selfcol_query_stats *st = &t->q->out->stats;
     const int self = t->q->self;
-    // EXACT culls pairs by boxes only; SEED and CONE also by joint curvature.
+    // SEED and CONE cull adjacent pairs by joint curvature; EXACT by the
+    // joint curvature and contour criterion of contour.c.
     const int curvature = self && (t->method == SELFCOL_METHOD_SEED ||
                                    t->method == SELFCOL_METHOD_CONE);
+    const int exact_pairs = self && t->method == SELFCOL_METHOD_EXACT;
     const selfcol_node *n0 = t->h[0]->nodes, *n1 = t->h[1]->nodes;
     int status = push(t, 0, 0, 0);
     while (status == SELFCOL_OK && t->stack_size > 0) {
@@ -173,8 +175,10 @@ static int broad_phase(traversal *t) {
             st->culled_box++;
             continue;
         }
-        if (curvature && jointly_smooth(t->method, a, b) &&
-            selfcol_hierarchy__adjacent(t->h[0], a, b)) {
+        if (curvature ? jointly_smooth(t->method, a, b) &&
+                            selfcol_hierarchy__adjacent(t->h[0], a, b)
+                      : exact_pairs && selfcol_contour__pair_skippable(t->h[0], p.a, p.b,
+                                                                       t->q->distance, t->q->out)) {
             st->culled_adjacency++;
             continue;
         }
