@@ -316,6 +316,64 @@ static void test_hierarchy_icosphere_all_methods_find_nothing(void **state) {
     }
 }
 
+// EXACT on a closed icosphere: no patch larger than a hemisphere has its
+// normals in one half-space, so only the joint criterion on pairs of
+// adjacent patches (contour.c) can prove the sphere free. It must do so
+// almost everywhere -- triangle pairs reach the narrow phase only where two
+// leaves touch at a single vertex (a pinch no contour proof covers), under 2%
+// of the triangle count -- at d = 0 and at the standard 0.1 x mean edge, on
+// the sphere as generated and turned about an oblique axis (so no patch
+// boundary lines up with the projection axes).
+// (At 0.5 x, condition (3) needs cones under ~53 degrees on these coarse
+// spheres and some leaf pairs remain: exactness there is checked above.)
+static void test_hierarchy_exact_proves_closed_spheres_free(void **state) {
+    (void)state;
+    for (unsigned level = 3; level <= 5; ++level) {
+        for (int turned = 0; turned < 2; ++turned) {
+            scene s;
+            assert_int_equal(scene_icosphere(&s, level, 2.0), 0);
+            if (turned) {
+                // Rotation by 0.7 rad about the unit axis (1, 2, 2) / 3.
+                const double k[3] = {1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0}, c = cos(0.7), sn = sin(0.7);
+                for (size_t v = 0; v < s.vertex_count; ++v) {
+                    double *p = s.positions + 3 * v;
+                    double kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
+                    double x[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2],
+                                   k[0] * p[1] - k[1] * p[0]};
+                    for (int j = 0; j < 3; ++j)
+                        p[j] = p[j] * c + x[j] * sn + k[j] * kp * (1.0 - c);
+                }
+            }
+            world w;
+            world_make(&w, &s);
+            const double mean = selfcol_mesh_mean_edge_length(w.mesh);
+            const double factors[2] = {0.0, 0.1};
+            for (int di = 0; di < 2; ++di) {
+                selfcol_query_options q = query(SELFCOL_METHOD_EXACT, factors[di] * mean);
+                assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),
+                                 SELFCOL_OK);
+                selfcol_query_stats st;
+                st.version = SELFCOL_QUERY_STATS_VERSION;
+                assert_int_equal(selfcol_contacts_stats(w.contacts, &st), SELFCOL_OK);
+                if (st.triangle_pairs * 50 >= s.triangle_count || st.culled_adjacency == 0)
+                    print_message("icosphere level %u%s d=%.1fx: %llu triangle pairs, %llu "
+                                  "adjacent pairs culled\n",
+                                  level, turned ? " (turned)" : "", factors[di],
+                                  (unsigned long long)st.triangle_pairs,
+                                  (unsigned long long)st.culled_adjacency);
+                assert_true(st.triangle_pairs * 50 < s.triangle_count);
+                assert_true(st.culled_adjacency > 0);
+                assert_int_equal(st.vf_contacts + st.ee_contacts + st.ef_contacts, 0);
+                // Far fewer nodes than BVH, which must open every leaf pair
+                // whose boxes meet.
+                assert_true(st.nodes_visited < 40u * level * level);
+            }
+            world_free(&w);
+            scene_free(&s);
+        }
+    }
+}
+
 // The spiral ramp: all normals within ~20 degrees of +z, so SEED and CONE
 // skip the whole surface at its root, while its second turn lies within d of
 // the first and dips through it: they must miss contacts (including every
@@ -1030,6 +1088,7 @@ int main(void) {
         cmocka_unit_test(test_hierarchy_flat_sheet_all_methods_find_nothing),
         cmocka_unit_test(test_hierarchy_wrinkled_sheet_all_methods_find_nothing),
         cmocka_unit_test(test_hierarchy_icosphere_all_methods_find_nothing),
+        cmocka_unit_test(test_hierarchy_exact_proves_closed_spheres_free),
         cmocka_unit_test(test_hierarchy_spiral_ramp_seed_misses_contacts),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_crumpled_sheets),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_degenerate_input),
