@@ -110,30 +110,49 @@ static uint32_t to_vertex(const selfcol_mesh *m, uint32_t half_edge) {
     return m->edges[2 * (size_t)(half_edge >> 1) + 1 - (half_edge & 1u)];
 }
 
-// Distance from point p to segment ab in the plane.
-static double point_segment(double px, double py, double ax, double ay, double bx, double by) {
+// 1 when point p is at distance >= sqrt(margin2) from segment ab in the
+// plane (no square root, no division).
+static int point_clear(double px, double py, double ax, double ay, double bx, double by,
+                       double margin2) {
     double ux = bx - ax, uy = by - ay, wx = px - ax, wy = py - ay;
-    double len2 = ux * ux + uy * uy;
-    double t = len2 > 0.0 ? (wx * ux + wy * uy) / len2 : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    double dx = wx - t * ux, dy = wy - t * uy;
-    return sqrt(dx * dx + dy * dy);
+    double t = wx * ux + wy * uy, len2 = ux * ux + uy * uy;
+    if (t <= 0.0)
+        return wx * wx + wy * wy >= margin2;
+    if (t >= len2) {
+        double zx = px - bx, zy = py - by;
+        return zx * zx + zy * zy >= margin2;
+    }
+    double cross = ux * wy - uy * wx;
+    return cross * cross >= margin2 * len2;
+}
+
+// Sign of orient_along(a, b, c, v), decided from the projected coordinates
+// when they prove it: `bound` covers the rounding of the coordinates and of
+// the basis (see contour_clear); otherwise the exact predicate decides.
+static int side(const selfcol_mesh *m, uint32_t ia, uint32_t ib, uint32_t ic, double ax, double ay,
+                double bx, double by, double cx, double cy, const double v[3], double bound) {
+    double o = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+    if (o > bound)
+        return 1;
+    if (o < -bound)
+        return -1;
+    return selfcol_predicates__orient_along(selfcol_mesh__position(m, ia),
+                                            selfcol_mesh__position(m, ib),
+                                            selfcol_mesh__position(m, ic), v);
 }
 
 // Edges e and f of the boundary (exact where it matters): 1 when they are
 // compatible with a simple polygon and, for d > 0, every endpoint of one not
 // incident to the other is at projected distance >= margin from it.
 static int edges_clear(const selfcol_mesh *m, const projected_edge *e, const projected_edge *f,
-                       const double v[3], double margin, int proximity) {
-    const double *e0 = selfcol_mesh__position(m, e->from), *e1 = selfcol_mesh__position(m, e->to);
-    const double *f0 = selfcol_mesh__position(m, f->from), *f1 = selfcol_mesh__position(m, f->to);
+                       const double v[3], double margin, int proximity, double bound) {
+    const double margin2 = margin * margin;
     if (e->to == f->from || f->to == e->from) {
         // Consecutive: they may not fold back onto each other. The shared
         // vertex w, the other ends u (of the earlier edge) and x.
         const projected_edge *first = e->to == f->from ? e : f, *second = first == e ? f : e;
-        const double *u = first == e ? e0 : f0, *w = first == e ? e1 : f1;
-        const double *x = second == e ? e1 : f1;
-        if (selfcol_predicates__orient_along(u, w, x, v) == 0) {
+        if (side(m, first->from, first->to, second->to, first->x0, first->y0, first->x1,
+                 first->y1, second->x1, second->y1, v, bound) == 0) {
             double dot = (first->x0 - first->x1) * (second->x1 - second->x0) +
                          (first->y0 - first->y1) * (second->y1 - second->y0);
             if (dot > 0.0)
@@ -142,37 +161,41 @@ static int edges_clear(const selfcol_mesh *m, const projected_edge *e, const pro
         if (!proximity)
             return 1;
         // The far ends against the other edge.
-        return point_segment(second->x1, second->y1, first->x0, first->y0, first->x1,
-                             first->y1) >= margin &&
-               point_segment(first->x0, first->y0, second->x0, second->y0, second->x1,
-                             second->y1) >= margin;
+        return point_clear(second->x1, second->y1, first->x0, first->y0, first->x1, first->y1,
+                           margin2) &&
+               point_clear(first->x0, first->y0, second->x0, second->y0, second->x1, second->y1,
+                           margin2);
     }
-    if (e->from == f->from || e->to == f->to || e->from == f->to || e->to == f->from)
+    if (e->from == f->from || e->to == f->to)
         return 0; // a vertex visited twice by the boundary (a pinch)
-    int o1 = selfcol_predicates__orient_along(e0, e1, f0, v);
-    int o2 = selfcol_predicates__orient_along(e0, e1, f1, v);
-    int o3 = selfcol_predicates__orient_along(f0, f1, e0, v);
-    int o4 = selfcol_predicates__orient_along(f0, f1, e1, v);
-    if (o1 * o2 <= 0 && o3 * o4 <= 0) {
-        if (o1 != 0 || o2 != 0 || o3 != 0 || o4 != 0)
-            return 0; // they cross or touch
-        // Collinear in projection: apart only if their extents along the
-        // line are (clearly) disjoint.
-        double dx = e->x1 - e->x0, dy = e->y1 - e->y0;
-        double a0 = 0.0, a1 = dx * dx + dy * dy;
-        double b0 = (f->x0 - e->x0) * dx + (f->y0 - e->y0) * dy;
-        double b1 = (f->x1 - e->x0) * dx + (f->y1 - e->y0) * dy;
-        double blo = b0 < b1 ? b0 : b1, bhi = b0 < b1 ? b1 : b0;
-        double slack = 1e-9 * a1 + margin * sqrt(a1);
-        if (!(blo > a1 + slack || bhi < a0 - slack))
-            return 0;
+    int o1 = side(m, e->from, e->to, f->from, e->x0, e->y0, e->x1, e->y1, f->x0, f->y0, v, bound);
+    int o2 = side(m, e->from, e->to, f->to, e->x0, e->y0, e->x1, e->y1, f->x1, f->y1, v, bound);
+    if (o1 * o2 <= 0) {
+        int o3 = side(m, f->from, f->to, e->from, f->x0, f->y0, f->x1, f->y1, e->x0, e->y0, v,
+                      bound);
+        int o4 = side(m, f->from, f->to, e->to, f->x0, f->y0, f->x1, f->y1, e->x1, e->y1, v,
+                      bound);
+        if (o3 * o4 <= 0) {
+            if (o1 != 0 || o2 != 0 || o3 != 0 || o4 != 0)
+                return 0; // they cross or touch
+            // Collinear in projection: apart only if their extents along the
+            // line are (clearly) disjoint.
+            double dx = e->x1 - e->x0, dy = e->y1 - e->y0;
+            double a0 = 0.0, a1 = dx * dx + dy * dy;
+            double b0 = (f->x0 - e->x0) * dx + (f->y0 - e->y0) * dy;
+            double b1 = (f->x1 - e->x0) * dx + (f->y1 - e->y0) * dy;
+            double blo = b0 < b1 ? b0 : b1, bhi = b0 < b1 ? b1 : b0;
+            double slack = 1e-9 * a1 + margin * sqrt(a1);
+            if (!(blo > a1 + slack || bhi < a0 - slack))
+                return 0;
+        }
     }
     if (!proximity)
         return 1;
-    return point_segment(e->x0, e->y0, f->x0, f->y0, f->x1, f->y1) >= margin &&
-           point_segment(e->x1, e->y1, f->x0, f->y0, f->x1, f->y1) >= margin &&
-           point_segment(f->x0, f->y0, e->x0, e->y0, e->x1, e->y1) >= margin &&
-           point_segment(f->x1, f->y1, e->x0, e->y0, e->x1, e->y1) >= margin;
+    return point_clear(e->x0, e->y0, f->x0, f->y0, f->x1, f->y1, margin2) &&
+           point_clear(e->x1, e->y1, f->x0, f->y0, f->x1, f->y1, margin2) &&
+           point_clear(f->x0, f->y0, e->x0, e->y0, e->x1, e->y1, margin2) &&
+           point_clear(f->x1, f->y1, e->x0, e->y0, e->x1, e->y1, margin2);
 }
 
 // The work area of contour_clear for b half-edges: the projected edges, the
@@ -241,6 +264,12 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
     if (!(cell > 0.0) || !isfinite(cell))
         return 0;
     const double inverse = 1.0 / cell;
+    // Filter bound of `side`: the projected coordinates (dot products with
+    // a unit basis) carry an error of at most ~6e-16 scale each, coordinate
+    // differences are at most 3.5 scale, and e1 x e2 differs from v by
+    // ~5e-16; together under 4e-14 scale^2 on a 2D orientation. 1e-13 keeps
+    // a factor 2.5 of safety.
+    const double bound = 1e-13 * scale * scale;
     // Grown boxes, relative to the lowest corner (so cell indices are >= 0).
     const double ox = min_x - margin, oy = min_y - margin;
     for (size_t i = 0; i < b; ++i) {
@@ -307,7 +336,7 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
                 int32_t cy = (int32_t)((e->lo_y > f->lo_y ? e->lo_y : f->lo_y) * inverse);
                 if (cx != ep->ix || cy != ep->iy)
                     continue;
-                if (!edges_clear(m, e, f, v, margin, proximity))
+                if (!edges_clear(m, e, f, v, margin, proximity, bound))
                     return 0;
             }
         }
