@@ -168,6 +168,7 @@ static int parse_options(int argc, char **argv, int first, const char *command, 
         int check_only = 1;
         if (strcmp(name, "--quiet") == 0) {
             o->quiet = 1;
+            check_only = 0;
         } else if (strcmp(name, "--no-weld") == 0) {
             o->no_weld = 1;
             check_only = 0;

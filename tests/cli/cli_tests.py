@@ -1,0 +1,597 @@
+# SPDX-FileCopyrightText: 2026 selfcol authors
+# SPDX-License-Identifier: MIT
+"""Tests of the selfcol-cli binary (run by ctest, one test per function).
+
+usage: cli_tests.py TEST --cli BINARY --work DIR --source DIR [--shared DIR]
+
+Correctness is judged against fixtures.brute_force(), an independent Python
+computation of the contact sets from their definitions, never against
+numbers produced by the code under test. Exit 0: pass, 1: fail, 77: skipped.
+"""
+
+import argparse
+import glob
+import json
+import os
+import re
+import struct
+import subprocess
+import sys
+import zlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fixtures as fx  # noqa: E402
+
+SKIP = 77
+ARGS = None
+KEYS = ('vf', 'ee', 'ef', 'intersecting_triangles')
+METHODS = ('exact', 'bvh', 'exhaustive', 'seed', 'cone')
+EXACT_METHODS = ('exact', 'bvh', 'exhaustive')
+
+
+class Failure(Exception):
+    pass
+
+
+def check(condition, message):
+    if not condition:
+        raise Failure(message)
+
+
+def work(name):
+    path = os.path.join(ARGS.work, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    return path
+
+
+def run(*args, expect=None):
+    """Runs the tool; returns (status, stdout, stderr)."""
+    proc = subprocess.run([ARGS.cli] + [str(a) for a in args], stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, timeout=600)
+    out, err = proc.stdout.decode(), proc.stderr.decode()
+    if expect is not None and proc.returncode != expect:
+        raise Failure('%s: exit status %d, expected %d\nstdout: %s\nstderr: %s'
+                      % (' '.join(map(str, args)), proc.returncode, expect, out[:2000], err))
+    return proc.returncode, out, err
+
+
+def check_json(*args, expect=None):
+    """Runs check with --json - and returns the parsed objects (one per line)."""
+    status, out, _ = run('check', '--json', '-', *args, expect=expect)
+    return status, [json.loads(line) for line in out.splitlines() if line.strip()]
+
+
+def as_sets(obj):
+    return {k: {tuple(x) for x in obj[k]} for k in KEYS}
+
+
+def compare(got, want, ambiguous, what):
+    for k in KEYS:
+        g = got[k] - ambiguous[k]
+        w = want[k] - ambiguous[k]
+        check(g == w, '%s: %s differs from the brute force: missing %s, extra %s'
+              % (what, k, sorted(w - g)[:8], sorted(g - w)[:8]))
+
+
+def figure_eight_mesh(quads=False):
+    return fx.grid_sheet(12, 5, fx.figure_eight, jitter=0.004, seed=7, quads=quads)
+
+
+def mean_edge(meshes):
+    total, count = 0.0, 0
+    for pos, tris in meshes:
+        for a, b in fx.edges_of(tris):
+            total += fx.point_segment(pos[a], pos[b], pos[b])
+            count += 1
+    return total / count
+
+
+# ---------------------------------------------------------------------------
+
+def test_help_version():
+    for cmd in (['--help'], ['check', '--help'], ['info', '--help'], ['check', '-h']):
+        _, out, _ = run(*cmd, expect=0)
+        check('usage: selfcol-cli' in out, '%s: no usage text' % cmd)
+    _, out, _ = run('check', '--help', expect=0)
+    for option in ('--distance', '--distance-rel', '--method', '--narrow', '--json', '--csv',
+                   '--mark', '--png', '--quiet', '--fail-on', '--threads'):
+        check(option in out, 'check --help does not mention %s' % option)
+    header = open(os.path.join(ARGS.source, 'include', 'selfcol', 'version.h')).read()
+    version = '.'.join(re.search(r'#define SELFCOL_VERSION_%s (\d+)' % p, header).group(1)
+                       for p in ('MAJOR', 'MINOR', 'PATCH'))
+    for cmd in (['--version'], ['check', '--version']):
+        _, out, _ = run(*cmd, expect=0)
+        check(out.strip() == 'selfcol-cli ' + version, '--version printed %r' % out)
+
+
+def test_exit_status():
+    pos, tris = figure_eight_mesh()
+    fx.write_obj(work('exit/eight.obj'), pos, tris)
+    pos2, tris2 = fx.grid_sheet(6, 6, fx.wavy, jitter=0.001, seed=3)
+    fx.write_obj(work('exit/sheet.obj'), pos2, tris2)
+    run('check', work('exit/eight.obj'), expect=1)
+    run('check', '--quiet', work('exit/sheet.obj'), expect=0)
+    # Two parallel sheets closer than d but not crossing: proximities only.
+    e = 1.0 / 6
+    lifted = [(x, y, fx.f32(z + 0.05 * e)) for x, y, z in pos2]
+    fx.write_obj(work('exit/lifted.obj'), lifted, tris2)
+    _, objs = check_json(work('exit/sheet.obj'), work('exit/lifted.obj'), expect=0)
+    check(objs[0]['counts']['vf'] > 0 and objs[0]['counts']['ef'] == 0,
+          'parallel sheets: expected proximities only, got %s' % objs[0]['counts'])
+    run('check', '--fail-on', 'proximity', work('exit/sheet.obj'), work('exit/lifted.obj'),
+        expect=1)
+    run('check', '--fail-on=interference', work('exit/sheet.obj'), work('exit/lifted.obj'),
+        expect=0)
+    sheet = work('exit/sheet.obj')
+    usage = [[], ['frobnicate'], ['check'], ['check', '--method', 'fast', sheet],
+             ['check', '--narrow', 'gjk', sheet], ['check', '--distance', '-1', sheet],
+             ['check', '--distance', '1', '--distance-rel', '0.1', sheet],
+             ['check', '--bogus', sheet], ['check', sheet, '--json'],
+             ['check', sheet, sheet, sheet], ['check', '--range', '0:3', sheet],
+             ['check', '--range', '3:1', work('exit/f%d.obj')], ['check', '--threads', '2', sheet],
+             ['check', '--size', '10x10', sheet], ['check', '--view', 'north', sheet],
+             ['check', '--fail-on', 'warning', sheet], ['info'], ['info', '--method', 'bvh', sheet],
+             ['check', '--json', '-', '--csv', '-', sheet]]
+    for args in usage:
+        status, out, err = run(*args)
+        check(status == 2, '%s: exit %d, expected 2' % (args, status))
+        check(err.strip() != '', '%s: no message on stderr' % args)
+
+
+def test_json_schema():
+    pos, tris = figure_eight_mesh()
+    path = work('schema/eight.obj')
+    fx.write_obj(path, pos, tris)
+    pos2, tris2 = fx.grid_sheet(4, 4, fx.flat, seed=2)
+    fx.write_obj(work('schema/flat.obj'), pos2, tris2)
+    runs = [(check_json(path)[1], len(pos), len(tris)),
+            (check_json('--distance', '0.02', '--method', 'bvh', path, work('schema/flat.obj'))[1],
+             len(pos) + len(pos2), len(tris) + len(tris2))]
+    for objs, nv, nt in runs:
+        check(len(objs) == 1, 'expected one JSON object, got %d' % len(objs))
+        o = objs[0]
+        for key, kind in (('selfcol_version', str), ('files', list), ('distance', float),
+                          ('method', str), ('narrow', str), ('counts', dict), ('stats', dict),
+                          ('mean_edge_length', float)):
+            check(isinstance(o.get(key), kind), 'key %s missing or not %s' % (key, kind.__name__))
+        check(o['method'] in METHODS and o['narrow'] in ('closed', 'libccd'), 'method/narrow')
+        check('frame' not in o, 'a single check has no frame key')
+        widths = {'vf': 2, 'ee': 4, 'ef': 3, 'intersecting_triangles': 2}
+        for k, width in widths.items():
+            arr = o[k]
+            check(isinstance(arr, list) and o['counts'][k] == len(arr), '%s count' % k)
+            check(all(isinstance(x, list) and len(x) == width and
+                      all(isinstance(i, int) and i >= 0 for i in x) for x in arr),
+                  '%s entries are not %d non-negative integers' % (k, width))
+            check(arr == sorted(arr), '%s is not sorted' % k)
+            check(len({tuple(x) for x in arr}) == len(arr), '%s has duplicates' % k)
+        check(all(v < nv and t < nt for v, t in o['vf']), 'vf index out of range')
+        check(all(a0 < a1 and b0 < b1 and (a0, a1) < (b0, b1) and b1 < nv
+                  for a0, a1, b0, b1 in o['ee']), 'ee edges not sorted pairs in ascending order')
+        check(all(a0 < a1 < nv and t < nt for a0, a1, t in o['ef']), 'ef entries')
+        check(all(t1 < t2 < nt for t1, t2 in o['intersecting_triangles']), 'triangle pairs')
+        for key in ('vertices', 'triangles', 'edges', 'candidate_pairs', 'seconds'):
+            check(key in o['stats'], 'stats.%s missing' % key)
+        check(o['stats']['vertices'] == nv and o['stats']['triangles'] == nt, 'stats counts')
+        for key in ('load', 'topology', 'hierarchy', 'query'):
+            check(isinstance(o['stats']['seconds'][key], (int, float)), 'seconds.%s' % key)
+    # info --json
+    _, out, _ = run('info', '--json', '-', path, expect=0)
+    info = json.loads(out)
+    check(info['vertices'] == len(pos) and info['triangles'] == len(tris), 'info counts')
+    check(info['boundary_loops'] == 1 and info['components'] == 1 and not info['closed'],
+          'info topology of a sheet: %s' % info)
+    check(info['consistently_oriented'] is True, 'the grid is consistently oriented')
+    check(info['edges'] == len(fx.edges_of(tris)), 'info edges')
+
+
+def run_against_brute_force(meshes, files, extra, what, kinds=KEYS):
+    d = extra.get('distance') or 0.1 * mean_edge(meshes)
+    want, amb = fx.brute_force(meshes, d)
+    for k in kinds:  # the fixture must exercise what it is meant to
+        check(len(want[k]) > 0, '%s: fixture without %s' % (what, k))
+    expect_status = 1 if want['ef'] else 0
+    results = {}
+    for method in METHODS:
+        args = ['--method', method] + (['--distance', repr(d)] if 'distance' in extra else [])
+        status, objs = check_json(*(args + files))
+        check(status == expect_status, '%s: exit %d' % (what, status))
+        got = as_sets(objs[0])
+        results[method] = got
+        if method in EXACT_METHODS:
+            compare(got, want, amb, '%s, method %s' % (what, method))
+        else:  # not exact: may miss contacts, never reports a false one
+            for k in KEYS:
+                check(got[k] - amb[k] <= want[k], '%s: %s reports false %s' % (what, method, k))
+        check(abs(objs[0]['distance'] - d) <= 1e-9 * d, '%s: distance %r, expected %r'
+              % (what, objs[0]['distance'], d))
+    args = ['--distance', repr(d)] if 'distance' in extra else []
+    status, objs = check_json('--narrow', 'libccd', '--method', 'exhaustive', *(args + files))
+    got = as_sets(objs[0])
+    # libccd also reports edges that only touch a triangle (hierarchy.h): compare the rest.
+    compare(got, want, amb, '%s, libccd' % what)
+    return results
+
+
+def test_exhaustive_matches_brute_force():
+    pos, tris = figure_eight_mesh()
+    fx.write_obj(work('brute/eight.obj'), pos, tris)
+    run_against_brute_force([(pos, tris)], [work('brute/eight.obj')], {}, 'figure eight',
+                            kinds=('ee', 'ef', 'intersecting_triangles'))
+    # A larger distance: vertex-triangle proximities too.
+    run_against_brute_force([(pos, tris)], [work('brute/eight.obj')], {'distance': 0.12},
+                            'figure eight, d = 0.12')
+    # Two meshes: a wavy sheet through the figure eight.
+    pos2, tris2 = fx.grid_sheet(6, 4, lambda u, v: (u - 0.5, 0.1 + 0.4 * v, 0.03 + 0.1 * u),
+                                jitter=0.003, seed=11)
+    fx.write_ply(work('brute/plane.ply'), pos2, tris2, encoding='binary_little_endian')
+    run_against_brute_force([(pos, tris), (pos2, tris2)],
+                            [work('brute/eight.obj'), work('brute/plane.ply')], {},
+                            'two meshes', kinds=('ee', 'ef', 'intersecting_triangles'))
+    # Two parallel sheets closer than d: proximities between meshes only.
+    pos3, tris3 = fx.grid_sheet(6, 6, fx.wavy, jitter=0.001, seed=3)
+    lifted = [(x, y, fx.f32(z + 0.05 / 6)) for x, y, z in pos3]
+    fx.write_off(work('brute/low.off'), pos3, tris3)
+    fx.write_stl_binary(work('brute/high.stl'), lifted, tris3)
+    high_file_pos = [lifted[i] for t in tris3 for i in t]  # STL: 3 file vertices per facet
+    first = {}
+    for i, p in enumerate(high_file_pos):
+        first.setdefault(p, i)
+    # The STL's vertices after welding: the lowest file index of each position.
+    high = (high_file_pos, [tuple(first[lifted[i]] for i in t) for t in tris3])
+    run_against_brute_force([(pos3, tris3), high], [work('brute/low.off'), work('brute/high.stl')],
+                            {}, 'parallel sheets', kinds=('vf', 'ee'))
+
+
+def canonical_by_position(obj, pos):
+    """Contact sets with vertex indices replaced by positions (formats such as
+    STL number vertices differently; triangles keep their order)."""
+    out = {}
+    out['vf'] = {(pos[v], t) for v, t in obj['vf']}
+    out['ee'] = {frozenset([frozenset([pos[a], pos[b]]), frozenset([pos[c], pos[d]])])
+                 for a, b, c, d in obj['ee']}
+    out['ef'] = {(frozenset([pos[a], pos[b]]), t) for a, b, t in obj['ef']}
+    out['intersecting_triangles'] = {tuple(x) for x in obj['intersecting_triangles']}
+    return out
+
+
+def test_formats_agree():
+    pos, tris, quads = figure_eight_mesh(quads=True)
+    d = work('formats/x')[:-1]
+    files = {
+        'obj': ('eight.obj', lambda p: fx.write_obj(p, pos, tris)),
+        'obj quads': ('quads.obj', lambda p: fx.write_obj(p, pos, quads)),
+        'obj v/vt/vn CRLF': ('slashes.obj', lambda p: fx.write_obj(p, pos, tris, 'slashes', '\r\n')),
+        'obj negative': ('negative.obj', lambda p: fx.write_obj(p, pos, quads, 'negative')),
+        'ply ascii': ('ascii.ply', lambda p: fx.write_ply(p, pos, tris)),
+        'ply ascii extras': ('ascii_extras.ply', lambda p: fx.write_ply(p, pos, quads, extras=True)),
+        'ply le float': ('le.ply', lambda p: fx.write_ply(p, pos, tris, 'binary_little_endian')),
+        'ply le double uint16': ('le_d.ply', lambda p: fx.write_ply(
+            p, pos, tris, 'binary_little_endian', 'double', 'uchar', 'ushort')),
+        'ply be double': ('be_d.ply', lambda p: fx.write_ply(
+            p, pos, quads, 'binary_big_endian', 'double', 'int', 'uint', extras=True)),
+        'ply be float char': ('be_f.ply', lambda p: fx.write_ply(
+            p, pos, tris, 'binary_big_endian', 'float', 'char', 'int')),
+        'off': ('eight.off', lambda p: fx.write_off(p, pos, quads)),
+        'stl ascii': ('ascii.stl', lambda p: fx.write_stl_ascii(p, pos, tris)),
+        'stl binary': ('binary.stl', lambda p: fx.write_stl_binary(p, pos, tris)),
+    }
+    reference = None
+    for what, (name, writer) in files.items():
+        path = d + name
+        writer(path)
+        _, objs = check_json('--distance', '0.05', path)
+        _, out, _ = run('info', '--json', '-', path, expect=0)
+        info = json.loads(out)
+        check(info['triangles'] == len(tris), '%s: %d triangles' % (what, info['triangles']))
+        stl = what.startswith('stl')
+        file_pos = [pos[i] for t in tris for i in t] if stl else pos
+        check(info['vertices'] == len(file_pos), '%s: %d vertices' % (what, info['vertices']))
+        check(info['used_vertices'] == len(pos), '%s: %d vertices after welding'
+              % (what, info['used_vertices']))
+        sets = canonical_by_position(objs[0], file_pos)
+        if not stl:  # same indexing: the raw arrays must be identical
+            raw = {k: objs[0][k] for k in KEYS}
+            if reference is None:
+                reference_raw = raw
+            check(raw == reference_raw, '%s: index arrays differ from the OBJ file' % what)
+        if reference is None:
+            reference = sets
+            check(len(objs[0]['ef']) > 0, 'the fixture must intersect itself')
+        check(sets == reference, '%s: contacts differ from the OBJ file' % what)
+
+
+def test_unwelded_twin():
+    pos, tris = figure_eight_mesh()
+    fx.write_obj(work('weld/welded.obj'), pos, tris)
+    # Every triangle with its own three vertices, as STL or a UV-seamed export has them.
+    split_pos = [pos[i] for t in tris for i in t]
+    split_tris = [(3 * k, 3 * k + 1, 3 * k + 2) for k in range(len(tris))]
+    fx.write_obj(work('weld/split.obj'), split_pos, split_tris)
+    # Only a seam: the vertices of one grid column duplicated for the triangles right of it.
+    seam_pos = list(pos)
+    copy = {}
+    seam_tris = []
+    for t in tris:
+        right = all(i % 13 >= 6 for i in t)
+        nt = []
+        for i in t:
+            if right and i % 13 == 6:
+                if i not in copy:
+                    copy[i] = len(seam_pos)
+                    seam_pos.append(pos[i])
+                nt.append(copy[i])
+            else:
+                nt.append(i)
+        seam_tris.append(tuple(nt))
+    check(len(copy) > 0, 'the seam duplicates vertices')
+    fx.write_obj(work('weld/seam.obj'), seam_pos, seam_tris)
+    _, ref = check_json(work('weld/welded.obj'))
+    ref_sets = canonical_by_position(ref[0], pos)
+    for name, file_pos in (('split', split_pos), ('seam', seam_pos)):
+        path = work('weld/%s.obj' % name)
+        _, objs = check_json(path)
+        check(canonical_by_position(objs[0], file_pos) == ref_sets,
+              '%s OBJ: contacts differ from the welded twin' % name)
+        # Indices name the lowest file index of each welded group.
+        first = {}
+        for i, p in enumerate(file_pos):
+            first.setdefault(p, i)
+        used = {v for v, _ in objs[0]['vf']} | {i for e in objs[0]['ee'] for i in e}
+        check(all(first[file_pos[v]] == v for v in used),
+              '%s OBJ: an index is not the lowest of its welded group' % name)
+        # Without the weld, the split surface touches itself along every seam.
+        _, raw = check_json('--no-weld', path)
+        check(raw[0]['counts']['ee'] > ref[0]['counts']['ee'],
+              '%s OBJ --no-weld: expected seam contacts' % name)
+
+
+def write_bytes(name, data):
+    path = work('bad/' + name)
+    with open(path, 'wb') as out:
+        out.write(data)
+    return path
+
+
+def test_malformed_input():
+    pos, tris = fx.grid_sheet(3, 3, fx.flat)
+    ply = work('bad/good.ply')
+    fx.write_ply(ply, pos, tris, 'binary_little_endian', 'double')
+    good = open(ply, 'rb').read()
+    header_end = good.index(b'end_header\n') + len(b'end_header\n')
+    stl = work('bad/good.stl')
+    fx.write_stl_binary(stl, pos, tris)
+    stl_bytes = open(stl, 'rb').read()
+    obj_head = b'v 0 0 0\nv 1 0 0\nv 0 1 0\n'
+    nan_double = struct.pack('<d', float('nan'))
+    bad_ply_index = bytearray(good)
+    bad_ply_index[-4:] = struct.pack('<i', 99)  # last index of the last face
+    cases = [
+        # (file, substring expected in the message, line number or None)
+        (write_bytes('nan.obj', obj_head + b'v nan 0 1\nf 1 2 3\n'), 'NaN', 4),
+        (write_bytes('inf.obj', obj_head + b'f 1 2 3\nv 1e999 0 0\n'), 'infinite', 5),
+        (write_bytes('range.obj', obj_head + b'f 1 2 3\nf 1 2 9\n'), 'out of range', 5),
+        (write_bytes('negative.obj', obj_head + b'f -1 -2 -7\n'), 'out of range', 4),
+        (write_bytes('zero.obj', obj_head + b'f 0 1 2\n'), 'index 0', 4),
+        (write_bytes('two.obj', obj_head + b'f 1 2 3\nf 1 2\n'), 'fewer|at least 3', 5),
+        (write_bytes('text.obj', obj_head + b'v 1 zero 2\nf 1 2 3\n'), 'not a number', 4),
+        (write_bytes('short.obj', obj_head + b'v 1 2\nf 1 2 3\n'), 'too few', 4),
+        (write_bytes('nul.obj', obj_head + b'f 1 2\x00 3\n'), 'NUL', 4),
+        (write_bytes('novertex.obj', b'# nothing\nv 0 0 0\n'), 'no faces', None),
+        (write_bytes('empty.obj', b''), 'empty', None),
+        (write_bytes('empty.ply', b''), 'empty', None),
+        (write_bytes('truncated.ply', good[:len(good) - 7]), 'truncated', None),
+        (write_bytes('truncated_vertices.ply', good[:header_end + 20]), 'truncated', None),
+        (write_bytes('noheader.ply', good[:header_end - 12]), 'end_header', None),
+        (write_bytes('range.ply', bytes(bad_ply_index)), 'out of range', None),
+        (write_bytes('nan.ply', good[:header_end] + nan_double + good[header_end + 8:]),
+         'NaN', None),
+        (write_bytes('huge.ply', good.replace(b'element vertex 16', b'element vertex 99999999999')),
+         'more than the file', None),
+        (write_bytes('ascii_nan.ply', b'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n'
+                     b'property float y\nproperty float z\nelement face 1\nproperty list uchar '
+                     b'int vertex_indices\nend_header\n0 0 0\n1 0 nan\n0 1 0\n3 0 1 2\n'), 'NaN', 11),
+        (write_bytes('ascii_two.ply', b'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n'
+                     b'property float y\nproperty float z\nelement face 1\nproperty list uchar '
+                     b'int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n'), 'at least 3',
+         13),
+        (write_bytes('range.off', b'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n'), 'out of range',
+         6),
+        (write_bytes('two.off', b'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n'), 'at least 3', 6),
+        (write_bytes('short.off', b'OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n'), 'ends at vertex', None),
+        (write_bytes('truncated.stl', stl_bytes[:-10]), 'truncated', None),
+        (write_bytes('tiny.stl', b'\x00' * 20), 'too short', None),
+        (write_bytes('two.stl', b'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n'
+                     b'vertex 1 0 0\nendloop\nendfacet\nendsolid x\n'), 'at least 3', 7),
+        (write_bytes('junk.xyz', b'\x01\x02\x03garbage'), 'unknown file format', None),
+        (work('bad/missing.obj'), 'cannot open', None),
+        (os.path.dirname(work('bad/x')), 'directory', None),
+    ]
+    for path, message, line in cases:
+        for command in ('check', 'info'):
+            status, out, err = run(command, path)
+            lines = [x for x in err.splitlines() if x.strip()]
+            name = os.path.basename(path)
+            check(status == 2, '%s %s: exit %d, expected 2 (%s)' % (command, name, status, err))
+            check(len(lines) == 1, '%s %s: expected one line on stderr, got %r'
+                  % (command, name, err))
+            check(path in lines[0], '%s %s: message does not name the file: %r'
+                  % (command, name, lines[0]))
+            check(re.search(message, lines[0], re.IGNORECASE),
+                  '%s %s: message %r does not say %r' % (command, name, lines[0], message))
+            if line is not None:
+                check('%s:%d:' % (path, line) in lines[0],
+                      '%s %s: message %r does not give line %d' % (command, name, lines[0], line))
+
+
+def frame_positions(k):
+    """Frame k of a sheet closing into a figure eight: k = 0 is open, 2 crosses."""
+    def surface(u, v):
+        x, y, z = fx.figure_eight(u, v)
+        s = 0.5 + 0.25 * k
+        return (x * s + (1 - s) * (u - 0.5), y, z * s)
+    return fx.grid_sheet(12, 5, surface, jitter=0.004, seed=7)
+
+
+def test_frames():
+    paths = []
+    for k in range(3):
+        pos, tris = frame_positions(k)
+        paths.append(work('frames/frame_%03d.ply' % k))
+        fx.write_ply(paths[-1], pos, tris, 'binary_little_endian', 'double')
+    pattern = work('frames/frame_%03d.ply')
+    singles = []
+    for p in paths:
+        singles.append(check_json('--distance', '0.01', p)[1][0])
+    check(any(s['counts']['ef'] for s in singles) and not all(s['counts']['ef'] for s in singles),
+          'the fixture frames should intersect in some frames only')
+    want_status = 1 if any(s['counts']['ef'] for s in singles) else 0
+    for args in (['--range', '0:2', pattern], ['--frames'] + paths):
+        status, objs = check_json('--distance', '0.01', *args)
+        check(status == want_status, 'frames %s: exit %d' % (args[0], status))
+        check(len(objs) == 3, 'frames %s: %d JSON lines, expected 3' % (args[0], len(objs)))
+        for k, (o, s) in enumerate(zip(objs, singles)):
+            check(o['frame'] == k, 'frame number %r' % o.get('frame'))
+            check(o['files'] == [paths[k]], 'frame %d files %r' % (k, o['files']))
+            for key in KEYS:
+                check(o[key] == s[key], 'frame %d (refit): %s differs from a fresh check'
+                      % (k, key))
+    # Every other frame, pictures per frame.
+    status, objs = check_json('--distance', '0.01', '--range', '0:2:2', '--png',
+                              work('frames/pic_%d.png'), pattern)
+    check([o['frame'] for o in objs] == [0, 2], 'range step: frames %r' % [o['frame'] for o in objs])
+    check(os.path.exists(work('frames/pic_0.png')) and os.path.exists(work('frames/pic_2.png')),
+          'per-frame pictures')
+    # A frame with another topology is an input error.
+    pos, tris = fx.grid_sheet(5, 5, fx.flat)
+    other = work('frames/other.ply')
+    fx.write_ply(other, pos, tris)
+    status, out, err = run('check', '--frames', paths[0], other)
+    check(status == 2 and 'topology' in err and other in err, 'topology change: %d %s'
+          % (status, err))
+    run('check', '--range', '0:5', pattern, expect=2)  # frame_003.ply is missing
+
+
+def test_outputs():
+    pos, tris = figure_eight_mesh()
+    path = work('out/eight.obj')
+    fx.write_obj(path, pos, tris)
+    png, mark, csv = work('out/eight.png'), work('out/eight_marked.ply'), work('out/eight.csv')
+    status, out, err = run('check', '--png', png, '--mark', mark, '--csv', csv, '--view',
+                           '10,40', '--size', '320x200', path, expect=1)
+    check('EF interferences' in out and 'intersecting triangle pairs' in out, 'summary: %s' % out)
+    _, objs = check_json(path)
+    o = objs[0]
+    # CSV: one row per entry, same indices as the JSON.
+    rows = open(csv).read().splitlines()
+    check(rows[0] == 'frame,kind,i0,i1,i2,i3,distance', 'csv header %r' % rows[0])
+    by_kind = {}
+    for row in rows[1:]:
+        cells = row.split(',')
+        by_kind.setdefault(cells[1], []).append([int(c) for c in cells[2:6] if c])
+    for kind, key in (('vf', 'vf'), ('ee', 'ee'), ('ef', 'ef'), ('tt', 'intersecting_triangles')):
+        check(by_kind.get(kind, []) == o[key], 'csv %s rows differ from the JSON' % kind)
+    # PNG: signature, size, and red pixels for the intersecting triangles.
+    data = open(png, 'rb').read()
+    check(data[:8] == b'\x89PNG\r\n\x1a\n', 'not a PNG')
+    width, height = struct.unpack('>II', data[16:24])
+    check((width, height) == (320, 200), 'PNG size %dx%d' % (width, height))
+    idat, pos_ = b'', 8
+    while pos_ < len(data):
+        n, kind = struct.unpack('>I4s', data[pos_:pos_ + 8])
+        if kind == b'IDAT':
+            idat += data[pos_ + 8:pos_ + 8 + n]
+        pos_ += 12 + n
+    raw = zlib.decompress(idat)
+    check(len(raw) == height * (1 + 3 * width), 'PNG is not 8-bit RGB')
+    # Unfilter rows (filters 0-4) enough to count reddish pixels.
+    stride, prev, reds = 3 * width, bytearray(3 * width), 0
+    for y in range(height):
+        f = raw[y * (stride + 1)]
+        row = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = row[i - 3] if i >= 3 else 0
+            b = prev[i]
+            c = prev[i - 3] if i >= 3 else 0
+            if f == 1:
+                row[i] = (row[i] + a) & 255
+            elif f == 2:
+                row[i] = (row[i] + b) & 255
+            elif f == 3:
+                row[i] = (row[i] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                row[i] = (row[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        for i in range(0, stride, 3):
+            if row[i] > 60 and row[i] > 2 * row[i + 1] and row[i] > 2 * row[i + 2]:
+                reds += 1
+        prev = row
+    check(reds > 0, 'no red (intersecting) pixels in the picture')
+    # Marked PLY: loads back, faces coloured red exactly for intersecting triangles.
+    _, out, _ = run('info', '--json', '-', mark, expect=0)
+    check(json.loads(out)['triangles'] == len(tris), 'marked PLY triangle count')
+    lines = open(mark).read().splitlines()
+    faces = lines[-len(tris):]
+    red = {i for i, f in enumerate(faces) if f.split()[-3:] == ['214', '39', '40']}
+    want = {t for pair in o['intersecting_triangles'] for t in pair}
+    check(red == want, 'marked PLY: red faces %s, intersecting %s' % (sorted(red)[:5],
+                                                                      sorted(want)[:5]))
+
+
+def test_bundled_ribbon():
+    """The bundled mesh: every exact method agrees, and it has real contacts."""
+    ribbon = os.path.join(ARGS.source, 'tests', 'data', 'folded_ribbon.obj')
+    results = {}
+    for method in EXACT_METHODS:
+        status, objs = check_json('--method', method, ribbon)
+        check(status == 1, 'the folded ribbon intersects itself')
+        results[method] = as_sets(objs[0])
+    check(results['exact'] == results['exhaustive'] == results['bvh'],
+          'exact methods disagree on the folded ribbon')
+    check(all(results['exact'][k] for k in KEYS), 'folded ribbon: every kind of contact')
+
+
+def test_cloth_ball_frames():
+    frames = os.path.join(ARGS.shared or '', 'sample-scalable-ccd-data', 'cloth-ball', 'frames')
+    files = sorted(glob.glob(os.path.join(frames, '*.ply')) + glob.glob(os.path.join(frames, '*.obj')),
+                   key=lambda p: (len(p), p))
+    if len(files) < 2:
+        print('skipped: no cloth-ball frames under %s' % frames)
+        sys.exit(SKIP)
+    pair = files[:2]
+    status, objs = check_json('--frames', *pair)
+    check(status in (0, 1) and len(objs) == 2, 'two frames: exit %d, %d objects'
+          % (status, len(objs)))
+    for k, path in enumerate(pair):
+        _, single = check_json(path)
+        for key in KEYS:
+            check(objs[k][key] == single[0][key], 'cloth-ball frame %d: %s differs from a fresh '
+                  'check' % (k, key))
+    print('cloth-ball: %s' % [o['counts'] for o in objs])
+
+
+def main():
+    global ARGS
+    parser = argparse.ArgumentParser()
+    parser.add_argument('test')
+    parser.add_argument('--cli', required=True)
+    parser.add_argument('--work', required=True)
+    parser.add_argument('--source', required=True)
+    parser.add_argument('--shared')
+    ARGS = parser.parse_args()
+    test = globals().get('test_' + ARGS.test)
+    if test is None:
+        print('unknown test %s' % ARGS.test)
+        return 2
+    try:
+        test()
+    except Failure as failure:
+        print('FAIL %s: %s' % (ARGS.test, failure))
+        return 1
+    print('PASS %s' % ARGS.test)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
