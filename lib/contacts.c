@@ -75,7 +75,8 @@ int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats
     // Each version appends fields: copy only the prefix the caller's version
     // knows (its struct may be shorter than ours).
     static const size_t size_of_version[SELFCOL_QUERY_STATS_VERSION + 1] = {
-        0, offsetof(selfcol_query_stats, nodes_visited), sizeof(selfcol_query_stats)};
+        0, offsetof(selfcol_query_stats, nodes_visited),
+        offsetof(selfcol_query_stats, contour_tests), sizeof(selfcol_query_stats)};
     unsigned int version = stats->version;
     memcpy(stats, &contacts->stats, size_of_version[version]);
     stats->version = version;

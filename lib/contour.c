@@ -74,6 +74,8 @@
 // (SELFCOL_NODE_DISK), Pair(A, B) only on adjacent nodes.
 #include "query.h"
 
+#include "contacts.h"
+#include "core.h"
 #include "hierarchy.h"
 #include "predicates.h"
 
@@ -345,6 +347,17 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
     return 1;
 }
 
+// contour_clear, counted and timed in the query's statistics.
+static int counted_contour(selfcol_contacts *owner, const selfcol_mesh *m, const uint32_t *he,
+                           size_t b, const double v[3], double d, void *work) {
+    double start = selfcol_core__seconds();
+    int clear = contour_clear(m, he, b, v, d, work);
+    owner->stats.contour_tests++;
+    owner->stats.contour_refused += !clear;
+    owner->stats.contour_seconds += selfcol_core__seconds() - start;
+    return clear;
+}
+
 // Scratch for contour_clear over b half-edges, plus `extra` half-edge slots
 // (the caller's) after it. NULL without memory.
 static void *work_area(selfcol_contacts *owner, size_t b, size_t extra) {
@@ -383,7 +396,7 @@ int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, dou
     double v[3];
     unit_axis(n, v);
     // A disk's boundary is one loop.
-    return contour_clear(h->mesh, h->bedge + n->boundary_begin, b, v, d, work);
+    return counted_contour(scratch_owner, h->mesh, h->bedge + n->boundary_begin, b, v, d, work);
 }
 
 static double angle_between_units(const double u[3], const double v[3]) {
@@ -469,7 +482,10 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     size_t distinct = 1;
     for (size_t k = 1; k < 2 * shared; ++k)
         distinct += path[k] != path[k - 1];
-    if (distinct != shared + 1)
+    if (distinct != shared + 1) {
+        scratch_owner->stats.contour_tests++;
+        scratch_owner->stats.contour_refused++;
         return 0;
-    return contour_clear(h->mesh, joint, b, v, d, work);
+    }
+    return counted_contour(scratch_owner, h->mesh, joint, b, v, d, work);
 }

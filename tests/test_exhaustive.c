@@ -359,6 +359,19 @@ static void test_exhaustive_rejects_bad_query_options(void **state) {
     assert_int_equal(selfcol_contacts_stats(w.contacts, &st), SELFCOL_EVERSION);
     st.version = SELFCOL_QUERY_STATS_VERSION + 1;
     assert_int_equal(selfcol_contacts_stats(w.contacts, &st), SELFCOL_EVERSION);
+    // A caller built against an older version gets only the fields of that
+    // version: the bytes after them stay untouched.
+    const size_t known[2] = {offsetof(selfcol_query_stats, nodes_visited),
+                             offsetof(selfcol_query_stats, contour_tests)};
+    for (unsigned version = 1; version <= 2; ++version) {
+        memset(&st, 0xab, sizeof st);
+        st.version = version;
+        assert_int_equal(selfcol_contacts_stats(w.contacts, &st), SELFCOL_OK);
+        assert_int_equal(st.version, version);
+        const unsigned char *bytes = (const unsigned char *)&st;
+        for (size_t i = known[version - 1]; i < sizeof st; ++i)
+            assert_int_equal(bytes[i], 0xab);
+    }
     world_free(&w);
     scene_free(&g);
 }

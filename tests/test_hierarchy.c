@@ -107,6 +107,17 @@ static void check_stats(const selfcol_contacts *contacts, uint32_t method, int s
         assert_int_equal(st.culled_curvature, 0);
         assert_int_equal(st.culled_adjacency, 0);
     }
+    // Only EXACT examines contours, and it culls a node or a pair exactly
+    // when a contour test proved it free.
+    assert_true(st.contour_refused <= st.contour_tests);
+    if (method == SELFCOL_METHOD_EXACT && self) {
+        assert_int_equal(st.culled_curvature + st.culled_adjacency,
+                         st.contour_tests - st.contour_refused);
+        assert_true(st.contour_seconds >= 0.0 && st.contour_seconds <= st.broad_seconds);
+    } else {
+        assert_int_equal(st.contour_tests, 0);
+        assert_true(st.contour_seconds == 0.0);
+    }
 }
 
 // Keys of the contacts currently held (sorted); caller frees.

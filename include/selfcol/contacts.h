@@ -106,12 +106,24 @@ typedef struct selfcol_query_stats {
     /* Version 2: the hierarchy traversal (all 0 for EXHAUSTIVE). */
     uint64_t nodes_visited;    /**< nodes and node pairs examined */
     uint64_t culled_box;       /**< node pairs skipped because their boxes are apart */
-    uint64_t culled_curvature; /**< nodes skipped by the curvature criterion (self) */
-    uint64_t culled_adjacency; /**< adjacent node pairs skipped by the joint curvature criterion */
+    /** Nodes skipped by the curvature criterion (self; for EXACT, curvature
+     *  and contour). */
+    uint64_t culled_curvature;
+    /** Adjacent node pairs skipped by the joint criterion (for EXACT, joint
+     *  curvature and contour). */
+    uint64_t culled_adjacency;
     uint64_t triangle_pairs;   /**< triangle pairs handed to the narrow phase */
+    /* Version 3: the contour criterion of SELFCOL_METHOD_EXACT (0 otherwise). */
+    /** Nodes and adjacent node pairs whose normals passed the curvature test
+     *  and whose projected contour was then examined. */
+    uint64_t contour_tests;
+    /** Of those, the ones the contour test could not prove free (the price
+     *  of exactness: SEED would have skipped them). */
+    uint64_t contour_refused;
+    double contour_seconds;    /**< time in the contour test (part of broad_seconds) */
 } selfcol_query_stats;
 
-#define SELFCOL_QUERY_STATS_VERSION 2
+#define SELFCOL_QUERY_STATS_VERSION 3
 
 /** Opaque set of contacts, filled by the queries of hierarchy.h. */
 typedef struct selfcol_contacts selfcol_contacts;
