@@ -114,20 +114,37 @@ static void triangle_box(const selfcol_mesh *m, uint32_t t, double lo[3], double
     }
 }
 
+// Boxes of a leaf's triangles, computed once per leaf pair (leaves hold a
+// handful of triangles; larger ones fall back to computing boxes per pair).
+#define LEAF_BOXES 32
+
 static int leaf_pair(traversal *t, const selfcol_node *a, const selfcol_node *b, int same) {
     const selfcol_mesh *m0 = t->h[0]->mesh, *m1 = t->h[1]->mesh;
     const double d = t->q->distance;
+    double box_b[LEAF_BOXES][6];
+    const int cached = b->tri_count <= LEAF_BOXES;
+    for (uint32_t j = 0; cached && j < b->tri_count; ++j)
+        triangle_box(m1, t->h[1]->tri_order[b->tri_begin + j], box_b[j], box_b[j] + 3);
     for (uint32_t i = 0; i < a->tri_count; ++i) {
         uint32_t ta = t->h[0]->tri_order[a->tri_begin + i];
         double alo[3], ahi[3];
-        triangle_box(m0, ta, alo, ahi);
+        if (same && cached) {
+            for (int k = 0; k < 3; ++k) {
+                alo[k] = box_b[i][k];
+                ahi[k] = box_b[i][3 + k];
+            }
+        } else {
+            triangle_box(m0, ta, alo, ahi);
+        }
         for (uint32_t j = same ? i + 1 : 0; j < b->tri_count; ++j) {
             uint32_t tb = t->h[1]->tri_order[b->tri_begin + j];
-            double blo[3], bhi[3];
-            triangle_box(m1, tb, blo, bhi);
+            double computed[6];
+            const double *box = cached ? box_b[j] : computed;
+            if (!cached)
+                triangle_box(m1, tb, computed, computed + 3);
             int apart = 0;
             for (int k = 0; k < 3; ++k)
-                apart |= (alo[k] - d > bhi[k]) | (blo[k] - d > ahi[k]);
+                apart |= (alo[k] - d > box[3 + k]) | (box[k] - d > ahi[k]);
             if (apart)
                 continue;
             int status = push(t, 1, ta, tb);
