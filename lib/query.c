@@ -19,7 +19,7 @@ int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version
         return SELFCOL_EVERSION;
     memset(opts, 0, sizeof *opts);
     opts->version = version;
-    opts->method = SELFCOL_METHOD_BVH;
+    opts->method = SELFCOL_METHOD_EXACT;
     opts->narrow = SELFCOL_NARROW_CLOSED_FORM;
     opts->kinds = SELFCOL_KIND_ALL;
     opts->distance = 0.0;

@@ -332,6 +332,12 @@ static void test_exhaustive_rejects_bad_query_options(void **state) {
     world_make(&w, &g);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    // The documented defaults (hierarchy.h).
+    assert_int_equal(q.version, SELFCOL_QUERY_OPTIONS_VERSION);
+    assert_int_equal(q.method, SELFCOL_METHOD_EXACT);
+    assert_int_equal(q.narrow, SELFCOL_NARROW_CLOSED_FORM);
+    assert_int_equal(q.kinds, SELFCOL_KIND_ALL);
+    assert_true(q.distance == 0.0);
     q.method = SELFCOL_METHOD_EXHAUSTIVE;
     q.distance = NAN;
     assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_EINVAL);

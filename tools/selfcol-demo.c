@@ -3,7 +3,7 @@
 
 // selfcol-demo: the smallest complete use of the public API. Reads an OBJ
 // file (positions and faces; polygons are fan-triangulated), finds its
-// self-contacts with the hierarchy (method BVH, exact) at d = K x mean edge
+// self-contacts with the hierarchy (method EXACT, the default) at d = K x mean edge
 // length (K = 0.1 by default, the standard cloth thickness), checks them
 // against the exhaustive reference, and prints what it found.
 // It stands in for selfcol-cli until that exists.
@@ -127,7 +127,7 @@ int main(int argc, char **argv) {
         selfcol_contacts_stats(contacts, &reference);
         reference_count = selfcol_contacts_count(contacts);
         reference_ms = 1e3 * reference.total_seconds;
-        opts.method = SELFCOL_METHOD_BVH;
+        opts.method = SELFCOL_METHOD_EXACT;
         status = selfcol_hierarchy_self_collide(hierarchy, contacts, &opts);
     }
     if (status != SELFCOL_OK) {
@@ -151,7 +151,7 @@ int main(int argc, char **argv) {
            selfcol_hierarchy_count(hierarchy, SELFCOL_HIERARCHY_NODES),
            selfcol_hierarchy_count(hierarchy, SELFCOL_HIERARCHY_DEPTH),
            selfcol_hierarchy_byte_count(hierarchy));
-    printf("  detection distance d = %g (%g x mean edge), method BVH\n", opts.distance, k);
+    printf("  detection distance d = %g (%g x mean edge), method EXACT\n", opts.distance, k);
     printf("  VF proximities %llu, EE proximities %llu, EF interferences %llu\n",
            (unsigned long long)stats.vf_contacts, (unsigned long long)stats.ee_contacts,
            (unsigned long long)stats.ef_contacts);

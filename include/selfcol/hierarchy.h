@@ -108,13 +108,15 @@ typedef enum selfcol_method {
     /** SEED with exact normal cones (axis and half-angle) in place of the 14
      *  sampled directions. Not exact, for the same reasons as SEED. */
     SELFCOL_METHOD_CONE = 3,
-    /** The seed's curvature criterion made exact: a node is skipped only when
-     *  its patch is a topological disk whose normals lie in a cone narrower
-     *  than pi/2 (rigorous bounds on rounding), whose boundary, projected along
-     *  the cone's axis, is star-shaped (exact predicates: the projection is
-     *  then one-to-one, so nothing inside crosses), and whose projected
-     *  altitudes and boundary clearance are at least d (so nothing inside is
-     *  closer than d). Pairs of nodes are culled by boxes. Exact. */
+    /** The seed's curvature criterion made exact (the default): a node -- or
+     *  a pair of adjacent nodes, judged on the union of their patches -- is
+     *  skipped only when its patch is a topological disk (for a pair: two
+     *  disks joined along one path) whose normals lie in a cone narrower than
+     *  pi/2 (rigorous bounds on rounding), whose boundary, projected along
+     *  the cone's axis, is a simple polygon (exact predicates: the
+     *  projection is then one-to-one, so nothing inside crosses), and whose
+     *  projected altitudes and boundary clearance are at least d (so nothing
+     *  inside is closer than d). Other pairs are culled by boxes. Exact. */
     SELFCOL_METHOD_EXACT = 4
 } selfcol_method;
 
@@ -133,7 +135,7 @@ typedef enum selfcol_narrow {
 /** Options of a collision query. Initialise with selfcol_query_options_init(). */
 typedef struct selfcol_query_options {
     unsigned int version; /**< SELFCOL_QUERY_OPTIONS_VERSION */
-    uint32_t method;      /**< selfcol_method; default SELFCOL_METHOD_BVH (exact) */
+    uint32_t method;      /**< selfcol_method; default SELFCOL_METHOD_EXACT */
     uint32_t narrow;      /**< selfcol_narrow; default SELFCOL_NARROW_CLOSED_FORM */
     uint32_t kinds;       /**< SELFCOL_KIND_* mask; default SELFCOL_KIND_ALL */
     /** Detection distance d >= 0 in mesh units; default 0 (interferences
