@@ -395,6 +395,10 @@ def test_malformed_input():
                      b'property float y\nproperty float z\nelement face 1\nproperty list uchar '
                      b'int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n'), 'at least 3',
          13),
+        # Found by the fuzzer: a second vertex element overflowed the first's array.
+        (write_bytes('twice.ply', good[:header_end].replace(
+            b'element face', b'element vertex 100\nproperty double x\nelement face') +
+            good[header_end:]), 'declared twice', None),
         (write_bytes('range.off', b'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n'), 'out of range',
          6),
         (write_bytes('two.off', b'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n'), 'at least 3', 6),

@@ -340,7 +340,12 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
     ply_type coordinate_type = PLY_NONE;
     for (int i = 0; status == 0 && i < element_count; ++i) {
         const ply_element *e = &elements[i];
+        if (status == 0 && ((have_vertex && strcmp(e->name, "vertex") == 0) ||
+                            (have_faces && strcmp(e->name, "face") == 0)))
+            status = cli_fail(err, "%s: element '%s' declared twice", name, e->name);
         uint64_t min_size = min_record_size(e, r.encoding);
+        if (status != 0)
+            break;
         if (min_size > 0 && e->count > (uint64_t)(size - body) / min_size)
             status = cli_fail(err,
                               "%s: element '%s' declares %llu records, more than the file can "
