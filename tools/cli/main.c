@@ -472,6 +472,7 @@ typedef struct check_state {
     unsigned char *classes;
     selfcol_query_options query;
     cli_run_info info;
+    cli_progress *progress; /* cleared before each summary line */
     long frames_checked, frames_intersecting, frames_near;
     int found; /* exit status 1 */
 } check_state;
@@ -545,6 +546,7 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
         st->found = 1;
     if (st->summary) {
         FILE *s = st->summary;
+        cli_progress_end(st->progress);
         if (o->frames)
             fprintf(s, "  frame %ld (%s): ", frame, parts[0]->path);
         else
@@ -592,7 +594,8 @@ static int frame_list(const options *o, char ***names_out, long **numbers_out, l
             if (*end != '\0' || end == third)
                 n = 0;
         }
-        if (n < 2 || step <= 0 || last < first || (n == 3 && tail != ':'))
+        if (n < 2 || step <= 0 || last < first || (n == 3 && tail != ':') ||
+            first < -1000000000L || last > 1000000000L)
             return cli_fail(err, "--range needs FIRST:LAST[:STEP] with FIRST <= LAST, STEP > 0");
         if ((last - first) / step >= 1000000)
             return cli_fail(err, "--range gives too many frames");
@@ -655,7 +658,6 @@ static int load_next_frame(cli_part *part, const char *path, cli_progress *progr
     // The weld was decided on the first frame. A welded vertex that moved
     // away from its group's representative is a seam that tore: count them.
     if (status == 0) {
-        size_t nv = next.vertex_count;
         const uint32_t *file_tris = part->file.triangles;
         for (size_t i = 0; i < 3 * next.triangle_count; ++i) {
             uint32_t v = file_tris[i], r = part->welded_triangles[i];
@@ -665,7 +667,6 @@ static int load_next_frame(cli_part *part, const char *path, cli_progress *progr
                 break;
             }
         }
-        (void)nv;
     }
     cli_mesh_free(&next);
     return status;
@@ -692,6 +693,7 @@ static int command_check(const options *o) {
     check_state st;
     memset(&st, 0, sizeof st);
     st.o = o;
+    st.progress = &progress;
     cli_sets_init(&st.sets);
     cli_part parts_storage[2];
     memset(parts_storage, 0, sizeof parts_storage);
@@ -788,8 +790,7 @@ static int command_check(const options *o) {
                     goto done;
                 }
             }
-            if (st.summary == NULL || st.summary != stderr)
-                cli_progress_update(&progress, "frames", (double)f, (double)frame_count);
+            cli_progress_update(&progress, "frames", (double)f, (double)frame_count);
             if (check_frame(&st, parts, 1, frame_numbers[f], &err) != 0)
                 goto done;
         }
@@ -807,7 +808,7 @@ static int command_check(const options *o) {
     if (st.summary)
         fprintf(st.summary, "  result: %s (exit status %d)\n",
                 st.frames_intersecting ? "INTERSECTS"
-                : st.found             ? "proximities found"
+                : st.frames_near       ? "no interference, proximities found"
                                        : "clean",
                 st.found ? EXIT_FOUND : EXIT_CLEAN);
     if (close_output(st.json, o->json, &err) != 0) {
