@@ -8,6 +8,7 @@ tool's output to. Standard library only."""
 import math
 import random
 import struct
+from fractions import Fraction
 
 
 def f32(x):
@@ -209,24 +210,21 @@ def segment_segment(p1, q1, p2, q2):
 
 
 def orient(a, b, c, d):
+    """Sign-exact when given Fractions: the orientation of d against plane abc."""
     return dot(cross(sub(b, a), sub(c, a)), sub(d, a))
 
 
 def crosses(p, q, a, b, c):
-    """Edge pq crosses triangle abc: endpoints strictly on opposite sides of
-    its plane, and the line through pq meets the closed triangle. Returns
-    True, False, or None when a value is too close to zero to trust floats."""
-    scale = max(max(abs(x) for x in v) for v in (p, q, a, b, c)) or 1.0
-    eps = 1e-9 * scale ** 3
+    """Edge pq crosses triangle abc (contacts.h): its endpoints strictly on
+    opposite sides of the plane of abc, and the line through pq meets the
+    closed triangle. Decided exactly: the points are Fractions (every double
+    is one), so there is no rounding and no ambiguity; a flat triangle has
+    every orientation 0 and is never crossed."""
     o1, o2 = orient(a, b, c, p), orient(a, b, c, q)
-    if abs(o1) < eps or abs(o2) < eps:
-        return None
-    if (o1 > 0) == (o2 > 0):
+    if o1 == 0 or o2 == 0 or (o1 > 0) == (o2 > 0):
         return False
     s = [orient(p, q, a, b), orient(p, q, b, c), orient(p, q, c, a)]
-    if any(abs(x) < eps for x in s):
-        return None
-    return all(x > 0 for x in s) or all(x < 0 for x in s)
+    return all(x >= 0 for x in s) or all(x <= 0 for x in s)
 
 
 def edges_of(tris):
@@ -239,11 +237,26 @@ def edges_of(tris):
     return sorted(edges)
 
 
+def read_simple_obj(path):
+    """Positions and triangles of a plain OBJ ('v x y z', 'f a b c' 1-based
+    triangles), the test's own reading, independent of the tool's."""
+    pos, tris = [], []
+    for line in open(path):
+        w = line.split()
+        if w and w[0] == 'v':
+            pos.append(tuple(float(x) for x in w[1:4]))
+        elif w and w[0] == 'f':
+            idx = [int(x.split('/')[0]) - 1 for x in w[1:]]
+            tris += [(idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1)]
+    return pos, tris
+
+
 def brute_force(meshes, d):
     """Contact sets of one mesh with itself, or of two meshes (self and
     between), in the tool's output indexing (second mesh after the first).
-    Returns (sets, ambiguous) where ambiguous holds entries whose decision is
-    within rounding of the threshold (left out of comparisons)."""
+    Returns (sets, ambiguous) where ambiguous holds the proximities whose
+    float distance is within a relative 1e-6 of d (left out of comparisons:
+    the contract lets them fall either way); interferences are exact."""
     pos, tris, owner = [], [], []
     for m, (p, t) in enumerate(meshes):
         off = len(pos)
@@ -256,21 +269,34 @@ def brute_force(meshes, d):
     amb = {k: set() for k in sets}
     tol = 1e-6 * d
 
+    # Only to save time: two point sets whose boxes are farther apart than
+    # `gap` on some axis are farther apart than gap (a conservative skip).
+    def box(ids):
+        return tuple((min(pos[i][k] for i in ids), max(pos[i][k] for i in ids)) for k in range(3))
+
+    def apart(b1, b2, gap):
+        return any(b1[k][0] > b2[k][1] + gap or b2[k][0] > b1[k][1] + gap for k in range(3))
+
+    tri_box = [box(t) for t in tris]
+    margin = 2 * d + 1e-12
+
     def same_mesh(i, j):
         return owner[i] == owner[j]
 
     for v in used:
+        vb = box([v])
         for ti, t in enumerate(tris):
-            if same_mesh(v, t[0]) and v in t:
+            if same_mesh(v, t[0]) and v in t or apart(vb, tri_box[ti], margin):
                 continue
             dist = point_triangle(pos[v], *(pos[i] for i in t))
             if abs(dist - d) <= tol:
                 amb['vf'].add((v, ti))
             elif dist < d:
                 sets['vf'].add((v, ti))
+    edge_box = {e: box(e) for e in edges}
     for i, e in enumerate(edges):
         for f in edges[i + 1:]:
-            if same_mesh(e[0], f[0]) and set(e) & set(f):
+            if same_mesh(e[0], f[0]) and set(e) & set(f) or apart(edge_box[e], edge_box[f], margin):
                 continue
             dist = segment_segment(pos[e[0]], pos[e[1]], pos[f[0]], pos[f[1]])
             key = e + f
@@ -279,27 +305,27 @@ def brute_force(meshes, d):
             elif dist < d:
                 sets['ee'].add(key)
 
+    exact = [tuple(Fraction(x) for x in p) for p in pos]
+
     def edge_crosses(e, t):
         if same_mesh(e[0], t[0]) and set(e) & set(t):
             return False
-        return crosses(pos[e[0]], pos[e[1]], *(pos[i] for i in t))
+        return crosses(exact[e[0]], exact[e[1]], *(exact[i] for i in t))
 
     for e in edges:
         for ti, t in enumerate(tris):
-            r = edge_crosses(e, t)
-            if r is None:
-                amb['ef'].add(e + (ti,))
-            elif r:
+            if apart(edge_box[e], tri_box[ti], 1e-12):
+                continue
+            if edge_crosses(e, t):
                 sets['ef'].add(e + (ti,))
     # Intersecting triangles, per triangle pair: an edge of one crosses the other.
     for si, s in enumerate(tris):
         s_edges = [(min(s[k], s[(k + 1) % 3]), max(s[k], s[(k + 1) % 3])) for k in range(3)]
         for ti in range(si + 1, len(tris)):
+            if apart(tri_box[si], tri_box[ti], 1e-12):
+                continue
             t = tris[ti]
             t_edges = [(min(t[k], t[(k + 1) % 3]), max(t[k], t[(k + 1) % 3])) for k in range(3)]
-            results = [edge_crosses(e, t) for e in s_edges] + [edge_crosses(e, s) for e in t_edges]
-            if any(r is True for r in results):
+            if any(edge_crosses(e, t) for e in s_edges) or any(edge_crosses(e, s) for e in t_edges):
                 sets['intersecting_triangles'].add((si, ti))
-            elif any(r is None for r in results):
-                amb['intersecting_triangles'].add((si, ti))
     return sets, amb
