@@ -111,7 +111,6 @@ typedef struct cli_array {
 /** Makes room for extra more items; returns 0 or -1 (out of memory or overflow). */
 int cli_array_reserve(cli_array *array, size_t extra);
 
-
 #include <selfcol/selfcol.h>
 
 /** One entry of a result array: up to 4 indices (as in the JSON) and a distance. */
@@ -122,7 +121,7 @@ typedef struct cli_item {
 
 /** The contact sets of one frame, in file indices, ready to print. */
 typedef struct cli_sets {
-    cli_array vf, ee, ef, tt; /* cli_item: [v, t], [a0, a1, b0, b1], [a0, a1, t], [t1, t2] */
+    cli_array vf, ee, ef, tt;  /* cli_item: [v, t], [a0, a1, b0, b1], [a0, a1, t], [t1, t2] */
     selfcol_query_stats stats; /* summed over the queries of the frame */
 } cli_sets;
 

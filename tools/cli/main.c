@@ -221,8 +221,7 @@ static int parse_options(int argc, char **argv, int first, const char *command, 
             char tail;
             if (sscanf(value, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 ||
                 h > 8192)
-                return usage_error(cmd, "--size needs WIDTHxHEIGHT (16 to 8192), not '%s'",
-                                   value);
+                return usage_error(cmd, "--size needs WIDTHxHEIGHT (16 to 8192), not '%s'", value);
             o->view.width = w;
             o->view.height = h;
         } else if (strcmp(name, "--fail-on") == 0) {
@@ -368,8 +367,8 @@ static int part_create(cli_part *part, int no_weld, int build_hierarchy, double 
     for (size_t i = 0; i < 3 * nt; ++i)
         part->welded_triangles[i] = representative[part->file.triangles[i]];
     free(representative);
-    int rc = selfcol_mesh_create(&part->mesh, nv, part->file.positions, nt,
-                                 part->welded_triangles, NULL);
+    int rc = selfcol_mesh_create(&part->mesh, nv, part->file.positions, nt, part->welded_triangles,
+                                 NULL);
     double mid = cli_now();
     *seconds_topology += mid - start;
     if (rc == SELFCOL_OK && build_hierarchy)
@@ -454,8 +453,8 @@ static int write_pictures(const options *o, long frame, cli_part *const *parts, 
     }
     if (status == 0 && o->png != NULL) {
         output_name(o->png, frame, path, sizeof path);
-        status = cli_write_png(path, s.positions, s.triangles, s.triangle_count, classes, &o->view,
-                               err);
+        status =
+            cli_write_png(path, s.positions, s.triangles, s.triangle_count, classes, &o->view, err);
     }
     scene_free(&s);
     return status;
@@ -594,8 +593,8 @@ static int frame_list(const options *o, char ***names_out, long **numbers_out, l
             if (*end != '\0' || end == third)
                 n = 0;
         }
-        if (n < 2 || step <= 0 || last < first || (n == 3 && tail != ':') ||
-            first < -1000000000L || last > 1000000000L)
+        if (n < 2 || step <= 0 || last < first || (n == 3 && tail != ':') || first < -1000000000L ||
+            last > 1000000000L)
             return cli_fail(err, "--range needs FIRST:LAST[:STEP] with FIRST <= LAST, STEP > 0");
         if ((last - first) / step >= 1000000)
             return cli_fail(err, "--range gives too many frames");
@@ -708,8 +707,8 @@ static int command_check(const options *o) {
     if (sequence && frame_list(o, &frame_names, &frame_numbers, &frame_count, &err) != 0)
         goto done;
     // Outputs first, so a bad output path fails before a long run.
-    int stdout_taken = (o->json && strcmp(o->json, "-") == 0) ||
-                       (o->csv && strcmp(o->csv, "-") == 0);
+    int stdout_taken =
+        (o->json && strcmp(o->json, "-") == 0) || (o->csv && strcmp(o->csv, "-") == 0);
     st.summary = o->quiet ? NULL : stdout_taken ? stderr : stdout;
     if (o->json && (st.json = open_output(o->json, &err)) == NULL)
         goto done;
@@ -976,16 +975,18 @@ static int command_info(const options *o) {
             if (s) {
                 fprintf(s, "%s: %s %s\n", part.path, cli_format_name(part.file.format),
                         part.file.format_detail);
-                fprintf(s, "  vertices            %zu in the file, %zu used after welding (%zu "
-                           "welded)\n",
+                fprintf(s,
+                        "  vertices            %zu in the file, %zu used after welding (%zu "
+                        "welded)\n",
                         part.file.vertex_count, used, part.merged_vertices);
-                fprintf(s, "  triangles           %zu (from %zu faces)\n",
-                        part.file.triangle_count, part.file.face_count);
+                fprintf(s, "  triangles           %zu (from %zu faces)\n", part.file.triangle_count,
+                        part.file.face_count);
                 fprintf(s, "  edges               %zu (%zu boundary, %zu non-manifold)\n", ne,
                         boundary, nonmanifold);
                 fprintf(s, "  boundary loops      %zu\n", facts.boundary_loops);
-                fprintf(s, "  degenerate          %zu triangles (zero area or repeated index), "
-                           "%zu duplicates\n",
+                fprintf(s,
+                        "  degenerate          %zu triangles (zero area or repeated index), "
+                        "%zu duplicates\n",
                         facts.degenerate, duplicates);
                 fprintf(s, "  components          %zu\n", components);
                 fprintf(s, "  closed              %s\n", closed ? "yes" : "no");

@@ -214,8 +214,8 @@ void cli_write_json(FILE *out, const cli_run_info *info, const cli_sets *sets) {
     fprintf(out, ",\"distance\":%.17g", info->distance);
     if (info->distance_rel >= 0)
         fprintf(out, ",\"distance_rel\":%.17g", info->distance_rel);
-    fprintf(out, ",\"mean_edge_length\":%.17g,\"method\":\"%s\",\"narrow\":\"%s\"",
-            info->mean_edge, info->method, info->narrow);
+    fprintf(out, ",\"mean_edge_length\":%.17g,\"method\":\"%s\",\"narrow\":\"%s\"", info->mean_edge,
+            info->method, info->narrow);
     fprintf(out, ",\"counts\":{\"vf\":%zu,\"ee\":%zu,\"ef\":%zu,\"intersecting_triangles\":%zu}",
             sets->vf.count, sets->ee.count, sets->ef.count, sets->tt.count);
     json_array(out, "vf", &sets->vf, 2);
@@ -241,7 +241,9 @@ void cli_write_json(FILE *out, const cli_run_info *info, const cli_sets *sets) {
             info->seconds_refit, info->seconds_query, s->broad_seconds, s->narrow_seconds);
 }
 
-void cli_write_csv_header(FILE *out) { fputs("frame,kind,i0,i1,i2,i3,distance\n", out); }
+void cli_write_csv_header(FILE *out) {
+    fputs("frame,kind,i0,i1,i2,i3,distance\n", out);
+}
 
 static void csv_rows(FILE *out, long frame, const char *kind, const cli_array *array, int width,
                      int with_distance) {

@@ -94,16 +94,11 @@ void cli_mesh_free(cli_mesh *mesh) {
 
 const char *cli_format_name(cli_format format) {
     switch (format) {
-    case CLI_FORMAT_OBJ:
-        return "OBJ";
-    case CLI_FORMAT_PLY:
-        return "PLY";
-    case CLI_FORMAT_OFF:
-        return "OFF";
-    case CLI_FORMAT_STL:
-        return "STL";
-    default:
-        return "unknown";
+    case CLI_FORMAT_OBJ: return "OBJ";
+    case CLI_FORMAT_PLY: return "PLY";
+    case CLI_FORMAT_OFF: return "OFF";
+    case CLI_FORMAT_STL: return "STL";
+    default: return "unknown";
     }
 }
 
@@ -170,12 +165,8 @@ int cli_parse_mesh(const char *name, const unsigned char *data, size_t size, cli
     case CLI_FORMAT_OFF:
         status = cli_parse_off(name, (const char *)data, size, mesh, err, progress);
         break;
-    case CLI_FORMAT_STL:
-        status = cli_parse_stl(name, data, size, mesh, err, progress);
-        break;
-    case CLI_FORMAT_PLY:
-        status = cli_parse_ply(name, data, size, mesh, err, progress);
-        break;
+    case CLI_FORMAT_STL: status = cli_parse_stl(name, data, size, mesh, err, progress); break;
+    case CLI_FORMAT_PLY: status = cli_parse_ply(name, data, size, mesh, err, progress); break;
     default:
         return cli_fail(err, "%s: unknown file format (expected .obj, .ply, .off or .stl)", name);
     }
@@ -249,8 +240,7 @@ int cli_read_mesh(const char *path, cli_mesh *mesh, cli_error *err, cli_progress
     size_t size = 0;
     if (read_whole_file(path, &data, &size, err) != 0)
         return -1;
-    int status =
-        cli_parse_mesh(path, data, size, cli_format_from_path(path), mesh, err, progress);
+    int status = cli_parse_mesh(path, data, size, cli_format_from_path(path), mesh, err, progress);
     cli_progress_end(progress);
     free(data);
     return status;

@@ -30,19 +30,20 @@ typedef enum ply_type {
 static const struct {
     const char *name;
     ply_type type;
-} ply_type_names[] = {{"char", PLY_I8},     {"int8", PLY_I8},     {"uchar", PLY_U8},
-                      {"uint8", PLY_U8},    {"short", PLY_I16},   {"int16", PLY_I16},
-                      {"ushort", PLY_U16},  {"uint16", PLY_U16},  {"int", PLY_I32},
-                      {"int32", PLY_I32},   {"uint", PLY_U32},    {"uint32", PLY_U32},
-                      {"float", PLY_F32},   {"float32", PLY_F32}, {"double", PLY_F64},
-                      {"float64", PLY_F64}};
+} ply_type_names[] = {
+    {"char", PLY_I8},   {"int8", PLY_I8},     {"uchar", PLY_U8},   {"uint8", PLY_U8},
+    {"short", PLY_I16}, {"int16", PLY_I16},   {"ushort", PLY_U16}, {"uint16", PLY_U16},
+    {"int", PLY_I32},   {"int32", PLY_I32},   {"uint", PLY_U32},   {"uint32", PLY_U32},
+    {"float", PLY_F32}, {"float32", PLY_F32}, {"double", PLY_F64}, {"float64", PLY_F64}};
 
 static size_t type_size(ply_type t) {
     static const size_t sizes[] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
     return sizes[t];
 }
 
-static int type_is_integer(ply_type t) { return t >= PLY_I8 && t <= PLY_U32; }
+static int type_is_integer(ply_type t) {
+    return t >= PLY_I8 && t <= PLY_U32;
+}
 
 enum { MAX_ELEMENTS = 32, MAX_PROPERTIES = 128, MAX_NAME = 64 };
 
@@ -156,8 +157,7 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
                 return cli_fail(err, "%s:%ld: 'property' before any 'element'", name, line);
             ply_element *e = &elements[*element_count - 1];
             if (e->property_count == MAX_PROPERTIES)
-                return cli_fail(err, "%s:%ld: more than %d properties", name, line,
-                                MAX_PROPERTIES);
+                return cli_fail(err, "%s:%ld: more than %d properties", name, line, MAX_PROPERTIES);
             ply_property *prop = &e->properties[e->property_count++];
             const char *prop_name;
             if (n == 5 && strcmp(words[1], "list") == 0) {
@@ -216,18 +216,12 @@ static uint64_t load_bits(const unsigned char *p, size_t n, int big_endian) {
 static double decode(ply_type t, const unsigned char *p, int big_endian) {
     uint64_t bits = load_bits(p, type_size(t), big_endian);
     switch (t) {
-    case PLY_I8:
-        return (double)(int8_t)(uint8_t)bits;
-    case PLY_U8:
-        return (double)(uint8_t)bits;
-    case PLY_I16:
-        return (double)(int16_t)(uint16_t)bits;
-    case PLY_U16:
-        return (double)(uint16_t)bits;
-    case PLY_I32:
-        return (double)(int32_t)(uint32_t)bits;
-    case PLY_U32:
-        return (double)(uint32_t)bits;
+    case PLY_I8: return (double)(int8_t)(uint8_t)bits;
+    case PLY_U8: return (double)(uint8_t)bits;
+    case PLY_I16: return (double)(int16_t)(uint16_t)bits;
+    case PLY_U16: return (double)(uint16_t)bits;
+    case PLY_I32: return (double)(int32_t)(uint32_t)bits;
+    case PLY_U32: return (double)(uint32_t)bits;
     case PLY_F32: {
         uint32_t b32 = (uint32_t)bits;
         float f;
@@ -239,8 +233,7 @@ static double decode(ply_type t, const unsigned char *p, int big_endian) {
         memcpy(&d, &bits, sizeof d);
         return d;
     }
-    default:
-        return 0.0;
+    default: return 0.0;
     }
 }
 
@@ -330,8 +323,8 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
     r.name = name;
     r.err = err;
     size_t body = 0;
-    int status = parse_header(name, data, size, elements, &element_count, &r.encoding, &body,
-                              &r.line, err);
+    int status =
+        parse_header(name, data, size, elements, &element_count, &r.encoding, &body, &r.line, err);
     double *positions = NULL;
     cli_array triangles = {NULL, 0, 0, sizeof(uint32_t)};
     cli_array polygon = {NULL, 0, 0, sizeof(uint32_t)};
@@ -369,8 +362,7 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
             for (int k = 0; k < e->property_count; ++k)
                 found |= e->properties[k].role == ROLE_INDICES;
             if (status == 0 && !found)
-                status =
-                    cli_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
+                status = cli_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
             have_faces = 1;
             face_count = e->count;
         }
@@ -380,8 +372,8 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
     if (status == 0 && !have_faces)
         status = cli_fail(err, "%s: no 'face' element", name);
     if (status == 0 && vertex_count >= (uint64_t)UINT32_MAX - 1)
-        status = cli_fail(err, "%s: too many vertices (%llu)", name,
-                          (unsigned long long)vertex_count);
+        status =
+            cli_fail(err, "%s: too many vertices (%llu)", name, (unsigned long long)vertex_count);
     if (status == 0) {
         positions = malloc((size_t)vertex_count * 3 * sizeof *positions + 1);
         if (positions == NULL || cli_array_reserve(&triangles, 3 * (size_t)face_count))
@@ -425,8 +417,8 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
                 }
                 if (prop->role == ROLE_INDICES && count < 3) {
                     location(&r, e, rec, where, sizeof where);
-                    status = cli_fail(err, "%s: face with %.0f vertices (at least 3 needed)",
-                                      where, count);
+                    status = cli_fail(err, "%s: face with %.0f vertices (at least 3 needed)", where,
+                                      count);
                     break;
                 }
                 polygon.count = 0;

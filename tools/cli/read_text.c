@@ -43,7 +43,9 @@ static int builder_vertex(builder *b, const double p[3]) {
     return 0;
 }
 
-static size_t builder_vertex_count(const builder *b) { return b->positions.count / 3; }
+static size_t builder_vertex_count(const builder *b) {
+    return b->positions.count / 3;
+}
 
 static int builder_corner(builder *b, uint32_t v) {
     if (cli_array_reserve(&b->polygon, 1))
@@ -81,8 +83,12 @@ static void builder_finish(builder *b, cli_mesh *mesh, const char *detail) {
     memset(b, 0, sizeof *b);
 }
 
-static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-static int is_end(char c) { return c == '\n' || c == '\0' || c == '#'; }
+static int is_blank(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
+static int is_end(char c) {
+    return c == '\n' || c == '\0' || c == '#';
+}
 
 static const char *skip_blank(const char *p) {
     while (is_blank(*p))
@@ -182,8 +188,9 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
             for (int k = 0; k < 3 && status == 0; ++k) {
                 int r = parse_real(&q, &x[k]);
                 if (r <= 0)
-                    status = cli_fail(err, "%s:%ld: expected 'v x y z', %s", name, line,
-                                      r == 0 ? "too few coordinates" : "a coordinate is not a number");
+                    status =
+                        cli_fail(err, "%s:%ld: expected 'v x y z', %s", name, line,
+                                 r == 0 ? "too few coordinates" : "a coordinate is not a number");
                 else if (!isfinite(x[k]))
                     status = cli_fail(err, "%s:%ld: NaN or infinite coordinate", name, line);
             }
@@ -197,15 +204,16 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
                 long long count = (long long)builder_vertex_count(&b);
                 long long v;
                 if (index == 0) {
-                    status = cli_fail(err, "%s:%ld: face index 0 (OBJ indices start at 1)", name, line);
+                    status =
+                        cli_fail(err, "%s:%ld: face index 0 (OBJ indices start at 1)", name, line);
                     break;
                 }
                 if (index < 0) {
                     v = count + index;
                     if (v < 0) {
-                        status = cli_fail(err,
-                                          "%s:%ld: face index %lld out of range (%lld vertices so far)",
-                                          name, line, index, count);
+                        status = cli_fail(
+                            err, "%s:%ld: face index %lld out of range (%lld vertices so far)",
+                            name, line, index, count);
                         break;
                     }
                 } else {
@@ -216,7 +224,8 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
                     }
                 }
                 if (v >= (long long)UINT32_MAX - 1) {
-                    status = cli_fail(err, "%s:%ld: face index %lld out of range", name, line, index);
+                    status =
+                        cli_fail(err, "%s:%ld: face index %lld out of range", name, line, index);
                     break;
                 }
                 if (builder_corner(&b, (uint32_t)v))
@@ -344,8 +353,8 @@ int cli_parse_off(const char *name, const char *text, size_t size, cli_mesh *mes
             break;
         }
         if (n < 3) {
-            status = cli_fail(err, "%s:%ld: face with %lld vertices (at least 3 needed)", name,
-                              line, n);
+            status =
+                cli_fail(err, "%s:%ld: face with %lld vertices (at least 3 needed)", name, line, n);
             break;
         }
         for (long long k = 0; status == 0 && k < n; ++k) {
@@ -353,8 +362,8 @@ int cli_parse_off(const char *name, const char *text, size_t size, cli_mesh *mes
                 status = cli_fail(err, "%s:%ld: face %lld: expected %lld vertex indices", name,
                                   line, f, n);
             else if (index < 0 || index >= counts[0])
-                status = cli_fail(err, "%s:%ld: face index %lld out of range (%lld vertices)",
-                                  name, line, index, counts[0]);
+                status = cli_fail(err, "%s:%ld: face index %lld out of range (%lld vertices)", name,
+                                  line, index, counts[0]);
             else if (builder_corner(&b, (uint32_t)index))
                 status = out_of_memory(name, err);
         }

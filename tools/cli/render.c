@@ -81,8 +81,8 @@ static double edge_function(const double *a, const double *b, double x, double y
     return (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]);
 }
 
-static void raster_triangle(const camera *cam, double s[3][3], const float colour[3],
-                            float *depth, float *rgb) {
+static void raster_triangle(const camera *cam, double s[3][3], const float colour[3], float *depth,
+                            float *rgb) {
     double area = edge_function(s[0], s[1], s[2][0], s[2][1]);
     if (area == 0.0 || !isfinite(area))
         return;
@@ -143,8 +143,7 @@ static int write_png_file(const char *path, const unsigned char *pixels, int wid
         if (setjmp(png_jmpbuf(png)) == 0) {
             png_init_io(png, f);
             png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGB,
-                         PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                         PNG_FILTER_TYPE_DEFAULT);
+                         PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
             for (int y = 0; y < height; ++y)
                 rows[y] = (png_bytep)(pixels + (size_t)y * (size_t)width * 3);
             png_write_info(png, info);
@@ -233,7 +232,9 @@ int cli_write_png(const char *path, const double *positions, const uint32_t *tri
                     }
                 float v = sum / (SUPERSAMPLE * SUPERSAMPLE);
                 out[3 * ((size_t)y * (size_t)view->width + (size_t)x) + (size_t)c] =
-                    (unsigned char)(v <= 0.0f ? 0 : v >= 1.0f ? 255 : (int)(v * 255.0f + 0.5f));
+                    (unsigned char)(v <= 0.0f   ? 0
+                                    : v >= 1.0f ? 255
+                                                : (int)(v * 255.0f + 0.5f));
             }
         }
     }
