@@ -461,6 +461,19 @@ def test_frames():
             for key in KEYS:
                 check(o[key] == s[key], 'frame %d (refit): %s differs from a fresh check'
                       % (k, key))
+    # The summary names the intersecting frames, runs as FIRST-LAST.
+    hit = [k for k, s in enumerate(singles) if s['counts']['ef']]
+    runs, start = [], None
+    for k in hit:
+        if start is None or k != runs[-1][1] + 1:
+            runs.append([k, k])
+        else:
+            runs[-1][1] = k
+        start = k
+    text = ', '.join('%d-%d' % (a, b) if b > a else '%d' % a for a, b in runs)
+    _, out, _ = run('check', '--distance', '0.01', '--range', '0:2', pattern)
+    check('frames with interferences: %s\n' % text in out, 'summary %r lacks the frame list %r'
+          % (out, text))
     # Every other frame, pictures per frame.
     status, objs = check_json('--distance', '0.01', '--range', '0:2:2', '--png',
                               work('frames/pic_%d.png'), pattern)

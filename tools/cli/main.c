@@ -473,7 +473,8 @@ typedef struct check_state {
     cli_run_info info;
     cli_progress *progress; /* cleared before each summary line */
     long frames_checked, frames_intersecting, frames_near;
-    int found; /* exit status 1 */
+    cli_array intersecting_frames; /* long: frame numbers with interferences */
+    int found;                     /* exit status 1 */
 } check_state;
 
 static void print_summary_header(check_state *st, cli_part *const *parts, int count) {
@@ -540,6 +541,8 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
     int intersects = st->sets.ef.count > 0;
     st->frames_checked++;
     st->frames_intersecting += intersects;
+    if (intersects && cli_array_reserve(&st->intersecting_frames, 1) == 0)
+        ((long *)st->intersecting_frames.data)[st->intersecting_frames.count++] = frame;
     st->frames_near += proximities > 0;
     if (intersects || (o->fail_on_proximity && proximities > 0))
         st->found = 1;
@@ -563,6 +566,33 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
                     1e3 * st->sets.stats.broad_seconds, 1e3 * st->sets.stats.narrow_seconds);
     }
     return write_pictures(o, frame, parts, count, st->classes, err);
+}
+
+// "frames with interferences: 3, 5-9, 12": runs of consecutive frames of the
+// sequence (in --range steps) as FIRST-LAST.
+static void print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
+                             long sequence_count) {
+    const long *f = frames->data;
+    if (frames->count == 0)
+        return;
+    fputs("  frames with interferences:", out);
+    size_t i = 0;
+    long at = 0; // position of f[i] in the sequence
+    while (i < frames->count) {
+        while (at < sequence_count && sequence[at] != f[i])
+            ++at;
+        size_t j = i;
+        while (j + 1 < frames->count && at + (long)(j - i) + 1 < sequence_count &&
+               sequence[at + (long)(j - i) + 1] == f[j + 1])
+            ++j;
+        if (j > i)
+            fprintf(out, "%s %ld-%ld", i ? "," : "", f[i], f[j]);
+        else
+            fprintf(out, "%s %ld", i ? "," : "", f[i]);
+        at += (long)(j - i) + 1;
+        i = j + 1;
+    }
+    fputc('\n', out);
 }
 
 static double combined_mean_edge(cli_part *const *parts, int count) {
@@ -693,6 +723,7 @@ static int command_check(const options *o) {
     memset(&st, 0, sizeof st);
     st.o = o;
     st.progress = &progress;
+    st.intersecting_frames.item_size = sizeof(long);
     cli_sets_init(&st.sets);
     cli_part parts_storage[2];
     memset(parts_storage, 0, sizeof parts_storage);
@@ -797,6 +828,7 @@ static int command_check(const options *o) {
         if (st.summary) {
             fprintf(st.summary, "  %ld frame(s): %ld with interferences, %ld with proximities\n",
                     st.frames_checked, st.frames_intersecting, st.frames_near);
+            print_frame_list(st.summary, &st.intersecting_frames, frame_numbers, frame_count);
             if (split_frames)
                 fprintf(st.summary,
                         "  warning: in %zu frame(s) vertices welded in the first frame have "
@@ -831,6 +863,7 @@ done:
         fclose(st.csv);
     selfcol_contacts_destroy(st.contacts);
     cli_sets_free(&st.sets);
+    free(st.intersecting_frames.data);
     free(st.classes);
     part_free(parts[0]);
     part_free(parts[1]);
