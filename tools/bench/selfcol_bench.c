@@ -59,6 +59,16 @@ static int gen_crumpled(scene *s, const double *p, const char *dd, char *note, s
     (void)dd, (void)note, (void)n;
     return scene_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0);
 }
+// The crumpled sheet as a 1 m cloth (edges of 1 cm), left unscaled: the row
+// that shows Bullet's size dead zone (see the `scale` rule in run_case).
+static int gen_crumpled_1m(scene *s, const double *p, const char *dd, char *note, size_t n) {
+    (void)dd, (void)note, (void)n;
+    if (scene_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0) != 0)
+        return -1;
+    for (size_t i = 0; i < 3 * s->vertex_count; ++i)
+        s->positions[i] /= p[0];
+    return 0;
+}
 static int gen_hairpin(scene *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
     return scene_hairpin(s, (unsigned)p[0], p[1]);
@@ -178,6 +188,7 @@ typedef struct bench_case {
     unsigned subsets;
     generator gen;
     double p[6];
+    int raw; // 1: never scale the mesh (the dead-zone demonstration)
 } bench_case;
 
 // Sizes are chosen for about 1k, 2k, 10k, 20k, 100k, 200k and 1M triangles.
@@ -185,45 +196,46 @@ typedef struct bench_case {
 // dead zone, so no scaling is needed for Bullet on them (the `scale`
 // column says so); real frames are scaled x10 when their edges are short.
 static const bench_case cases[] = {
-    {"flat-1k", "flat", ALL, gen_flat, {22}},
-    {"flat-10k", "flat", BIG, gen_flat, {71}},
-    {"flat-100k", "flat", BIG, gen_flat, {224}},
-    {"flat-300k", "flat", BIG, gen_flat, {387}},
-    {"flat-1M", "flat", FULL, gen_flat, {707}},
-    {"wrinkled-1k", "wrinkled", BIG, gen_wrinkled, {22, 1, 1.0}},
-    {"wrinkled-20k", "wrinkled", BIG, gen_wrinkled, {100, 1, 1.0}},
-    {"wrinkled-200k", "wrinkled", FULL, gen_wrinkled, {316, 1, 1.0}},
-    {"crumpled-500", "crumpled", SMOKE, gen_crumpled, {16, 1}},
-    {"crumpled-2k", "crumpled", BIG, gen_crumpled, {32, 1}},
-    {"crumpled-20k-s1", "crumpled", BIG, gen_crumpled, {100, 1}},
-    {"crumpled-20k-s2", "crumpled", BIG, gen_crumpled, {100, 2}},
-    {"crumpled-20k-s3", "crumpled", BIG, gen_crumpled, {100, 3}},
-    {"crumpled-200k", "crumpled", BIG, gen_crumpled, {316, 1}},
-    {"crumpled-1M", "crumpled", FULL, gen_crumpled, {707, 1}},
-    {"hairpin-1k", "hairpin", ALL, gen_hairpin, {250, 0.1}},
-    {"hairpin-10k", "hairpin", BIG, gen_hairpin, {2500, 0.1}},
-    {"zfold-2k", "zfold", BIG, gen_zfold, {40, 8, 0.1, 1, 0.25}},
-    {"zfold-20k", "zfold", BIG, gen_zfold, {170, 20, 0.1, 1, 0.25}},
-    {"ramp-600", "ramp", SMOKE, gen_ramp, {3, 48, 8.0, 1.0, -0.3}},
-    {"ramp-2k", "ramp", BIG, gen_ramp, {8, 64, 10.0, 1.0, -0.3}},
-    {"ramp-20k", "ramp", BIG, gen_ramp, {20, 256, 40.0, 1.0, -0.3}},
-    {"rolled-2k", "rolled", BIG, gen_rolled, {20, 2.25, 3.0, -0.15, 0.5}},
-    {"rolled-20k", "rolled", BIG, gen_rolled, {60, 3.0, 8.0, -0.15, 0.5}},
-    {"sphere-1k", "sphere", ALL, gen_icosphere, {3}},
-    {"sphere-5k", "sphere", BIG, gen_icosphere, {4}},
-    {"sphere-20k", "sphere", BIG, gen_icosphere, {5}},
-    {"sphere-80k", "sphere", BIG, gen_icosphere, {6}},
-    {"sphere-330k", "sphere", BIG, gen_icosphere, {7}},
-    {"sphere-1.3M", "sphere", FULL, gen_icosphere, {8}},
-    {"uv-sphere-4k", "uv-sphere", BIG, gen_uv_sphere, {32, 64, 10.0}},
-    {"sheet-pair-1k", "sheet-pair", BIG, gen_sheet_pair, {16, 1, 1.0471975511965976, 0.0}},
-    {"sheet-pair-10k", "sheet-pair", BIG, gen_sheet_pair, {50, 1, 1.0471975511965976, 0.0}},
-    {"cloth-ball-92", "cloth-ball", BIG, gen_frame, {0, 92}},
-    {"cloth-ball-93", "cloth-ball", BIG, gen_frame, {0, 93}},
-    {"cloth-funnel-227", "cloth-funnel", BIG, gen_frame, {1, 227}},
-    {"cloth-funnel-228", "cloth-funnel", BIG, gen_frame, {1, 228}},
-    {"rod-twist-3036", "rod-twist", BIG, gen_frame, {2, 3036}},
-    {"rod-twist-3037", "rod-twist", BIG, gen_frame, {2, 3037}},
+    {"flat-1k", "flat", ALL, gen_flat, {22}, 0},
+    {"flat-10k", "flat", BIG, gen_flat, {71}, 0},
+    {"flat-100k", "flat", BIG, gen_flat, {224}, 0},
+    {"flat-300k", "flat", BIG, gen_flat, {387}, 0},
+    {"flat-1M", "flat", FULL, gen_flat, {707}, 0},
+    {"wrinkled-1k", "wrinkled", BIG, gen_wrinkled, {22, 1, 1.0}, 0},
+    {"wrinkled-20k", "wrinkled", BIG, gen_wrinkled, {100, 1, 1.0}, 0},
+    {"wrinkled-200k", "wrinkled", FULL, gen_wrinkled, {316, 1, 1.0}, 0},
+    {"crumpled-500", "crumpled", SMOKE, gen_crumpled, {16, 1}, 0},
+    {"crumpled-2k", "crumpled", BIG, gen_crumpled, {32, 1}, 0},
+    {"crumpled-20k-s1", "crumpled", BIG, gen_crumpled, {100, 1}, 0},
+    {"crumpled-20k-s2", "crumpled", BIG, gen_crumpled, {100, 2}, 0},
+    {"crumpled-20k-s3", "crumpled", BIG, gen_crumpled, {100, 3}, 0},
+    {"crumpled-200k", "crumpled", BIG, gen_crumpled, {316, 1}, 0},
+    {"crumpled-1M", "crumpled", FULL, gen_crumpled, {707, 1}, 0},
+    {"crumpled-20k-1m-raw", "crumpled-1m-raw", BIG, gen_crumpled_1m, {100, 1}, 1},
+    {"hairpin-1k", "hairpin", ALL, gen_hairpin, {250, 0.1}, 0},
+    {"hairpin-10k", "hairpin", BIG, gen_hairpin, {2500, 0.1}, 0},
+    {"zfold-2k", "zfold", BIG, gen_zfold, {40, 8, 0.1, 1, 0.25}, 0},
+    {"zfold-20k", "zfold", BIG, gen_zfold, {170, 20, 0.1, 1, 0.25}, 0},
+    {"ramp-600", "ramp", SMOKE, gen_ramp, {3, 48, 8.0, 1.0, -0.3}, 0},
+    {"ramp-2k", "ramp", BIG, gen_ramp, {8, 64, 10.0, 1.0, -0.3}, 0},
+    {"ramp-20k", "ramp", BIG, gen_ramp, {20, 256, 40.0, 1.0, -0.3}, 0},
+    {"rolled-2k", "rolled", BIG, gen_rolled, {20, 2.25, 3.0, -0.15, 0.5}, 0},
+    {"rolled-20k", "rolled", BIG, gen_rolled, {60, 3.0, 8.0, -0.15, 0.5}, 0},
+    {"sphere-1k", "sphere", ALL, gen_icosphere, {3}, 0},
+    {"sphere-5k", "sphere", BIG, gen_icosphere, {4}, 0},
+    {"sphere-20k", "sphere", BIG, gen_icosphere, {5}, 0},
+    {"sphere-80k", "sphere", BIG, gen_icosphere, {6}, 0},
+    {"sphere-330k", "sphere", BIG, gen_icosphere, {7}, 0},
+    {"sphere-1.3M", "sphere", FULL, gen_icosphere, {8}, 0},
+    {"uv-sphere-4k", "uv-sphere", BIG, gen_uv_sphere, {32, 64, 10.0}, 0},
+    {"sheet-pair-1k", "sheet-pair", BIG, gen_sheet_pair, {16, 1, 1.0471975511965976, 0.0}, 0},
+    {"sheet-pair-10k", "sheet-pair", BIG, gen_sheet_pair, {50, 1, 1.0471975511965976, 0.0}, 0},
+    {"cloth-ball-92", "cloth-ball", BIG, gen_frame, {0, 92}, 0},
+    {"cloth-ball-93", "cloth-ball", BIG, gen_frame, {0, 93}, 0},
+    {"cloth-funnel-227", "cloth-funnel", BIG, gen_frame, {1, 227}, 0},
+    {"cloth-funnel-228", "cloth-funnel", BIG, gen_frame, {1, 228}, 0},
+    {"rod-twist-3036", "rod-twist", BIG, gen_frame, {2, 3036}, 0},
+    {"rod-twist-3037", "rod-twist", BIG, gen_frame, {2, 3037}, 0},
 };
 
 // ---------------------------------------------------------------------------
@@ -606,9 +618,10 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     cx.mean_edge = selfcol_mesh_mean_edge_length(mesh);
     // Bullet rejects triangles with edges under ~1.8 cm (an absolute epsilon
     // on a length^4); short-edged meshes are scaled by powers of 10 until the
-    // mean edge is at least 0.2, for selfcol and Bullet alike.
+    // mean edge is at least 5 cm (a 1 m cloth of 20k faces: x10), for selfcol
+    // and Bullet alike. Raw cases keep their size to show what happens.
     cx.scale = 1.0;
-    while (cx.mean_edge * cx.scale < 0.2)
+    while (!bc->raw && cx.mean_edge * cx.scale < 0.05)
         cx.scale *= 10.0;
     if (cx.scale != 1.0) {
         for (size_t i = 0; i < 3 * s.vertex_count; ++i)
