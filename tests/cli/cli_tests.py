@@ -565,6 +565,34 @@ def test_bundled_ribbon():
     run_against_brute_force([mesh], [ribbon], {}, 'folded ribbon')
 
 
+def test_progress():
+    """A progress bar on stderr only when it is a terminal."""
+    import pty
+    pos, tris = fx.grid_sheet(150, 150, fx.wavy)  # a 4 MB OBJ: several progress steps
+    path = work('progress/sheet.obj')
+    fx.write_obj(path, pos, tris)
+    status, out, err = run('check', path, expect=0)
+    check(err == '', 'stderr is not a terminal, yet it got %r' % err[:200])
+    master, slave = pty.openpty()
+    proc = subprocess.run([ARGS.cli, 'info', path], stdout=subprocess.DEVNULL, stderr=slave,
+                          timeout=600)
+    os.close(slave)
+    seen = b''
+    while True:
+        try:
+            chunk = os.read(master, 65536)
+        except OSError:  # the terminal closed
+            break
+        if not chunk:
+            break
+        seen += chunk
+    os.close(master)
+    check(proc.returncode == 0, 'info under a terminal: exit %d' % proc.returncode)
+    check(b'%' in seen and b'[' in seen, 'no progress bar on a terminal: %r' % seen[:200])
+    _, out, _ = run('check', '--quiet', path, expect=0)
+    check(out == '', '--quiet printed %r' % out[:200])
+
+
 def test_cloth_ball_frames():
     frames = os.path.join(ARGS.shared or '', 'sample-scalable-ccd-data', 'cloth-ball', 'frames')
     files = sorted(glob.glob(os.path.join(frames, '*.ply')) + glob.glob(os.path.join(frames, '*.obj')),
