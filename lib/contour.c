@@ -411,13 +411,24 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     if ((na->flags & nb->flags & need) != need || !(na->cone_angle < HALF_PI) ||
         !(nb->cone_angle < HALF_PI))
         return 0;
-    // (1): a projection direction V inside the smallest cone around both
-    // cones, and a rigorous half-angle around V.
+    double ta = na->cone_angle, tb = nb->cone_angle;
+    // Cheap rejections first (most pairs a crumpled sheet visits fail
+    // here): the joint cone needs ta + phi + tb < pi, and (3) needs at least
+    // d <= the smaller altitude.
+    if (!(ta + tb < 2.0 * HALF_PI) ||
+        !(d <= (double)(h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia]
+                                                                  : h->min_altitude[ib])))
+        return 0;
     double ua[3], ub[3], v[3];
     unit_axis(na, ua);
     unit_axis(nb, ub);
+    // phi < pi - ta - tb  <=>  cos(phi) > -cos(ta + tb); a prefilter only
+    // (the rigorous half-angle is computed below).
+    if (!(ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2] > -cos(ta + tb) - 1e-12))
+        return 0;
+    // (1): a projection direction V inside the smallest cone around both
+    // cones, and a rigorous half-angle around V.
     double phi = angle_between_units(ua, ub);
-    double ta = na->cone_angle, tb = nb->cone_angle;
     if (phi + tb <= ta || !(phi > 1e-9)) {
         for (int k = 0; k < 3; ++k)
             v[k] = ua[k];
