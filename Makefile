@@ -1,8 +1,8 @@
 # SPDX-FileCopyrightText: 2026 selfcol authors
 # SPDX-License-Identifier: MIT
-# Thin wrapper over CMake/CTest. `make run`: build and run the demo on the
-# bundled mesh; `make test`: build and pass the tests. Both install missing
-# Debian packages first (make deps).
+# Thin wrapper over CMake/CTest. `make run`: build and run selfcol-cli check
+# on the bundled mesh; `make test`: build and pass the tests. Both install
+# missing Debian packages first (make deps).
 BUILD ?= build
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)

@@ -6,7 +6,8 @@
 // self-contacts with the hierarchy (method EXACT, the default) at d = K x mean edge
 // length (K = 0.1 by default, the standard cloth thickness), checks them
 // against the exhaustive reference, and prints what it found.
-// It stands in for selfcol-cli until that exists.
+// selfcol-cli (tools/cli) is the tool for users; this file is the example
+// for programmers embedding the C API.
 //
 // usage: selfcol-demo MESH.obj [K]
 #include <selfcol/selfcol.h>
