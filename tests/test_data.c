@@ -113,6 +113,19 @@ static void test_data_ply_reader_round_trips_every_encoding(void **state) {
     scene_free(&g);
 }
 
+// Contact keys of one query (caller frees).
+static contact_key *query_keys(selfcol_hierarchy *h, selfcol_contacts *c,
+                               const selfcol_query_options *q, size_t *n) {
+    assert_int_equal(selfcol_hierarchy_self_collide(h, c, q), SELFCOL_OK);
+    const selfcol_contact *rec;
+    selfcol_contacts_data(c, &rec, n);
+    contact_key *keys = malloc((*n + 1) * sizeof *keys);
+    assert_non_null(keys);
+    const uint32_t none[2] = {0, 0};
+    contact_keys(rec, *n, NULL, none, keys);
+    return keys;
+}
+
 // Real meshes: the reference must be invariant under renumbering, and every
 // proximity it reports is below d.
 static void check_real_mesh(const char *path, const scene *s) {
@@ -150,13 +163,8 @@ static void check_real_mesh(const char *path, const scene *s) {
         for (int k = 0; k < 2; ++k) {
             selfcol_query_options e = q;
             e.method = exact_methods[k];
-            assert_int_equal(selfcol_hierarchy_self_collide(h, c, &e), SELFCOL_OK);
-            const selfcol_contact *got;
             size_t n_got;
-            selfcol_contacts_data(c, &got, &n_got);
-            contact_key *keys = malloc((n_got + 1) * sizeof *keys);
-            assert_non_null(keys);
-            contact_keys(got, n_got, NULL, none, keys);
+            contact_key *keys = query_keys(h, c, &e, &n_got);
             assert_true(contact_keys_equal(reference, n0, keys, n_got));
             free(keys);
         }
@@ -241,19 +249,6 @@ static int by_name(const void *a, const void *b) {
     const char *x = *(const char *const *)a, *y = *(const char *const *)b;
     size_t lx = strlen(x), ly = strlen(y);
     return lx != ly ? (lx < ly ? -1 : 1) : strcmp(x, y); // numeric order for 92.ply, 93.ply
-}
-
-// Contact keys of one query (caller frees).
-static contact_key *query_keys(selfcol_hierarchy *h, selfcol_contacts *c,
-                               const selfcol_query_options *q, size_t *n) {
-    assert_int_equal(selfcol_hierarchy_self_collide(h, c, q), SELFCOL_OK);
-    const selfcol_contact *rec;
-    selfcol_contacts_data(c, &rec, n);
-    contact_key *keys = malloc((*n + 1) * sizeof *keys);
-    assert_non_null(keys);
-    const uint32_t none[2] = {0, 0};
-    contact_keys(rec, *n, NULL, none, keys);
-    return keys;
 }
 
 // The real simulation frames (design.md section 7): the first two frames of
