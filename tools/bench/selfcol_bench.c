@@ -746,7 +746,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
                 r.build_ms = 0.0;
             }
             if (strncmp(note, "frame", 5) == 0)
-                snprintf(r.note, sizeof r.note, "%s", note);
+                snprintf(r.note, sizeof r.note, "%.255s", note);
             cx.peak_rss_kb = peak_rss_kb();
             print_row(&cx, &r);
             free(got.k);
