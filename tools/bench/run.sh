@@ -55,6 +55,11 @@ esac
 timeout_cmd=""
 command -v timeout >/dev/null 2>&1 && timeout_cmd="timeout $limit"
 
+# The commit as the run starts (make bench builds right before it); a library
+# with uncommitted changes in lib/ or include/ is flagged.
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+dirty=$(git status --porcelain -- lib include 2>/dev/null | head -1)
+[ -z "$dirty" ] || commit="$commit (lib/ or include/ modified)"
 start=$(date +%s)
 "$runner" --header > "$tmp"
 : > "$log"
@@ -78,9 +83,6 @@ elapsed=$(( $(date +%s) - start ))
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
 cores=$(nproc 2>/dev/null || echo "?")
-commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
-dirty=$(git status --porcelain -- lib include 2>/dev/null | head -1)
-[ -z "$dirty" ] || commit="$commit (lib/ or include/ modified)"
 cc=$(sed -n 's/^CMAKE_C_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null | head -1)
 ccver=$($cc --version 2>/dev/null | head -1 || true)
 btype=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null | head -1)
