@@ -349,14 +349,10 @@ def table_headlines(rows):
     out.append("| cloth-ball 92: EXACT frame | %s | %s | <= 20 ms, one core |" % (a, b))
 
     # Build time and bytes per triangle by size (d-independent).
-    builds = {}
-    for r in rows:
-        if r["m"] == "BVH" and r["df"] == "0.1":
-            builds.setdefault(r["triangles"], r)
-    for t in sorted(builds):
-        r = builds[t]
-        if r["scene"] not in ("flat", "sphere", "crumpled"):
-            continue
+    builds = [r for r in rows if r["m"] == "BVH" and r["df"] == "0.1"
+              and r["scene"] in ("flat", "sphere", "crumpled")]
+    for r in sorted(builds, key=lambda r: r["triangles"]):
+        t = r["triangles"]
         bl = pick(rows, r["case"], "0.1", "BULLET")
         out.append("| build %s (%s tri): selfcol%s | %s ms%s, %.1f B/tri | | ~1 s at 1M; <= 64 B/tri |" % (
             r["case"], kilo(t), " / Bullet" if bl else "", fmt_ms(r["build_ms"]),
