@@ -2,7 +2,7 @@
 # SPDX-FileCopyrightText: 2026 selfcol authors
 # SPDX-License-Identifier: MIT
 # Usage: sh tools/bench/run.sh [--subset smoke|default|full] [--build DIR]
-#                              [--out DIR] [--data DIR] [--only REGEX]
+#                              [--out DIR] [--data DIR] [--only REGEX] [--ipctk]
 # Runs every case of a subset with selfcol-bench, one process per case (so
 # that peak memory is per case), and writes
 #   OUT/SUBSET.csv   one row per case x method x d (the header line first)
@@ -10,6 +10,8 @@
 # OUT defaults to tools/bench/results. Called by `make bench` (default),
 # `make bench-full` (full) and `make bench-smoke` (smoke, what CI runs: tiny
 # sizes, no timing assertion: it only fails when the runner fails).
+# bench-full (or --ipctk) adds ipc-toolkit rows through its Python package
+# (bench_ipctk.py, in a venv under the build directory).
 set -eu
 
 subset=default
@@ -17,8 +19,10 @@ build=build
 out=""
 data=""
 only=""
+ipctk=""
 while [ $# -gt 0 ]; do
   case "$1" in
+    --ipctk) ipctk=1; shift ;;
     --subset) subset=$2; shift 2 ;;
     --build) build=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
@@ -27,6 +31,11 @@ while [ $# -gt 0 ]; do
     *) echo "run.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
+
+# ipc-toolkit runs in bench-full (or with --ipctk) on these cases.
+[ -n "$ipctk" ] || { [ "$subset" = full ] && ipctk=1 || ipctk=0; }
+ipctk_cases="crumpled-2k crumpled-20k-s1 crumpled-200k sheet-pair-10k sphere-80k cloth-ball-92 cloth-funnel-227 rod-twist-3036"
+if [ "$subset" = full ]; then ipctk_reps=7; else ipctk_reps=5; fi
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
@@ -78,6 +87,43 @@ for c in $("$runner" --list "$subset"); do
   # Say why a case or its Bullet rows were left out (absent data, Bullet limits).
   grep -F "selfcol-bench: $c" "$log" | grep -E "skipped|no Bullet rows" | sed 's/^selfcol-bench: /bench:   /' || true
 done
+# ipc-toolkit rows (bench-full, or --ipctk): its Python package in a venv
+# under the build directory, fed with the meshes and EXACT contact sets the
+# runner dumps. Skipped with a message when the venv or the package cannot
+# be had (no network, no venv module).
+if [ "$ipctk" = 1 ]; then
+  venv="$build/ipctk-venv"
+  if [ ! -x "$venv/bin/python" ]; then
+    for py in python3 /usr/bin/python3; do
+      if command -v "$py" >/dev/null 2>&1 && "$py" -m venv "$venv" >/dev/null 2>&1; then break; fi
+      rm -rf "$venv"
+    done
+    if [ -x "$venv/bin/python" ]; then
+      "$venv/bin/python" -m pip install -q ipctk numpy >> "$log" 2>&1 || rm -rf "$venv"
+    fi
+  fi
+  if [ -x "$venv/bin/python" ] && "$venv/bin/python" -c 'import ipctk' 2>/dev/null; then
+    dump="$build/bench-dump"
+    mkdir -p "$dump"
+    args=""
+    for c in $ipctk_cases; do
+      if [ -n "$only" ] && ! echo "$c" | grep -Eq "$only"; then continue; fi
+      "$runner" --case "$c" --dump "$dump" --data "$data" 2>> "$log" && args="$args --case $c"
+    done
+    if [ -n "$args" ]; then
+      t0=$(date +%s)
+      if "$venv/bin/python" tools/bench/bench_ipctk.py --dump "$dump" --subset "$subset" \
+           --reps "$ipctk_reps" $args >> "$tmp" 2>> "$log"; then
+        echo "bench: ipctk ($(( $(date +%s) - t0 )) s)"
+      else
+        echo "bench: ipctk FAILED (see $log)" >&2
+        failed=1
+      fi
+    fi
+  else
+    echo "bench: ipctk skipped (no venv with the ipctk package; see $log)"
+  fi
+fi
 mv "$tmp" "$csv"
 elapsed=$(( $(date +%s) - start ))
 

@@ -21,6 +21,9 @@
 //        selfcol-bench --header             the CSV header line
 //        selfcol-bench --case NAME --subset SUBSET [--data DIR]
 //                                           rows of one case on stdout
+//        selfcol-bench --case NAME --dump DIR [--data DIR]
+//                                           the case's mesh and EXACT's contacts
+//                                           as files, for bench_ipctk.py
 // SUBSET is smoke, default or full; it sets the repetitions and the size
 // limits of the slow methods.
 #include <selfcol/selfcol.h>
@@ -768,6 +771,90 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     return status;
 }
 
+// --dump DIR: writes the case's mesh (after the same scaling as run_case)
+// and EXACT's VF and EE contact keys at both d, for reference runners
+// outside this process (tools/bench/bench_ipctk.py):
+//   DIR/NAME.mesh        "V F scale mean_edge scene", V lines "x y z", F lines "a b c"
+//   DIR/NAME-dK.keys     "d", then one "kind first second" line per contact
+// EF contacts are written too (kind 2): the reference runner counts them
+// as misses when it reports no crossings.
+static int dump_case(const bench_case *bc, const char *data_dir, const char *dir) {
+    scene s;
+    memset(&s, 0, sizeof s);
+    char note[512] = "", path[4096];
+    int g = bc->gen(&s, bc->p, data_dir, note, sizeof note);
+    if (g == 1) {
+        fprintf(stderr, "selfcol-bench: %s skipped (%s)\n", bc->name, note);
+        return 0;
+    }
+    if (g != 0)
+        return 1;
+    selfcol_mesh *mesh = NULL;
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *c = NULL;
+    int rc = selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
+                                 s.triangles, NULL);
+    double mean_edge = rc == SELFCOL_OK ? selfcol_mesh_mean_edge_length(mesh) : 0.0;
+    double scale = 1.0;
+    while (rc == SELFCOL_OK && !bc->raw && mean_edge * scale < 0.05)
+        scale *= 10.0;
+    if (rc == SELFCOL_OK && scale != 1.0) {
+        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
+            s.positions[i] *= scale;
+        rc = selfcol_mesh_set_positions(mesh, s.positions);
+        mean_edge *= scale;
+    }
+    if (rc == SELFCOL_OK)
+        rc = selfcol_hierarchy_create(&h, mesh, NULL);
+    if (rc == SELFCOL_OK)
+        rc = selfcol_contacts_create(&c, NULL);
+    FILE *f = NULL;
+    if (rc == SELFCOL_OK) {
+        snprintf(path, sizeof path, "%s/%s.mesh", dir, bc->name);
+        f = fopen(path, "w");
+        rc = f ? SELFCOL_OK : SELFCOL_ERROR;
+    }
+    if (rc == SELFCOL_OK) {
+        fprintf(f, "%zu %zu %.17g %.17g %s\n", s.vertex_count, s.triangle_count, scale, mean_edge,
+                bc->scene);
+        for (size_t v = 0; v < s.vertex_count; ++v)
+            fprintf(f, "%.17g %.17g %.17g\n", s.positions[3 * v], s.positions[3 * v + 1],
+                    s.positions[3 * v + 2]);
+        for (size_t t = 0; t < s.triangle_count; ++t)
+            fprintf(f, "%u %u %u\n", s.triangles[3 * t], s.triangles[3 * t + 1],
+                    s.triangles[3 * t + 2]);
+        rc = fclose(f) == 0 ? SELFCOL_OK : SELFCOL_ERROR;
+    }
+    const double factors[2] = {0.1, 0.5};
+    for (int fi = 0; fi < 2 && rc == SELFCOL_OK; ++fi) {
+        selfcol_query_options o;
+        selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+        o.method = SELFCOL_METHOD_EXACT;
+        o.distance = factors[fi] * mean_edge;
+        rc = selfcol_hierarchy_self_collide(h, c, &o);
+        const selfcol_contact *data;
+        size_t n = 0;
+        if (rc == SELFCOL_OK)
+            rc = selfcol_contacts_data(c, &data, &n);
+        snprintf(path, sizeof path, "%s/%s-d%g.keys", dir, bc->name, factors[fi]);
+        if (rc == SELFCOL_OK && (f = fopen(path, "w")) == NULL)
+            rc = SELFCOL_ERROR;
+        if (rc == SELFCOL_OK) {
+            fprintf(f, "%.17g\n", o.distance);
+            for (size_t i = 0; i < n; ++i)
+                fprintf(f, "%u %u %u\n", data[i].kind, data[i].first, data[i].second);
+            rc = fclose(f) == 0 ? SELFCOL_OK : SELFCOL_ERROR;
+        }
+    }
+    if (rc != SELFCOL_OK)
+        fprintf(stderr, "selfcol-bench: %s: dump failed (%s)\n", bc->name, selfcol_status_string(rc));
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(mesh);
+    scene_free(&s);
+    return rc == SELFCOL_OK ? 0 : 1;
+}
+
 #ifndef SELFCOL_BENCH_BULLET
 // Without Bullet the runner still links: no Bullet rows.
 bench_bullet *bench_bullet_create(size_t vertex_count, const double *xyz, size_t triangle_count,
@@ -799,6 +886,7 @@ static unsigned subset_of(const char *name) {
 
 int main(int argc, char **argv) {
     const char *list = NULL, *case_name = NULL, *subset_name = NULL, *data_dir = NULL;
+    const char *dump_dir = NULL;
     int want_header = 0;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--list") == 0 && i + 1 < argc)
@@ -809,6 +897,8 @@ int main(int argc, char **argv) {
             subset_name = argv[++i];
         else if (strcmp(argv[i], "--data") == 0 && i + 1 < argc)
             data_dir = argv[++i];
+        else if (strcmp(argv[i], "--dump") == 0 && i + 1 < argc)
+            dump_dir = argv[++i];
         else if (strcmp(argv[i], "--header") == 0)
             want_header = 1;
         else if (strcmp(argv[i], "--bullet") == 0) {
@@ -822,7 +912,7 @@ int main(int argc, char **argv) {
         } else {
             fprintf(stderr,
                     "usage: %s --list SUBSET | --header | --bullet | --case NAME --subset SUBSET "
-                    "[--data DIR]\n",
+                    "[--data DIR] | --case NAME --dump DIR [--data DIR]\n",
                     argv[0]);
             return 2;
         }
@@ -842,14 +932,21 @@ int main(int argc, char **argv) {
                 printf("%s\n", cases[i].name);
         return 0;
     }
+    if (data_dir == NULL)
+        data_dir = getenv("SELFCOL_SHARED_DATA") ? getenv("SELFCOL_SHARED_DATA")
+                                                 : BENCH_DEFAULT_DATA_DIR;
+    if (dump_dir != NULL && case_name != NULL) {
+        for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
+            if (strcmp(cases[i].name, case_name) == 0)
+                return dump_case(&cases[i], data_dir, dump_dir);
+        fprintf(stderr, "selfcol-bench: unknown case '%s'\n", case_name);
+        return 2;
+    }
     unsigned sub = subset_of(subset_name);
     if (case_name == NULL || sub == 0) {
         fprintf(stderr, "selfcol-bench: --case NAME and --subset smoke|default|full needed\n");
         return 2;
     }
-    if (data_dir == NULL)
-        data_dir = getenv("SELFCOL_SHARED_DATA") ? getenv("SELFCOL_SHARED_DATA")
-                                                 : BENCH_DEFAULT_DATA_DIR;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
         if (strcmp(cases[i].name, case_name) == 0)
             return run_case(&cases[i], sub, subset_name, data_dir);
