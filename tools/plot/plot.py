@@ -27,7 +27,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 # EXACT-VF (vertex-triangle proximities only) is the like-for-like partner
 # of BULLET, which has no edge-edge test and reports no crossing; its misses
 # count against the VF set only, Bullet's against the whole exact set.
-METHODS = ["EXHAUSTIVE", "BVH", "EXACT", "SEED", "CONE", "BVH+libccd", "EXACT-VF", "BULLET"]
+METHODS = ["EXHAUSTIVE", "BVH", "EXACT", "SEED", "CONE", "BVH+libccd", "EXACT-VF", "BULLET",
+           "IPCTK"]
 STYLE = {
     "EXHAUSTIVE": ("tab:gray", "s"),
     "BVH": ("tab:blue", "o"),
@@ -37,6 +38,7 @@ STYLE = {
     "BVH+libccd": ("tab:purple", "P"),
     "EXACT-VF": ("tab:olive", "d"),
     "BULLET": ("black", "X"),
+    "IPCTK": ("tab:cyan", "*"),  # ipc-toolkit, bench-full only
 }
 FACTORS = ["0.1", "0.5"]
 
@@ -341,6 +343,23 @@ def table_headlines(rows):
             fmt_ms(e["refit_ms"]), fmt_ms(e["query_ms"]), kilo(best["triangles"]), best["scale"])
     a, b = both(bullet_ratio)
     out.append("| crumpled, largest with Bullet: Bullet (refit + self-collision) / EXACT frame | %s | %s | >= 20x at 200k |" % (a, b))
+
+    def ipc_ratio(df):
+        best = None
+        for r in rows:
+            if r["m"] == "IPCTK" and r["df"] == df and r["scene"] == "crumpled":
+                if best is None or r["triangles"] > best["triangles"]:
+                    best = r
+        if best is None:
+            return "-"
+        e = pick(rows, best["case"], df, "EXACT")
+        if e is None or e["frame_ms"] <= 0:
+            return "-"
+        return "%.2fx (ipctk %s ms, EXACT %s ms; %s tri; ipctk misses %d EF it cannot report, %d other)" % (
+            best["frame_ms"] / e["frame_ms"], fmt_ms(best["frame_ms"]), fmt_ms(e["frame_ms"]),
+            kilo(best["triangles"]), best["miss_ef"], best["miss_vf"] + best["miss_ee"])
+    a, b = both(ipc_ratio)
+    out.append("| crumpled, largest with ipc-toolkit (1 thread): ipctk / EXACT frame | %s | %s | (reference) |" % (a, b))
 
     def ball(df):
         r = pick(rows, "cloth-ball-92", df, "EXACT")
