@@ -10,8 +10,9 @@
 // (real frames from the Sample-Scalable-CCD-Data layout), the hierarchy is
 // built once, and for each detection distance d = 0.1 and 0.5 x mean edge
 // every method runs on the same mesh and d: EXHAUSTIVE (small sizes only), BVH,
-// SEED, CONE, EXACT, BVH with the libccd narrow phase (small sizes), and
-// Bullet 3.24's own self-collision. Each timed quantity is the median of
+// SEED, CONE, EXACT, BVH with the libccd narrow phase (small sizes), EXACT
+// restricted to vertex-triangle proximities (EXACT-VF, Bullet's share of the
+// work), and Bullet 3.24's own self-collision (bench_bullet.cpp). Each timed quantity is the median of
 // `reps` runs after one warm-up run, with min and max. Every method's
 // contact set is compared with a reference: EXHAUSTIVE when it ran, else
 // EXACT (which the test suite and the smaller rows hold equal to EXHAUSTIVE);
@@ -631,6 +632,12 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
             s.positions[i] *= cx.scale;
         rc = selfcol_mesh_set_positions(mesh, s.positions);
         cx.mean_edge *= cx.scale;
+        if (rc != SELFCOL_OK) {
+            fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
+            selfcol_mesh_destroy(mesh);
+            scene_free(&s);
+            return 1;
+        }
     }
 
     selfcol_hierarchy *h = NULL;
