@@ -23,6 +23,7 @@ import matplotlib
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 # EXACT-VF (vertex-triangle proximities only) is the like-for-like partner
 # of BULLET, which has no edge-edge test and reports no crossing; its misses
@@ -148,6 +149,7 @@ def chart_speed_accuracy(rows, df, path, note):
             ref_total = max(ref_total or 0, r["ref_vf"] + r["ref_ee"] + r["ref_ef"])
             top = max(top, r["misses"], ref_total)
         ax.set_xscale("log")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # labels collide on narrow ranges
         ax.set_yscale("symlog", linthresh=1)
         ax.set_ylim(-0.5, top * 3)
         tri = next(r["triangles"] for r in rows if r["case"] == case)
