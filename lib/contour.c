@@ -66,12 +66,14 @@
 // Every contact inside P is a VF or EE pair at projected distance < d, or an
 // EF crossing: none exists.
 //
-// Costs: (2) and (4) share one sort-and-sweep over the b boundary edges
-// along a direction of the projection plane (at an angle no mesh favours,
-// so straight boundary runs do not pile up in the active list): O(b log b)
-// for a compact boundary, exact predicates only on edge pairs that come
-// within d in projection. Self(P) is tried only on disks
-// (SELFCOL_NODE_DISK), Pair(A, B) only on adjacent nodes.
+// Costs: (2) and (4) share one pass over the b boundary edges: candidate
+// pairs come from a hashed uniform grid (O(b) expected, no sorting), and the
+// exact predicate runs only where a floating-point filter on the projected
+// coordinates cannot decide. That the boundary is one loop is known without
+// a pass: Self(P) is tried only on disks (SELFCOL_NODE_DISK), Pair(A, B)
+// only on two disks whose shared edges form one path. Measured on a
+// 1.3M-triangle icosphere at d = 0.1 x mean edge: ~140 ns per boundary
+// edge, 62 tests and ~217k edges per query (stats: contour_seconds).
 #include "query.h"
 
 #include "contacts.h"
