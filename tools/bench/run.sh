@@ -98,6 +98,10 @@ if [ "$ipctk" = 1 ]; then
       if command -v "$py" >/dev/null 2>&1 && "$py" -m venv "$venv" >/dev/null 2>&1; then break; fi
       rm -rf "$venv"
     done
+    # Debian's python3 needs python3-venv for that (installed as root only).
+    if [ ! -x "$venv/bin/python" ] && sh tools/deps.sh python3-venv >> "$log" 2>&1; then
+      /usr/bin/python3 -m venv "$venv" >> "$log" 2>&1 || rm -rf "$venv"
+    fi
     if [ -x "$venv/bin/python" ]; then
       "$venv/bin/python" -m pip install -q ipctk numpy >> "$log" 2>&1 || rm -rf "$venv"
     fi
