@@ -167,22 +167,29 @@ static int gen_frame(scene *s, const double *p, const char *data_dir, char *note
     const char *name = frame_scene_names[(int)p[0]];
     unsigned frame = (unsigned)p[1];
     char path[4096], err[256];
-    const char *patterns[] = {"%s/sample-scalable-ccd-data/%s/frames/%u.ply",
-                              "%s/sample-scalable-ccd-data/%s/frames/%u.obj"};
-    for (int i = 0; i < 2; ++i) {
-        snprintf(path, sizeof path, patterns[i], data_dir, name, frame);
+    // Frames are named <N>.ply (cloth-funnel) or <scene_with_underscores><N>.ply
+    // (cloth-ball: cloth_ball92.ply) in the public dataset; try both.
+    char prefix[64];
+    snprintf(prefix, sizeof prefix, "%s", name);
+    for (char *c = prefix; *c; ++c)
+        if (*c == '-')
+            *c = '_';
+    const char *patterns[] = {"%s/sample-scalable-ccd-data/%s/frames/%s%u.ply",
+                              "%s/sample-scalable-ccd-data/%s/frames/%s%u.obj"};
+    for (int i = 0; i < 4; ++i) {
+        snprintf(path, sizeof path, patterns[i % 2], data_dir, name, i < 2 ? "" : prefix, frame);
         FILE *f = fopen(path, "rb");
         if (f == NULL)
             continue;
         fclose(f);
-        int rc = i == 0 ? ply_read(path, s, err, sizeof err) : read_obj(path, s);
+        int rc = i % 2 == 0 ? ply_read(path, s, err, sizeof err) : read_obj(path, s);
         if (rc != 0)
-            fprintf(stderr, "selfcol-bench: %s: %s\n", path, i == 0 ? err : "unreadable OBJ");
+            fprintf(stderr, "selfcol-bench: %s: %s\n", path, i % 2 == 0 ? err : "unreadable OBJ");
         snprintf(note, n, "frame %s", path);
         return rc;
     }
-    snprintf(note, n, "absent: %s/sample-scalable-ccd-data/%s/frames/%u.{ply,obj}", data_dir, name,
-             frame);
+    snprintf(note, n, "absent: %s/sample-scalable-ccd-data/%s/frames/{,%s}%u.{ply,obj}", data_dir,
+             name, prefix, frame);
     return 1;
 }
 
@@ -385,7 +392,8 @@ static const char *header =
     "subset,case,scene,triangles,vertices,edges,scale,d_factor,d,method,narrow,reference,reps,"
     "build_ms,refit_ms,refit_min_ms,refit_max_ms,query_ms,query_min_ms,query_max_ms,frame_ms,"
     "triangle_pairs,candidate_pairs,vf_tests,ee_tests,ef_tests,nodes_visited,culled_box,"
-    "culled_curvature,culled_adjacency,vf,ee,ef,contacts,raw_contacts,ref_vf,ref_ee,ref_ef,"
+    "culled_curvature,culled_adjacency,contour_tests,contour_refused,contour_ms,vf,ee,ef,contacts,"
+    "raw_contacts,ref_vf,ref_ee,ref_ef,"
     "miss_vf,miss_ee,miss_ef,misses,extra_vf,extra_ee,extra_ef,extras,struct_bytes,"
     "bytes_per_tri,peak_rss_kb,note";
 
@@ -405,6 +413,9 @@ static void print_row(const context *cx, const row *r) {
            (unsigned long long)s->ee_tests, (unsigned long long)s->ef_tests,
            (unsigned long long)s->nodes_visited, (unsigned long long)s->culled_box,
            (unsigned long long)s->culled_curvature, (unsigned long long)s->culled_adjacency);
+    // Stats version 3: EXACT's contour test (0 for the other methods).
+    printf("%llu,%llu,%.4f,", (unsigned long long)s->contour_tests,
+           (unsigned long long)s->contour_refused, 1e3 * s->contour_seconds);
     printf("%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,", (unsigned long long)r->found[0],
            (unsigned long long)r->found[1], (unsigned long long)r->found[2],
            (unsigned long long)found, (unsigned long long)r->raw_contacts,

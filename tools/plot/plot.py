@@ -231,7 +231,7 @@ def chart_scaling(rows, df, path):
 def chart_culling(rows, df, path):
     cases = representative_cases(rows)
     methods = ["BVH", "SEED", "CONE", "EXACT"]
-    labels, box, curv, adj = [], [], [], []
+    labels, box, curv, adj, refused = [], [], [], [], []
     for case in cases:
         for m in methods:
             r = pick(rows, case, df, m)
@@ -242,12 +242,17 @@ def chart_culling(rows, df, path):
             box.append(r["culled_box"] / v)
             curv.append(r["culled_curvature"] / v)
             adj.append(r["culled_adjacency"] / v)
+            # Older CSVs (before stats version 3) have no contour columns.
+            refused.append(r.get("contour_refused", 0.0) / v)
     fig, ax = plt.subplots(figsize=(8.5, max(3.0, 0.19 * len(labels) + 1.2)))
     y = list(range(len(labels)))
     ax.barh(y, box, color="tab:blue", label="box (pairs apart)")
     ax.barh(y, curv, left=box, color="tab:green", label="curvature (+ contour for EXACT)")
     ax.barh(y, adj, left=[a + b for a, b in zip(box, curv)], color="tab:orange",
-            label="adjacency (joint curvature)")
+            label="adjacency (joint curvature; + joint contour for EXACT)")
+    ax.barh(y, refused, left=[a + b + c for a, b, c in zip(box, curv, adj)], color="lightgray",
+            hatch="//", edgecolor="gray",
+            label="kept by the contour test (EXACT: curvature held, contour not proven)")
     ax.set_yticks(y)
     ax.set_yticklabels(labels, fontsize=6)
     ax.invert_yaxis()
