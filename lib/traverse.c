@@ -72,6 +72,15 @@ static int boxes_apart(const selfcol_node *a, const selfcol_node *b, double d) {
     return 0;
 }
 
+
+
+
+// EXACT tries its contour proof only on nodes and node pairs of at least
+// this many triangles: below, the narrow phase over the few triangle pairs
+// costs about what the proof does (crumpled 20k sheet, d = 0.1 x mean edge:
+// query 51.7 ms trying every node, 47.7 ms from 16 triangles; spheres and
+// flat sheets are proven far above it).
+#define CONTOUR_MIN_TRIANGLES 16
 #define HALF_PI 1.5707963267948966
 
 // All normals of the node in one open half-space, by the method's measure.
@@ -171,7 +180,9 @@ static int broad_phase(traversal *t) {
         st->nodes_visited++;
         if (self && p.a == p.b) {
             if (t->method == SELFCOL_METHOD_EXACT
-                    ? selfcol_contour__self_skippable(t->h[0], p.a, t->q->distance, t->q->out)
+                    ? a->tri_count >= CONTOUR_MIN_TRIANGLES &&
+                          selfcol_contour__self_skippable(t->h[0], p.a, t->q->distance,
+                                                          t->q->out)
                     : curvature && smooth(t->method, a)) {
                 st->culled_curvature++;
                 continue;
@@ -194,8 +205,9 @@ static int broad_phase(traversal *t) {
         }
         if (curvature ? jointly_smooth(t->method, a, b) &&
                             selfcol_hierarchy__adjacent(t->h[0], a, b)
-                      : exact_pairs && selfcol_contour__pair_skippable(t->h[0], p.a, p.b,
-                                                                       t->q->distance, t->q->out)) {
+                      : exact_pairs && a->tri_count + b->tri_count >= CONTOUR_MIN_TRIANGLES &&
+                            selfcol_contour__pair_skippable(t->h[0], p.a, p.b, t->q->distance,
+                                                            t->q->out)) {
             st->culled_adjacency++;
             continue;
         }
