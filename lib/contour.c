@@ -88,9 +88,9 @@
 
 // One boundary half-edge in the projection plane.
 typedef struct projected_edge {
-    double x0, y0, x1, y1; // endpoints (from, to) in the plane basis (e1, e2)
+    double x0, y0, x1, y1;         // endpoints (from, to) in the plane basis (e1, e2)
     double lo_x, lo_y, hi_x, hi_y; // box, grown by the margin
-    uint32_t from, to;     // mesh vertices
+    uint32_t from, to;             // mesh vertices
 } projected_edge;
 
 // One entry of the hashed grid: an edge whose box (grown by the margin)
@@ -155,8 +155,8 @@ static int edges_clear(const selfcol_mesh *m, const projected_edge *e, const pro
         // Consecutive: they may not fold back onto each other. The shared
         // vertex w, the other ends u (of the earlier edge) and x.
         const projected_edge *first = e->to == f->from ? e : f, *second = first == e ? f : e;
-        if (side(m, first->from, first->to, second->to, first->x0, first->y0, first->x1,
-                 first->y1, second->x1, second->y1, v, bound) == 0) {
+        if (side(m, first->from, first->to, second->to, first->x0, first->y0, first->x1, first->y1,
+                 second->x1, second->y1, v, bound) == 0) {
             double dot = (first->x0 - first->x1) * (second->x1 - second->x0) +
                          (first->y0 - first->y1) * (second->y1 - second->y0);
             if (dot > 0.0)
@@ -175,10 +175,9 @@ static int edges_clear(const selfcol_mesh *m, const projected_edge *e, const pro
     int o1 = side(m, e->from, e->to, f->from, e->x0, e->y0, e->x1, e->y1, f->x0, f->y0, v, bound);
     int o2 = side(m, e->from, e->to, f->to, e->x0, e->y0, e->x1, e->y1, f->x1, f->y1, v, bound);
     if (o1 * o2 <= 0) {
-        int o3 = side(m, f->from, f->to, e->from, f->x0, f->y0, f->x1, f->y1, e->x0, e->y0, v,
-                      bound);
-        int o4 = side(m, f->from, f->to, e->to, f->x0, f->y0, f->x1, f->y1, e->x1, e->y1, v,
-                      bound);
+        int o3 =
+            side(m, f->from, f->to, e->from, f->x0, f->y0, f->x1, f->y1, e->x0, e->y0, v, bound);
+        int o4 = side(m, f->from, f->to, e->to, f->x0, f->y0, f->x1, f->y1, e->x1, e->y1, v, bound);
         if (o3 * o4 <= 0) {
             if (o1 != 0 || o2 != 0 || o3 != 0 || o4 != 0)
                 return 0; // they cross or touch
@@ -406,8 +405,8 @@ static double angle_between_units(const double u[3], const double v[3]) {
     return acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
 }
 
-int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib,
-                                    double d, selfcol_contacts *scratch_owner) {
+int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib, double d,
+                                    selfcol_contacts *scratch_owner) {
     const selfcol_node *na = &h->nodes[ia], *nb = &h->nodes[ib];
     const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
     if ((na->flags & nb->flags & need) != need || !(na->cone_angle < HALF_PI) ||
@@ -457,8 +456,8 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     if (!(theta < HALF_PI))
         return 0;
     // (3)
-    double h_min = h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia]
-                                                              : h->min_altitude[ib];
+    double h_min =
+        h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia] : h->min_altitude[ib];
     if (!(d <= h_min * cos(theta)))
         return 0;
 

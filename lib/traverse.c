@@ -72,9 +72,6 @@ static int boxes_apart(const selfcol_node *a, const selfcol_node *b, double d) {
     return 0;
 }
 
-
-
-
 // EXACT tries its contour proof only on nodes and node pairs of at least
 // this many triangles: below, the narrow phase over the few triangle pairs
 // costs about what the proof does (crumpled 20k sheet, d = 0.1 x mean edge:
@@ -107,9 +104,10 @@ static int jointly_smooth(uint32_t method, const selfcol_node *a, const selfcol_
     for (int k = 0; k < 3; ++k)
         c += (double)a->cone_axis[k] * (double)b->cone_axis[k];
     double phi = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
-    double lo = phi + b->cone_angle <= a->cone_angle   ? a->cone_angle
-                : phi + a->cone_angle <= b->cone_angle ? b->cone_angle
-                                                       : 0.5 * (a->cone_angle + phi + b->cone_angle);
+    double lo = phi + b->cone_angle <= a->cone_angle ? a->cone_angle
+                : phi + a->cone_angle <= b->cone_angle
+                    ? b->cone_angle
+                    : 0.5 * (a->cone_angle + phi + b->cone_angle);
     return lo < HALF_PI;
 }
 
@@ -169,8 +167,8 @@ static int broad_phase(traversal *t) {
     const int self = t->q->self;
     // SEED and CONE cull adjacent pairs by joint curvature; EXACT by the
     // joint curvature and contour criterion of contour.c.
-    const int curvature = self && (t->method == SELFCOL_METHOD_SEED ||
-                                   t->method == SELFCOL_METHOD_CONE);
+    const int curvature =
+        self && (t->method == SELFCOL_METHOD_SEED || t->method == SELFCOL_METHOD_CONE);
     const int exact_pairs = self && t->method == SELFCOL_METHOD_EXACT;
     const selfcol_node *n0 = t->h[0]->nodes, *n1 = t->h[1]->nodes;
     int status = push(t, 0, 0, 0);
@@ -181,8 +179,7 @@ static int broad_phase(traversal *t) {
         if (self && p.a == p.b) {
             if (t->method == SELFCOL_METHOD_EXACT
                     ? a->tri_count >= CONTOUR_MIN_TRIANGLES &&
-                          selfcol_contour__self_skippable(t->h[0], p.a, t->q->distance,
-                                                          t->q->out)
+                          selfcol_contour__self_skippable(t->h[0], p.a, t->q->distance, t->q->out)
                     : curvature && smooth(t->method, a)) {
                 st->culled_curvature++;
                 continue;
@@ -203,11 +200,11 @@ static int broad_phase(traversal *t) {
             st->culled_box++;
             continue;
         }
-        if (curvature ? jointly_smooth(t->method, a, b) &&
-                            selfcol_hierarchy__adjacent(t->h[0], a, b)
-                      : exact_pairs && a->tri_count + b->tri_count >= CONTOUR_MIN_TRIANGLES &&
-                            selfcol_contour__pair_skippable(t->h[0], p.a, p.b, t->q->distance,
-                                                            t->q->out)) {
+        if (curvature
+                ? jointly_smooth(t->method, a, b) && selfcol_hierarchy__adjacent(t->h[0], a, b)
+                : exact_pairs && a->tri_count + b->tri_count >= CONTOUR_MIN_TRIANGLES &&
+                      selfcol_contour__pair_skippable(t->h[0], p.a, p.b, t->q->distance,
+                                                      t->q->out)) {
             st->culled_adjacency++;
             continue;
         }
@@ -219,8 +216,8 @@ static int broad_phase(traversal *t) {
         int split_a = b->child_count == 0 || (a->child_count > 0 && a->tri_count >= b->tri_count);
         const selfcol_node *s = split_a ? a : b;
         for (uint32_t i = 0; i < s->child_count && status == SELFCOL_OK; ++i)
-            status = split_a ? push(t, 0, s->first_child + i, p.b)
-                             : push(t, 0, p.a, s->first_child + i);
+            status =
+                split_a ? push(t, 0, s->first_child + i, p.b) : push(t, 0, p.a, s->first_child + i);
     }
     return status;
 }
