@@ -251,67 +251,82 @@ static int point_near(const double *p, const box3 *b, double d) {
     return 1;
 }
 
-// Vertices owned by triangle ta (mesh ma) against triangle tb (mesh mb), and
-// edges owned by ta against tb. Each primitive test is preceded by the same
+// One triangle of a pair, with what the primitive tests need: its corners,
+// its box, and the vertices and edges it owns (with the edges' boxes).
+typedef struct triangle_view {
+    uint32_t id;
+    const uint32_t *corner; // the triangle's three vertex indices
+    box3 box;
+    uint32_t vertex[3]; // owned vertices
+    int vertex_count;
+    uint32_t edge[3];            // owned edges
+    const uint32_t *edge_end[3]; // their two vertices
+    box3 edge_box[3];
+    int edge_count;
+} triangle_view;
+
+static void view_triangle(triangle_view *v, const selfcol_hierarchy *h, uint32_t t) {
+    const selfcol_mesh *m = h->mesh;
+    const uint8_t owned = h->owned[t];
+    v->id = t;
+    v->corner = m->triangles + 3 * (size_t)t;
+    triangle_box(m, t, v->box.lo, v->box.hi);
+    v->vertex_count = v->edge_count = 0;
+    for (int i = 0; i < 3; ++i) {
+        if (owned & SELFCOL_OWNS_VERTEX(i))
+            v->vertex[v->vertex_count++] = v->corner[i];
+        if (owned & SELFCOL_OWNS_EDGE(i)) {
+            uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)i];
+            const uint32_t *ends = m->edges + 2 * (size_t)e;
+            v->edge[v->edge_count] = e;
+            v->edge_end[v->edge_count] = ends;
+            segment_box(&v->edge_box[v->edge_count], selfcol_mesh__position(m, ends[0]),
+                        selfcol_mesh__position(m, ends[1]));
+            v->edge_count++;
+        }
+    }
+}
+
+// Vertices owned by triangle a (mesh ma) against triangle b (mesh mb), and
+// edges owned by a against b. Each primitive test is preceded by the same
 // conservative box rejection as the exhaustive reference.
-static int one_way(traversal *t, int ma, uint32_t ta, int mb, uint32_t tb, const box3 *box_b) {
-    const selfcol_mesh *A = t->q->mesh[ma], *B = t->q->mesh[mb];
-    const uint8_t owned = t->h[ma]->owned[ta];
-    const uint32_t *tri_a = A->triangles + 3 * (size_t)ta, *tri_b = B->triangles + 3 * (size_t)tb;
+static int one_way(traversal *t, int ma, const triangle_view *a, int mb, const triangle_view *b) {
+    const selfcol_mesh *A = t->q->mesh[ma];
     const int self = t->q->self;
     const double d = t->q->distance;
     int status = SELFCOL_OK;
-    for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
-        if ((t->q->kinds & SELFCOL_KIND_VF) && (owned & SELFCOL_OWNS_VERTEX(i)) &&
-            !(self && is_corner(tri_a[i], tri_b)) &&
-            point_near(selfcol_mesh__position(A, tri_a[i]), box_b, d))
-            status = selfcol_query__test_vf(t->q, ma, tri_a[i], mb, tb);
-        if (status == SELFCOL_OK && (t->q->kinds & SELFCOL_KIND_EF) &&
-            (owned & SELFCOL_OWNS_EDGE(i))) {
-            uint32_t e = A->triangle_edges[3 * (size_t)ta + (size_t)i];
-            const uint32_t *ev = A->edges + 2 * (size_t)e;
-            box3 eb;
-            segment_box(&eb, selfcol_mesh__position(A, ev[0]), selfcol_mesh__position(A, ev[1]));
-            if (!(self && (is_corner(ev[0], tri_b) || is_corner(ev[1], tri_b))) &&
-                near(&eb, box_b, 0.0))
-                status = selfcol_query__test_ef(t->q, ma, e, mb, tb);
+    if (t->q->kinds & SELFCOL_KIND_VF)
+        for (int i = 0; i < a->vertex_count && status == SELFCOL_OK; ++i)
+            if (!(self && is_corner(a->vertex[i], b->corner)) &&
+                point_near(selfcol_mesh__position(A, a->vertex[i]), &b->box, d))
+                status = selfcol_query__test_vf(t->q, ma, a->vertex[i], mb, b->id);
+    if (t->q->kinds & SELFCOL_KIND_EF)
+        for (int k = 0; k < a->edge_count && status == SELFCOL_OK; ++k) {
+            const uint32_t *ev = a->edge_end[k];
+            if (!(self && (is_corner(ev[0], b->corner) || is_corner(ev[1], b->corner))) &&
+                near(&a->edge_box[k], &b->box, 0.0))
+                status = selfcol_query__test_ef(t->q, ma, a->edge[k], mb, b->id);
         }
-    }
     return status;
 }
 
-static int triangle_pair(traversal *t, uint32_t t0, uint32_t t1) {
-    const selfcol_mesh *A = t->q->mesh[0], *B = t->q->mesh[1];
-    box3 b0, b1;
-    triangle_box(A, t0, b0.lo, b0.hi);
-    triangle_box(B, t1, b1.lo, b1.hi);
-    int status = one_way(t, 0, t0, 1, t1, &b1);
+static int triangle_pair(traversal *t, const triangle_view *a, const triangle_view *b) {
+    int status = one_way(t, 0, a, 1, b);
     if (status == SELFCOL_OK)
-        status = one_way(t, 1, t1, 0, t0, &b0);
+        status = one_way(t, 1, b, 0, a);
     if (status != SELFCOL_OK || !(t->q->kinds & SELFCOL_KIND_EE))
         return status;
-    const uint8_t own0 = t->h[0]->owned[t0], own1 = t->h[1]->owned[t1];
     const double d = t->q->distance;
-    for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
-        if (!(own0 & SELFCOL_OWNS_EDGE(i)))
+    for (int i = 0; i < a->edge_count && status == SELFCOL_OK; ++i) {
+        if (!near(&a->edge_box[i], &b->box, d))
             continue;
-        uint32_t e = A->triangle_edges[3 * (size_t)t0 + (size_t)i];
-        const uint32_t *ev = A->edges + 2 * (size_t)e;
-        box3 eb;
-        segment_box(&eb, selfcol_mesh__position(A, ev[0]), selfcol_mesh__position(A, ev[1]));
-        if (!near(&eb, &b1, d))
-            continue;
-        for (int j = 0; j < 3 && status == SELFCOL_OK; ++j) {
-            if (!(own1 & SELFCOL_OWNS_EDGE(j)))
-                continue;
-            uint32_t f = B->triangle_edges[3 * (size_t)t1 + (size_t)j];
-            const uint32_t *fv = B->edges + 2 * (size_t)f;
+        const uint32_t e = a->edge[i], *ev = a->edge_end[i];
+        for (int j = 0; j < b->edge_count && status == SELFCOL_OK; ++j) {
+            const uint32_t f = b->edge[j], *fv = b->edge_end[j];
             if (t->q->self &&
                 (ev[0] == fv[0] || ev[0] == fv[1] || ev[1] == fv[0] || ev[1] == fv[1]))
                 continue;
-            box3 fb;
-            segment_box(&fb, selfcol_mesh__position(B, fv[0]), selfcol_mesh__position(B, fv[1]));
-            if (!near(&eb, &fb, d))
+            if (!near(&a->edge_box[i], &b->edge_box[j], d))
                 continue;
             if (t->q->self)
                 status = e < f ? selfcol_query__test_ee(t->q, 0, e, 0, f)
@@ -331,8 +346,16 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     double middle = selfcol_core__seconds();
     q->out->stats.broad_seconds = middle - start;
     q->out->stats.triangle_pairs = t.pair_count;
-    for (size_t i = 0; i < t.pair_count && status == SELFCOL_OK; ++i)
-        status = triangle_pair(&t, t.pairs[i].a, t.pairs[i].b);
+    // Pairs come grouped by their first triangle (leaf_pair's outer loop):
+    // its view is reused while it repeats.
+    triangle_view first, second;
+    first.id = SELFCOL_INVALID_INDEX;
+    for (size_t i = 0; i < t.pair_count && status == SELFCOL_OK; ++i) {
+        if (t.pairs[i].a != first.id)
+            view_triangle(&first, h0, t.pairs[i].a);
+        view_triangle(&second, h1, t.pairs[i].b);
+        status = triangle_pair(&t, &first, &second);
+    }
     q->out->stats.narrow_seconds = selfcol_core__seconds() - middle;
     return status;
 }
