@@ -409,6 +409,9 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
                                     selfcol_contacts *scratch_owner) {
     const selfcol_node *na = &h->nodes[ia], *nb = &h->nodes[ib];
     const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
+    // Leaves keep no boundary list (hierarchy_build.c): not tried.
+    if (na->child_count == 0 || nb->child_count == 0)
+        return 0;
     if ((na->flags & nb->flags & need) != need || !(na->cone_angle < HALF_PI) ||
         !(nb->cone_angle < HALF_PI))
         return 0;

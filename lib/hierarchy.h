@@ -41,7 +41,7 @@ typedef struct selfcol_node {
     uint32_t tri_begin;    // first slot in tri_order
     uint32_t tri_count;    // triangles in the patch
     uint32_t boundary_begin; // slice of the boundary half-edge array
-    uint32_t boundary_count;
+    uint32_t boundary_count; // 0 for a leaf (leaves keep no list)
     uint16_t mask;         // bit j: every triangle normal has a positive dot with direction j
     uint8_t child_count;   // 0 for a leaf
     uint8_t flags;         // SELFCOL_NODE_*
@@ -66,7 +66,8 @@ struct selfcol_hierarchy {
     uint32_t *tri_order;  // triangle_count: triangle in each slot
     uint8_t *owned;       // triangle_count, by triangle index
     uint32_t *bedge;      // boundary half-edges, (edge << 1) | reversed, the patch on
-                          // the left; a node's slice sorted by edge
+                          // the left; a node's slice sorted by edge; internal
+                          // nodes only
     size_t bedge_total;   // entries allocated
     float *min_altitude;  // node_count: lower bound of the patch's triangle altitudes
     uint64_t refit_version; // the mesh's positions_version at the last refit
@@ -82,9 +83,10 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *hierarchy);
 // The 14 sample directions (unnormalised: components in {-1, 0, 1}).
 extern const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3];
 
-// 1 when the two nodes' patches share an edge (their sorted boundary lists
-// meet). Patches touching only at a vertex count as not adjacent, which only
-// costs culling.
+// 1 when the two (disjoint) nodes' patches share a manifold edge: their
+// sorted boundary lists meet, or for a leaf, an edge of its triangles has a
+// triangle of the other node. Patches touching only at a vertex count as
+// not adjacent, which only costs culling.
 int selfcol_hierarchy__adjacent(const selfcol_hierarchy *h, const selfcol_node *a,
                                 const selfcol_node *b);
 

@@ -41,8 +41,8 @@ typedef struct patch_graph {
 
 // Tree under construction (before the breadth-first layout).
 typedef struct build_node {
-    uint32_t first;     // first child in build->children, or first leaf triangle
-    uint32_t count;     // children (internal) or triangles (leaf)
+    uint32_t first; // first child in build->children, or first leaf triangle
+    uint32_t count; // children (internal) or triangles (leaf)
     uint32_t parent;
     uint8_t leaf;
     uint8_t connected;
@@ -205,7 +205,8 @@ static size_t match_round(const patch_graph *g, uint32_t *group, uint32_t *group
         double best_score = DBL_MAX;
         for (uint32_t j = g->adj_off[c]; j < g->adj_off[c + 1]; ++j) {
             uint32_t u = g->adj[j];
-            if (partner[u] == NONE || partner[u] == (uint32_t)c || group_size[group[u]] >= MAX_GROUP)
+            if (partner[u] == NONE || partner[u] == (uint32_t)c ||
+                group_size[group[u]] >= MAX_GROUP)
                 continue;
             double score = merged_half_perimeter(g->box + 6 * c, g->box + 6 * (size_t)u);
             if (score < best_score) {
@@ -262,7 +263,8 @@ static int contract(const selfcol_allocator *al, const patch_graph *g, const uin
             uint32_t c = order[m];
             for (int i = 0; i < 3; ++i) {
                 box[i] = g->box[6 * c + i] < box[i] ? g->box[6 * c + i] : box[i];
-                box[3 + i] = g->box[6 * c + 3 + i] > box[3 + i] ? g->box[6 * c + 3 + i] : box[3 + i];
+                box[3 + i] =
+                    g->box[6 * c + 3 + i] > box[3 + i] ? g->box[6 * c + 3 + i] : box[3 + i];
             }
             for (uint32_t j = g->adj_off[c]; j < g->adj_off[c + 1]; ++j) {
                 uint32_t u = group[g->adj[j]];
@@ -419,7 +421,8 @@ static void orient(selfcol_hierarchy *h, uint32_t *queue, uint8_t *seen, uint8_t
                 uint32_t first = m->edge_tri_offsets[e];
                 if (m->edge_tri_offsets[e + 1] - first != 2)
                     continue; // boundary edge
-                uint32_t u = m->edge_tris[first] == t ? m->edge_tris[first + 1] : m->edge_tris[first];
+                uint32_t u =
+                    m->edge_tris[first] == t ? m->edge_tris[first + 1] : m->edge_tris[first];
                 int same = slot_direction(m, t, i) == slot_direction(m, u, slot_of_edge(m, u, e));
                 int flip_u = flip_t ^ same; // consistent: opposite directions after flips
                 if (!seen[u]) {
@@ -603,7 +606,8 @@ static int build_disks(selfcol_hierarchy *h, const uint32_t *parent, const uint3
             const uint32_t *te = m->triangle_edges + 3 * (size_t)star[j];
             for (int i = 0; i < 3; ++i) {
                 uint32_t e = te[i];
-                if (e == SELFCOL_INVALID_INDEX || (m->edges[2 * e] != v && m->edges[2 * e + 1] != v))
+                if (e == SELFCOL_INVALID_INDEX ||
+                    (m->edges[2 * e] != v && m->edges[2 * e + 1] != v))
                     continue;
                 for (uint32_t q = m->edge_tri_offsets[e]; q < m->edge_tri_offsets[e + 1]; ++q) {
                     uint32_t other = m->edge_tris[q], pos = 0;
@@ -627,9 +631,14 @@ static int build_disks(selfcol_hierarchy *h, const uint32_t *parent, const uint3
     }
     // Counting sort of the half-edges by node. Edges were visited in
     // increasing order, so each node's slice comes out sorted by edge.
+    // Leaves keep no list (a quarter of all entries, ~6 bytes per
+    // triangle): their few triangles give their boundary on demand
+    // (selfcol_hierarchy__adjacent), and EXACT's contour proof does not
+    // try nodes that small. Their counts still decide SELFCOL_NODE_DISK.
     memset(offset, 0, (N + 1) * sizeof(uint32_t));
     for (size_t i = 0; i < l.count; ++i)
         offset[l.node[i] + 1]++;
+    size_t stored = 0;
     for (size_t n = 0; n < N; ++n) {
         selfcol_node *node = &h->nodes[n];
         uint64_t b = offset[n + 1], F = node->tri_count;
@@ -638,16 +647,18 @@ static int build_disks(selfcol_hierarchy *h, const uint32_t *parent, const uint3
         const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED;
         if (disk && (node->flags & need) == need)
             node->flags |= SELFCOL_NODE_DISK;
-        node->boundary_begin = offset[n];
-        node->boundary_count = (uint32_t)b;
-        offset[n + 1] += offset[n];
+        node->boundary_begin = (uint32_t)stored;
+        node->boundary_count = node->child_count == 0 ? 0 : (uint32_t)b;
+        offset[n] = (uint32_t)stored; // from here on: the write position
+        stored += node->boundary_count;
     }
-    h->bedge_total = l.count + 1;
-    h->bedge = selfcol_alloc__array(al, l.count + 1, sizeof(uint32_t));
+    h->bedge_total = stored + 1;
+    h->bedge = selfcol_alloc__array(al, stored + 1, sizeof(uint32_t));
     if (h->bedge == NULL)
         goto done;
     for (size_t i = 0; i < l.count; ++i)
-        h->bedge[offset[l.node[i]]++] = l.half_edge[i];
+        if (h->nodes[l.node[i]].child_count > 0)
+            h->bedge[offset[l.node[i]]++] = l.half_edge[i];
     status = SELFCOL_OK;
 done:
     selfcol_alloc__free_array(al, l.node, l.capacity, sizeof(uint32_t));
@@ -813,8 +824,63 @@ done:
     return status;
 }
 
+// 1 when triangle t is one of node n's (a leaf: a short scan).
+static int leaf_holds(const selfcol_hierarchy *h, const selfcol_node *n, uint32_t t) {
+    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s)
+        if (h->tri_order[s] == t)
+            return 1;
+    return 0;
+}
+
+// 1 when edge e is in the (sorted) boundary list of internal node n.
+static int on_boundary_list(const selfcol_hierarchy *h, const selfcol_node *n, uint32_t e) {
+    const uint32_t *list = h->bedge + n->boundary_begin;
+    uint32_t lo = 0, hi = n->boundary_count;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if ((list[mid] >> 1) < e)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n->boundary_count && (list[lo] >> 1) == e;
+}
+
+// Leaf `leaf` against any node `other` (disjoint from it): some edge of the
+// leaf's triangles has a triangle of `other` -- for an internal node, the
+// edge is then on its boundary list.
+static int leaf_adjacent(const selfcol_hierarchy *h, const selfcol_node *leaf,
+                         const selfcol_node *other) {
+    const selfcol_mesh *m = h->mesh;
+    for (uint32_t s = leaf->tri_begin; s < leaf->tri_begin + leaf->tri_count; ++s) {
+        uint32_t t = h->tri_order[s];
+        for (int k = 0; k < 3; ++k) {
+            uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)k];
+            if (other->child_count > 0) {
+                if (on_boundary_list(h, other, e))
+                    return 1;
+                continue;
+            }
+            // Manifold edges only, as in the boundary lists (an edge of
+            // three or more triangles is on no list).
+            uint32_t first = m->edge_tri_offsets[e];
+            if (m->edge_tri_offsets[e + 1] - first != 2)
+                continue;
+            uint32_t across =
+                m->edge_tris[first] == t ? m->edge_tris[first + 1] : m->edge_tris[first];
+            if (leaf_holds(h, other, across))
+                return 1;
+        }
+    }
+    return 0;
+}
+
 int selfcol_hierarchy__adjacent(const selfcol_hierarchy *h, const selfcol_node *a,
                                 const selfcol_node *b) {
+    if (a->child_count == 0)
+        return leaf_adjacent(h, a, b);
+    if (b->child_count == 0)
+        return leaf_adjacent(h, b, a);
     // Both boundary lists are sorted by edge: a shared edge shows up as the
     // same edge in both (with opposite directions).
     const uint32_t *x = h->bedge + a->boundary_begin, *y = h->bedge + b->boundary_begin;
