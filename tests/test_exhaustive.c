@@ -19,28 +19,8 @@
 
 #include "contact_keys.h"
 #include "scenes.h"
+#include "world.h"
 #include "test_alloc.h"
-
-typedef struct world {
-    selfcol_mesh *mesh;
-    selfcol_hierarchy *hierarchy;
-    selfcol_contacts *contacts;
-} world;
-
-static void world_make(world *w, const scene *s) {
-    memset(w, 0, sizeof *w);
-    assert_int_equal(selfcol_mesh_create(&w->mesh, s->vertex_count, s->positions,
-                                         s->triangle_count, s->triangles, NULL),
-                     SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_create(&w->hierarchy, w->mesh, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&w->contacts, NULL), SELFCOL_OK);
-}
-
-static void world_free(world *w) {
-    selfcol_contacts_destroy(w->contacts);
-    selfcol_hierarchy_destroy(w->hierarchy);
-    selfcol_mesh_destroy(w->mesh);
-}
 
 static const selfcol_contact *run_self(world *w, double d, uint32_t narrow, size_t *count) {
     selfcol_query_options q;

@@ -1,0 +1,27 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+#include "world.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <string.h>
+
+void world_make(world *w, const scene *s) {
+    memset(w, 0, sizeof *w);
+    assert_int_equal(selfcol_mesh_create(&w->mesh, s->vertex_count, s->positions,
+                                         s->triangle_count, s->triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&w->hierarchy, w->mesh, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&w->contacts, NULL), SELFCOL_OK);
+}
+
+void world_free(world *w) {
+    selfcol_contacts_destroy(w->contacts);
+    selfcol_hierarchy_destroy(w->hierarchy);
+    selfcol_mesh_destroy(w->mesh);
+}

@@ -1,0 +1,23 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// A scene loaded into the library: its mesh, a hierarchy over it and a
+// contact set, as most public-API tests need them (creation failures fail
+// the running cmocka test).
+#ifndef SELFCOL_TEST_WORLD_H
+#define SELFCOL_TEST_WORLD_H
+
+#include <selfcol/selfcol.h>
+
+#include "scenes.h"
+
+typedef struct world {
+    selfcol_mesh *mesh;
+    selfcol_hierarchy *hierarchy;
+    selfcol_contacts *contacts;
+} world;
+
+void world_make(world *w, const scene *s);
+void world_free(world *w);
+
+#endif // SELFCOL_TEST_WORLD_H
