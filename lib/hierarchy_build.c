@@ -166,6 +166,30 @@ static void free_graph(const selfcol_allocator *al, patch_graph *g) {
     memset(g, 0, sizeof *g);
 }
 
+// The neighbour of patch c whose merged box with c is the most compact,
+// among the unmatched ones (joining == 0) or among the matched ones whose
+// group has room (joining == 1); SELFCOL_INVALID_INDEX when there is none.
+static uint32_t best_neighbour(const patch_graph *g, size_t c, const uint32_t *partner,
+                               const uint32_t *group, const uint32_t *group_size, int joining) {
+    const uint32_t NONE = SELFCOL_INVALID_INDEX;
+    uint32_t best = NONE;
+    double best_score = DBL_MAX;
+    for (uint32_t j = g->adj_off[c]; j < g->adj_off[c + 1]; ++j) {
+        uint32_t u = g->adj[j];
+        int eligible = joining ? partner[u] != NONE && partner[u] != (uint32_t)c &&
+                                     group_size[group[u]] < MAX_GROUP
+                               : partner[u] == NONE;
+        if (!eligible)
+            continue;
+        double score = merged_half_perimeter(g->box + 6 * c, g->box + 6 * (size_t)u);
+        if (score < best_score) {
+            best_score = score;
+            best = u;
+        }
+    }
+    return best;
+}
+
 // One matching round: group[c] receives the group of patch c; returns the
 // number of groups. group_size is scratch of g->count entries.
 static size_t match_round(const patch_graph *g, uint32_t *group, uint32_t *group_size,
@@ -177,18 +201,7 @@ static size_t match_round(const patch_graph *g, uint32_t *group, uint32_t *group
     for (size_t c = 0; c < g->count; ++c) {
         if (partner[c] != NONE)
             continue;
-        uint32_t best = NONE;
-        double best_score = DBL_MAX;
-        for (uint32_t j = g->adj_off[c]; j < g->adj_off[c + 1]; ++j) {
-            uint32_t u = g->adj[j];
-            if (partner[u] != NONE)
-                continue;
-            double score = merged_half_perimeter(g->box + 6 * c, g->box + 6 * (size_t)u);
-            if (score < best_score) {
-                best_score = score;
-                best = u;
-            }
-        }
+        uint32_t best = best_neighbour(g, c, partner, group, group_size, 0);
         if (best != NONE) {
             partner[c] = best;
             partner[best] = (uint32_t)c;
@@ -201,19 +214,7 @@ static size_t match_round(const patch_graph *g, uint32_t *group, uint32_t *group
     for (size_t c = 0; c < g->count; ++c) {
         if (partner[c] != NONE)
             continue;
-        uint32_t best = NONE;
-        double best_score = DBL_MAX;
-        for (uint32_t j = g->adj_off[c]; j < g->adj_off[c + 1]; ++j) {
-            uint32_t u = g->adj[j];
-            if (partner[u] == NONE || partner[u] == (uint32_t)c ||
-                group_size[group[u]] >= MAX_GROUP)
-                continue;
-            double score = merged_half_perimeter(g->box + 6 * c, g->box + 6 * (size_t)u);
-            if (score < best_score) {
-                best_score = score;
-                best = u;
-            }
-        }
+        uint32_t best = best_neighbour(g, c, partner, group, group_size, 1);
         partner[c] = (uint32_t)c; // handled
         if (best != NONE) {
             group[c] = group[best];
