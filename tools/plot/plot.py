@@ -334,16 +334,23 @@ def table_headlines(rows):
     for m in ("EXACT", "BVH", "SEED"):
         ratio_line("sphere", m, "< 5% at 1M (exact method)" if m == "EXACT" else "(comparison)")
 
-    def bullet_ratio(df):
+    def largest_crumpled_with_exact(df, method):
+        """The largest crumpled case run by `method` at df, and EXACT's row on it."""
         best = None
         for r in rows:
-            if r["scene"] == "crumpled" and r["df"] == df and r["m"] == "BULLET":
+            if r["scene"] == "crumpled" and r["df"] == df and r["m"] == method:
                 if best is None or r["triangles"] > best["triangles"]:
                     best = r
         if best is None:
-            return "-"
+            return None, None
         e = pick(rows, best["case"], df, "EXACT")
         if e is None or e["frame_ms"] <= 0:
+            return None, None
+        return best, e
+
+    def bullet_ratio(df):
+        best, e = largest_crumpled_with_exact(df, "BULLET")
+        if best is None:
             return "-"
         return "%.2fx (Bullet %s + %s ms, EXACT %s + %s ms; %s tri, scale x%g)" % (
             best["frame_ms"] / e["frame_ms"], fmt_ms(best["refit_ms"]), fmt_ms(best["query_ms"]),
@@ -352,15 +359,8 @@ def table_headlines(rows):
     out.append("| crumpled, largest with Bullet: Bullet (refit + self-collision) / EXACT frame | %s | %s | >= 20x at 200k |" % (a, b))
 
     def ipc_ratio(df):
-        best = None
-        for r in rows:
-            if r["m"] == "IPCTK" and r["df"] == df and r["scene"] == "crumpled":
-                if best is None or r["triangles"] > best["triangles"]:
-                    best = r
+        best, e = largest_crumpled_with_exact(df, "IPCTK")
         if best is None:
-            return "-"
-        e = pick(rows, best["case"], df, "EXACT")
-        if e is None or e["frame_ms"] <= 0:
             return "-"
         return "%.2fx (ipctk %s ms, EXACT %s ms; %s tri; ipctk misses %d EF it cannot report, %d other)" % (
             best["frame_ms"] / e["frame_ms"], fmt_ms(best["frame_ms"]), fmt_ms(e["frame_ms"]),
