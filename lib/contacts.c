@@ -7,7 +7,6 @@
 #include "core.h"
 
 #include <stddef.h>
-#include <stdlib.h>
 #include <string.h>
 
 int selfcol_contacts_options_init(selfcol_contacts_options *opts, unsigned int version) {
@@ -43,6 +42,8 @@ void selfcol_contacts_destroy(selfcol_contacts *contacts) {
     selfcol_allocator allocator = contacts->allocator;
     selfcol_alloc__free_array(&allocator, contacts->items, contacts->capacity,
                               sizeof(selfcol_contact));
+    selfcol_alloc__free_array(&allocator, contacts->spare, contacts->spare_capacity,
+                              sizeof(selfcol_contact));
     for (int i = 0; i < SELFCOL_SCRATCH_SLOTS; ++i)
         selfcol_alloc__free(&allocator, contacts->scratch[i], contacts->scratch_bytes[i]);
     selfcol_alloc__free(&allocator, contacts, sizeof *contacts);
@@ -76,7 +77,8 @@ int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats
     // knows (its struct may be shorter than ours).
     static const size_t size_of_version[SELFCOL_QUERY_STATS_VERSION + 1] = {
         0, offsetof(selfcol_query_stats, nodes_visited),
-        offsetof(selfcol_query_stats, contour_tests), sizeof(selfcol_query_stats)};
+        offsetof(selfcol_query_stats, contour_tests),
+        offsetof(selfcol_query_stats, pairs_separated), sizeof(selfcol_query_stats)};
     unsigned int version = stats->version;
     memcpy(stats, &contacts->stats, size_of_version[version]);
     stats->version = version;
@@ -86,7 +88,8 @@ int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats
 size_t selfcol_contacts_byte_count(const selfcol_contacts *contacts) {
     if (contacts == NULL)
         return 0;
-    size_t bytes = sizeof *contacts + contacts->capacity * sizeof(selfcol_contact);
+    size_t bytes = sizeof *contacts +
+                   (contacts->capacity + contacts->spare_capacity) * sizeof(selfcol_contact);
     for (int i = 0; i < SELFCOL_SCRATCH_SLOTS; ++i)
         bytes += contacts->scratch_bytes[i];
     return bytes;
@@ -126,21 +129,92 @@ void *selfcol_contacts__scratch(selfcol_contacts *c, int slot, size_t bytes, siz
     return buffer;
 }
 
-static int contact_compare(const void *pa, const void *pb) {
-    const selfcol_contact *a = pa, *b = pb;
+static int contact_less(const selfcol_contact *a, const selfcol_contact *b) {
     const uint32_t ka[5] = {a->kind, a->first_mesh, a->first, a->second_mesh, a->second};
     const uint32_t kb[5] = {b->kind, b->first_mesh, b->first, b->second_mesh, b->second};
     for (int i = 0; i < 5; ++i)
         if (ka[i] != kb[i])
-            return ka[i] < kb[i] ? -1 : 1;
+            return ka[i] < kb[i];
     return 0;
 }
 
-void selfcol_contacts__sort(selfcol_contacts *c) {
-    for (size_t i = 1; i < c->count; ++i) {
-        if (contact_compare(&c->items[i - 1], &c->items[i]) > 0) {
-            qsort(c->items, c->count, sizeof(selfcol_contact), contact_compare);
-            return;
-        }
+// Sort keys: (kind, first_mesh, first) in hi (35 bits) and (second_mesh,
+// second) in lo (33 bits); an LSD radix sort on lo, then on hi, orders the
+// records lexicographically. Digits of 11 bits: 3 passes cover lo, 4 cover
+// hi, and a pass whose digit is the same for every key is skipped (indices
+// of a 100k-triangle mesh need 2 of the 3, a self query none of the mesh
+// bits), so a typical sort makes 5 passes over 24-byte items.
+typedef struct sort_item {
+    uint64_t hi, lo;
+    uint64_t index;
+} sort_item;
+
+#define RADIX_BITS 11
+#define RADIX_SIZE (1u << RADIX_BITS)
+#define RADIX_PASSES 7 // 3 over lo, then 4 over hi
+
+static uint32_t digit_of(const sort_item *it, int pass) {
+    uint64_t key = pass < 3 ? it->lo : it->hi;
+    int shift = RADIX_BITS * (pass < 3 ? pass : pass - 3);
+    return (uint32_t)(key >> shift) & (RADIX_SIZE - 1u);
+}
+
+int selfcol_contacts__sort(selfcol_contacts *c) {
+    size_t n = c->count;
+    size_t i = 1;
+    while (i < n && !contact_less(&c->items[i], &c->items[i - 1]))
+        ++i;
+    if (i >= n)
+        return SELFCOL_OK; // already sorted (the exhaustive search emits in order)
+    if (n > (SIZE_MAX - RADIX_PASSES * RADIX_SIZE * sizeof(size_t)) / (2 * sizeof(sort_item)))
+        return SELFCOL_ENOMEM;
+    size_t bytes = 2 * n * sizeof(sort_item) + RADIX_PASSES * RADIX_SIZE * sizeof(size_t);
+    sort_item *items = selfcol_contacts__scratch(c, SELFCOL_SCRATCH_SORT, bytes, 0);
+    if (items == NULL)
+        return SELFCOL_ENOMEM;
+    if (c->spare_capacity < c->capacity) {
+        selfcol_contact *spare = selfcol_alloc__array(&c->allocator, c->capacity, sizeof *spare);
+        if (spare == NULL)
+            return SELFCOL_ENOMEM;
+        selfcol_alloc__free_array(&c->allocator, c->spare, c->spare_capacity, sizeof *spare);
+        c->spare = spare;
+        c->spare_capacity = c->capacity;
     }
+    sort_item *other = items + n;
+    size_t *count = (size_t *)(other + n);
+    memset(count, 0, RADIX_PASSES * RADIX_SIZE * sizeof *count);
+    for (i = 0; i < n; ++i) {
+        const selfcol_contact *r = &c->items[i];
+        sort_item *it = &items[i];
+        it->hi = ((uint64_t)(r->kind * 2u + r->first_mesh) << 32) | r->first;
+        it->lo = ((uint64_t)r->second_mesh << 32) | r->second;
+        it->index = i;
+        for (int pass = 0; pass < RADIX_PASSES; ++pass)
+            count[pass * RADIX_SIZE + digit_of(it, pass)]++;
+    }
+    for (int pass = 0; pass < RADIX_PASSES; ++pass) {
+        size_t *bucket = count + pass * RADIX_SIZE;
+        if (bucket[digit_of(&items[0], pass)] == n)
+            continue; // every key has this digit
+        size_t sum = 0;
+        for (uint32_t b = 0; b < RADIX_SIZE; ++b) {
+            size_t k = bucket[b];
+            bucket[b] = sum;
+            sum += k;
+        }
+        for (i = 0; i < n; ++i)
+            other[bucket[digit_of(&items[i], pass)]++] = items[i];
+        sort_item *swap = items;
+        items = other;
+        other = swap;
+    }
+    for (i = 0; i < n; ++i)
+        c->spare[i] = c->items[items[i].index];
+    selfcol_contact *swap = c->items;
+    c->items = c->spare;
+    c->spare = swap;
+    size_t capacity = c->capacity;
+    c->capacity = c->spare_capacity;
+    c->spare_capacity = capacity;
+    return SELFCOL_OK;
 }

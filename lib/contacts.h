@@ -10,7 +10,17 @@
 #include <selfcol/contacts.h>
 
 // Scratch buffers kept by the contact set for the queries that fill it.
-#define SELFCOL_SCRATCH_SLOTS 3
+enum {
+    SELFCOL_SCRATCH_STACK = 0,   // traversal stack; the exhaustive search's boxes
+    SELFCOL_SCRATCH_PAIRS = 1,   // candidate triangle pairs
+    SELFCOL_SCRATCH_CONTOUR = 2, // contour.c's work area
+    SELFCOL_SCRATCH_FRAMES0 = 3, // per-triangle frame data, first hierarchy (by slot)
+    SELFCOL_SCRATCH_FRAMES1 = 4, // the same, second hierarchy of a two-mesh query
+    SELFCOL_SCRATCH_STAMPS0 = 5, // per-leaf: query serial at which its frames were computed
+    SELFCOL_SCRATCH_STAMPS1 = 6,
+    SELFCOL_SCRATCH_SORT = 7,    // radix-sort keys (two halves)
+    SELFCOL_SCRATCH_SLOTS = 8
+};
 
 struct selfcol_contacts {
     selfcol_allocator allocator;
@@ -19,6 +29,9 @@ struct selfcol_contacts {
     size_t capacity;
     void *scratch[SELFCOL_SCRATCH_SLOTS];
     size_t scratch_bytes[SELFCOL_SCRATCH_SLOTS];
+    selfcol_contact *spare; // the sort's destination, swapped with items
+    size_t spare_capacity;
+    uint32_t serial; // bumped by every hierarchy query: validates the leaf stamps
     selfcol_query_stats stats; // always the latest version
 };
 
@@ -31,8 +44,10 @@ int selfcol_contacts__push(selfcol_contacts *contacts, const selfcol_contact *co
 // failure (the old buffer stays valid).
 void *selfcol_contacts__scratch(selfcol_contacts *contacts, int slot, size_t bytes, size_t keep);
 
-// Sorts the records by (kind, first_mesh, first, second_mesh, second); O(n)
-// when they already are.
-void selfcol_contacts__sort(selfcol_contacts *contacts);
+// Sorts the records by (kind, first_mesh, first, second_mesh, second): an LSD
+// radix sort of their keys, then one permutation of the records. O(n); no
+// allocation once the spare buffer has grown. SELFCOL_OK or SELFCOL_ENOMEM
+// (the records are then left unsorted).
+int selfcol_contacts__sort(selfcol_contacts *contacts);
 
 #endif // SELFCOL_CONTACTS_INTERNAL_H

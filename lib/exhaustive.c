@@ -82,7 +82,7 @@ static int run_vf(selfcol_query *q, int mv, int mt, const mesh_boxes *boxes) {
             q->out->stats.candidate_pairs++;
             if (!point_near_box(p, &boxes[mt].triangles[t], q->distance))
                 continue;
-            int status = selfcol_query__test_vf(q, mv, v, mt, t);
+            int status = selfcol_pairs__test_vf(q, mv, v, mt, t);
             if (status != SELFCOL_OK)
                 return status;
         }
@@ -104,7 +104,7 @@ static int run_ee(selfcol_query *q, const mesh_boxes *boxes) {
             q->out->stats.candidate_pairs++;
             if (!boxes_near(&boxes[0].edges[e], &boxes[1].edges[f], q->distance))
                 continue;
-            int status = selfcol_query__test_ee(q, 0, e, 1, f);
+            int status = selfcol_pairs__test_ee(q, 0, e, 1, f);
             if (status != SELFCOL_OK)
                 return status;
         }
@@ -124,7 +124,7 @@ static int run_ef(selfcol_query *q, int me, int mt, const mesh_boxes *boxes) {
             q->out->stats.candidate_pairs++;
             if (!boxes_near(&boxes[me].edges[e], &boxes[mt].triangles[t], 0.0))
                 continue;
-            int status = selfcol_query__test_ef(q, me, e, mt, t);
+            int status = selfcol_pairs__test_ef(q, me, e, mt, t);
             if (status != SELFCOL_OK)
                 return status;
         }
@@ -139,7 +139,7 @@ int selfcol_exhaustive__run(selfcol_query *q) {
         box_count += q->mesh[m]->triangle_count + q->mesh[m]->edge_count;
     if (box_count > SIZE_MAX / sizeof(box))
         return SELFCOL_ENOMEM;
-    box *scratch = selfcol_contacts__scratch(q->out, 0, box_count * sizeof(box), 0);
+    box *scratch = selfcol_contacts__scratch(q->out, SELFCOL_SCRATCH_STACK, box_count * sizeof(box), 0);
     if (scratch == NULL)
         return SELFCOL_ENOMEM;
     mesh_boxes boxes[2];

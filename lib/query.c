@@ -1,14 +1,13 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Collision queries: option checking, dispatch to a search method, and the
-// primitive tests every method shares (narrow-phase choice, record filling,
-// statistics).
+// Collision queries: option checking and dispatch, the first stage of the
+// pipeline (dispatch here -> candidates from traverse.c or exhaustive.c ->
+// primitive-pair tests in pairs.c -> sorted records in contacts.c).
 #include "query.h"
 
 #include "core.h"
 #include "hierarchy.h"
-#include "narrow.h"
 
 #include <math.h>
 #include <string.h>
@@ -24,92 +23,6 @@ int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version
     opts->kinds = SELFCOL_KIND_ALL;
     opts->distance = 0.0;
     return SELFCOL_OK;
-}
-
-static void fill_record(const selfcol_query *q, selfcol_contact *c, selfcol_contact_kind kind,
-                        int m_first, uint32_t first, int m_second, uint32_t second,
-                        const selfcol_narrow_result *r) {
-    c->kind = (uint32_t)kind;
-    c->first = first;
-    c->second = second;
-    // A self query reads both sides from mesh[0] == mesh[1]: both are mesh 0.
-    c->first_mesh = q->self ? 0u : (uint32_t)m_first;
-    c->second_mesh = q->self ? 0u : (uint32_t)m_second;
-    c->distance = r->distance;
-    memcpy(c->wa, r->wa, sizeof c->wa);
-    memcpy(c->wb, r->wb, sizeof c->wb);
-    memcpy(c->direction, r->direction, sizeof c->direction);
-}
-
-int selfcol_query__test_vf(selfcol_query *q, int mv, uint32_t v, int mt, uint32_t t) {
-    const selfcol_mesh *meshv = q->mesh[mv], *mesht = q->mesh[mt];
-    const uint32_t *tri = mesht->triangles + 3 * (size_t)t;
-    const double *p = selfcol_mesh__position(meshv, v);
-    const double *a = selfcol_mesh__position(mesht, tri[0]);
-    const double *b = selfcol_mesh__position(mesht, tri[1]);
-    const double *c = selfcol_mesh__position(mesht, tri[2]);
-    selfcol_narrow_result r;
-    double dist = q->narrow == SELFCOL_NARROW_LIBCCD
-                      ? selfcol_narrow_ccd__vf(p, a, b, c, q->distance, q->ccd_tolerance, &r)
-                      : selfcol_narrow__vf(p, a, b, c, &r);
-    q->out->stats.vf_tests++;
-    if (!(dist < q->distance))
-        return SELFCOL_OK;
-    selfcol_contact rec;
-    fill_record(q, &rec, SELFCOL_CONTACT_VF, mv, v, mt, t, &r);
-    rec.a[0] = rec.a[1] = v;
-    memcpy(rec.b, tri, sizeof rec.b);
-    q->out->stats.vf_contacts++;
-    return selfcol_contacts__push(q->out, &rec);
-}
-
-int selfcol_query__test_ee(selfcol_query *q, int me, uint32_t e, int mf, uint32_t f) {
-    const uint32_t *ev = q->mesh[me]->edges + 2 * (size_t)e;
-    const uint32_t *fv = q->mesh[mf]->edges + 2 * (size_t)f;
-    const double *p0 = selfcol_mesh__position(q->mesh[me], ev[0]);
-    const double *p1 = selfcol_mesh__position(q->mesh[me], ev[1]);
-    const double *q0 = selfcol_mesh__position(q->mesh[mf], fv[0]);
-    const double *q1 = selfcol_mesh__position(q->mesh[mf], fv[1]);
-    selfcol_narrow_result r;
-    double dist = q->narrow == SELFCOL_NARROW_LIBCCD
-                      ? selfcol_narrow_ccd__ee(p0, p1, q0, q1, q->distance, q->ccd_tolerance, &r)
-                      : selfcol_narrow__ee(p0, p1, q0, q1, &r);
-    q->out->stats.ee_tests++;
-    if (!(dist < q->distance))
-        return SELFCOL_OK;
-    selfcol_contact rec;
-    fill_record(q, &rec, SELFCOL_CONTACT_EE, me, e, mf, f, &r);
-    rec.a[0] = ev[0];
-    rec.a[1] = ev[1];
-    rec.b[0] = fv[0];
-    rec.b[1] = fv[1];
-    rec.b[2] = SELFCOL_INVALID_INDEX;
-    q->out->stats.ee_contacts++;
-    return selfcol_contacts__push(q->out, &rec);
-}
-
-int selfcol_query__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_t t) {
-    const uint32_t *ev = q->mesh[me]->edges + 2 * (size_t)e;
-    const uint32_t *tri = q->mesh[mt]->triangles + 3 * (size_t)t;
-    const double *p0 = selfcol_mesh__position(q->mesh[me], ev[0]);
-    const double *p1 = selfcol_mesh__position(q->mesh[me], ev[1]);
-    const double *a = selfcol_mesh__position(q->mesh[mt], tri[0]);
-    const double *b = selfcol_mesh__position(q->mesh[mt], tri[1]);
-    const double *c = selfcol_mesh__position(q->mesh[mt], tri[2]);
-    selfcol_narrow_result r;
-    int hit = q->narrow == SELFCOL_NARROW_LIBCCD
-                  ? selfcol_narrow_ccd__ef(p0, p1, a, b, c, q->ccd_tolerance, &r)
-                  : selfcol_narrow__ef(p0, p1, a, b, c, &r);
-    q->out->stats.ef_tests++;
-    if (!hit)
-        return SELFCOL_OK;
-    selfcol_contact rec;
-    fill_record(q, &rec, SELFCOL_CONTACT_EF, me, e, mt, t, &r);
-    rec.a[0] = ev[0];
-    rec.a[1] = ev[1];
-    memcpy(rec.b, tri, sizeof rec.b);
-    q->out->stats.ef_contacts++;
-    return selfcol_contacts__push(q->out, &rec);
 }
 
 static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
@@ -149,12 +62,16 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     int status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
                      ? selfcol_exhaustive__run(&q)
                      : selfcol_traverse__run(&q, first, second, opts->method);
+    double sort_start = selfcol_core__seconds();
+    if (status == SELFCOL_OK)
+        status = selfcol_contacts__sort(contacts);
     if (status != SELFCOL_OK) {
         selfcol_contacts_clear(contacts);
         return status;
     }
-    selfcol_contacts__sort(contacts);
-    contacts->stats.total_seconds = selfcol_core__seconds() - start;
+    double end = selfcol_core__seconds();
+    contacts->stats.sort_seconds = end - sort_start;
+    contacts->stats.total_seconds = end - start;
     return SELFCOL_OK;
 }
 

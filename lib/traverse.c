@@ -19,14 +19,13 @@
 //    Pair(a, b) of adjacent nodes, only when contour.c proves the patch (or
 //    the union of the two patches) free of contacts; it is exact too.
 //
-// 2. Narrow phase. Each triangle pair generates the primitive pairs made of a
-//    vertex or edge *owned* by one triangle and the other triangle (or an
-//    owned edge of the other): every vertex and edge has exactly one owner
-//    triangle, and every triangle pair is listed at most once, so every
-//    primitive pair is tested at most once. For a self query, pairs sharing a
-//    vertex are dropped before any test. Ownership keeps the broad phase
-//    sound: a vertex within d of a triangle lies in its owner's box, so the
-//    owner's box is within d of the triangle's box too.
+// 2. The candidate triangle pairs go to the pair tests of pairs.c.
+//
+// The box, normal and error scale of each triangle are computed once per
+// query, when the traversal first reaches its leaf (a per-leaf stamp holds
+// the query's serial), and laid out by slot so that a leaf pair reads
+// contiguous memory; a flat sheet that EXACT culls near the root computes
+// none of them.
 #include "query.h"
 
 #include "core.h"
@@ -34,9 +33,9 @@
 
 #include <math.h>
 
-typedef struct node_pair {
-    uint32_t a, b;
-} node_pair;
+#include <string.h>
+
+typedef selfcol_slot_pair node_pair;
 
 typedef struct traversal {
     selfcol_query *q;
@@ -44,8 +43,11 @@ typedef struct traversal {
     uint32_t method;
     node_pair *stack;
     size_t stack_size, stack_capacity;
-    node_pair *pairs; // triangle pairs (t0 of mesh 0, t1 of mesh 1)
+    node_pair *pairs; // triangle pairs (slot of hierarchy 0, slot of hierarchy 1)
     size_t pair_count, pair_capacity;
+    selfcol_tri_frame *frames[2]; // by slot; the same array twice for a self query
+    uint32_t *stamps[2];          // by node: serial of the query that computed its frames
+    uint32_t serial;
 } traversal;
 
 static int push(traversal *t, int list, uint32_t a, uint32_t b) {
@@ -54,12 +56,13 @@ static int push(traversal *t, int list, uint32_t a, uint32_t b) {
     size_t *capacity = list ? &t->pair_capacity : &t->stack_capacity;
     if (*size == *capacity) {
         size_t want = *capacity < 256 ? 256 : 2 * *capacity;
-        node_pair *grown = selfcol_contacts__scratch(t->q->out, list, want * sizeof(node_pair),
+        int slot = list ? SELFCOL_SCRATCH_PAIRS : SELFCOL_SCRATCH_STACK;
+        node_pair *grown = selfcol_contacts__scratch(t->q->out, slot, want * sizeof(node_pair),
                                                      *size * sizeof(node_pair));
         if (grown == NULL)
             return SELFCOL_ENOMEM;
         *items = grown;
-        *capacity = t->q->out->scratch_bytes[list] / sizeof(node_pair);
+        *capacity = t->q->out->scratch_bytes[slot] / sizeof(node_pair);
     }
     (*items)[(*size)++] = (node_pair){a, b};
     return SELFCOL_OK;
@@ -111,50 +114,35 @@ static int jointly_smooth(uint32_t method, const selfcol_node *a, const selfcol_
     return lo < HALF_PI;
 }
 
-static void triangle_box(const selfcol_mesh *m, uint32_t t, double lo[3], double hi[3]) {
-    const uint32_t *tri = m->triangles + 3 * (size_t)t;
-    for (int k = 0; k < 3; ++k) {
-        double a = m->positions[3 * (size_t)tri[0] + k], b = m->positions[3 * (size_t)tri[1] + k];
-        double c = m->positions[3 * (size_t)tri[2] + k];
-        lo[k] = a < b ? (a < c ? a : c) : (b < c ? b : c);
-        hi[k] = a > b ? (a > c ? a : c) : (b > c ? b : c);
-    }
+// The frames of a leaf's triangles, computed at its first visit in this query.
+static void ensure_frames(traversal *t, int side, uint32_t id) {
+    if (t->stamps[side][id] == t->serial)
+        return;
+    t->stamps[side][id] = t->serial;
+    const selfcol_hierarchy *h = t->h[side];
+    const selfcol_node *n = &h->nodes[id];
+    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s)
+        selfcol_pairs__frame(&t->frames[side][s], h->mesh, h->tri_order[s]);
 }
 
-// Boxes of a leaf's triangles, computed once per leaf pair (leaves hold a
-// handful of triangles; larger ones fall back to computing boxes per pair).
-#define LEAF_BOXES 32
-
-static int leaf_pair(traversal *t, const selfcol_node *a, const selfcol_node *b, int same) {
-    const selfcol_mesh *m0 = t->h[0]->mesh, *m1 = t->h[1]->mesh;
+// Triangle pairs of two leaves (or of one leaf with itself) whose boxes are
+// within d.
+static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
+    const selfcol_node *a = &t->h[0]->nodes[a_id], *b = &t->h[1]->nodes[b_id];
     const double d = t->q->distance;
-    double box_b[LEAF_BOXES][6];
-    const int cached = b->tri_count <= LEAF_BOXES;
-    for (uint32_t j = 0; cached && j < b->tri_count; ++j)
-        triangle_box(m1, t->h[1]->tri_order[b->tri_begin + j], box_b[j], box_b[j] + 3);
-    for (uint32_t i = 0; i < a->tri_count; ++i) {
-        uint32_t ta = t->h[0]->tri_order[a->tri_begin + i];
-        double alo[3], ahi[3];
-        if (same && cached) {
-            for (int k = 0; k < 3; ++k) {
-                alo[k] = box_b[i][k];
-                ahi[k] = box_b[i][3 + k];
-            }
-        } else {
-            triangle_box(m0, ta, alo, ahi);
-        }
-        for (uint32_t j = same ? i + 1 : 0; j < b->tri_count; ++j) {
-            uint32_t tb = t->h[1]->tri_order[b->tri_begin + j];
-            double computed[6];
-            const double *box = cached ? box_b[j] : computed;
-            if (!cached)
-                triangle_box(m1, tb, computed, computed + 3);
+    ensure_frames(t, 0, a_id);
+    ensure_frames(t, 1, b_id);
+    const selfcol_tri_frame *fa = t->frames[0], *fb = t->frames[1];
+    for (uint32_t sa = a->tri_begin; sa < a->tri_begin + a->tri_count; ++sa) {
+        const double *alo = fa[sa].lo, *ahi = fa[sa].hi;
+        for (uint32_t sb = same ? sa + 1 : b->tri_begin; sb < b->tri_begin + b->tri_count; ++sb) {
+            const double *blo = fb[sb].lo, *bhi = fb[sb].hi;
             int apart = 0;
             for (int k = 0; k < 3; ++k)
-                apart |= (alo[k] - d > box[3 + k]) | (box[k] - d > ahi[k]);
+                apart |= (alo[k] - d > bhi[k]) | (blo[k] - d > ahi[k]);
             if (apart)
                 continue;
-            int status = push(t, 1, ta, tb);
+            int status = push(t, 1, sa, sb);
             if (status != SELFCOL_OK)
                 return status;
         }
@@ -185,7 +173,7 @@ static int broad_phase(traversal *t) {
                 continue;
             }
             if (a->child_count == 0) {
-                status = leaf_pair(t, a, a, 1);
+                status = leaf_pair(t, p.a, p.a, 1);
                 continue;
             }
             for (uint32_t i = 0; i < a->child_count && status == SELFCOL_OK; ++i) {
@@ -209,7 +197,7 @@ static int broad_phase(traversal *t) {
             continue;
         }
         if (a->child_count == 0 && b->child_count == 0) {
-            status = leaf_pair(t, a, b, 0);
+            status = leaf_pair(t, p.a, p.b, 0);
             continue;
         }
         // Split the node with more triangles (a leaf is never split).
@@ -222,139 +210,59 @@ static int broad_phase(traversal *t) {
     return status;
 }
 
-static int is_corner(uint32_t v, const uint32_t *tri) {
-    return v == tri[0] || v == tri[1] || v == tri[2];
-}
-
-typedef struct box3 {
-    double lo[3], hi[3];
-} box3;
-
-static void segment_box(box3 *b, const double *p, const double *q) {
-    for (int k = 0; k < 3; ++k) {
-        b->lo[k] = p[k] < q[k] ? p[k] : q[k];
-        b->hi[k] = p[k] > q[k] ? p[k] : q[k];
-    }
-}
-
-static int near(const box3 *a, const box3 *b, double d) {
-    for (int k = 0; k < 3; ++k)
-        if (a->lo[k] - d > b->hi[k] || b->lo[k] - d > a->hi[k])
-            return 0;
-    return 1;
-}
-
-static int point_near(const double *p, const box3 *b, double d) {
-    for (int k = 0; k < 3; ++k)
-        if (p[k] < b->lo[k] - d || p[k] > b->hi[k] + d)
-            return 0;
-    return 1;
-}
-
-// One triangle of a pair, with what the primitive tests need: its corners,
-// its box, and the vertices and edges it owns (with the edges' boxes).
-typedef struct triangle_view {
-    uint32_t id;
-    const uint32_t *corner; // the triangle's three vertex indices
-    box3 box;
-    uint32_t vertex[3]; // owned vertices
-    int vertex_count;
-    uint32_t edge[3];            // owned edges
-    const uint32_t *edge_end[3]; // their two vertices
-    box3 edge_box[3];
-    int edge_count;
-} triangle_view;
-
-static void view_triangle(triangle_view *v, const selfcol_hierarchy *h, uint32_t t) {
-    const selfcol_mesh *m = h->mesh;
-    const uint8_t owned = h->owned[t];
-    v->id = t;
-    v->corner = m->triangles + 3 * (size_t)t;
-    triangle_box(m, t, v->box.lo, v->box.hi);
-    v->vertex_count = v->edge_count = 0;
-    for (int i = 0; i < 3; ++i) {
-        if (owned & SELFCOL_OWNS_VERTEX(i))
-            v->vertex[v->vertex_count++] = v->corner[i];
-        if (owned & SELFCOL_OWNS_EDGE(i)) {
-            uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)i];
-            const uint32_t *ends = m->edges + 2 * (size_t)e;
-            v->edge[v->edge_count] = e;
-            v->edge_end[v->edge_count] = ends;
-            segment_box(&v->edge_box[v->edge_count], selfcol_mesh__position(m, ends[0]),
-                        selfcol_mesh__position(m, ends[1]));
-            v->edge_count++;
-        }
-    }
-}
-
-// Vertices owned by triangle a (mesh ma) against triangle b (mesh mb), and
-// edges owned by a against b. Each primitive test is preceded by the same
-// conservative box rejection as the exhaustive reference.
-static int one_way(traversal *t, int ma, const triangle_view *a, int mb, const triangle_view *b) {
-    const selfcol_mesh *A = t->q->mesh[ma];
-    const int self = t->q->self;
-    const double d = t->q->distance;
-    int status = SELFCOL_OK;
-    if (t->q->kinds & SELFCOL_KIND_VF)
-        for (int i = 0; i < a->vertex_count && status == SELFCOL_OK; ++i)
-            if (!(self && is_corner(a->vertex[i], b->corner)) &&
-                point_near(selfcol_mesh__position(A, a->vertex[i]), &b->box, d))
-                status = selfcol_query__test_vf(t->q, ma, a->vertex[i], mb, b->id);
-    if (t->q->kinds & SELFCOL_KIND_EF)
-        for (int k = 0; k < a->edge_count && status == SELFCOL_OK; ++k) {
-            const uint32_t *ev = a->edge_end[k];
-            if (!(self && (is_corner(ev[0], b->corner) || is_corner(ev[1], b->corner))) &&
-                near(&a->edge_box[k], &b->box, 0.0))
-                status = selfcol_query__test_ef(t->q, ma, a->edge[k], mb, b->id);
-        }
-    return status;
-}
-
-static int triangle_pair(traversal *t, const triangle_view *a, const triangle_view *b) {
-    int status = one_way(t, 0, a, 1, b);
-    if (status == SELFCOL_OK)
-        status = one_way(t, 1, b, 0, a);
-    if (status != SELFCOL_OK || !(t->q->kinds & SELFCOL_KIND_EE))
-        return status;
-    const double d = t->q->distance;
-    for (int i = 0; i < a->edge_count && status == SELFCOL_OK; ++i) {
-        if (!near(&a->edge_box[i], &b->box, d))
-            continue;
-        const uint32_t e = a->edge[i], *ev = a->edge_end[i];
-        for (int j = 0; j < b->edge_count && status == SELFCOL_OK; ++j) {
-            const uint32_t f = b->edge[j], *fv = b->edge_end[j];
-            if (t->q->self &&
-                (ev[0] == fv[0] || ev[0] == fv[1] || ev[1] == fv[0] || ev[1] == fv[1]))
-                continue;
-            if (!near(&a->edge_box[i], &b->edge_box[j], d))
-                continue;
-            if (t->q->self)
-                status = e < f ? selfcol_query__test_ee(t->q, 0, e, 0, f)
-                               : selfcol_query__test_ee(t->q, 0, f, 0, e);
-            else
-                status = selfcol_query__test_ee(t->q, 0, e, 1, f);
-        }
-    }
-    return status;
+// Zeroed stamps for `count` nodes in scratch `slot` (fresh memory is zeroed
+// once; later queries tell old stamps from new by the serial).
+static uint32_t *stamps_for(selfcol_contacts *c, int slot, size_t count) {
+    const int fresh = c->scratch_bytes[slot] < count * sizeof(uint32_t);
+    uint32_t *stamps = selfcol_contacts__scratch(c, slot, count * sizeof(uint32_t), 0);
+    if (stamps != NULL && fresh)
+        memset(stamps, 0, c->scratch_bytes[slot]);
+    return stamps;
 }
 
 int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
                           const selfcol_hierarchy *h1, uint32_t method) {
-    traversal t = {q, {h0, h1}, method, NULL, 0, 0, NULL, 0, 0};
+    traversal t;
+    memset(&t, 0, sizeof t);
+    t.q = q;
+    t.h[0] = h0;
+    t.h[1] = h1;
+    t.method = method;
+    selfcol_contacts *c = q->out;
+    const int sides = q->self ? 1 : 2;
+    for (int side = 0; side < sides; ++side) {
+        const selfcol_hierarchy *h = side ? h1 : h0;
+        if (h->mesh->triangle_count > SIZE_MAX / sizeof(selfcol_tri_frame))
+            return SELFCOL_ENOMEM;
+        t.frames[side] = selfcol_contacts__scratch(
+            c, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
+            h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
+        t.stamps[side] =
+            stamps_for(c, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0, h->node_count);
+        if (t.frames[side] == NULL || t.stamps[side] == NULL)
+            return SELFCOL_ENOMEM;
+    }
+    if (q->self) {
+        t.frames[1] = t.frames[0];
+        t.stamps[1] = t.stamps[0];
+    }
+    // A new serial invalidates every stamp; at wrap-around they are cleared.
+    if (++c->serial == 0) {
+        for (int side = 0; side < sides; ++side)
+            memset(t.stamps[side], 0, c->scratch_bytes[side ? SELFCOL_SCRATCH_STAMPS1
+                                                            : SELFCOL_SCRATCH_STAMPS0]);
+        c->serial = 1;
+    }
+    t.serial = c->serial;
+
     double start = selfcol_core__seconds();
     int status = broad_phase(&t);
     double middle = selfcol_core__seconds();
     q->out->stats.broad_seconds = middle - start;
     q->out->stats.triangle_pairs = t.pair_count;
-    // Pairs come grouped by their first triangle (leaf_pair's outer loop):
-    // its view is reused while it repeats.
-    triangle_view first, second;
-    first.id = SELFCOL_INVALID_INDEX;
-    for (size_t i = 0; i < t.pair_count && status == SELFCOL_OK; ++i) {
-        if (t.pairs[i].a != first.id)
-            view_triangle(&first, h0, t.pairs[i].a);
-        view_triangle(&second, h1, t.pairs[i].b);
-        status = triangle_pair(&t, &first, &second);
+    if (status == SELFCOL_OK) {
+        const selfcol_pair_source source[2] = {{h0, t.frames[0]}, {h1, t.frames[1]}};
+        status = selfcol_pairs__run(q, source, t.pairs, t.pair_count);
     }
     q->out->stats.narrow_seconds = selfcol_core__seconds() - middle;
     return status;

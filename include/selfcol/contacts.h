@@ -92,7 +92,7 @@ typedef struct selfcol_contact {
 typedef struct selfcol_query_stats {
     unsigned int version;      /**< SELFCOL_QUERY_STATS_VERSION */
     uint64_t candidate_pairs;  /**< primitive or triangle pairs examined by the broad phase */
-    uint64_t vf_tests;         /**< vertex-triangle distance evaluations */
+    uint64_t vf_tests;         /**< vertex-triangle distance evaluations (closed form or libccd) */
     uint64_t ee_tests;         /**< edge-edge distance evaluations */
     uint64_t ef_tests;         /**< edge-triangle crossing evaluations */
     uint64_t vf_contacts;      /**< VF contacts found */
@@ -121,9 +121,17 @@ typedef struct selfcol_query_stats {
      *  of exactness: SEED would have skipped them). */
     uint64_t contour_refused;
     double contour_seconds;    /**< time in the contour test (part of broad_seconds) */
+    /* Version 4: the narrow phase's filters and the sort. */
+    /** Candidate triangle pairs rejected whole because one triangle lies
+     *  beyond d of the other's plane (no primitive test was made for them). */
+    uint64_t pairs_separated;
+    /** Primitive pairs rejected by a conservative filter (plane distance or
+     *  box) before their closed form; not counted in vf/ee/ef_tests. */
+    uint64_t primitives_filtered;
+    double sort_seconds;       /**< time spent sorting the records (part of total_seconds) */
 } selfcol_query_stats;
 
-#define SELFCOL_QUERY_STATS_VERSION 3
+#define SELFCOL_QUERY_STATS_VERSION 4
 
 /** Opaque set of contacts, filled by the queries of hierarchy.h. */
 typedef struct selfcol_contacts selfcol_contacts;
