@@ -159,13 +159,26 @@ int selfcol_pairs__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_
 // ---------------------------------------------------------------------------
 // Per-triangle frame data
 
-void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_mesh *m, uint32_t t) {
+void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint32_t slot) {
+    const selfcol_mesh *m = h->mesh;
+    const uint32_t t = h->tri_order[slot];
     const uint32_t *tri = m->triangles + 3 * (size_t)t;
-    const double *p0 = selfcol_mesh__position(m, tri[0]), *p1 = selfcol_mesh__position(m, tri[1]),
-                 *p2 = selfcol_mesh__position(m, tri[2]);
+    f->id = t;
+    f->owned = h->owned[t];
+    f->edge_reversed = 0;
+    for (int i = 0; i < 3; ++i) {
+        f->corner_id[i] = tri[i];
+        memcpy(f->corner[i], selfcol_mesh__position(m, tri[i]), sizeof f->corner[i]);
+        f->edge[i] = SELFCOL_INVALID_INDEX;
+        if (f->owned & SELFCOL_OWNS_EDGE(i)) {
+            f->edge[i] = m->triangle_edges[3 * (size_t)t + (size_t)i];
+            if (m->edges[2 * (size_t)f->edge[i]] != tri[i])
+                f->edge_reversed |= (uint8_t)(1u << i);
+        }
+    }
     double u[3], v[3];
     for (int k = 0; k < 3; ++k) {
-        double a = p0[k], b = p1[k], c = p2[k];
+        double a = f->corner[0][k], b = f->corner[1][k], c = f->corner[2][k];
         f->lo[k] = a < b ? (a < c ? a : c) : (b < c ? b : c);
         f->hi[k] = a > b ? (a > c ? a : c) : (b > c ? b : c);
         u[k] = b - a;
@@ -187,24 +200,13 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_mesh *m, uint32_t 
 // ---------------------------------------------------------------------------
 // Triangle pairs
 
-// One side of a pair: the triangle, its corners and the signed distances of
-// the *other* triangle's corners to its plane.
-typedef struct pair_side {
-    int mesh;
-    uint32_t id;
-    const uint32_t *corner_id;
-    const double *corner[3];
-    uint8_t owned;
-    const selfcol_tri_frame *frame;
-} pair_side;
-
 // Relative widening of the distance threshold: the filters reject only what
 // is farther than d (1 + 2^-20), far outside the rounding of the closed forms.
 #define WIDEN (1.0 + 0x1p-20)
 
-// Signed distances s[j] (times |n|) of the corners of `other` to the plane of
-// `self`, and flags: far_pos[j] / far_neg[j] when corner j is provably beyond
-// d on the positive / negative side, side_pos[j] / side_neg[j] when it is
+// Flags of the three corners of `other` against the plane of `self`, 3 bits
+// each (bit j for corner j): FAR_POS / FAR_NEG when the corner is provably
+// beyond d on the positive / negative side, SIDE_POS / SIDE_NEG when it is
 // provably strictly on that side.
 //
 // Rounding bound. n = u x v is computed from rounded differences, each
@@ -213,26 +215,40 @@ typedef struct pair_side {
 // s = fl((x - a) . n) with a rounded difference D = x - a: |ds| <=
 // 9 eps sum_k |D_k| N_k < 2^-48 |D|_1 abs_max. The exact threshold d |n| is
 // at most d (|n|_computed + 2^-46 abs_max) (1 + 2^-20).
-typedef struct plane_flags {
-    unsigned far_pos, far_neg, side_pos, side_neg; // bit j for corner j
-} plane_flags;
+enum { FAR_POS = 0, FAR_NEG = 3, SIDE_POS = 6, SIDE_NEG = 9, FLAG_BITS = 12 };
 
-static plane_flags plane_distances(const pair_side *self, const pair_side *other, double d) {
-    const selfcol_tri_frame *f = self->frame;
+static uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
+                            double d) {
     const double *a = self->corner[0];
-    const double t = d * (f->length + 0x1p-46 * f->abs_max) * WIDEN;
-    plane_flags out = {0, 0, 0, 0};
+    const double t = d * (self->length + 0x1p-46 * self->abs_max) * WIDEN;
+    uint32_t out = 0;
     for (int j = 0; j < 3; ++j) {
         const double *x = other->corner[j];
         double D0 = x[0] - a[0], D1 = x[1] - a[1], D2 = x[2] - a[2];
-        double s = D0 * f->normal[0] + D1 * f->normal[1] + D2 * f->normal[2];
-        double e = 0x1p-48 * (fabs(D0) + fabs(D1) + fabs(D2)) * f->abs_max;
-        out.far_pos |= (unsigned)(s - e > t) << j;
-        out.far_neg |= (unsigned)(s + e < -t) << j;
-        out.side_pos |= (unsigned)(s - e > 0.0) << j;
-        out.side_neg |= (unsigned)(s + e < 0.0) << j;
+        double s = D0 * self->normal[0] + D1 * self->normal[1] + D2 * self->normal[2];
+        double e = 0x1p-48 * (fabs(D0) + fabs(D1) + fabs(D2)) * self->abs_max;
+        out |= (uint32_t)(s - e > t) << (FAR_POS + j);
+        out |= (uint32_t)(s + e < -t) << (FAR_NEG + j);
+        out |= (uint32_t)(s - e > 0.0) << (SIDE_POS + j);
+        out |= (uint32_t)(s + e < 0.0) << (SIDE_NEG + j);
     }
     return out;
+}
+
+static int all_far(uint32_t flags) {
+    return ((flags >> FAR_POS) & 7u) == 7u || ((flags >> FAR_NEG) & 7u) == 7u;
+}
+
+int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
+                             uint32_t *flags) {
+    uint32_t of_a = plane_flags(fb, fa, d); // a's corners against b's plane
+    if (all_far(of_a))
+        return 0;
+    uint32_t of_b = plane_flags(fa, fb, d);
+    if (all_far(of_b))
+        return 0;
+    *flags = of_a | (of_b << FLAG_BITS);
+    return 1;
 }
 
 static int shares_corner(uint32_t v, const uint32_t *tri) {
@@ -257,155 +273,124 @@ static int segment_near(const double *p, const double *q, const double *lo, cons
     return 1;
 }
 
-// Bits of the two ends of edge slot i (corners i and i + 1).
-static unsigned edge_bits(int i) {
-    return (1u << i) | (1u << ((i + 1) % 3));
+// 1 when both ends of edge slot i (corners i and i + 1) have the flag at `bit`.
+static int edge_has(uint32_t flags, int bit, int i) {
+    return ((flags >> (bit + i)) & 1u) && ((flags >> (bit + (i + 1) % 3)) & 1u);
 }
 
-// Vertices and edges owned by a, against triangle b. `of_a` are the flags of
-// a's corners against b's plane.
-static int one_way(selfcol_query *q, const pair_side *a, const pair_side *b,
-                   const plane_flags *of_a) {
+// Edge slot i of a triangle: its index, and its two ends in record order.
+static void edge_ends(const selfcol_tri_frame *f, int i, uint32_t ev[2], const double *p[2]) {
+    const int j = (i + 1) % 3;
+    const int rev = (f->edge_reversed >> i) & 1;
+    ev[0] = f->corner_id[rev ? j : i];
+    ev[1] = f->corner_id[rev ? i : j];
+    p[0] = f->corner[rev ? j : i];
+    p[1] = f->corner[rev ? i : j];
+}
+
+// Vertices and edges owned by a (of mesh ma), against triangle b (of mesh
+// mb). `of_a` are the flags of a's corners against b's plane.
+static int one_way(selfcol_query *q, int ma, const selfcol_tri_frame *a, int mb,
+                   const selfcol_tri_frame *b, uint32_t of_a) {
     const double d = q->distance;
     const int self = q->self;
-    const selfcol_mesh *ma = q->mesh[a->mesh];
     int status = SELFCOL_OK;
+    const double *corner_b[3] = {b->corner[0], b->corner[1], b->corner[2]};
     if (q->kinds & SELFCOL_KIND_VF) {
-        const unsigned far = of_a->far_pos | of_a->far_neg;
+        const uint32_t far = ((of_a >> FAR_POS) | (of_a >> FAR_NEG)) & 7u;
         for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
             if (!(a->owned & SELFCOL_OWNS_VERTEX(i)))
                 continue;
             const uint32_t v = a->corner_id[i];
             if (self && shares_corner(v, b->corner_id))
                 continue;
-            if ((far >> i) & 1u || !point_near(a->corner[i], b->frame, d)) {
+            if ((far >> i) & 1u || !point_near(a->corner[i], b, d)) {
                 q->out->stats.primitives_filtered++;
                 continue;
             }
-            status = closed_vf(q, a->mesh, v, a->corner[i], b->mesh, b->id, b->corner_id,
-                               b->corner);
+            status = closed_vf(q, ma, v, a->corner[i], mb, b->id, b->corner_id, corner_b);
         }
     }
     if (q->kinds & SELFCOL_KIND_EF) {
         for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
             if (!(a->owned & SELFCOL_OWNS_EDGE(i)))
                 continue;
-            const uint32_t e = ma->triangle_edges[3 * (size_t)a->id + (size_t)i];
-            const uint32_t *ev = ma->edges + 2 * (size_t)e;
+            uint32_t ev[2];
+            const double *p[2];
+            edge_ends(a, i, ev, p);
             if (self && (shares_corner(ev[0], b->corner_id) || shares_corner(ev[1], b->corner_id)))
                 continue;
-            const unsigned ends = edge_bits(i);
-            const double *p[2] = {a->corner[i], a->corner[(i + 1) % 3]};
-            if ((of_a->side_pos & ends) == ends || (of_a->side_neg & ends) == ends ||
-                !segment_near(p[0], p[1], b->frame->lo, b->frame->hi, 0.0)) {
+            // Both ends strictly on one side of b's plane: no crossing.
+            if (edge_has(of_a, SIDE_POS, i) || edge_has(of_a, SIDE_NEG, i) ||
+                !segment_near(p[0], p[1], b->lo, b->hi, 0.0)) {
                 q->out->stats.primitives_filtered++;
                 continue;
             }
-            // The edge's vertices in the order of its record (smaller first).
-            if (ev[0] != a->corner_id[i]) {
-                const double *swap = p[0];
-                p[0] = p[1];
-                p[1] = swap;
-            }
-            status = closed_ef(q, a->mesh, e, ev, p, b->mesh, b->id, b->corner_id, b->corner);
+            status = closed_ef(q, ma, a->edge[i], ev, p, mb, b->id, b->corner_id, corner_b);
         }
     }
     return status;
 }
 
-static int edges_both_ways(selfcol_query *q, const pair_side *a, const pair_side *b,
-                           const plane_flags *of_a, const plane_flags *of_b) {
+static int edges_both_ways(selfcol_query *q, int ma, const selfcol_tri_frame *a, int mb,
+                           const selfcol_tri_frame *b, uint32_t of_a, uint32_t of_b) {
     const double d = q->distance;
     const int self = q->self;
-    const selfcol_mesh *ma = q->mesh[a->mesh], *mb = q->mesh[b->mesh];
     int status = SELFCOL_OK;
     for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
         if (!(a->owned & SELFCOL_OWNS_EDGE(i)))
             continue;
-        const unsigned ends_a = edge_bits(i);
         // An edge of a beyond d of b's plane, both ends on one side, is beyond
         // d of every edge of b.
-        const int a_far =
-            (of_a->far_pos & ends_a) == ends_a || (of_a->far_neg & ends_a) == ends_a;
-        const uint32_t e = ma->triangle_edges[3 * (size_t)a->id + (size_t)i];
-        const uint32_t *ev = ma->edges + 2 * (size_t)e;
-        const double *p[2] = {a->corner[i], a->corner[(i + 1) % 3]};
-        if (ev[0] != a->corner_id[i]) {
-            p[0] = a->corner[(i + 1) % 3];
-            p[1] = a->corner[i];
+        if (edge_has(of_a, FAR_POS, i) || edge_has(of_a, FAR_NEG, i)) {
+            for (int j = 0; j < 3; ++j)
+                q->out->stats.primitives_filtered += (b->owned & SELFCOL_OWNS_EDGE(j)) != 0;
+            continue;
         }
+        uint32_t ev[2];
+        const double *p[2];
+        edge_ends(a, i, ev, p);
+        const uint32_t e = a->edge[i];
         for (int j = 0; j < 3 && status == SELFCOL_OK; ++j) {
             if (!(b->owned & SELFCOL_OWNS_EDGE(j)))
                 continue;
-            const uint32_t f = mb->triangle_edges[3 * (size_t)b->id + (size_t)j];
-            const uint32_t *fv = mb->edges + 2 * (size_t)f;
+            uint32_t fv[2];
+            const double *r[2];
+            edge_ends(b, j, fv, r);
             if (self && (ev[0] == fv[0] || ev[0] == fv[1] || ev[1] == fv[0] || ev[1] == fv[1]))
                 continue;
-            const unsigned ends_b = edge_bits(j);
-            const double *r[2] = {b->corner[j], b->corner[(j + 1) % 3]};
-            if (fv[0] != b->corner_id[j]) {
-                r[0] = b->corner[(j + 1) % 3];
-                r[1] = b->corner[j];
-            }
             double lo[3], hi[3];
             for (int k = 0; k < 3; ++k) {
                 lo[k] = r[0][k] < r[1][k] ? r[0][k] : r[1][k];
                 hi[k] = r[0][k] > r[1][k] ? r[0][k] : r[1][k];
             }
-            if (a_far || (of_b->far_pos & ends_b) == ends_b ||
-                (of_b->far_neg & ends_b) == ends_b || !segment_near(p[0], p[1], lo, hi, d)) {
+            if (edge_has(of_b, FAR_POS, j) || edge_has(of_b, FAR_NEG, j) ||
+                !segment_near(p[0], p[1], lo, hi, d)) {
                 q->out->stats.primitives_filtered++;
                 continue;
             }
+            const uint32_t f = b->edge[j];
             if (self && f < e)
-                status = closed_ee(q, b->mesh, f, fv, r, a->mesh, e, ev, p);
+                status = closed_ee(q, mb, f, fv, r, ma, e, ev, p);
             else
-                status = closed_ee(q, a->mesh, e, ev, p, b->mesh, f, fv, r);
+                status = closed_ee(q, ma, e, ev, p, mb, f, fv, r);
         }
     }
     return status;
 }
 
-static void load_side(pair_side *s, const selfcol_pair_source *src, int mesh, uint32_t slot) {
-    const selfcol_hierarchy *h = src->hierarchy;
-    const selfcol_mesh *m = h->mesh;
-    s->mesh = mesh;
-    s->id = h->tri_order[slot];
-    s->corner_id = m->triangles + 3 * (size_t)s->id;
-    corners_of(m, s->corner_id, s->corner);
-    s->owned = h->owned[s->id];
-    s->frame = &src->frames[slot];
-}
-
-int selfcol_pairs__run(selfcol_query *q, const selfcol_pair_source source[2],
+int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
                        const selfcol_slot_pair *pairs, size_t count) {
-    const double d = q->distance;
     int status = SELFCOL_OK;
-    pair_side a, b;
-    a.id = SELFCOL_INVALID_INDEX;
-    uint32_t a_slot = SELFCOL_INVALID_INDEX;
+    const uint32_t mask = (1u << FLAG_BITS) - 1u;
     for (size_t k = 0; k < count && status == SELFCOL_OK; ++k) {
-        // Pairs come grouped by their first triangle: its side is reused.
-        if (pairs[k].a != a_slot) {
-            a_slot = pairs[k].a;
-            load_side(&a, &source[0], 0, a_slot);
-        }
-        load_side(&b, &source[1], 1, pairs[k].b);
-        plane_flags of_a = plane_distances(&b, &a, d); // a's corners against b's plane
-        if (of_a.far_pos == 7u || of_a.far_neg == 7u) {
-            q->out->stats.pairs_separated++;
-            continue;
-        }
-        plane_flags of_b = plane_distances(&a, &b, d);
-        if (of_b.far_pos == 7u || of_b.far_neg == 7u) {
-            q->out->stats.pairs_separated++;
-            continue;
-        }
-        status = one_way(q, &a, &b, &of_a);
+        const selfcol_tri_frame *a = &frames[0][pairs[k].a], *b = &frames[1][pairs[k].b];
+        const uint32_t of_a = pairs[k].flags & mask, of_b = pairs[k].flags >> FLAG_BITS;
+        status = one_way(q, 0, a, 1, b, of_a);
         if (status == SELFCOL_OK)
-            status = one_way(q, &b, &a, &of_b);
+            status = one_way(q, 1, b, 0, a, of_b);
         if (status == SELFCOL_OK && (q->kinds & SELFCOL_KIND_EE))
-            status = edges_both_ways(q, &a, &b, &of_a, &of_b);
+            status = edges_both_ways(q, 0, a, 1, b, of_a, of_b);
     }
     return status;
 }
