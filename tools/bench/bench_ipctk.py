@@ -161,6 +161,7 @@ def main():
                    len(F), len(V), len(E), "%g" % scale, factor, "%.9g" % d, "IPCTK", "ipctk", "EXACT",
                    len(times), "%.4f" % build_ms, "0", "0", "0", "%.4f" % med, "%.4f" % times[0],
                    "%.4f" % times[-1], "%.4f" % med, 0, len(cands), 0, 0, 0, 0, 0, 0, 0,
+                   0, 0, "0", "0", "0", "0", 0, 0,  # contour and stage columns: selfcol's only
                    found[0], found[1], found[2], sum(found), raw, ref_k[0], ref_k[1], ref_k[2],
                    miss[0], miss[1], miss[2], sum(miss), extra[0], extra[1], extra[2], sum(extra),
                    0, "0.00", rss, '"%s"' % note]

@@ -243,6 +243,7 @@ static const bench_case cases[] = {
     {"sheet-pair-10k", "sheet-pair", BIG, gen_sheet_pair, {50, 1, 1.0471975511965976, 0.0}, 0},
     {"cloth-ball-92", "cloth-ball", BIG, gen_frame, {0, 92}, 0},
     {"cloth-ball-93", "cloth-ball", BIG, gen_frame, {0, 93}, 0},
+    {"cloth-ball-93-refit", "cloth-ball", BIG, gen_frame, {0, 93, 92}, 0},
     {"cloth-funnel-227", "cloth-funnel", BIG, gen_frame, {1, 227}, 0},
     {"cloth-funnel-228", "cloth-funnel", BIG, gen_frame, {1, 228}, 0},
     {"rod-twist-3036", "rod-twist", BIG, gen_frame, {2, 3036}, 0},
@@ -373,6 +374,7 @@ static void compare(const keyset *ref, const keyset *got, uint64_t misses[3], ui
 typedef struct row {
     const char *method, *narrow, *reference;
     timing refit, query;
+    double broad_med, narrow_med, sort_med; // stage medians of the query, seconds
     double build_ms;
     selfcol_query_stats st;
     uint64_t found[3], ref[3], miss[3], extra[3];
@@ -392,7 +394,8 @@ static const char *header =
     "subset,case,scene,triangles,vertices,edges,scale,d_factor,d,method,narrow,reference,reps,"
     "build_ms,refit_ms,refit_min_ms,refit_max_ms,query_ms,query_min_ms,query_max_ms,frame_ms,"
     "triangle_pairs,candidate_pairs,vf_tests,ee_tests,ef_tests,nodes_visited,culled_box,"
-    "culled_curvature,culled_adjacency,contour_tests,contour_refused,contour_ms,vf,ee,ef,contacts,"
+    "culled_curvature,culled_adjacency,contour_tests,contour_refused,contour_ms,broad_ms,narrow_ms,"
+    "sort_ms,pairs_separated,primitives_filtered,vf,ee,ef,contacts,"
     "raw_contacts,ref_vf,ref_ee,ref_ef,"
     "miss_vf,miss_ee,miss_ef,misses,extra_vf,extra_ee,extra_ef,extras,struct_bytes,"
     "bytes_per_tri,peak_rss_kb,note";
@@ -416,6 +419,11 @@ static void print_row(const context *cx, const row *r) {
     // Stats version 3: EXACT's contour test (0 for the other methods).
     printf("%llu,%llu,%.4f,", (unsigned long long)s->contour_tests,
            (unsigned long long)s->contour_refused, 1e3 * s->contour_seconds);
+    // Stats version 4: the stages of the query (medians over the timed
+    // repetitions, like query_ms) and the narrow phase's filters.
+    printf("%.4f,%.4f,%.4f,%llu,%llu,", 1e3 * r->broad_med, 1e3 * r->narrow_med,
+           1e3 * r->sort_med, (unsigned long long)s->pairs_separated,
+           (unsigned long long)s->primitives_filtered);
     printf("%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,", (unsigned long long)r->found[0],
            (unsigned long long)r->found[1], (unsigned long long)r->found[2],
            (unsigned long long)found, (unsigned long long)r->raw_contacts,
@@ -441,8 +449,10 @@ static long peak_rss_kb(void) {
 // One method on the hierarchy: warm-up, reps timed queries, contacts, stats.
 
 static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method, uint32_t narrow,
-                      uint32_t kinds, double d, unsigned reps, timing *t, selfcol_query_stats *st,
-                      keyset *keys) {
+                      uint32_t kinds, double d, unsigned reps, row *r, keyset *keys) {
+    timing *t = &r->query;
+    selfcol_query_stats *st = &r->st;
+    double stage[3][MAX_REPS];
     selfcol_query_options o;
     selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
     o.method = method;
@@ -458,12 +468,20 @@ static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method
         t0 = now();
         rc = selfcol_hierarchy_self_collide(h, c, &o);
         times[i] = now() - t0;
+        st->version = SELFCOL_QUERY_STATS_VERSION;
+        selfcol_contacts_stats(c, st);
+        stage[0][i] = st->broad_seconds;
+        stage[1][i] = st->narrow_seconds;
+        stage[2][i] = st->sort_seconds;
     }
     if (rc != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: query: %s\n", selfcol_status_string(rc));
         return rc;
     }
     *t = summarize(times, n);
+    r->broad_med = summarize(stage[0], n).med;
+    r->narrow_med = summarize(stage[1], n).med;
+    r->sort_med = summarize(stage[2], n).med;
     st->version = SELFCOL_QUERY_STATS_VERSION;
     selfcol_contacts_stats(c, st);
     return keys_of(c, keys);
@@ -614,11 +632,32 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
         return 1;
     }
 
+    // A refit case (p[2] = an earlier frame of the same scene): the mesh and
+    // its hierarchy are made on the earlier frame, as a simulation would, then
+    // refit once to this frame; d comes from the earlier frame (a sequence's
+    // d is its first frame's, as in selfcol-cli).
+    scene prev;
+    memset(&prev, 0, sizeof prev);
+    const int refit_case = bc->gen == gen_frame && bc->p[2] > 0;
+    if (refit_case) {
+        const double pp[6] = {bc->p[0], bc->p[2], 0, 0, 0, 0};
+        char prev_note[512];
+        if (gen_frame(&prev, pp, data_dir, prev_note, sizeof prev_note) != 0 ||
+            prev.vertex_count != s.vertex_count || prev.triangle_count != s.triangle_count ||
+            memcmp(prev.triangles, s.triangles, 3 * s.triangle_count * sizeof *s.triangles) != 0) {
+            fprintf(stderr, "selfcol-bench: %s skipped (%s: not the same topology or absent)\n",
+                    bc->name, prev_note);
+            scene_free(&prev);
+            scene_free(&s);
+            return 0;
+        }
+    }
     selfcol_mesh *mesh = NULL;
-    int rc = selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
-                                 s.triangles, NULL);
+    int rc = selfcol_mesh_create(&mesh, s.vertex_count, refit_case ? prev.positions : s.positions,
+                                 s.triangle_count, s.triangles, NULL);
     if (rc != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: %s: mesh: %s\n", bc->name, selfcol_status_string(rc));
+        scene_free(&prev);
         scene_free(&s);
         return 1;
     }
@@ -641,26 +680,36 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     if (cx.scale != 1.0) {
         for (size_t i = 0; i < 3 * s.vertex_count; ++i)
             s.positions[i] *= cx.scale;
-        rc = selfcol_mesh_set_positions(mesh, s.positions);
+        for (size_t i = 0; refit_case && i < 3 * prev.vertex_count; ++i)
+            prev.positions[i] *= cx.scale;
+        rc = selfcol_mesh_set_positions(mesh, refit_case ? prev.positions : s.positions);
         cx.mean_edge *= cx.scale;
         if (rc != SELFCOL_OK) {
             fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
             selfcol_mesh_destroy(mesh);
+            scene_free(&prev);
             scene_free(&s);
             return 1;
         }
     }
 
+    int status_of_setup = 0;
     selfcol_hierarchy *h = NULL;
     double build_s = median_build(mesh, subset == SMOKE ? 1 : 3, &h);
     selfcol_contacts *c = NULL;
     if (h == NULL || selfcol_contacts_create(&c, NULL) != SELFCOL_OK) {
         selfcol_hierarchy_destroy(h);
         selfcol_mesh_destroy(mesh);
+        scene_free(&prev);
         scene_free(&s);
         return 1;
     }
     size_t hier_bytes = selfcol_hierarchy_byte_count(h);
+    if (refit_case && selfcol_mesh_set_positions(mesh, s.positions) != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
+        status_of_setup = 1;
+    }
+    scene_free(&prev);
 
     // Refit: positions unchanged, the cost of a frame's refit all the same.
     double refit_t[MAX_REPS];
@@ -695,7 +744,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
 #endif
 
     const double factors[2] = {0.1, 0.5};
-    int status = 0;
+    int status = status_of_setup;
     for (int fi = 0; fi < 2 && status == 0; ++fi) {
         cx.d_factor = factors[fi];
         cx.d = factors[fi] * cx.mean_edge;
@@ -729,7 +778,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
                     method_name(methods[mi].method),
                     methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "");
             if (run_method(h, c, methods[mi].method, methods[mi].narrow, methods[mi].kinds, cx.d,
-                           lim.reps, &r.query, &r.st, &got) != 0) {
+                           lim.reps, &r, &got) != 0) {
                 status = 1;
                 break;
             }
