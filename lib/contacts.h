@@ -18,7 +18,7 @@ enum {
     SELFCOL_SCRATCH_FRAMES1 = 4, // the same, second hierarchy of a two-mesh query
     SELFCOL_SCRATCH_STAMPS0 = 5, // per-leaf: query serial at which its frames were computed
     SELFCOL_SCRATCH_STAMPS1 = 6,
-    SELFCOL_SCRATCH_SORT = 7,    // radix-sort keys (two halves)
+    SELFCOL_SCRATCH_SORT = 7, // radix-sort keys (two halves)
     SELFCOL_SCRATCH_SLOTS = 8
 };
 
@@ -31,7 +31,7 @@ struct selfcol_contacts {
     size_t scratch_bytes[SELFCOL_SCRATCH_SLOTS];
     selfcol_contact *spare; // the sort's destination, swapped with items
     size_t spare_capacity;
-    uint32_t serial; // bumped by every hierarchy query: validates the leaf stamps
+    uint32_t serial;           // bumped by every hierarchy query: validates the leaf stamps
     selfcol_query_stats stats; // always the latest version
 };
 

@@ -93,10 +93,10 @@ static int closed_ee(selfcol_query *q, int me, uint32_t e, const uint32_t *ev,
                      const double *const p[2], int mf, uint32_t f, const uint32_t *fv,
                      const double *const r2[2]) {
     q->out->stats.ee_tests++;
-    double dist = q->narrow == SELFCOL_NARROW_LIBCCD
-                      ? selfcol_narrow_ccd__ee(p[0], p[1], r2[0], r2[1], q->distance,
-                                               q->ccd_tolerance, NULL)
-                      : selfcol_narrow__ee(p[0], p[1], r2[0], r2[1], NULL);
+    double dist =
+        q->narrow == SELFCOL_NARROW_LIBCCD
+            ? selfcol_narrow_ccd__ee(p[0], p[1], r2[0], r2[1], q->distance, q->ccd_tolerance, NULL)
+            : selfcol_narrow__ee(p[0], p[1], r2[0], r2[1], NULL);
     if (!(dist < q->distance))
         return SELFCOL_OK;
     selfcol_narrow_result r;

@@ -55,7 +55,6 @@ struct selfcol_hierarchy;
 void selfcol_pairs__frame(selfcol_tri_frame *frame, const struct selfcol_hierarchy *h,
                           uint32_t slot);
 
-
 // A candidate triangle pair, as slots of the two hierarchies' tri_order,
 // with the plane flags of pairs.c (which corners of each triangle are
 // provably beyond d of, or strictly on one side of, the other's plane).

@@ -60,9 +60,9 @@ typedef struct traversal {
 static int push(traversal *t, uint32_t a, uint32_t b) {
     if (t->stack_size == t->stack_capacity) {
         size_t want = t->stack_capacity < 256 ? 256 : 2 * t->stack_capacity;
-        node_pair *grown = selfcol_contacts__scratch(t->q->out, SELFCOL_SCRATCH_STACK,
-                                                     want * sizeof(node_pair),
-                                                     t->stack_size * sizeof(node_pair));
+        node_pair *grown =
+            selfcol_contacts__scratch(t->q->out, SELFCOL_SCRATCH_STACK, want * sizeof(node_pair),
+                                      t->stack_size * sizeof(node_pair));
         if (grown == NULL)
             return SELFCOL_ENOMEM;
         t->stack = grown;
@@ -229,8 +229,7 @@ static int broad_phase(traversal *t) {
         int split_a = b->child_count == 0 || (a->child_count > 0 && a->tri_count >= b->tri_count);
         const selfcol_node *s = split_a ? a : b;
         for (uint32_t i = 0; i < s->child_count && status == SELFCOL_OK; ++i)
-            status =
-                split_a ? push(t, s->first_child + i, p.b) : push(t, p.a, s->first_child + i);
+            status = split_a ? push(t, s->first_child + i, p.b) : push(t, p.a, s->first_child + i);
     }
     return status;
 }
@@ -259,9 +258,9 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
         const selfcol_hierarchy *h = side ? h1 : h0;
         if (h->mesh->triangle_count > SIZE_MAX / sizeof(selfcol_tri_frame))
             return SELFCOL_ENOMEM;
-        t.frames[side] = selfcol_contacts__scratch(
-            c, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
-            h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
+        t.frames[side] =
+            selfcol_contacts__scratch(c, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
+                                      h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
         t.stamps[side] =
             stamps_for(c, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0, h->node_count);
         if (t.frames[side] == NULL || t.stamps[side] == NULL)
@@ -274,8 +273,8 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     // A new serial invalidates every stamp; at wrap-around they are cleared.
     if (++c->serial == 0) {
         for (int side = 0; side < sides; ++side)
-            memset(t.stamps[side], 0, c->scratch_bytes[side ? SELFCOL_SCRATCH_STAMPS1
-                                                            : SELFCOL_SCRATCH_STAMPS0]);
+            memset(t.stamps[side], 0,
+                   c->scratch_bytes[side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0]);
         c->serial = 1;
     }
     t.serial = c->serial;

@@ -118,8 +118,8 @@ static size_t check_trial(const pair_meshes *p, double d) {
             size_t ng;
             contact_key *kg = keys_of(got, &ng);
             if (!contact_keys_equal(kr, nr, kg, ng))
-                fail_msg("method %u, %s query, d = %.17g: %zu contacts, EXHAUSTIVE %zu",
-                         methods[m], two ? "two-mesh" : "self", d, ng, nr);
+                fail_msg("method %u, %s query, d = %.17g: %zu contacts, EXHAUSTIVE %zu", methods[m],
+                         two ? "two-mesh" : "self", d, ng, nr);
             assert_sorted(got);
             free(kg);
         }
