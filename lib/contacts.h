@@ -12,14 +12,13 @@
 // Scratch buffers kept by the contact set for the queries that fill it.
 enum {
     SELFCOL_SCRATCH_STACK = 0,   // traversal stack; the exhaustive search's boxes
-    SELFCOL_SCRATCH_PAIRS = 1,   // candidate triangle pairs
-    SELFCOL_SCRATCH_CONTOUR = 2, // contour.c's work area
-    SELFCOL_SCRATCH_FRAMES0 = 3, // per-triangle frame data, first hierarchy (by slot)
-    SELFCOL_SCRATCH_FRAMES1 = 4, // the same, second hierarchy of a two-mesh query
-    SELFCOL_SCRATCH_STAMPS0 = 5, // per-leaf: query serial at which its frames were computed
-    SELFCOL_SCRATCH_STAMPS1 = 6,
-    SELFCOL_SCRATCH_SORT = 7, // radix-sort keys (two halves)
-    SELFCOL_SCRATCH_SLOTS = 8
+    SELFCOL_SCRATCH_CONTOUR = 1, // contour.c's work area
+    SELFCOL_SCRATCH_FRAMES0 = 2, // per-triangle frame data, first hierarchy (by slot)
+    SELFCOL_SCRATCH_FRAMES1 = 3, // the same, second hierarchy of a two-mesh query
+    SELFCOL_SCRATCH_STAMPS0 = 4, // per-leaf: query serial at which its frames were computed
+    SELFCOL_SCRATCH_STAMPS1 = 5,
+    SELFCOL_SCRATCH_SORT = 6, // radix-sort keys (two halves)
+    SELFCOL_SCRATCH_SLOTS = 7
 };
 
 struct selfcol_contacts {
