@@ -35,7 +35,9 @@
 
 #include <string.h>
 
-typedef selfcol_slot_pair node_pair;
+typedef struct node_pair {
+    uint32_t a, b;
+} node_pair;
 
 // Candidate triangle pairs go to the pair tests in batches of this many,
 // while the frames of the leaves that produced them are still in cache
@@ -49,7 +51,7 @@ typedef struct traversal {
     uint32_t method;
     node_pair *stack;
     size_t stack_size, stack_capacity;
-    node_pair batch[PAIR_BATCH]; // candidate triangle pairs not yet tested
+    selfcol_slot_pair batch[PAIR_BATCH]; // candidate triangle pairs not yet tested
     size_t batch_count;
     double narrow_seconds;
     selfcol_tri_frame *frames[2]; // by slot; the same array twice for a self query
@@ -68,7 +70,7 @@ static int push(traversal *t, uint32_t a, uint32_t b) {
         t->stack = grown;
         t->stack_capacity = t->q->out->scratch_bytes[SELFCOL_SCRATCH_STACK] / sizeof(node_pair);
     }
-    t->stack[t->stack_size++] = (node_pair){a, b, 0};
+    t->stack[t->stack_size++] = (node_pair){a, b};
     return SELFCOL_OK;
 }
 
@@ -164,7 +166,7 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
                 t->q->out->stats.pairs_separated++;
                 continue;
             }
-            t->batch[t->batch_count++] = (node_pair){sa, sb, flags};
+            t->batch[t->batch_count++] = (selfcol_slot_pair){sa, sb, flags};
             if (t->batch_count == PAIR_BATCH) {
                 int status = flush_batch(t);
                 if (status != SELFCOL_OK)

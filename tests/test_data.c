@@ -120,13 +120,7 @@ static void test_data_ply_reader_round_trips_every_encoding(void **state) {
 static contact_key *query_keys(selfcol_hierarchy *h, selfcol_contacts *c,
                                const selfcol_query_options *q, size_t *n) {
     assert_int_equal(selfcol_hierarchy_self_collide(h, c, q), SELFCOL_OK);
-    const selfcol_contact *rec;
-    selfcol_contacts_data(c, &rec, n);
-    contact_key *keys = malloc((*n + 1) * sizeof *keys);
-    assert_non_null(keys);
-    const uint32_t none[2] = {0, 0};
-    contact_keys(rec, *n, NULL, none, keys);
-    return keys;
+    return contact_keys_of(c, n);
 }
 
 // Real meshes: the reference must be invariant under renumbering, and every

@@ -100,17 +100,6 @@ static void check_stats(const selfcol_contacts *contacts, uint32_t method, int s
     }
 }
 
-// Keys of the contacts currently held (sorted); caller frees.
-static contact_key *keys_of(const selfcol_contacts *contacts, size_t *n) {
-    const selfcol_contact *c;
-    assert_int_equal(selfcol_contacts_data(contacts, &c, n), SELFCOL_OK);
-    contact_key *keys = malloc((*n + 1) * sizeof *keys);
-    assert_non_null(keys);
-    const uint32_t offset[2] = {0, 0};
-    contact_keys(c, *n, NULL, offset, keys);
-    return keys;
-}
-
 static int key_compare(const contact_key *a, const contact_key *b) {
     for (int i = 0; i < 6; ++i)
         if (a->k[i] != b->k[i])
@@ -150,7 +139,7 @@ static contact_key *run_keys(world *w, uint32_t method, double d, size_t *n) {
     if (status != SELFCOL_OK)
         fail_msg("%s query: %s", method_name(method), selfcol_status_string(status));
     check_stats(w->contacts, method, 1);
-    return keys_of(w->contacts, n);
+    return contact_keys_of(w->contacts, n);
 }
 
 // What one scene gave at the two distances.
@@ -613,10 +602,10 @@ static void test_hierarchy_bvh_exact_per_kind_and_at_zero_distance(void **state)
         selfcol_query_options q = query(SELFCOL_METHOD_EXHAUSTIVE, d);
         q.kinds = kinds[i];
         assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_OK);
-        contact_key *ref = keys_of(w.contacts, &n_ref);
+        contact_key *ref = contact_keys_of(w.contacts, &n_ref);
         q.method = SELFCOL_METHOD_BVH;
         assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_OK);
-        contact_key *bvh = keys_of(w.contacts, &n_bvh);
+        contact_key *bvh = contact_keys_of(w.contacts, &n_bvh);
         assert_true(n_ref > 0);
         assert_true(contact_keys_equal(ref, n_ref, bvh, n_bvh));
         free(ref);
@@ -659,7 +648,7 @@ static void check_pair(const char *name, const scene *sa, const scene *sb) {
                          SELFCOL_OK);
         check_stats(a.contacts, q.method, 0);
         size_t n_ref, ef = 0;
-        contact_key *ref = keys_of(a.contacts, &n_ref);
+        contact_key *ref = contact_keys_of(a.contacts, &n_ref);
         for (size_t i = 0; i < n_ref; ++i)
             ef += ref[i].k[0] == SELFCOL_CONTACT_EF;
         size_t misses[4] = {0, 0, 0, 0};
@@ -669,7 +658,7 @@ static void check_pair(const char *name, const scene *sa, const scene *sb) {
                              SELFCOL_OK);
             check_stats(a.contacts, m, 0);
             size_t n, extras;
-            contact_key *got = keys_of(a.contacts, &n);
+            contact_key *got = contact_keys_of(a.contacts, &n);
             diff_keys(ref, n_ref, got, n, &misses[m], &extras);
             if (misses[m] != 0 || extras != 0) {
                 contact_keys_equal(ref, n_ref, got, n);
@@ -752,13 +741,13 @@ static void test_hierarchy_collide_is_stale_until_both_are_refit(void **state) {
     assert_int_equal(selfcol_hierarchy_collide(a.hierarchy, b.hierarchy, a.contacts, &q),
                      SELFCOL_OK);
     size_t n_ref, n_bvh;
-    contact_key *ref = keys_of(a.contacts, &n_ref);
+    contact_key *ref = contact_keys_of(a.contacts, &n_ref);
     assert_true(n_ref > 0);
     assert_int_equal(selfcol_hierarchy_refit(b.hierarchy), SELFCOL_OK);
     q.method = SELFCOL_METHOD_BVH;
     assert_int_equal(selfcol_hierarchy_collide(a.hierarchy, b.hierarchy, a.contacts, &q),
                      SELFCOL_OK);
-    contact_key *bvh = keys_of(a.contacts, &n_bvh);
+    contact_key *bvh = contact_keys_of(a.contacts, &n_bvh);
     assert_true(contact_keys_equal(ref, n_ref, bvh, n_bvh));
     free(ref);
     free(bvh);

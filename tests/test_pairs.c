@@ -53,18 +53,6 @@ static void make_pair(pair_meshes *p, double scale, double offset, double gap) {
         p->tri[i] = (uint32_t)i;
 }
 
-// Keys of a query's contacts, sorted.
-static contact_key *keys_of(const selfcol_contacts *c, size_t *n) {
-    const selfcol_contact *data;
-    selfcol_contacts_data(c, &data, n);
-    contact_key *keys = malloc((*n + 1) * sizeof *keys);
-    assert_non_null(keys);
-    const uint32_t zero[2] = {0, 0};
-    contact_keys(data, *n, NULL, zero, keys);
-    contact_keys_sort(keys, *n);
-    return keys;
-}
-
 static void assert_sorted(const selfcol_contacts *c) {
     const selfcol_contact *x;
     size_t n;
@@ -106,7 +94,7 @@ static size_t check_trial(const pair_meshes *p, double d) {
                              : selfcol_hierarchy_self_collide(hb, ref, &o),
                          SELFCOL_OK);
         size_t nr;
-        contact_key *kr = keys_of(ref, &nr);
+        contact_key *kr = contact_keys_of(ref, &nr);
         if (!two)
             self_contacts = nr;
         const uint32_t methods[2] = {SELFCOL_METHOD_BVH, SELFCOL_METHOD_EXACT};
@@ -116,7 +104,7 @@ static size_t check_trial(const pair_meshes *p, double d) {
                                  : selfcol_hierarchy_self_collide(hb, got, &o),
                              SELFCOL_OK);
             size_t ng;
-            contact_key *kg = keys_of(got, &ng);
+            contact_key *kg = contact_keys_of(got, &ng);
             if (!contact_keys_equal(kr, nr, kg, ng))
                 fail_msg("method %u, %s query, d = %.17g: %zu contacts, EXHAUSTIVE %zu", methods[m],
                          two ? "two-mesh" : "self", d, ng, nr);
@@ -239,13 +227,13 @@ static void test_pairs_stats_v4_are_consistent(void **state) {
     // The same contacts as EXHAUSTIVE, whose tests include what the filters
     // spared: the hierarchy made fewer closed-form tests.
     size_t n_bvh;
-    contact_key *k_bvh = keys_of(c, &n_bvh);
+    contact_key *k_bvh = contact_keys_of(c, &n_bvh);
     uint64_t tests_bvh = st.vf_tests + st.ee_tests + st.ef_tests;
     o.method = SELFCOL_METHOD_EXHAUSTIVE;
     assert_int_equal(selfcol_hierarchy_self_collide(h, c, &o), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_stats(c, &st), SELFCOL_OK);
     size_t n_ref;
-    contact_key *k_ref = keys_of(c, &n_ref);
+    contact_key *k_ref = contact_keys_of(c, &n_ref);
     assert_true(contact_keys_equal(k_ref, n_ref, k_bvh, n_bvh));
     assert_true(n_ref > 0);
     assert_true(tests_bvh < st.vf_tests + st.ee_tests + st.ef_tests);

@@ -112,7 +112,9 @@ typedef struct selfcol_query_stats {
     /** Adjacent node pairs skipped by the joint criterion (for EXACT, joint
      *  curvature and contour). */
     uint64_t culled_adjacency;
-    uint64_t triangle_pairs;   /**< triangle pairs handed to the narrow phase */
+    /** Candidate triangle pairs: those whose boxes are within d (including
+     *  the pairs_separated of version 4, which get no primitive test). */
+    uint64_t triangle_pairs;
     /* Version 3: the contour criterion of SELFCOL_METHOD_EXACT (0 otherwise). */
     /** Nodes and adjacent node pairs whose normals passed the curvature test
      *  and whose projected contour was then examined. */

@@ -55,6 +55,16 @@ void contact_keys(const selfcol_contact *c, size_t n, const uint32_t *map,
     contact_keys_sort(out, n);
 }
 
+contact_key *contact_keys_of(const selfcol_contacts *contacts, size_t *n) {
+    const selfcol_contact *c;
+    assert_int_equal(selfcol_contacts_data(contacts, &c, n), SELFCOL_OK);
+    contact_key *keys = malloc((*n + 1) * sizeof *keys);
+    assert_non_null(keys);
+    const uint32_t offset[2] = {0, 0};
+    contact_keys(c, *n, NULL, offset, keys);
+    return keys;
+}
+
 void contact_keys_sort(contact_key *keys, size_t n) {
     qsort(keys, n, sizeof *keys, key_compare);
 }

@@ -22,6 +22,10 @@ void contact_keys(const selfcol_contact *c, size_t n, const uint32_t *map,
 // Sorts keys.
 void contact_keys_sort(contact_key *keys, size_t n);
 
+// Keys of the contacts a handle holds (vertex indices as recorded, no offset),
+// sorted; the caller frees them. Fails the running cmocka test on ENOMEM.
+contact_key *contact_keys_of(const selfcol_contacts *contacts, size_t *n);
+
 // 1 when the two sorted key lists are equal; otherwise prints the first
 // difference (with print_error) and returns 0.
 int contact_keys_equal(const contact_key *a, size_t na, const contact_key *b, size_t nb);
