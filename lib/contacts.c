@@ -40,6 +40,10 @@ void selfcol_contacts_destroy(selfcol_contacts *contacts) {
     if (contacts == NULL)
         return;
     selfcol_allocator allocator = contacts->allocator;
+    for (unsigned w = 0; w < contacts->worker_count; ++w)
+        selfcol_contacts_destroy(contacts->workers[w]);
+    selfcol_alloc__free_array(&allocator, contacts->workers, contacts->worker_count,
+                              sizeof *contacts->workers);
     selfcol_alloc__free_array(&allocator, contacts->items, contacts->capacity,
                               sizeof(selfcol_contact));
     selfcol_alloc__free_array(&allocator, contacts->spare, contacts->spare_capacity,
@@ -92,7 +96,85 @@ size_t selfcol_contacts_byte_count(const selfcol_contacts *contacts) {
                    (contacts->capacity + contacts->spare_capacity) * sizeof(selfcol_contact);
     for (int i = 0; i < SELFCOL_SCRATCH_SLOTS; ++i)
         bytes += contacts->scratch_bytes[i];
+    bytes += contacts->worker_count * sizeof *contacts->workers;
+    for (unsigned w = 0; w < contacts->worker_count; ++w)
+        bytes += selfcol_contacts_byte_count(contacts->workers[w]);
     return bytes;
+}
+
+selfcol_contacts *selfcol_contacts__worker(selfcol_contacts *c, unsigned w) {
+    if (w == 0)
+        return c;
+    if (w > c->worker_count) {
+        selfcol_contacts **grown = selfcol_alloc__array(&c->allocator, w, sizeof *grown);
+        if (grown == NULL)
+            return NULL;
+        for (unsigned i = 0; i < w; ++i)
+            grown[i] = i < c->worker_count ? c->workers[i] : NULL;
+        selfcol_alloc__free_array(&c->allocator, c->workers, c->worker_count, sizeof *grown);
+        c->workers = grown;
+        c->worker_count = w;
+    }
+    if (c->workers[w - 1] == NULL) {
+        selfcol_contacts_options opts;
+        selfcol_contacts_options_init(&opts, SELFCOL_CONTACTS_OPTIONS_VERSION);
+        opts.allocator = c->allocator;
+        if (selfcol_contacts_create(&c->workers[w - 1], &opts) != SELFCOL_OK)
+            return NULL;
+    }
+    selfcol_contacts_clear(c->workers[w - 1]);
+    return c->workers[w - 1];
+}
+
+// absorb adds every field up to sort_seconds: a field appended to the
+// statistics must be added there too (this fails to compile until it is).
+typedef char stats_fields_all_absorbed[offsetof(selfcol_query_stats, sort_seconds) +
+                                               sizeof(double) ==
+                                           sizeof(selfcol_query_stats)
+                                       ? 1
+                                       : -1];
+
+int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker) {
+    if (worker->count > 0) {
+        if (worker->count > SIZE_MAX / sizeof(selfcol_contact) - c->count)
+            return SELFCOL_ENOMEM;
+        size_t need = c->count + worker->count;
+        if (need > c->capacity) {
+            size_t capacity = c->capacity * 2 > need ? c->capacity * 2 : need;
+            selfcol_contact *items =
+                selfcol_alloc__array(&c->allocator, capacity, sizeof(selfcol_contact));
+            if (items == NULL)
+                return SELFCOL_ENOMEM;
+            if (c->count > 0)
+                memcpy(items, c->items, c->count * sizeof(selfcol_contact));
+            selfcol_alloc__free_array(&c->allocator, c->items, c->capacity,
+                                      sizeof(selfcol_contact));
+            c->items = items;
+            c->capacity = capacity;
+        }
+        memcpy(c->items + c->count, worker->items, worker->count * sizeof(selfcol_contact));
+        c->count = need;
+    }
+    selfcol_query_stats *to = &c->stats;
+    const selfcol_query_stats *from = &worker->stats;
+    to->candidate_pairs += from->candidate_pairs;
+    to->vf_tests += from->vf_tests;
+    to->ee_tests += from->ee_tests;
+    to->ef_tests += from->ef_tests;
+    to->vf_contacts += from->vf_contacts;
+    to->ee_contacts += from->ee_contacts;
+    to->ef_contacts += from->ef_contacts;
+    to->nodes_visited += from->nodes_visited;
+    to->culled_box += from->culled_box;
+    to->culled_curvature += from->culled_curvature;
+    to->culled_adjacency += from->culled_adjacency;
+    to->triangle_pairs += from->triangle_pairs;
+    to->contour_tests += from->contour_tests;
+    to->contour_refused += from->contour_refused;
+    to->contour_seconds += from->contour_seconds;
+    to->pairs_separated += from->pairs_separated;
+    to->primitives_filtered += from->primitives_filtered;
+    return SELFCOL_OK;
 }
 
 int selfcol_contacts__push(selfcol_contacts *c, const selfcol_contact *contact) {

@@ -17,8 +17,9 @@ enum {
     SELFCOL_SCRATCH_FRAMES1 = 3, // the same, second hierarchy of a two-mesh query
     SELFCOL_SCRATCH_STAMPS0 = 4, // per-leaf: query serial at which its frames were computed
     SELFCOL_SCRATCH_STAMPS1 = 5,
-    SELFCOL_SCRATCH_SORT = 6, // radix-sort keys (two halves)
-    SELFCOL_SCRATCH_SLOTS = 7
+    SELFCOL_SCRATCH_SORT = 6,  // radix-sort keys (two halves)
+    SELFCOL_SCRATCH_TASKS = 7, // node pairs handed to the worker threads
+    SELFCOL_SCRATCH_SLOTS = 8
 };
 
 struct selfcol_contacts {
@@ -31,6 +32,10 @@ struct selfcol_contacts {
     selfcol_contact *spare; // the sort's destination, swapped with items
     size_t spare_capacity;
     uint32_t serial;           // bumped by every hierarchy query: validates the leaf stamps
+    // Records, statistics and scratch of the extra worker threads of a query
+    // (selfcol_query_options.threads), kept so a steady state allocates nothing.
+    struct selfcol_contacts **workers; // workers[w - 1] for worker w >= 1
+    unsigned worker_count;
     selfcol_query_stats stats; // always the latest version
 };
 
@@ -48,5 +53,13 @@ void *selfcol_contacts__scratch(selfcol_contacts *contacts, int slot, size_t byt
 // allocation once the spare buffer has grown. SELFCOL_OK or SELFCOL_ENOMEM
 // (the records are then left unsorted).
 int selfcol_contacts__sort(selfcol_contacts *contacts);
+
+// The contact set of worker thread w >= 1 of the queries that fill c, created
+// at first use with c's allocator and emptied here. NULL on allocation failure.
+selfcol_contacts *selfcol_contacts__worker(selfcol_contacts *c, unsigned w);
+
+// Appends worker's records to c and adds its counters (and contour time) to
+// c's statistics. SELFCOL_OK or SELFCOL_ENOMEM (c then keeps its own records).
+int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker);
 
 #endif // SELFCOL_CONTACTS_INTERNAL_H

@@ -22,6 +22,8 @@ int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version
     opts->narrow = SELFCOL_NARROW_CLOSED_FORM;
     opts->kinds = SELFCOL_KIND_ALL;
     opts->distance = 0.0;
+    if (version >= 2)
+        opts->threads = 1;
     return SELFCOL_OK;
 }
 
@@ -39,6 +41,9 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
                   opts->narrow == SELFCOL_NARROW_LIBCCD);
     SELFCOL_CHECK((opts->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);
     SELFCOL_CHECK(isfinite(opts->distance) && opts->distance >= 0.0);
+    // Version 1 callers' structs end before `threads`.
+    const unsigned threads = opts->version >= 2 ? opts->threads : 1u;
+    SELFCOL_CHECK(threads >= 1 && threads <= SELFCOL_MAX_THREADS);
 
     if (opts->method != SELFCOL_METHOD_EXHAUSTIVE &&
         (first->refit_version != first->mesh->positions_version ||
@@ -61,7 +66,7 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
 
     int status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
                      ? selfcol_exhaustive__run(&q)
-                     : selfcol_traverse__run(&q, first, second, opts->method);
+                     : selfcol_traverse__run(&q, first, second, opts->method, threads);
     double sort_start = selfcol_core__seconds();
     if (status == SELFCOL_OK)
         status = selfcol_contacts__sort(contacts);

@@ -79,9 +79,11 @@ int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2
 int selfcol_exhaustive__run(selfcol_query *q);
 
 // The hierarchy traversal (traverse.c) for methods BVH, SEED, CONE and
-// EXACT; for a self query h1 == h0.
+// EXACT; for a self query h1 == h0. With threads > 1, the traversal and pair
+// tests run on up to that many threads (the records then need sorting, as
+// always).
 int selfcol_traverse__run(selfcol_query *q, const struct selfcol_hierarchy *h0,
-                          const struct selfcol_hierarchy *h1, uint32_t method);
+                          const struct selfcol_hierarchy *h1, uint32_t method, unsigned threads);
 
 // EXACT's criterion (contour.c): 1 when Self(node id) provably holds no
 // contact at distance d. Uses scratch slot 2 of `scratch_owner`.

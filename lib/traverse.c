@@ -30,9 +30,9 @@
 
 #include "core.h"
 #include "hierarchy.h"
+#include "parallel.h"
 
 #include <math.h>
-
 #include <string.h>
 
 typedef struct node_pair {
@@ -45,30 +45,62 @@ typedef struct node_pair {
 // took 153 ms, mostly waiting on memory).
 #define PAIR_BATCH 512
 
-typedef struct traversal {
-    selfcol_query *q;
+// Threads. The first levels of the traversal run on the calling thread,
+// breadth first, until this many node pairs per worker wait (or none do);
+// the workers then take those pairs, largest first, from a shared counter
+// and traverse each to the leaves on their own stacks, into their own
+// records and statistics. Every node pair is visited exactly once whoever
+// takes it, so the counters add up to those of one thread, and the records,
+// sorted by their keys afterwards, are the same list.
+#define TASKS_PER_WORKER 32
+#define MAX_WORKERS 64
+
+// A leaf's frames are published once per query: its stamp goes from an older
+// serial to serial | FRAMES_BUSY (claimed by one worker) to serial (ready).
+// Serials stay below FRAMES_BUSY.
+#define FRAMES_BUSY 0x80000000u
+
+// What the workers of one query share (read only while they run, apart from
+// the atomic task counter, stop flag and leaf stamps).
+typedef struct shared {
     const selfcol_hierarchy *h[2];
     uint32_t method;
+    double distance;
+    selfcol_tri_frame *frames[2]; // by slot; the same array twice for a self query
+    uint32_t *stamps[2];          // by node: serial of the query that computed its frames
+    uint32_t serial;
+    int concurrent; // more than one worker: stamps are claimed atomically
+    const node_pair *tasks;
+    size_t task_count;
+    size_t next_task; // atomic
+    int stop;         // atomic: a worker failed
+    const selfcol_query *query;
+    selfcol_contacts *out[MAX_WORKERS];
+    double narrow_seconds[MAX_WORKERS];
+    double busy_seconds[MAX_WORKERS];
+} shared;
+
+// One worker's traversal.
+typedef struct traversal {
+    shared *s;
+    selfcol_query q; // the query, with out = this worker's records and statistics
     node_pair *stack;
     size_t stack_size, stack_capacity;
     selfcol_slot_pair batch[PAIR_BATCH]; // candidate triangle pairs not yet tested
     size_t batch_count;
     double narrow_seconds;
-    selfcol_tri_frame *frames[2]; // by slot; the same array twice for a self query
-    uint32_t *stamps[2];          // by node: serial of the query that computed its frames
-    uint32_t serial;
 } traversal;
 
 static int push(traversal *t, uint32_t a, uint32_t b) {
     if (t->stack_size == t->stack_capacity) {
         size_t want = t->stack_capacity < 256 ? 256 : 2 * t->stack_capacity;
         node_pair *grown =
-            selfcol_contacts__scratch(t->q->out, SELFCOL_SCRATCH_STACK, want * sizeof(node_pair),
+            selfcol_contacts__scratch(t->q.out, SELFCOL_SCRATCH_STACK, want * sizeof(node_pair),
                                       t->stack_size * sizeof(node_pair));
         if (grown == NULL)
             return SELFCOL_ENOMEM;
         t->stack = grown;
-        t->stack_capacity = t->q->out->scratch_bytes[SELFCOL_SCRATCH_STACK] / sizeof(node_pair);
+        t->stack_capacity = t->q.out->scratch_bytes[SELFCOL_SCRATCH_STACK] / sizeof(node_pair);
     }
     t->stack[t->stack_size++] = (node_pair){a, b};
     return SELFCOL_OK;
@@ -79,8 +111,8 @@ static int flush_batch(traversal *t) {
     if (t->batch_count == 0)
         return SELFCOL_OK;
     double start = selfcol_core__seconds();
-    const selfcol_tri_frame *const frames[2] = {t->frames[0], t->frames[1]};
-    int status = selfcol_pairs__run(t->q, frames, t->batch, t->batch_count);
+    const selfcol_tri_frame *const frames[2] = {t->s->frames[0], t->s->frames[1]};
+    int status = selfcol_pairs__run(&t->q, frames, t->batch, t->batch_count);
     t->batch_count = 0;
     t->narrow_seconds += selfcol_core__seconds() - start;
     return status;
@@ -132,25 +164,46 @@ static int jointly_smooth(uint32_t method, const selfcol_node *a, const selfcol_
     return lo < HALF_PI;
 }
 
-// The frames of a leaf's triangles, computed at its first visit in this query.
+// The frames of a leaf's triangles, computed at its first visit in this
+// query. With several workers, the first to reach the leaf claims it and the
+// others wait for its stamp (a leaf holds a few triangles: the wait is short
+// and rare).
 static void ensure_frames(traversal *t, int side, uint32_t id) {
-    if (t->stamps[side][id] == t->serial)
-        return;
-    t->stamps[side][id] = t->serial;
-    const selfcol_hierarchy *h = t->h[side];
+    shared *s = t->s;
+    uint32_t *stamp = &s->stamps[side][id];
+    if (!s->concurrent) {
+        if (*stamp == s->serial)
+            return;
+        *stamp = s->serial;
+    } else {
+        uint32_t seen = SELFCOL_ATOMIC_LOAD(stamp);
+        if (seen == s->serial)
+            return;
+        if (seen == (s->serial | FRAMES_BUSY) ||
+            !SELFCOL_ATOMIC_CAS(stamp, &seen, s->serial | FRAMES_BUSY)) {
+            while (SELFCOL_ATOMIC_LOAD(stamp) != s->serial) {
+            }
+            return;
+        }
+    }
+    const selfcol_hierarchy *h = s->h[side];
     const selfcol_node *n = &h->nodes[id];
-    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s)
-        selfcol_pairs__frame(&t->frames[side][s], h, s);
+    for (uint32_t slot = n->tri_begin; slot < n->tri_begin + n->tri_count; ++slot)
+        selfcol_pairs__frame(&s->frames[side][slot], h, slot);
+    if (s->concurrent)
+        SELFCOL_ATOMIC_STORE(stamp, s->serial);
 }
 
 // Triangle pairs of two leaves (or of one leaf with itself) whose boxes are
 // within d and neither of which lies beyond d of the other's plane.
 static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
-    const selfcol_node *a = &t->h[0]->nodes[a_id], *b = &t->h[1]->nodes[b_id];
-    const double d = t->q->distance;
+    const shared *s = t->s;
+    const selfcol_node *a = &s->h[0]->nodes[a_id], *b = &s->h[1]->nodes[b_id];
+    const double d = s->distance;
     ensure_frames(t, 0, a_id);
     ensure_frames(t, 1, b_id);
-    const selfcol_tri_frame *fa = t->frames[0], *fb = t->frames[1];
+    const selfcol_tri_frame *fa = s->frames[0], *fb = s->frames[1];
+    selfcol_query_stats *st = &t->q.out->stats;
     for (uint32_t sa = a->tri_begin; sa < a->tri_begin + a->tri_count; ++sa) {
         const double *alo = fa[sa].lo, *ahi = fa[sa].hi;
         for (uint32_t sb = same ? sa + 1 : b->tri_begin; sb < b->tri_begin + b->tri_count; ++sb) {
@@ -160,10 +213,10 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
                 apart |= (alo[k] - d > bhi[k]) | (blo[k] - d > ahi[k]);
             if (apart)
                 continue;
-            t->q->out->stats.triangle_pairs++;
+            st->triangle_pairs++;
             uint32_t flags;
             if (!selfcol_pairs__candidate(&fa[sa], &fb[sb], d, &flags)) {
-                t->q->out->stats.pairs_separated++;
+                st->pairs_separated++;
                 continue;
             }
             t->batch[t->batch_count++] = (selfcol_slot_pair){sa, sb, flags};
@@ -177,62 +230,144 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
     return SELFCOL_OK;
 }
 
-static int broad_phase(traversal *t) {
-    selfcol_query_stats *st = &t->q->out->stats;
-    const int self = t->q->self;
+// One node pair: culled, tested as leaves, or split onto the stack.
+static int visit(traversal *t, node_pair p) {
+    const shared *s = t->s;
+    selfcol_query_stats *st = &t->q.out->stats;
+    const int self = t->q.self;
+    const uint32_t method = s->method;
+    const double d = s->distance;
     // SEED and CONE cull adjacent pairs by joint curvature; EXACT by the
     // joint curvature and contour criterion of contour.c.
-    const int curvature =
-        self && (t->method == SELFCOL_METHOD_SEED || t->method == SELFCOL_METHOD_CONE);
-    const int exact_pairs = self && t->method == SELFCOL_METHOD_EXACT;
-    const selfcol_node *n0 = t->h[0]->nodes, *n1 = t->h[1]->nodes;
-    int status = push(t, 0, 0);
+    const int curvature = self && (method == SELFCOL_METHOD_SEED || method == SELFCOL_METHOD_CONE);
+    const int exact_pairs = self && method == SELFCOL_METHOD_EXACT;
+    const selfcol_node *a = &s->h[0]->nodes[p.a], *b = &s->h[1]->nodes[p.b];
+    int status = SELFCOL_OK;
+    st->nodes_visited++;
+    if (self && p.a == p.b) {
+        if (method == SELFCOL_METHOD_EXACT
+                ? a->tri_count >= CONTOUR_MIN_TRIANGLES &&
+                      selfcol_contour__self_skippable(s->h[0], p.a, d, t->q.out)
+                : curvature && smooth(method, a)) {
+            st->culled_curvature++;
+            return SELFCOL_OK;
+        }
+        if (a->child_count == 0)
+            return leaf_pair(t, p.a, p.a, 1);
+        for (uint32_t i = 0; i < a->child_count && status == SELFCOL_OK; ++i) {
+            uint32_t ci = a->first_child + i;
+            status = push(t, ci, ci);
+            for (uint32_t j = i + 1; j < a->child_count && status == SELFCOL_OK; ++j)
+                status = push(t, ci, a->first_child + j);
+        }
+        return status;
+    }
+    if (boxes_apart(a, b, d)) {
+        st->culled_box++;
+        return SELFCOL_OK;
+    }
+    if (curvature ? jointly_smooth(method, a, b) && selfcol_hierarchy__adjacent(s->h[0], a, b)
+                  : exact_pairs && a->tri_count + b->tri_count >= CONTOUR_MIN_TRIANGLES &&
+                        selfcol_contour__pair_skippable(s->h[0], p.a, p.b, d, t->q.out)) {
+        st->culled_adjacency++;
+        return SELFCOL_OK;
+    }
+    if (a->child_count == 0 && b->child_count == 0)
+        return leaf_pair(t, p.a, p.b, 0);
+    // Split the node with more triangles (a leaf is never split).
+    int split_a = b->child_count == 0 || (a->child_count > 0 && a->tri_count >= b->tri_count);
+    const selfcol_node *n = split_a ? a : b;
+    for (uint32_t i = 0; i < n->child_count && status == SELFCOL_OK; ++i)
+        status = split_a ? push(t, n->first_child + i, p.b) : push(t, p.a, n->first_child + i);
+    return status;
+}
+
+// Depth first until the stack is empty.
+static int drain(traversal *t) {
+    int status = SELFCOL_OK;
     while (status == SELFCOL_OK && t->stack_size > 0) {
         node_pair p = t->stack[--t->stack_size];
-        const selfcol_node *a = &n0[p.a], *b = &n1[p.b];
-        st->nodes_visited++;
-        if (self && p.a == p.b) {
-            if (t->method == SELFCOL_METHOD_EXACT
-                    ? a->tri_count >= CONTOUR_MIN_TRIANGLES &&
-                          selfcol_contour__self_skippable(t->h[0], p.a, t->q->distance, t->q->out)
-                    : curvature && smooth(t->method, a)) {
-                st->culled_curvature++;
-                continue;
-            }
-            if (a->child_count == 0) {
-                status = leaf_pair(t, p.a, p.a, 1);
-                continue;
-            }
-            for (uint32_t i = 0; i < a->child_count && status == SELFCOL_OK; ++i) {
-                uint32_t ci = a->first_child + i;
-                status = push(t, ci, ci);
-                for (uint32_t j = i + 1; j < a->child_count && status == SELFCOL_OK; ++j)
-                    status = push(t, ci, a->first_child + j);
-            }
-            continue;
-        }
-        if (boxes_apart(a, b, t->q->distance)) {
-            st->culled_box++;
-            continue;
-        }
-        if (curvature
-                ? jointly_smooth(t->method, a, b) && selfcol_hierarchy__adjacent(t->h[0], a, b)
-                : exact_pairs && a->tri_count + b->tri_count >= CONTOUR_MIN_TRIANGLES &&
-                      selfcol_contour__pair_skippable(t->h[0], p.a, p.b, t->q->distance,
-                                                      t->q->out)) {
-            st->culled_adjacency++;
-            continue;
-        }
-        if (a->child_count == 0 && b->child_count == 0) {
-            status = leaf_pair(t, p.a, p.b, 0);
-            continue;
-        }
-        // Split the node with more triangles (a leaf is never split).
-        int split_a = b->child_count == 0 || (a->child_count > 0 && a->tri_count >= b->tri_count);
-        const selfcol_node *s = split_a ? a : b;
-        for (uint32_t i = 0; i < s->child_count && status == SELFCOL_OK; ++i)
-            status = split_a ? push(t, s->first_child + i, p.b) : push(t, p.a, s->first_child + i);
+        status = visit(t, p);
     }
+    return status;
+}
+
+static void traversal_init(traversal *t, shared *s, selfcol_contacts *out) {
+    t->s = s;
+    t->q = *s->query;
+    t->q.out = out;
+    t->stack = NULL;
+    t->stack_size = t->stack_capacity = 0;
+    t->batch_count = 0;
+    t->narrow_seconds = 0.0;
+}
+
+static uint32_t triangles_of(const shared *s, node_pair p) {
+    uint32_t ta = s->h[0]->nodes[p.a].tri_count;
+    return p.a == p.b && s->h[0] == s->h[1] ? ta : ta + s->h[1]->nodes[p.b].tri_count;
+}
+
+// Breadth first on the calling thread until `want` node pairs wait on the
+// stack (or none); leaves met on the way are tested here. The waiting pairs
+// are left in `tasks` (scratch of the caller's contacts), largest first, and
+// their count returned in *count.
+static int seed_tasks(traversal *t, size_t want, node_pair **tasks, size_t *count) {
+    int status = push(t, 0, 0);
+    while (status == SELFCOL_OK && t->stack_size > 0 && t->stack_size < want) {
+        size_t level = t->stack_size;
+        node_pair *copy = selfcol_contacts__scratch(t->q.out, SELFCOL_SCRATCH_TASKS,
+                                                    level * sizeof(node_pair), 0);
+        if (copy == NULL)
+            return SELFCOL_ENOMEM;
+        memcpy(copy, t->stack, level * sizeof(node_pair));
+        t->stack_size = 0;
+        for (size_t i = 0; i < level && status == SELFCOL_OK; ++i)
+            status = visit(t, copy[i]);
+    }
+    if (status != SELFCOL_OK)
+        return status;
+    size_t n = t->stack_size;
+    node_pair *list =
+        selfcol_contacts__scratch(t->q.out, SELFCOL_SCRATCH_TASKS, n * sizeof(node_pair), 0);
+    if (list == NULL && n > 0)
+        return SELFCOL_ENOMEM;
+    // Largest first (insertion sort of a few hundred pairs), so that no
+    // worker starts a big subtree when the others are about to finish.
+    for (size_t i = 0; i < n; ++i) {
+        node_pair p = t->stack[i];
+        uint32_t size = triangles_of(t->s, p);
+        size_t j = i;
+        for (; j > 0 && triangles_of(t->s, list[j - 1]) < size; --j)
+            list[j] = list[j - 1];
+        list[j] = p;
+    }
+    t->stack_size = 0;
+    *tasks = list;
+    *count = n;
+    return SELFCOL_OK;
+}
+
+// A worker: take node pairs from the shared list until none is left.
+static int worker_run(void *context, unsigned w) {
+    shared *s = context;
+    double start = selfcol_core__seconds();
+    traversal t;
+    traversal_init(&t, s, s->out[w]);
+    int status = SELFCOL_OK;
+    while (status == SELFCOL_OK && !SELFCOL_ATOMIC_LOAD(&s->stop)) {
+        size_t i = SELFCOL_ATOMIC_FETCH_ADD(&s->next_task, (size_t)1);
+        if (i >= s->task_count)
+            break;
+        status = push(&t, s->tasks[i].a, s->tasks[i].b);
+        if (status == SELFCOL_OK)
+            status = drain(&t);
+    }
+    if (status == SELFCOL_OK)
+        status = flush_batch(&t);
+    if (status != SELFCOL_OK)
+        SELFCOL_ATOMIC_STORE(&s->stop, 1);
+    s->narrow_seconds[w] = t.narrow_seconds;
+    s->busy_seconds[w] = selfcol_core__seconds() - start;
     return status;
 }
 
@@ -246,46 +381,101 @@ static uint32_t *stamps_for(selfcol_contacts *c, int slot, size_t count) {
     return stamps;
 }
 
+// The workers' records and counters go into the caller's contacts (the
+// records in any order: the query sorts them next).
+static int gather(shared *s, unsigned workers) {
+    selfcol_contacts *c = s->out[0];
+    double broad = 0.0, narrow = 0.0;
+    for (unsigned w = 0; w < workers; ++w) {
+        narrow += s->narrow_seconds[w];
+        broad += s->busy_seconds[w] - s->narrow_seconds[w];
+        if (w > 0) {
+            int status = selfcol_contacts__absorb(c, s->out[w]);
+            if (status != SELFCOL_OK)
+                return status;
+        }
+    }
+    c->stats.broad_seconds += broad;
+    c->stats.narrow_seconds += narrow;
+    return SELFCOL_OK;
+}
+
 int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
-                          const selfcol_hierarchy *h1, uint32_t method) {
-    traversal t;
-    memset(&t, 0, sizeof t);
-    t.q = q;
-    t.h[0] = h0;
-    t.h[1] = h1;
-    t.method = method;
+                          const selfcol_hierarchy *h1, uint32_t method, unsigned threads) {
+    shared s;
+    memset(&s, 0, sizeof s);
+    s.h[0] = h0;
+    s.h[1] = h1;
+    s.method = method;
+    s.distance = q->distance;
+    s.query = q;
     selfcol_contacts *c = q->out;
     const int sides = q->self ? 1 : 2;
     for (int side = 0; side < sides; ++side) {
         const selfcol_hierarchy *h = side ? h1 : h0;
         if (h->mesh->triangle_count > SIZE_MAX / sizeof(selfcol_tri_frame))
             return SELFCOL_ENOMEM;
-        t.frames[side] =
+        s.frames[side] =
             selfcol_contacts__scratch(c, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
                                       h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
-        t.stamps[side] =
+        s.stamps[side] =
             stamps_for(c, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0, h->node_count);
-        if (t.frames[side] == NULL || t.stamps[side] == NULL)
+        if (s.frames[side] == NULL || s.stamps[side] == NULL)
             return SELFCOL_ENOMEM;
     }
     if (q->self) {
-        t.frames[1] = t.frames[0];
-        t.stamps[1] = t.stamps[0];
+        s.frames[1] = s.frames[0];
+        s.stamps[1] = s.stamps[0];
     }
     // A new serial invalidates every stamp; at wrap-around they are cleared.
-    if (++c->serial == 0) {
+    if (++c->serial >= FRAMES_BUSY) {
         for (int side = 0; side < sides; ++side)
-            memset(t.stamps[side], 0,
+            memset(s.stamps[side], 0,
                    c->scratch_bytes[side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0]);
         c->serial = 1;
     }
-    t.serial = c->serial;
+    s.serial = c->serial;
 
-    double start = selfcol_core__seconds();
-    int status = broad_phase(&t);
+    const double start = selfcol_core__seconds();
+    unsigned workers = threads < 1 ? 1 : (threads > MAX_WORKERS ? MAX_WORKERS : threads);
+    traversal calling;
+    traversal *main_traversal = &calling;
+    traversal_init(main_traversal, &s, c);
+    int status;
+    if (workers == 1) {
+        status = push(main_traversal, 0, 0);
+        if (status == SELFCOL_OK)
+            status = drain(main_traversal);
+        if (status == SELFCOL_OK)
+            status = flush_batch(main_traversal);
+        c->stats.narrow_seconds = main_traversal->narrow_seconds;
+        c->stats.broad_seconds =
+            selfcol_core__seconds() - start - main_traversal->narrow_seconds;
+        return status;
+    }
+
+    node_pair *tasks = NULL;
+    status = seed_tasks(main_traversal, TASKS_PER_WORKER * (size_t)workers, &tasks, &s.task_count);
     if (status == SELFCOL_OK)
-        status = flush_batch(&t);
-    q->out->stats.narrow_seconds = t.narrow_seconds;
-    q->out->stats.broad_seconds = selfcol_core__seconds() - start - t.narrow_seconds;
+        status = flush_batch(main_traversal);
+    c->stats.narrow_seconds = main_traversal->narrow_seconds;
+    c->stats.broad_seconds = selfcol_core__seconds() - start - main_traversal->narrow_seconds;
+    if (status != SELFCOL_OK || s.task_count == 0)
+        return status;
+    if (s.task_count < workers)
+        workers = (unsigned)s.task_count;
+    s.tasks = tasks;
+    s.out[0] = c;
+    for (unsigned w = 1; w < workers; ++w) {
+        s.out[w] = selfcol_contacts__worker(c, w);
+        if (s.out[w] == NULL)
+            return SELFCOL_ENOMEM;
+    }
+    s.concurrent = 1;
+    // A worker whose thread did not start left its records empty and its
+    // times 0; the others took its share of the tasks.
+    status = selfcol_parallel__run(workers, worker_run, &s, NULL);
+    if (status == SELFCOL_OK)
+        status = gather(&s, workers);
     return status;
 }

@@ -141,9 +141,22 @@ typedef struct selfcol_query_options {
     /** Detection distance d >= 0 in mesh units; default 0 (interferences
      *  only). The standard setting is 0.1 x selfcol_mesh_mean_edge_length(). */
     double distance;
+    /* Version 2 */
+    /** Threads the query may use, 1 to SELFCOL_MAX_THREADS; default 1.
+     *  The contacts and the statistics (apart from times) are identical for
+     *  every count. With more than one, the query starts and joins its
+     *  threads itself, and the contacts' allocator may be called from them
+     *  (it must then be thread-safe). The default is one thread because an
+     *  engine usually runs queries of several meshes or scenes side by side
+     *  already, and one thread is the reference of every measurement. The
+     *  exhaustive method always uses one. */
+    unsigned int threads;
 } selfcol_query_options;
 
-#define SELFCOL_QUERY_OPTIONS_VERSION 1
+#define SELFCOL_QUERY_OPTIONS_VERSION 2
+
+/** Largest selfcol_query_options.threads. */
+#define SELFCOL_MAX_THREADS 64
 
 /**
  * Writes the defaults into opts.

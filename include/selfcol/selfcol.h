@@ -6,13 +6,18 @@
  * Umbrella header of libselfcol: collision and self-collision detection for
  * deformable triangle surfaces.
  *
- * Thread safety: libselfcol keeps no global mutable state and starts no
- * threads. Different handles may be used at the same time from different
- * threads. One handle must not be used concurrently by calls that modify it.
- * Calls that take a `const` handle (queries, `selfcol_contacts_data`) may run
- * concurrently with each other. Callbacks, including the allocator, run on the
- * calling thread and must be thread-safe if you use handles from several
- * threads.
+ * Thread safety: libselfcol keeps no global mutable state. Queries on one
+ * hierarchy (or on hierarchies over one mesh) may run at the same time from
+ * several threads, each with its own selfcol_contacts, while nothing modifies
+ * that mesh or those hierarchies; read-only calls may run with each other and
+ * with queries filling other contact sets; unrelated handles are independent.
+ * Never at the same time: selfcol_mesh_set_positions* with any call reading
+ * that mesh (refits and queries of its hierarchies included), a refit with a
+ * query on that hierarchy, two queries into one selfcol_contacts, or any call
+ * with the destruction of a handle it uses. The library starts threads only
+ * inside a query with selfcol_query_options.threads > 1 and joins them before
+ * it returns; the contacts' allocator may then be called from them at once.
+ * Every other callback runs on the calling thread.
  */
 #ifndef SELFCOL_SELFCOL_H
 #define SELFCOL_SELFCOL_H

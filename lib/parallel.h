@@ -1,0 +1,30 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Worker threads for one query, started and joined inside the call (the
+// library keeps no thread or other global state between calls), and the few
+// atomic operations the shared per-query data needs.
+#ifndef SELFCOL_PARALLEL_H
+#define SELFCOL_PARALLEL_H
+
+#include <stdint.h>
+
+// Runs work(context, w) for w = 0 .. workers - 1: worker 0 on the calling
+// thread, the others on threads started here and joined before returning.
+// A worker whose thread cannot be started is not run (the work is shared
+// through a task counter, so the others take its part); *started receives
+// how many ran. Returns the first non-zero status of the workers, in worker
+// order.
+int selfcol_parallel__run(unsigned workers, int (*work)(void *context, unsigned worker),
+                          void *context, unsigned *started);
+
+// GCC/Clang atomic builtins (the library is C99; C11 <stdatomic.h> is not
+// assumed). Acquire/release orders are enough for the patterns used: a task
+// counter, a stop flag, and per-leaf publish-once stamps.
+#define SELFCOL_ATOMIC_LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
+#define SELFCOL_ATOMIC_STORE(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
+#define SELFCOL_ATOMIC_FETCH_ADD(p, v) __atomic_fetch_add((p), (v), __ATOMIC_ACQ_REL)
+#define SELFCOL_ATOMIC_CAS(p, expected, desired)                                                   \
+    __atomic_compare_exchange_n((p), (expected), (desired), 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)
+
+#endif // SELFCOL_PARALLEL_H

@@ -1,0 +1,350 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Queries on several threads (selfcol_query_options.threads): the records
+// and the statistics apart from times must be those of one thread, byte for
+// byte, for every hierarchy method, self and two-mesh, at d = 0 and at the
+// standard d; an allocation failure inside a worker must give SELFCOL_ENOMEM,
+// an empty set and no leak; old option structs keep working; and queries on
+// one hierarchy from several threads at once hold to the README's contract.
+#define _POSIX_C_SOURCE 200112L // posix_memalign
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <selfcol/selfcol.h>
+
+#include "contact_keys.h"
+#include "scenes.h"
+
+typedef struct built {
+    selfcol_mesh *mesh;
+    selfcol_hierarchy *hierarchy;
+} built;
+
+static built build(const scene *s) {
+    built b = {NULL, NULL};
+    assert_int_equal(selfcol_mesh_create(&b.mesh, s->vertex_count, s->positions,
+                                         s->triangle_count, s->triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&b.hierarchy, b.mesh, NULL), SELFCOL_OK);
+    return b;
+}
+
+static void release(built *b) {
+    selfcol_hierarchy_destroy(b->hierarchy);
+    selfcol_mesh_destroy(b->mesh);
+}
+
+static selfcol_query_stats stats_of(const selfcol_contacts *c) {
+    selfcol_query_stats st;
+    memset(&st, 0, sizeof st);
+    st.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(c, &st), SELFCOL_OK);
+    // Times differ from run to run; everything else must not.
+    st.broad_seconds = st.narrow_seconds = st.total_seconds = 0.0;
+    st.contour_seconds = st.sort_seconds = 0.0;
+    return st;
+}
+
+static int query(const built *a, const built *b, selfcol_contacts *c, uint32_t method, double d,
+                 unsigned threads) {
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.method = method;
+    q.distance = d;
+    q.threads = threads;
+    return b == NULL ? selfcol_hierarchy_self_collide(a->hierarchy, c, &q)
+                     : selfcol_hierarchy_collide(a->hierarchy, b->hierarchy, c, &q);
+}
+
+// Every method and thread count against one thread of the same method, and
+// EXACT on 3 threads against the exhaustive search.
+static void check_scene(const built *a, const built *b, const char *name) {
+    const uint32_t methods[] = {SELFCOL_METHOD_BVH, SELFCOL_METHOD_SEED, SELFCOL_METHOD_CONE,
+                                SELFCOL_METHOD_EXACT};
+    const unsigned threads[] = {2, 3, 8};
+    double edge = selfcol_mesh_mean_edge_length(a->mesh);
+    const double distances[] = {0.0, 0.1 * edge};
+    selfcol_contacts *one = NULL, *many = NULL, *reference = NULL;
+    assert_int_equal(selfcol_contacts_create(&one, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&many, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&reference, NULL), SELFCOL_OK);
+    size_t contacts_seen = 0;
+    for (int di = 0; di < 2; ++di) {
+        assert_int_equal(query(a, b, reference, SELFCOL_METHOD_EXHAUSTIVE, distances[di], 1),
+                         SELFCOL_OK);
+        for (int mi = 0; mi < 4; ++mi) {
+            assert_int_equal(query(a, b, one, methods[mi], distances[di], 1), SELFCOL_OK);
+            selfcol_query_stats st1 = stats_of(one);
+            const selfcol_contact *x1;
+            size_t n1;
+            selfcol_contacts_data(one, &x1, &n1);
+            contacts_seen += n1;
+            for (int ti = 0; ti < 3; ++ti) {
+                // Twice, so the second run reuses the workers' buffers.
+                for (int repeat = 0; repeat < 2; ++repeat) {
+                    assert_int_equal(query(a, b, many, methods[mi], distances[di], threads[ti]),
+                                     SELFCOL_OK);
+                    const selfcol_contact *xn;
+                    size_t nn;
+                    selfcol_contacts_data(many, &xn, &nn);
+                    if (nn != n1 || (n1 > 0 && memcmp(x1, xn, n1 * sizeof *x1) != 0))
+                        fail_msg("%s: method %u, d %g, %u threads: %zu records, one thread %zu "
+                                 "(or different content)",
+                                 name, methods[mi], distances[di], threads[ti], nn, n1);
+                    selfcol_query_stats stn = stats_of(many);
+                    if (memcmp(&st1, &stn, sizeof st1) != 0)
+                        fail_msg("%s: method %u, d %g, %u threads: statistics differ", name,
+                                 methods[mi], distances[di], threads[ti]);
+                }
+            }
+            if (methods[mi] == SELFCOL_METHOD_EXACT || methods[mi] == SELFCOL_METHOD_BVH) {
+                assert_int_equal(query(a, b, many, methods[mi], distances[di], 3), SELFCOL_OK);
+                size_t ne, nr;
+                contact_key *ke = contact_keys_of(many, &ne);
+                contact_key *kr = contact_keys_of(reference, &nr);
+                if (!contact_keys_equal(kr, nr, ke, ne))
+                    fail_msg("%s: method %u on 3 threads differs from EXHAUSTIVE", name,
+                             methods[mi]);
+                free(ke);
+                free(kr);
+            }
+        }
+    }
+    if (contacts_seen == 0)
+        fail_msg("%s: no contacts (the scene must touch)", name);
+    selfcol_contacts_destroy(one);
+    selfcol_contacts_destroy(many);
+    selfcol_contacts_destroy(reference);
+}
+
+static void test_threads_give_the_records_and_counters_of_one_thread(void **state) {
+    (void)state;
+    scene s;
+    // A crumpled sheet (many small folds), a z-fold, a one-sided band
+    // pressed until it crosses itself.
+    assert_int_equal(scene_crumpled(&s, 40, 40, 7, 5.0), 0);
+    built b = build(&s);
+    check_scene(&b, NULL, "crumpled 40x40");
+    release(&b);
+    scene_free(&s);
+    assert_int_equal(scene_zfold(&s, 24, 6, 0.05, 4, 0.0), 0);
+    b = build(&s);
+    check_scene(&b, NULL, "z-fold");
+    release(&b);
+    scene_free(&s);
+    assert_int_equal(scene_moebius(&s, 60, 6, 6.0, 2.0, 3, 0.08), 0);
+    b = build(&s);
+    check_scene(&b, NULL, "squashed moebius band");
+    release(&b);
+    scene_free(&s);
+    // Two crossing sheets.
+    scene sa, sb;
+    assert_int_equal(scene_sheet_pair(&sa, &sb, 24, 5, 0.3, 0.0), 0);
+    built ba = build(&sa), bb = build(&sb);
+    check_scene(&ba, &bb, "sheet pair");
+    release(&ba);
+    release(&bb);
+    scene_free(&sa);
+    scene_free(&sb);
+}
+
+// An allocator that fails at its Nth call and counts live blocks, made safe
+// for the workers' calls with a mutex.
+typedef struct locked_allocator {
+    pthread_mutex_t lock;
+    long fail_at, calls, live;
+} locked_allocator;
+
+static void *locked_alloc(void *user, size_t size, size_t alignment) {
+    locked_allocator *a = user;
+    pthread_mutex_lock(&a->lock);
+    long call = ++a->calls;
+    int fail = a->fail_at != 0 && call == a->fail_at;
+    if (!fail)
+        a->live++;
+    pthread_mutex_unlock(&a->lock);
+    if (fail)
+        return NULL;
+    void *p = NULL;
+    if (posix_memalign(&p, alignment < sizeof(void *) ? sizeof(void *) : alignment, size) != 0)
+        fail_msg("posix_memalign");
+    return p;
+}
+
+static void locked_free(void *user, void *ptr, size_t size) {
+    (void)size;
+    locked_allocator *a = user;
+    if (ptr == NULL)
+        return;
+    free(ptr);
+    pthread_mutex_lock(&a->lock);
+    a->live--;
+    pthread_mutex_unlock(&a->lock);
+}
+
+static void test_threads_allocation_failure_in_a_worker(void **state) {
+    (void)state;
+    scene s;
+    assert_int_equal(scene_crumpled(&s, 30, 30, 3, 5.0), 0);
+    built b = build(&s);
+    double d = 0.1 * selfcol_mesh_mean_edge_length(b.mesh);
+    size_t expected;
+    {
+        selfcol_contacts *c = NULL;
+        assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+        assert_int_equal(query(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 1), SELFCOL_OK);
+        expected = selfcol_contacts_count(c);
+        selfcol_contacts_destroy(c);
+    }
+    assert_true(expected > 0);
+    int failures = 0;
+    for (long fail_at = 1;; ++fail_at) {
+        locked_allocator a;
+        pthread_mutex_init(&a.lock, NULL);
+        a.fail_at = fail_at;
+        a.calls = a.live = 0;
+        selfcol_contacts_options co;
+        selfcol_contacts_options_init(&co, SELFCOL_CONTACTS_OPTIONS_VERSION);
+        co.allocator.alloc = locked_alloc;
+        co.allocator.free = locked_free;
+        co.allocator.user = &a;
+        selfcol_contacts *c = NULL;
+        int status = selfcol_contacts_create(&c, &co);
+        if (status == SELFCOL_OK)
+            status = query(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 4);
+        if (status == SELFCOL_OK) {
+            assert_int_equal(selfcol_contacts_count(c), expected);
+            selfcol_contacts_destroy(c);
+            assert_int_equal(a.live, 0);
+            pthread_mutex_destroy(&a.lock);
+            if (a.calls < fail_at)
+                break; // the failure point lies past the last allocation
+            continue;
+        }
+        assert_int_equal(status, SELFCOL_ENOMEM);
+        failures++;
+        if (c != NULL) {
+            assert_int_equal(selfcol_contacts_count(c), 0);
+            // The same handle works once memory is back.
+            a.fail_at = 0;
+            assert_int_equal(query(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 4), SELFCOL_OK);
+            assert_int_equal(selfcol_contacts_count(c), expected);
+            selfcol_contacts_destroy(c);
+        }
+        assert_int_equal(a.live, 0);
+        pthread_mutex_destroy(&a.lock);
+    }
+    assert_true(failures > 5); // the query allocates in the workers too
+    release(&b);
+    scene_free(&s);
+}
+
+static void test_threads_option_bounds_and_old_structs(void **state) {
+    (void)state;
+    scene s;
+    assert_int_equal(scene_hairpin(&s, 8, 0.01), 0);
+    built b = build(&s);
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    selfcol_query_options q;
+    assert_int_equal(selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION), SELFCOL_OK);
+    assert_int_equal(q.threads, 1); // the documented default
+    q.distance = 0.02;
+    q.threads = 0;
+    assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &q), SELFCOL_EINVAL);
+    q.threads = SELFCOL_MAX_THREADS + 1;
+    assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &q), SELFCOL_EINVAL);
+    q.threads = SELFCOL_MAX_THREADS; // more threads than work: still right
+    assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &q), SELFCOL_OK);
+    size_t n = selfcol_contacts_count(c);
+    assert_true(n > 0);
+    // A version-1 caller's struct ends before `threads`: whatever follows it
+    // in memory is not read.
+    struct {
+        selfcol_query_options v1;
+    } old;
+    memset(&old, 0, sizeof old);
+    assert_int_equal(selfcol_query_options_init(&old.v1, 1), SELFCOL_OK);
+    assert_int_equal(old.v1.threads, 0); // init of version 1 leaves it alone
+    old.v1.distance = 0.02;
+    assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &old.v1), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_count(c), n);
+    selfcol_contacts_destroy(c);
+    release(&b);
+    scene_free(&s);
+}
+
+// The thread-safety contract (README): queries on one hierarchy from several
+// threads at once, each into its own contact set, the mesh left alone; each
+// query itself on two threads. Run under ThreadSanitizer in CI.
+typedef struct concurrent_query {
+    const built *b;
+    double distance;
+    uint32_t method;
+    selfcol_contacts *contacts;
+    int status;
+} concurrent_query;
+
+static void *run_concurrent(void *arg) {
+    concurrent_query *cq = arg;
+    for (int repeat = 0; repeat < 3 && cq->status == SELFCOL_OK; ++repeat)
+        cq->status = query(cq->b, NULL, cq->contacts, cq->method, cq->distance, 2);
+    return NULL;
+}
+
+static void test_threads_concurrent_queries_on_one_hierarchy(void **state) {
+    (void)state;
+    scene s;
+    assert_int_equal(scene_crumpled(&s, 30, 30, 11, 5.0), 0);
+    built b = build(&s);
+    double d = 0.1 * selfcol_mesh_mean_edge_length(b.mesh);
+    enum { QUERIES = 4 };
+    concurrent_query cq[QUERIES];
+    pthread_t thread[QUERIES];
+    for (int i = 0; i < QUERIES; ++i) {
+        cq[i] = (concurrent_query){&b, d, i % 2 ? SELFCOL_METHOD_BVH : SELFCOL_METHOD_EXACT, NULL,
+                                   SELFCOL_OK};
+        assert_int_equal(selfcol_contacts_create(&cq[i].contacts, NULL), SELFCOL_OK);
+    }
+    for (int i = 0; i < QUERIES; ++i)
+        assert_int_equal(pthread_create(&thread[i], NULL, run_concurrent, &cq[i]), 0);
+    for (int i = 0; i < QUERIES; ++i)
+        assert_int_equal(pthread_join(thread[i], NULL), 0);
+    selfcol_contacts *reference = NULL;
+    assert_int_equal(selfcol_contacts_create(&reference, NULL), SELFCOL_OK);
+    assert_int_equal(query(&b, NULL, reference, SELFCOL_METHOD_EXHAUSTIVE, d, 1), SELFCOL_OK);
+    size_t nr;
+    contact_key *kr = contact_keys_of(reference, &nr);
+    assert_true(nr > 0);
+    for (int i = 0; i < QUERIES; ++i) {
+        assert_int_equal(cq[i].status, SELFCOL_OK);
+        size_t n;
+        contact_key *k = contact_keys_of(cq[i].contacts, &n);
+        assert_true(contact_keys_equal(kr, nr, k, n));
+        free(k);
+        selfcol_contacts_destroy(cq[i].contacts);
+    }
+    free(kr);
+    selfcol_contacts_destroy(reference);
+    release(&b);
+    scene_free(&s);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_threads_give_the_records_and_counters_of_one_thread),
+        cmocka_unit_test(test_threads_allocation_failure_in_a_worker),
+        cmocka_unit_test(test_threads_option_bounds_and_old_structs),
+        cmocka_unit_test(test_threads_concurrent_queries_on_one_hierarchy),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
