@@ -380,6 +380,7 @@ typedef struct row {
     uint64_t found[3], ref[3], miss[3], extra[3];
     uint64_t raw_contacts;
     size_t struct_bytes;
+    unsigned threads; // selfcol_query_options.threads (Bullet: 1)
     char note[256];
 } row;
 
@@ -398,7 +399,7 @@ static const char *header =
     "sort_ms,pairs_separated,primitives_filtered,vf,ee,ef,contacts,"
     "raw_contacts,ref_vf,ref_ee,ref_ef,"
     "miss_vf,miss_ee,miss_ef,misses,extra_vf,extra_ee,extra_ef,extras,struct_bytes,"
-    "bytes_per_tri,peak_rss_kb,note";
+    "bytes_per_tri,peak_rss_kb,threads,note";
 
 static void print_row(const context *cx, const row *r) {
     const selfcol_query_stats *s = &r->st;
@@ -434,9 +435,9 @@ static void print_row(const context *cx, const row *r) {
            (unsigned long long)misses, (unsigned long long)r->extra[0],
            (unsigned long long)r->extra[1], (unsigned long long)r->extra[2],
            (unsigned long long)extras);
-    printf("%zu,%.2f,%ld,\"%s\"\n", r->struct_bytes,
+    printf("%zu,%.2f,%ld,%u,\"%s\"\n", r->struct_bytes,
            cx->triangles ? (double)r->struct_bytes / (double)cx->triangles : 0.0, cx->peak_rss_kb,
-           r->note);
+           r->threads ? r->threads : 1u, r->note);
     fflush(stdout);
 }
 
@@ -449,7 +450,8 @@ static long peak_rss_kb(void) {
 // One method on the hierarchy: warm-up, reps timed queries, contacts, stats.
 
 static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method, uint32_t narrow,
-                      uint32_t kinds, double d, unsigned reps, row *r, keyset *keys) {
+                      uint32_t kinds, double d, unsigned threads, unsigned reps, row *r,
+                      keyset *keys) {
     timing *t = &r->query;
     selfcol_query_stats *st = &r->st;
     double stage[3][MAX_REPS];
@@ -459,6 +461,8 @@ static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method
     o.narrow = narrow;
     o.kinds = kinds;
     o.distance = d;
+    o.threads = threads;
+    r->threads = threads;
     double t0 = now();
     int rc = selfcol_hierarchy_self_collide(h, c, &o);
     double warm = now() - t0;
@@ -755,18 +759,24 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
         // Bullet does (it has no edge-edge test and reports no crossing), so
         // that the two compare like for like; it is held to the reference's
         // VF set alone.
+        // EXACT on two threads too, from 20k triangles (below, a query
+        // takes a few milliseconds and one thread is the setting that matters).
+        const int two_threads = s.triangle_count >= 20000;
         const struct {
             uint32_t method, narrow, kinds;
+            unsigned threads;
             int run;
         } methods[] = {
-            {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, exhaustive},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1},
-            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1},
-            {SELFCOL_METHOD_SEED, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1},
-            {SELFCOL_METHOD_CONE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1},
-            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_LIBCCD, SELFCOL_KIND_ALL,
+            {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1,
+             exhaustive},
+            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 2, two_threads},
+            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+            {SELFCOL_METHOD_SEED, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+            {SELFCOL_METHOD_CONE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_LIBCCD, SELFCOL_KIND_ALL, 1,
              s.triangle_count <= lim.libccd},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_VF, 1},
+            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_VF, 1, 1},
         };
         for (size_t mi = 0; mi < sizeof methods / sizeof methods[0] && status == 0; ++mi) {
             if (!methods[mi].run)
@@ -774,11 +784,12 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
             row r;
             memset(&r, 0, sizeof r);
             keyset got = {NULL, 0};
-            fprintf(stderr, "selfcol-bench: %s d=%.1fx %s%s\n", bc->name, cx.d_factor,
-                    method_name(methods[mi].method),
-                    methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "");
+            fprintf(stderr, "selfcol-bench: %s d=%.1fx %s%s (%u thread(s))\n", bc->name,
+                    cx.d_factor, method_name(methods[mi].method),
+                    methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "",
+                    methods[mi].threads);
             if (run_method(h, c, methods[mi].method, methods[mi].narrow, methods[mi].kinds, cx.d,
-                           lim.reps, &r, &got) != 0) {
+                           methods[mi].threads, lim.reps, &r, &got) != 0) {
                 status = 1;
                 break;
             }

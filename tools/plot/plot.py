@@ -28,24 +28,30 @@ import matplotlib.ticker  # noqa: E402
 # EXACT-VF (vertex-triangle proximities only) is the like-for-like partner
 # of BULLET, which has no edge-edge test and reports no crossing; its misses
 # count against the VF set only, Bullet's against the whole exact set.
-METHODS = ["EXHAUSTIVE", "BVH", "EXACT", "SEED", "CONE", "BVH+libccd", "EXACT-VF", "BULLET",
-           "IPCTK"]
+# A method on more than one thread (column `threads`) is a series of its own,
+# "EXACT x2" for two (bench rows of the larger cases, ipc-toolkit in bench-full).
+METHODS = ["EXHAUSTIVE", "BVH", "EXACT", "EXACT x2", "SEED", "CONE", "BVH+libccd", "EXACT-VF",
+           "BULLET", "IPCTK", "IPCTK x2"]
 STYLE = {
     "EXHAUSTIVE": ("tab:gray", "s"),
     "BVH": ("tab:blue", "o"),
     "EXACT": ("tab:green", "D"),
+    "EXACT x2": ("darkgreen", "d"),
     "SEED": ("tab:orange", "^"),
     "CONE": ("tab:red", "v"),
     "BVH+libccd": ("tab:purple", "P"),
     "EXACT-VF": ("tab:olive", "d"),
     "BULLET": ("black", "X"),
     "IPCTK": ("tab:cyan", "*"),  # ipc-toolkit, bench-full only
+    "IPCTK x2": ("darkcyan", "*"),
 }
 FACTORS = ["0.1", "0.5"]
 
 
 def method_of(r):
-    return r["method"] + ("+libccd" if r["narrow"] == "libccd" else "")
+    threads = int(float(r.get("threads") or 1))
+    return (r["method"] + ("+libccd" if r["narrow"] == "libccd" else "")
+            + (" x%d" % threads if threads > 1 else ""))
 
 
 def load(results, subset):
