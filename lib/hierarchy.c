@@ -33,6 +33,7 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
     memset(h, 0, sizeof *h);
     h->allocator = allocator;
     h->mesh = mesh;
+    h->triangle_count = mesh->triangle_count;
     int status = selfcol_hierarchy__build(h);
     if (status != SELFCOL_OK) {
         selfcol_hierarchy_destroy(h);
@@ -47,7 +48,7 @@ void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy) {
     if (hierarchy == NULL)
         return;
     selfcol_allocator allocator = hierarchy->allocator;
-    size_t F = hierarchy->mesh->triangle_count;
+    size_t F = hierarchy->triangle_count;
     selfcol_alloc__free_array(&allocator, hierarchy->nodes, hierarchy->node_count,
                               sizeof(selfcol_node));
     selfcol_alloc__free_array(&allocator, hierarchy->tri_order, F, sizeof(uint32_t));
@@ -84,7 +85,7 @@ size_t selfcol_hierarchy_count(const selfcol_hierarchy *hierarchy,
 size_t selfcol_hierarchy_byte_count(const selfcol_hierarchy *hierarchy) {
     if (hierarchy == NULL)
         return 0;
-    size_t F = hierarchy->mesh->triangle_count;
+    size_t F = hierarchy->triangle_count;
     return sizeof *hierarchy + hierarchy->node_count * sizeof(selfcol_node) +
            F * (sizeof(uint32_t) + sizeof(uint8_t)) + hierarchy->bedge_total * sizeof(uint32_t) +
            hierarchy->node_count * sizeof(float);

@@ -59,6 +59,9 @@ typedef struct selfcol_node {
 struct selfcol_hierarchy {
     selfcol_allocator allocator;
     const selfcol_mesh *mesh;
+    // The mesh's triangle count, kept so that destroy and byte_count never
+    // read the borrowed mesh (it may already be gone).
+    size_t triangle_count;
     selfcol_node *nodes;  // node_count, root at 0
     size_t node_count;
     size_t leaf_count;

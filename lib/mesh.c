@@ -43,14 +43,29 @@ static void read_position(const position_source *src, size_t v, double out[3]) {
     }
 }
 
-static int positions_finite(const position_source *src, size_t vertex_count) {
+// The coordinate contract (mesh.h): finite, no magnitude above
+// SELFCOL_MESH_MAX_COORDINATE, and unless every coordinate is 0 the largest
+// magnitude at least SELFCOL_MESH_MIN_EXTENT. Inside it, the closed forms'
+// squared lengths and the pair filters' degree-4 products (|n|^2 of a
+// normal) neither overflow nor underflow for the mesh's own scale, and the
+// exact predicates hold (predicates.h). Beyond it a crossing pair scaled by
+// 10^103 or 10^-109 gave no interference, and mean edge lengths inf or 0.
+static int positions_check(const position_source *src, size_t vertex_count) {
+    double largest = 0.0;
     for (size_t v = 0; v < vertex_count; ++v) {
         double p[3];
         read_position(src, v, p);
-        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
-            return 0;
+        for (int k = 0; k < 3; ++k) {
+            if (!isfinite(p[k]))
+                return SELFCOL_EINVAL;
+            double a = fabs(p[k]);
+            largest = a > largest ? a : largest;
+        }
     }
-    return 1;
+    if (largest > SELFCOL_MESH_MAX_COORDINATE ||
+        (largest > 0.0 && largest < SELFCOL_MESH_MIN_EXTENT))
+        return SELFCOL_ERANGE;
+    return SELFCOL_OK;
 }
 
 static void copy_positions(double *dst, const position_source *src, size_t vertex_count) {
@@ -83,8 +98,9 @@ static int create_mesh(selfcol_mesh **out, size_t vertex_count, const position_s
     for (size_t i = 0; i < 3 * triangle_count; ++i)
         if (triangles[i] >= vertex_count)
             return SELFCOL_EINVAL;
-    if (!positions_finite(src, vertex_count))
-        return SELFCOL_EINVAL;
+    int checked = positions_check(src, vertex_count);
+    if (checked != SELFCOL_OK)
+        return checked;
 
     selfcol_mesh *m = selfcol_alloc__raw(&allocator, sizeof *m);
     if (m == NULL)
@@ -142,22 +158,26 @@ void selfcol_mesh_destroy(selfcol_mesh *mesh) {
 }
 
 static int set_positions(selfcol_mesh *mesh, const position_source *src) {
-    if (!positions_finite(src, mesh->vertex_count))
-        return SELFCOL_EINVAL;
+    int checked = positions_check(src, mesh->vertex_count);
+    if (checked != SELFCOL_OK)
+        return checked;
     copy_positions(mesh->positions, src, mesh->vertex_count);
     mesh->positions_version++;
     return SELFCOL_OK;
 }
 
-int selfcol_mesh_set_positions(selfcol_mesh *mesh, const double *positions) {
+int selfcol_mesh_set_positions(selfcol_mesh *mesh, const double *positions,
+                               size_t vertex_count) {
     SELFCOL_CHECK(mesh != NULL && positions != NULL);
+    SELFCOL_CHECK(vertex_count == mesh->vertex_count);
     position_source src = {positions, NULL, 0};
     return set_positions(mesh, &src);
 }
 
 int selfcol_mesh_set_positions_float(selfcol_mesh *mesh, const float *positions,
-                                     size_t stride_bytes) {
+                                     size_t stride_bytes, size_t vertex_count) {
     SELFCOL_CHECK(mesh != NULL && positions != NULL && valid_stride(stride_bytes));
+    SELFCOL_CHECK(vertex_count == mesh->vertex_count);
     position_source src = {NULL, (const unsigned char *)positions, stride_bytes};
     return set_positions(mesh, &src);
 }

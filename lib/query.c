@@ -40,7 +40,10 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     SELFCOL_CHECK(opts->narrow == SELFCOL_NARROW_CLOSED_FORM ||
                   opts->narrow == SELFCOL_NARROW_LIBCCD);
     SELFCOL_CHECK((opts->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);
-    SELFCOL_CHECK(isfinite(opts->distance) && opts->distance >= 0.0);
+    // The distance obeys the coordinates' contract (mesh.h): its square must
+    // not overflow in the closed forms.
+    SELFCOL_CHECK(isfinite(opts->distance) && opts->distance >= 0.0 &&
+                  opts->distance <= SELFCOL_MESH_MAX_COORDINATE);
     // Version 1 callers' structs end before `threads`.
     const unsigned threads = opts->version >= 2 ? opts->threads : 1u;
     SELFCOL_CHECK(threads >= 1 && threads <= SELFCOL_MAX_THREADS);

@@ -450,6 +450,90 @@ static void test_hierarchy_bvh_exact_on_degenerate_input(void **state) {
     }
 }
 
+// Regression (hardening issue): selfcol_hierarchy_destroy read the borrowed
+// mesh, so destroying the mesh first was a use-after-free (ASan and valgrind
+// report it in CI; the mesh's memory is freed and poisoned here).
+static void test_hierarchy_destroy_after_its_mesh(void **state) {
+    (void)state;
+    scene s;
+    assert_int_equal(scene_crumpled(&s, 10, 10, 3, 5.0), 0);
+    selfcol_mesh *mesh = NULL;
+    assert_int_equal(selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
+                                         s.triangles, NULL),
+                     SELFCOL_OK);
+    selfcol_hierarchy *h = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, mesh, NULL), SELFCOL_OK);
+    size_t bytes = selfcol_hierarchy_byte_count(h);
+    selfcol_mesh_destroy(mesh);
+    assert_int_equal(selfcol_hierarchy_byte_count(h), bytes);
+    selfcol_hierarchy_destroy(h);
+    scene_free(&s);
+}
+
+// A "book": k pages (triangles) sharing the spine edge (0, 1), fanned around
+// it; with copies, every page is the same triangle (k copies of one triangle).
+static void make_book(scene *s, unsigned k, int copies) {
+    s->vertex_count = copies ? 3 : 2 + (size_t)k;
+    s->triangle_count = k;
+    s->positions = malloc(3 * s->vertex_count * sizeof(double));
+    s->triangles = malloc(3 * s->triangle_count * sizeof(uint32_t));
+    assert_non_null(s->positions);
+    assert_non_null(s->triangles);
+    const double spine[6] = {0, 0, 0, 0, 0, 1};
+    memcpy(s->positions, spine, sizeof spine);
+    for (size_t v = 2; v < s->vertex_count; ++v) {
+        double angle = 6.283185307179586 * (double)(v - 2) / (double)(s->vertex_count - 2);
+        s->positions[3 * v] = cos(angle);
+        s->positions[3 * v + 1] = sin(angle);
+        s->positions[3 * v + 2] = 0.5;
+    }
+    for (unsigned i = 0; i < k; ++i) {
+        s->triangles[3 * i] = 0;
+        s->triangles[3 * i + 1] = 1;
+        s->triangles[3 * i + 2] = copies ? 2 : 2 + i;
+    }
+}
+
+// Regression (hardening issue, defect 2): the build made the dual graph's
+// all-pairs adjacency on every edge, O(k^2) memory and O(k^3) time for k
+// triangles on one edge (4000 copies of one triangle: 98 s). The build's
+// peak memory must stay linear: under 2 KB per triangle at k = 3000, where
+// all pairs alone took 36 MB (12 KB per triangle). And on small books the
+// exact methods still find exactly the exhaustive set.
+static void test_hierarchy_book_of_pages_builds_in_linear_memory(void **state) {
+    (void)state;
+    for (int copies = 0; copies < 2; ++copies) {
+        const unsigned k = 3000;
+        scene s;
+        make_book(&s, k, copies);
+        selfcol_mesh *mesh = NULL;
+        assert_int_equal(selfcol_mesh_create(&mesh, s.vertex_count, s.positions,
+                                             s.triangle_count, s.triangles, NULL),
+                         SELFCOL_OK);
+        test_allocator_state st;
+        memset(&st, 0, sizeof st);
+        selfcol_hierarchy_options ho;
+        selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+        ho.allocator = test_allocator(&st);
+        selfcol_hierarchy *h = NULL;
+        assert_int_equal(selfcol_hierarchy_create(&h, mesh, &ho), SELFCOL_OK);
+        print_message("  %s of %u: build peak %zu bytes (%.0f per triangle)\n",
+                      copies ? "copies" : "book", k, st.peak_bytes,
+                      (double)st.peak_bytes / (double)k);
+        assert_true(st.peak_bytes < 2048u * (size_t)k);
+        assert_true(selfcol_hierarchy_count(h, SELFCOL_HIERARCHY_LEAVES) > 0);
+        selfcol_hierarchy_destroy(h);
+        selfcol_mesh_destroy(mesh);
+        assert_int_equal(st.live, 0);
+        scene_free(&s);
+    }
+    scene s;
+    make_book(&s, 40, 0);
+    check_and_free("book of 40 pages", &s);
+    make_book(&s, 12, 1);
+    check_and_free("12 copies of one triangle", &s);
+}
+
 static void test_hierarchy_bvh_exact_on_hairpins(void **state) {
     (void)state;
     const struct {
@@ -725,7 +809,7 @@ static void test_hierarchy_collide_is_stale_until_both_are_refit(void **state) {
                      SELFCOL_OK);
     const double lift[3] = {0.0, 0.0, -0.15};
     scene_translate(&sb, lift);
-    assert_int_equal(selfcol_mesh_set_positions(b.mesh, sb.positions), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_set_positions(b.mesh, sb.positions, sb.vertex_count), SELFCOL_OK);
     for (uint32_t m = SELFCOL_METHOD_BVH; m <= SELFCOL_METHOD_CONE; ++m) {
         q.method = m;
         assert_int_equal(selfcol_hierarchy_collide(a.hierarchy, b.hierarchy, a.contacts, &q),
@@ -781,11 +865,11 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
                 assert_non_null(xyz);
                 for (size_t i = 0; i < 3 * frame.vertex_count; ++i)
                     xyz[i] = (float)frame.positions[i];
-                assert_int_equal(selfcol_mesh_set_positions_float(w.mesh, xyz, 3 * sizeof(float)),
+                assert_int_equal(selfcol_mesh_set_positions_float(w.mesh, xyz, 3 * sizeof(float), frame.vertex_count),
                                  SELFCOL_OK);
                 free(xyz);
             } else {
-                assert_int_equal(selfcol_mesh_set_positions(w.mesh, frame.positions), SELFCOL_OK);
+                assert_int_equal(selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count), SELFCOL_OK);
             }
             for (uint32_t m = SELFCOL_METHOD_BVH; m <= SELFCOL_METHOD_CONE; ++m) {
                 selfcol_query_options q = query(m, 0.1);
@@ -819,12 +903,12 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
             assert_non_null(bad);
             memcpy(bad, frame.positions, 3 * frame.vertex_count * sizeof(double));
             bad[4] = NAN;
-            assert_int_equal(selfcol_mesh_set_positions(w.mesh, bad), SELFCOL_EINVAL);
+            assert_int_equal(selfcol_mesh_set_positions(w.mesh, bad, frame.vertex_count), SELFCOL_EINVAL);
             free(bad);
             selfcol_query_options q = query(SELFCOL_METHOD_BVH, 0.1);
             assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),
                              SELFCOL_OK);
-            assert_int_equal(selfcol_mesh_set_positions(w.mesh, frame.positions), SELFCOL_OK);
+            assert_int_equal(selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count), SELFCOL_OK);
             assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),
                              SELFCOL_ESTALE);
             assert_int_equal(selfcol_hierarchy_refit(w.hierarchy), SELFCOL_OK);
@@ -1045,7 +1129,7 @@ static void test_hierarchy_steady_state_frames_allocate_nothing(void **state) {
         for (size_t i = 0; i < 3 * s.vertex_count; ++i)
             moved[i] = s.positions[i] * (1.0 - 0.01 * frame);
         long hierarchy_calls = hs.calls, contacts_calls = cs.calls;
-        assert_int_equal(selfcol_mesh_set_positions(m, moved), SELFCOL_OK);
+        assert_int_equal(selfcol_mesh_set_positions(m, moved, s.vertex_count), SELFCOL_OK);
         assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
         for (size_t k = 0; k < sizeof methods / sizeof methods[0]; ++k) {
             selfcol_query_options q = query(methods[k], 0.1 * selfcol_mesh_mean_edge_length(m));
@@ -1072,6 +1156,8 @@ int main(void) {
         cmocka_unit_test(test_hierarchy_spiral_ramp_seed_misses_contacts),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_crumpled_sheets),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_degenerate_input),
+        cmocka_unit_test(test_hierarchy_book_of_pages_builds_in_linear_memory),
+        cmocka_unit_test(test_hierarchy_destroy_after_its_mesh),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_hairpins),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_z_folds),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_rolled_sheets),

@@ -135,12 +135,19 @@ static void test_mesh_float_stride_matches_double(void **state) {
                      SELFCOL_OK);
     assert_memory_equal(selfcol_mesh_positions(m), square_positions, sizeof square_positions);
     interleaved[5 * 3 + 2] = 2.5f;
-    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 5 * sizeof(float)),
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 5 * sizeof(float), 4),
                      SELFCOL_OK);
     assert_true(selfcol_mesh_positions(m)[3 * 3 + 2] == 2.5);
-    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 2 * sizeof(float)),
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 2 * sizeof(float), 4),
                      SELFCOL_EINVAL);
-    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 13), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 13, 4), SELFCOL_EINVAL);
+    // The buffer's vertex count must be the mesh's: a short buffer is
+    // refused before it is read (hardening issue: it used to be read past
+    // its end).
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 5 * sizeof(float), 3),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 5 * sizeof(float), 5),
+                     SELFCOL_EINVAL);
     selfcol_mesh_destroy(m);
     assert_int_equal(selfcol_mesh_create_float(&m, 4, interleaved, 5, 2, square_triangles, NULL),
                      SELFCOL_EINVAL);
@@ -155,13 +162,95 @@ static void test_mesh_set_positions_rejects_nan_and_keeps_old_positions(void **s
     for (int i = 0; i < 12; ++i)
         next[i] = square_positions[i] + 1.0;
     next[11] = NAN;
-    assert_int_equal(selfcol_mesh_set_positions(m, next), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_set_positions(m, next, 4), SELFCOL_EINVAL);
     assert_memory_equal(selfcol_mesh_positions(m), square_positions, sizeof square_positions);
     next[11] = 1.0;
-    assert_int_equal(selfcol_mesh_set_positions(m, next), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_set_positions(m, next, 3), SELFCOL_EINVAL); // short buffer
+    assert_int_equal(selfcol_mesh_set_positions(m, next, 5), SELFCOL_EINVAL);
+    assert_memory_equal(selfcol_mesh_positions(m), square_positions, sizeof square_positions);
+    next[11] = 1e61; // beyond SELFCOL_MESH_MAX_COORDINATE
+    assert_int_equal(selfcol_mesh_set_positions(m, next, 4), SELFCOL_ERANGE);
+    assert_memory_equal(selfcol_mesh_positions(m), square_positions, sizeof square_positions);
+    next[11] = 1.0;
+    assert_int_equal(selfcol_mesh_set_positions(m, next, 4), SELFCOL_OK);
     assert_memory_equal(selfcol_mesh_positions(m), next, sizeof next);
-    assert_int_equal(selfcol_mesh_set_positions(m, NULL), SELFCOL_EINVAL);
-    assert_int_equal(selfcol_mesh_set_positions(NULL, next), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_set_positions(m, NULL, 4), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_set_positions(NULL, next, 4), SELFCOL_EINVAL);
+    selfcol_mesh_destroy(m);
+}
+
+// Regression (hardening issue, defect 5): a crossing pair scaled by 10^e gave
+// no interference for e >= 103 or e <= -109 (EXHAUSTIVE included), and mean
+// edge lengths inf or 0. Inside the documented range [2^-200, 2^200] every
+// method finds the crossing at every scale (and the mean edge length scales
+// with it); beyond it the mesh is refused with SELFCOL_ERANGE.
+static void test_mesh_coordinate_range_is_a_checked_contract(void **state) {
+    (void)state;
+    // Two triangles crossing each other: (a) in z = 0, (b) vertical through it.
+    const double base[18] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, -1, 0.5, 0.5, 1, 1.5, 0.6, 0};
+    const uint32_t tris[6] = {0, 1, 2, 3, 4, 5};
+    const uint32_t methods[3] = {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_METHOD_BVH,
+                                 SELFCOL_METHOD_EXACT};
+    int checked = 0;
+    for (int e = -60; e <= 59; e += 4) { // 2 x 10^56 at most: inside 2^200
+        double scaled[18];
+        for (int i = 0; i < 18; ++i)
+            scaled[i] = base[i] * pow(10.0, e);
+        selfcol_mesh *m = NULL;
+        selfcol_hierarchy *h = NULL;
+        selfcol_contacts *c = NULL;
+        assert_int_equal(selfcol_mesh_create(&m, 6, scaled, 2, tris, NULL), SELFCOL_OK);
+        double mean = selfcol_mesh_mean_edge_length(m);
+        assert_true(isfinite(mean) && mean > 0.5 * pow(10.0, e) && mean < 3.0 * pow(10.0, e));
+        assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+        for (int k = 0; k < 3; ++k) {
+            selfcol_query_options q;
+            selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+            q.method = methods[k];
+            q.distance = 0.0;
+            q.kinds = SELFCOL_KIND_EF;
+            assert_int_equal(selfcol_hierarchy_self_collide(h, c, &q), SELFCOL_OK);
+            if (selfcol_contacts_count(c) == 0)
+                fail_msg("scale 1e%d, method %u: the crossing was not found", e, methods[k]);
+            checked++;
+        }
+        selfcol_contacts_destroy(c);
+        selfcol_hierarchy_destroy(h);
+        selfcol_mesh_destroy(m);
+    }
+    assert_true(checked >= 90);
+    // Beyond the range: refused, on creation and on a new frame.
+    const double factors[4] = {1e61, 1e103, 1e-61, 1e-200};
+    for (int f = 0; f < 4; ++f) {
+        double scaled[18];
+        for (int i = 0; i < 18; ++i)
+            scaled[i] = base[i] * factors[f];
+        selfcol_mesh *m = NULL;
+        assert_int_equal(selfcol_mesh_create(&m, 6, scaled, 2, tris, NULL), SELFCOL_ERANGE);
+        assert_null(m);
+        assert_int_equal(selfcol_mesh_create(&m, 6, base, 2, tris, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_mesh_set_positions(m, scaled, 6), SELFCOL_ERANGE);
+        selfcol_mesh_destroy(m);
+    }
+    // The limits themselves are accepted, and so is a mesh all at the origin
+    // and a tiny coordinate inside a unit mesh.
+    double edge[18];
+    memcpy(edge, base, sizeof edge);
+    edge[0] = SELFCOL_MESH_MAX_COORDINATE;
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, 6, edge, 2, tris, NULL), SELFCOL_OK);
+    selfcol_mesh_destroy(m);
+    double tiny[18] = {0};
+    tiny[4] = SELFCOL_MESH_MIN_EXTENT;
+    assert_int_equal(selfcol_mesh_create(&m, 6, tiny, 2, tris, NULL), SELFCOL_OK);
+    selfcol_mesh_destroy(m);
+    tiny[4] = 0.0;
+    assert_int_equal(selfcol_mesh_create(&m, 6, tiny, 2, tris, NULL), SELFCOL_OK);
+    selfcol_mesh_destroy(m);
+    memcpy(edge, base, sizeof edge);
+    edge[1] = 1e-300;
+    assert_int_equal(selfcol_mesh_create(&m, 6, edge, 2, tris, NULL), SELFCOL_OK);
     selfcol_mesh_destroy(m);
 }
 
@@ -339,6 +428,7 @@ int main(void) {
         cmocka_unit_test(test_mesh_options_check_version_and_allocator),
         cmocka_unit_test(test_mesh_float_stride_matches_double),
         cmocka_unit_test(test_mesh_set_positions_rejects_nan_and_keeps_old_positions),
+        cmocka_unit_test(test_mesh_coordinate_range_is_a_checked_contract),
         cmocka_unit_test(test_mesh_handles_nonmanifold_degenerate_and_duplicate_triangles),
         cmocka_unit_test(test_mesh_grid_topology_matches_formula),
         cmocka_unit_test(test_mesh_fan_has_expected_edges),

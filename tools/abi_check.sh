@@ -4,18 +4,22 @@
 # Usage: abi_check.sh LIBRARY
 # Compares LIBRARY with the newest ABI baseline in tests/abi/ (abidiff, from
 # abigail-tools). abidiff's exit status is a bit mask: 4 = ABI change,
-# 8 = incompatible change. An incompatible change fails unless the major
-# version differs from the baseline's; a compatible change only needs a
-# changelog line, so it is reported, not failed.
+# 8 = incompatible change. An incompatible change fails unless the release
+# series differs from the baseline's (the major version; for 0.x, 0.minor,
+# as the SONAME); a compatible change only needs a changelog line, so it is
+# reported, not failed.
 set -eu
 lib=$1
 baseline=$(ls tests/abi/libselfcol-*.abi | sort -V | tail -n 1)
 status=0
 abidiff --suppressions tests/abi/selfcol.suppr --headers-dir2 include/selfcol "$baseline" "$lib" || status=$?
-base_major=$(basename "$baseline" .abi | sed 's/libselfcol-\([0-9]*\)\..*/\1/')
-major=$(sed -n 's/^#define SELFCOL_VERSION_MAJOR \([0-9]*\)/\1/p' include/selfcol/version.h)
-if [ $((status & 8)) -ne 0 ] && [ "$major" = "$base_major" ]; then
-  echo "abi-check: incompatible ABI change against $baseline without a major version bump"
+series_of() { # 1.4.2 -> 1, 0.2.3 -> 0.2
+  case "$1" in 0.*) echo "$1" | cut -d. -f1,2 ;; *) echo "$1" | cut -d. -f1 ;; esac
+}
+base_series=$(series_of "$(basename "$baseline" .abi | sed 's/^libselfcol-//')")
+version=$(sed -n 's/^#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
+if [ $((status & 8)) -ne 0 ] && [ "$(series_of "$version")" = "$base_series" ]; then
+  echo "abi-check: incompatible ABI change against $baseline without a new release series (SONAME)"
   exit 1
 fi
 if [ $((status & 3)) -ne 0 ]; then

@@ -44,16 +44,23 @@ SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
  * one (the one giving the most compact merged box), so children are connected
  * sub-patches of similar size. O(n) expected time and memory; the hierarchy
  * is refit to the mesh's current positions.
- * @param[out] out the new hierarchy; NULL on failure. Caller owns it; free it
- *             with selfcol_hierarchy_destroy() before destroying the mesh.
+ * @param[out] out the new hierarchy; NULL on failure. Caller owns it and
+ *             frees it with selfcol_hierarchy_destroy(). The mesh is borrowed:
+ *             it must outlive every use of the hierarchy except its
+ *             destruction and byte count, which never read the mesh (either
+ *             handle may be destroyed first).
  * @param[in] mesh the mesh; borrowed for the hierarchy's lifetime
  * @param[in] opts options, or NULL for defaults
- * @return SELFCOL_OK; SELFCOL_EINVAL; SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out or mesh, a half-set
+ *         allocator); SELFCOL_EVERSION; SELFCOL_ENOMEM; SELFCOL_ERANGE (more
+ *         than (2^32 - 2) / 6 = 715827882 triangles: the build's adjacency
+ *         offsets are 32-bit).
  */
 SELFCOL_API int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
                                          const selfcol_hierarchy_options *opts);
 
-/** Destroys a hierarchy. Accepts NULL. @param[in] hierarchy the handle */
+/** Destroys a hierarchy. Accepts NULL; never reads its mesh, which may
+ *  already be destroyed. @param[in] hierarchy the handle */
 SELFCOL_API void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy);
 
 /**
@@ -174,7 +181,8 @@ SELFCOL_API int selfcol_query_options_init(selfcol_query_options *opts, unsigned
  * @param[out] contacts receives the contacts and the statistics
  * @param[in] opts query options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL handle, unknown method, narrow or
- *         kinds bits, negative or non-finite distance); SELFCOL_EVERSION;
+ *         kinds bits, negative or non-finite distance or one above
+ *         SELFCOL_MESH_MAX_COORDINATE, threads outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION;
  *         SELFCOL_ESTALE (a hierarchy method on a hierarchy not refit since
  *         its mesh moved); SELFCOL_ENOMEM (contacts is then left empty).
  */

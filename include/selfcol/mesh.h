@@ -27,7 +27,15 @@
  * - a NaN or infinite coordinate;
  * - more than 2^32 - 2 vertices or more than (2^32 - 2) / 3 = 1431655764
  *   triangles (SELFCOL_ERANGE): indices and internal offsets are uint32_t and
- *   UINT32_MAX is reserved for SELFCOL_INVALID_INDEX.
+ *   UINT32_MAX is reserved for SELFCOL_INVALID_INDEX;
+ * - coordinates outside the range the arithmetic holds in (SELFCOL_ERANGE):
+ *   a magnitude above SELFCOL_MESH_MAX_COORDINATE = 2^200 (about 1.6e60), or
+ *   a mesh whose largest coordinate magnitude is below
+ *   SELFCOL_MESH_MIN_EXTENT = 2^-200 (about 6.2e-61) without being 0 (every
+ *   vertex at the origin is accepted). Inside the range every contact set is
+ *   exact; beyond it squared lengths overflow or underflow and answers would
+ *   be silently wrong, so such meshes are refused. Single coordinates far
+ *   below the mesh's scale (1e-300 in a unit mesh) are accepted.
  * @{
  */
 #ifndef SELFCOL_MESH_H
@@ -36,6 +44,12 @@
 #include "common.h"
 
 SELFCOL_BEGIN_DECLS
+
+/** Largest coordinate magnitude accepted: 2^200 (exactly this double). */
+#define SELFCOL_MESH_MAX_COORDINATE 1.6069380442589903e+60
+/** Smallest accepted largest-coordinate magnitude of a mesh that is not all
+ *  zero: 2^-200 (exactly this double). */
+#define SELFCOL_MESH_MIN_EXTENT 6.223015277861142e-61
 
 /** Opaque triangle mesh: positions plus topology built once at creation. */
 typedef struct selfcol_mesh selfcol_mesh;
@@ -91,8 +105,9 @@ SELFCOL_API int selfcol_mesh_create_float(selfcol_mesh **out, size_t vertex_coun
                                           const selfcol_mesh_options *opts);
 
 /**
- * Destroys a mesh. Accepts NULL. Every hierarchy built on it must be destroyed
- * first.
+ * Destroys a mesh. Accepts NULL. The hierarchies built on it may then only
+ * be destroyed (or asked their byte count): any other call on them would
+ * read the freed mesh.
  * @param[in] mesh the mesh to free
  */
 SELFCOL_API void selfcol_mesh_destroy(selfcol_mesh *mesh);
@@ -103,17 +118,22 @@ SELFCOL_API void selfcol_mesh_destroy(selfcol_mesh *mesh);
  * positions.
  * @param[in,out] mesh the mesh
  * @param[in] positions vertex_count * 3 doubles. Copied.
- * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments or a NaN/infinite
- *         coordinate.
+ * @param[in] vertex_count the vertices the buffer holds: must equal the
+ *            mesh's (a shorter buffer is never read past its end)
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments, a vertex_count other
+ *         than the mesh's, or a NaN/infinite coordinate; SELFCOL_ERANGE for
+ *         coordinates outside the contract (SELFCOL_MESH_MAX_COORDINATE).
  */
-SELFCOL_API int selfcol_mesh_set_positions(selfcol_mesh *mesh, const double *positions);
+SELFCOL_API int selfcol_mesh_set_positions(selfcol_mesh *mesh, const double *positions,
+                                           size_t vertex_count);
 
 /**
- * Float variant of selfcol_mesh_set_positions(), with a stride in bytes.
+ * Float variant of selfcol_mesh_set_positions(), with a stride in bytes: the
+ * buffer holds (vertex_count - 1) * stride_bytes + 3 * sizeof(float) bytes.
  * @return as selfcol_mesh_set_positions(); SELFCOL_EINVAL for a bad stride.
  */
 SELFCOL_API int selfcol_mesh_set_positions_float(selfcol_mesh *mesh, const float *positions,
-                                                 size_t stride_bytes);
+                                                 size_t stride_bytes, size_t vertex_count);
 
 /** Quantities reported by selfcol_mesh_count(). Values are pinned. */
 typedef enum selfcol_mesh_quantity {

@@ -354,6 +354,13 @@ def write_bytes(name, data):
     return path
 
 
+def make_fifo(path):
+    if os.path.exists(path):
+        os.remove(path)
+    os.mkfifo(path)
+    return path
+
+
 def test_malformed_input():
     pos, tris = fx.grid_sheet(3, 3, fx.flat)
     ply = work('bad/good.ply')
@@ -379,6 +386,16 @@ def test_malformed_input():
         (write_bytes('short.obj', obj_head + b'v 1 2\nf 1 2 3\n'), 'too few', 4),
         (write_bytes('nul.obj', obj_head + b'f 1 2\x00 3\n'), 'NUL', 4),
         (write_bytes('novertex.obj', b'# nothing\nv 0 0 0\n'), 'no faces', None),
+        # Hardening issue, defect 7: bare 'v' and 'f' lines were skipped silently.
+        (write_bytes('bare_v.obj', obj_head + b'v\nf 1 2 3\n'), 'too few', 4),
+        (write_bytes('bare_f.obj', obj_head + b'f 1 2 3\nf\n'), 'at least 3', 5),
+        (write_bytes('bare_f_comment.obj', obj_head + b'f # nothing\n'), 'at least 3', 4),
+        # Defect 5: coordinates beyond the library's range (2^200, or a whole
+        # mesh below 2^-200) are refused, not answered wrongly.
+        (write_bytes('huge.obj', b'v 0 0 0\nv 1e155 0 0\nv 0 1e155 0\nf 1 2 3\n'),
+         'range', None),
+        (write_bytes('tiny.obj', b'v 0 0 0\nv 1e-200 0 0\nv 0 1e-200 0\nf 1 2 3\n'),
+         'range', None),
         (write_bytes('empty.obj', b''), 'empty', None),
         (write_bytes('empty.ply', b''), 'empty', None),
         (write_bytes('truncated.ply', good[:len(good) - 7]), 'truncated', None),
@@ -411,6 +428,11 @@ def test_malformed_input():
         (write_bytes('junk.xyz', b'\x01\x02\x03garbage'), 'unknown file format', None),
         (work('bad/missing.obj'), 'cannot open', None),
         (os.path.dirname(work('bad/x')), 'directory', None),
+        # Defect 4: only regular files are read (a FIFO blocked in open()
+        # forever, /dev/zero grew without bound).
+        (make_fifo(work('bad/fifo.obj')), 'regular file', None),
+        ('/dev/zero', 'regular file', None),
+        ('/dev/urandom', 'regular file', None),
     ]
     for path, message, line in cases:
         for command in ('check', 'info'):
@@ -427,6 +449,69 @@ def test_malformed_input():
             if line is not None:
                 check('%s:%d:' % (path, line) in lines[0],
                       '%s %s: message %r does not give line %d' % (command, name, lines[0], line))
+
+
+def test_hostile_input():
+    """The hardening issue's defects in the tool, each as it was reported."""
+    pos, tris = fx.grid_sheet(3, 3, fx.flat)
+    mesh = work('hostile/sheet.obj')
+    fx.write_obj(mesh, pos, tris)
+    # 1. Field widths overflowed a 128-byte buffer (a segfault): refused
+    # above 64 with a usage error, for inputs and outputs alike.
+    for args in (['check', '--range', '0:0', work('hostile/f_%0999d.obj')],
+                 ['check', mesh, '--mark', work('hostile/out_%0300d.ply')],
+                 ['check', mesh, '--png', work('hostile/o_%200d.png')]):
+        status, out, err = run(*args)
+        check(status == 2, '%s: exit %d, expected 2 (%s)' % (args, status, err))
+        check(err.count('\n') >= 1 and 'Segmentation' not in err, '%s: %r' % (args, err))
+    status, out, err = run('check', mesh, '--mark', work('hostile/mark_%064d.ply'), expect=0)
+    check(os.path.exists(work('hostile/mark_%064d.ply' % 0)), 'a 64-wide pattern is expanded')
+    # 3. A UTF-8 byte-order mark hid the first line: the same answer as without.
+    with open(mesh, 'rb') as f:
+        plain = f.read()
+    bom = write_bytes('../hostile/bom.obj', b'\xef\xbb\xbf' + plain)
+    _, a = check_json(mesh, '--distance', '0.3', expect=0)
+    _, b = check_json(bom, '--distance', '0.3', expect=0)
+    check(a[0]['counts'] == b[0]['counts'] and
+          a[0]['stats']['vertices'] == b[0]['stats']['vertices'],
+          'byte-order mark: %s vs %s' % (b[0]['counts'], a[0]['counts']))
+    info = run('info', '--json', '-', bom, expect=0)[1]
+    check(json.loads(info.splitlines()[0])['vertices'] == len(pos), 'info with a BOM: %s' % info)
+    # 2. One face line repeating the same triangle (and quad) made the
+    # hierarchy build quadratic in memory and cubic in time: it now finishes
+    # (the build is linear; the query still meets every pair of copies, as
+    # their boxes coincide: 2000 copies keep it to a second).
+    for name, face in (('tri', b' 1 2 3'), ('quad', b' 1 2 3 4')):
+        text = b'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf' + face * 2000 + b'\n'
+        path = write_bytes('../hostile/repeat_%s.obj' % name, text)
+        status, out, err = run('check', path, '--quiet')
+        check(status in (0, 1), 'repeated face %s: exit %d (%s)' % (name, status, err))
+    # 8. --distance 1e-320 is a valid number >= 0; --distance-rel 1e308 makes
+    # d overflow: a clear message, not "query failed".
+    run('check', mesh, '--distance', '1e-320', '--quiet', expect=0)
+    status, out, err = run('check', mesh, '--distance-rel', '1e308')
+    check(status == 2 and 'distance-rel' in err and 'query failed' not in err,
+          '--distance-rel 1e308: exit %d, %r' % (status, err))
+    # 9. Output errors: one message of ours (not libpng's too), and a full
+    # stdout is an error with a word.
+    if os.path.exists('/dev/full'):
+        status, out, err = run('check', mesh, '--png', '/dev/full')
+        lines = [x for x in err.splitlines() if x.strip()]
+        check(status == 2 and len(lines) == 1 and 'PNG' in lines[0],
+              '--png /dev/full: exit %d, %r' % (status, err))
+        with open('/dev/full', 'w') as full:
+            proc = subprocess.run([ARGS.cli, 'check', mesh], stdout=full,
+                                  stderr=subprocess.PIPE, timeout=600)
+        err = proc.stderr.decode()
+        check(proc.returncode == 2 and 'standard output' in err,
+              'check > /dev/full: exit %d, %r' % (proc.returncode, err))
+        with open('/dev/full', 'w') as full:
+            proc = subprocess.run([ARGS.cli, 'info', mesh], stdout=full,
+                                  stderr=subprocess.PIPE, timeout=600)
+        check(proc.returncode == 2 and 'standard output' in proc.stderr.decode(),
+              'info > /dev/full: exit %d' % proc.returncode)
+    status, out, err = run('check', mesh, '--png', work('hostile/big.png'), '--size', '8192x8192')
+    check(status == 2 and '4096' in err, '--size 8192x8192: exit %d, %r' % (status, err))
 
 
 def frame_positions(k):

@@ -32,6 +32,8 @@ static void *hook_alloc(void *user, size_t size, size_t alignment) {
     h->size = size;
     state->live++;
     state->live_bytes += size;
+    if (state->live_bytes > state->peak_bytes)
+        state->peak_bytes = state->live_bytes;
     return (void *)aligned;
 }
 

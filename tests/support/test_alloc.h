@@ -15,6 +15,7 @@ typedef struct test_allocator_state {
     long calls;      // allocations attempted so far
     long live;       // allocations not yet freed
     size_t live_bytes;
+    size_t peak_bytes; // largest live_bytes seen (reset it to measure one call)
     int misaligned;  // set if a free came with a size different from its alloc
 } test_allocator_state;
 

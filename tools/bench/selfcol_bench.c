@@ -686,7 +686,8 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
             s.positions[i] *= cx.scale;
         for (size_t i = 0; refit_case && i < 3 * prev.vertex_count; ++i)
             prev.positions[i] *= cx.scale;
-        rc = selfcol_mesh_set_positions(mesh, refit_case ? prev.positions : s.positions);
+        rc = selfcol_mesh_set_positions(mesh, refit_case ? prev.positions : s.positions,
+                                        s.vertex_count);
         cx.mean_edge *= cx.scale;
         if (rc != SELFCOL_OK) {
             fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
@@ -709,7 +710,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
         return 1;
     }
     size_t hier_bytes = selfcol_hierarchy_byte_count(h);
-    if (refit_case && selfcol_mesh_set_positions(mesh, s.positions) != SELFCOL_OK) {
+    if (refit_case && selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count) != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
         status_of_setup = 1;
     }
@@ -879,7 +880,7 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
     if (rc == SELFCOL_OK && scale != 1.0) {
         for (size_t i = 0; i < 3 * s.vertex_count; ++i)
             s.positions[i] *= scale;
-        rc = selfcol_mesh_set_positions(mesh, s.positions);
+        rc = selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count);
         mean_edge *= scale;
     }
     if (rc == SELFCOL_OK)

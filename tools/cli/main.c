@@ -59,7 +59,7 @@ static const char check_help[] =
     "  --mark OUT.ply      the mesh with intersecting faces red, proximities orange\n"
     "  --png OUT.png       a picture: intersecting triangles red, proximities orange\n"
     "  --view AZ,EL        view angles in degrees for --png (default 35,25; y is up)\n"
-    "  --size WxH          picture size in pixels (default 1024x768)\n"
+    "  --size WxH          picture size in pixels, 16 to 4096 each (default 1024x768)\n"
     "  --fail-on WHAT      interference (default) or proximity: what makes exit status 1\n"
     "  --no-weld           keep vertices as the file has them (no welding)\n"
     "  --quiet             no summary (errors only)\n"
@@ -99,7 +99,9 @@ static int parse_double(const char *text, double *out) {
     char *end;
     errno = 0;
     double x = strtod(text, &end);
-    if (end == text || *end != '\0' || errno != 0 || !isfinite(x))
+    // ERANGE with a finite result is an underflow (1e-320 is a valid,
+    // subnormal number); an overflow gives HUGE_VAL, refused as not finite.
+    if (end == text || *end != '\0' || (errno != 0 && errno != ERANGE) || !isfinite(x))
         return -1;
     *out = x;
     return 0;
@@ -110,6 +112,102 @@ static int lookup(const char *name, const char *const *names, int count) {
         if (strcmp(name, names[i]) == 0)
             return i;
     return -1;
+}
+
+// ---------------------------------------------------------------------------
+// Frame lists: explicit files, or a pattern with one %d (flags 0 and a width
+// allowed; %% is a literal %) expanded over FIRST:LAST[:STEP].
+
+// A field width above this is refused (a file name has no use for more).
+#define MAX_PATTERN_WIDTH 64
+
+typedef struct pattern {
+    char prefix[1024], suffix[1024];
+    int zero_pad, width; // width <= MAX_PATTERN_WIDTH
+} pattern;
+
+// Copies text into out turning %% into %; fails on any other %.
+static int unescape(const char *text, size_t n, char *out, size_t out_size) {
+    size_t j = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (text[i] == '%') {
+            if (i + 1 < n && text[i + 1] == '%')
+                ++i;
+            else
+                return -1;
+        }
+        if (j + 1 >= out_size)
+            return -1;
+        out[j++] = text[i];
+    }
+    out[j] = '\0';
+    return 0;
+}
+
+// Returns 1 for a valid pattern with one integer conversion, 0 without any %
+// conversion, -1 for anything else.
+static int parse_pattern(const char *text, pattern *p) {
+    const char *conv = NULL;
+    for (const char *s = text; *s; ++s) {
+        if (*s != '%')
+            continue;
+        if (s[1] == '%') {
+            ++s;
+            continue;
+        }
+        if (conv != NULL)
+            return -1; // two conversions
+        conv = s;
+    }
+    if (conv == NULL)
+        return 0;
+    const char *s = conv + 1;
+    p->zero_pad = *s == '0';
+    if (p->zero_pad)
+        ++s;
+    p->width = 0;
+    while (*s >= '0' && *s <= '9') {
+        p->width = 10 * p->width + (*s++ - '0');
+        if (p->width > MAX_PATTERN_WIDTH)
+            return -1;
+    }
+    if (*s != 'd' && *s != 'i' && *s != 'u')
+        return -1;
+    if (unescape(text, (size_t)(conv - text), p->prefix, sizeof p->prefix) ||
+        unescape(s + 1, strlen(s + 1), p->suffix, sizeof p->suffix))
+        return -1;
+    return 1;
+}
+
+// Writes the pattern with value into out; -1 when it does not fit.
+static int expand_pattern(const pattern *p, long value, char *out, size_t out_size) {
+    char digits[32];
+    snprintf(digits, sizeof digits, "%lu",
+             value < 0 ? 0ul - (unsigned long)value : (unsigned long)value);
+    int length = (int)strlen(digits) + (value < 0);
+    int pad = p->width > length ? p->width - length : 0;
+    char padding[MAX_PATTERN_WIDTH + 1];
+    memset(padding, p->zero_pad ? '0' : ' ', (size_t)pad);
+    padding[pad] = '\0';
+    int n;
+    if (p->zero_pad)
+        n = snprintf(out, out_size, "%s%s%s%s%s", p->prefix, value < 0 ? "-" : "", padding, digits,
+                     p->suffix);
+    else
+        n = snprintf(out, out_size, "%s%s%s%s%s", p->prefix, padding, value < 0 ? "-" : "", digits,
+                     p->suffix);
+    return n >= 0 && (size_t)n < out_size ? 0 : -1;
+}
+
+// An output name with %d gets the frame number; otherwise it is used as is
+// (parse_options has refused malformed patterns). -1 when it does not fit.
+static int output_name(const char *name, long frame, char *out, size_t out_size) {
+    pattern p;
+    int n;
+    if (parse_pattern(name, &p) == 1)
+        return expand_pattern(&p, frame, out, out_size);
+    n = snprintf(out, out_size, "%s", name);
+    return n >= 0 && (size_t)n < out_size ? 0 : -1;
 }
 
 // Parses argv[first..]; `--opt value` and `--opt=value` both work.
@@ -219,9 +317,9 @@ static int parse_options(int argc, char **argv, int first, const char *command, 
         } else if (strcmp(name, "--size") == 0) {
             int w, h;
             char tail;
-            if (sscanf(value, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 ||
-                h > 8192)
-                return usage_error(cmd, "--size needs WIDTHxHEIGHT (16 to 8192), not '%s'", value);
+            if (sscanf(value, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 ||
+                h > 4096)
+                return usage_error(cmd, "--size needs WIDTHxHEIGHT (16 to 4096), not '%s'", value);
             o->view.width = w;
             o->view.height = h;
         } else if (strcmp(name, "--fail-on") == 0) {
@@ -242,91 +340,18 @@ static int parse_options(int argc, char **argv, int first, const char *command, 
         return usage_error(cmd, "give either --distance or --distance-rel, not both%s", "");
     if (o->json && o->csv && strcmp(o->json, "-") == 0 && strcmp(o->csv, "-") == 0)
         return usage_error(cmd, "--json and --csv cannot both write to standard output%s", "");
-    return 0;
-}
-
-// ---------------------------------------------------------------------------
-// Frame lists: explicit files, or a pattern with one %d (flags 0 and a width
-// allowed; %% is a literal %) expanded over FIRST:LAST[:STEP].
-
-typedef struct pattern {
-    char prefix[1024], suffix[1024];
-    int zero_pad, width;
-} pattern;
-
-// Copies text into out turning %% into %; fails on any other %.
-static int unescape(const char *text, size_t n, char *out, size_t out_size) {
-    size_t j = 0;
-    for (size_t i = 0; i < n; ++i) {
-        if (text[i] == '%') {
-            if (i + 1 < n && text[i + 1] == '%')
-                ++i;
-            else
-                return -1;
-        }
-        if (j + 1 >= out_size)
-            return -1;
-        out[j++] = text[i];
+    // Output names may carry one %d for the frame number; anything else with
+    // a % is refused here rather than written under a surprising name.
+    const char *named[2] = {o->mark, o->png};
+    for (int i = 0; i < 2; ++i) {
+        pattern p;
+        if (named[i] != NULL && parse_pattern(named[i], &p) < 0)
+            return usage_error(cmd,
+                               "bad file name pattern '%s': at most one %%d (flag 0, width up "
+                               "to 64), and %%%% for a literal %%",
+                               named[i]);
     }
-    out[j] = '\0';
     return 0;
-}
-
-// Returns 1 for a valid pattern with one integer conversion, 0 without any %
-// conversion, -1 for anything else.
-static int parse_pattern(const char *text, pattern *p) {
-    const char *conv = NULL;
-    for (const char *s = text; *s; ++s) {
-        if (*s != '%')
-            continue;
-        if (s[1] == '%') {
-            ++s;
-            continue;
-        }
-        if (conv != NULL)
-            return -1; // two conversions
-        conv = s;
-    }
-    if (conv == NULL)
-        return 0;
-    const char *s = conv + 1;
-    p->zero_pad = *s == '0';
-    if (p->zero_pad)
-        ++s;
-    p->width = 0;
-    while (*s >= '0' && *s <= '9' && p->width < 100)
-        p->width = 10 * p->width + (*s++ - '0');
-    if (*s != 'd' && *s != 'i' && *s != 'u')
-        return -1;
-    if (unescape(text, (size_t)(conv - text), p->prefix, sizeof p->prefix) ||
-        unescape(s + 1, strlen(s + 1), p->suffix, sizeof p->suffix))
-        return -1;
-    return 1;
-}
-
-static void expand_pattern(const pattern *p, long value, char *out, size_t out_size) {
-    char digits[32];
-    snprintf(digits, sizeof digits, "%ld", value < 0 ? -value : value);
-    int length = (int)strlen(digits) + (value < 0);
-    int pad = p->width > length ? p->width - length : 0;
-    char padding[128];
-    memset(padding, p->zero_pad ? '0' : ' ', (size_t)pad);
-    padding[pad] = '\0';
-    if (p->zero_pad)
-        snprintf(out, out_size, "%s%s%s%s%s", p->prefix, value < 0 ? "-" : "", padding, digits,
-                 p->suffix);
-    else
-        snprintf(out, out_size, "%s%s%s%s%s", p->prefix, padding, value < 0 ? "-" : "", digits,
-                 p->suffix);
-}
-
-// An output name with %d gets the frame number; otherwise it is used as is.
-static void output_name(const char *name, long frame, char *out, size_t out_size) {
-    pattern p;
-    if (parse_pattern(name, &p) == 1)
-        expand_pattern(&p, frame, out, out_size);
-    else
-        snprintf(out, out_size, "%s", name);
 }
 
 // ---------------------------------------------------------------------------
@@ -447,12 +472,18 @@ static int write_pictures(const options *o, long frame, cli_part *const *parts, 
     char path[2048];
     int status = 0;
     if (o->mark != NULL) {
-        output_name(o->mark, frame, path, sizeof path);
+        if (output_name(o->mark, frame, path, sizeof path) != 0) {
+            scene_free(&s);
+            return cli_fail(err, "--mark: the file name is too long");
+        }
         status = cli_write_marked_ply(path, s.positions, s.vertex_count, s.triangles,
                                       s.triangle_count, classes, err);
     }
     if (status == 0 && o->png != NULL) {
-        output_name(o->png, frame, path, sizeof path);
+        if (output_name(o->png, frame, path, sizeof path) != 0) {
+            scene_free(&s);
+            return cli_fail(err, "--png: the file name is too long");
+        }
         status =
             cli_write_png(path, s.positions, s.triangles, s.triangle_count, classes, &o->view, err);
     }
@@ -644,9 +675,21 @@ static int frame_list(const options *o, char ***names_out, long **numbers_out, l
         char buffer[2300];
         if (o->range) {
             numbers[i] = first + i * step;
-            expand_pattern(&pat, numbers[i], buffer, sizeof buffer);
+            if (expand_pattern(&pat, numbers[i], buffer, sizeof buffer) != 0) {
+                *names_out = names;
+                *numbers_out = numbers;
+                *count_out = i;
+                return cli_fail(err, "--range: the file name for frame %ld is too long",
+                                numbers[i]);
+            }
         } else {
             numbers[i] = i;
+            if (strlen(o->inputs[i]) >= sizeof buffer) {
+                *names_out = names;
+                *numbers_out = numbers;
+                *count_out = i;
+                return cli_fail(err, "%.64s...: the file name is too long", o->inputs[i]);
+            }
             snprintf(buffer, sizeof buffer, "%s", o->inputs[i]);
         }
         names[i] = malloc(strlen(buffer) + 1);
@@ -680,7 +723,7 @@ static int load_next_frame(cli_part *part, const char *path, cli_progress *progr
                           path, next.vertex_count, next.triangle_count, part->file.vertex_count,
                           part->file.triangle_count);
     if (status == 0) {
-        int rc = selfcol_mesh_set_positions(part->mesh, next.positions);
+        int rc = selfcol_mesh_set_positions(part->mesh, next.positions, next.vertex_count);
         if (rc != SELFCOL_OK)
             status = cli_fail(err, "%s: %s", path, selfcol_status_string(rc));
     }
@@ -699,6 +742,13 @@ static int load_next_frame(cli_part *part, const char *path, cli_progress *progr
     }
     cli_mesh_free(&next);
     return status;
+}
+
+// Flushes stdout: 1 when anything written to it was lost (errno says why).
+static int stdout_write_failed(void) {
+    errno = 0;
+    int failed = fflush(stdout) != 0;
+    return failed || ferror(stdout);
 }
 
 static int command_check(const options *o) {
@@ -780,6 +830,18 @@ static int command_check(const options *o) {
     st.info.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
     st.info.distance = o->distance_given ? o->distance : o->distance_rel * st.info.mean_edge;
     st.query.distance = st.info.distance;
+    if (!(st.info.distance <= SELFCOL_MESH_MAX_COORDINATE)) {
+        if (o->distance_given)
+            cli_fail(&err, "--distance %g is above the largest the library accepts (%g)",
+                     o->distance, SELFCOL_MESH_MAX_COORDINATE);
+        else
+            cli_fail(&err,
+                     "--distance-rel %g x mean edge length %g = %g is above the largest "
+                     "distance the library accepts (%g)",
+                     o->distance_rel, st.info.mean_edge, st.info.distance,
+                     SELFCOL_MESH_MAX_COORDINATE);
+        goto done;
+    }
     st.info.method = method_names[o->method];
     st.info.narrow = narrow_names[o->narrow];
     st.info.files = files;
@@ -855,6 +917,12 @@ static int command_check(const options *o) {
     exit_code = st.found ? EXIT_FOUND : EXIT_CLEAN;
 done:
     cli_progress_end(&progress);
+    // The summary went to stdout: a full disk or closed pipe there is an
+    // error too, not a silent exit status.
+    if (exit_code != EXIT_ERROR && stdout_write_failed()) {
+        cli_fail(&err, "cannot write to standard output: %s", strerror(errno ? errno : EIO));
+        exit_code = EXIT_ERROR;
+    }
     if (exit_code == EXIT_ERROR)
         fprintf(stderr, "selfcol-cli: %s\n", err.message);
     if (st.json && st.json != stdout)
@@ -1055,6 +1123,10 @@ static int command_info(const options *o) {
     }
     if (close_output(json, o->json ? o->json : "", &err) != 0) {
         fprintf(stderr, "selfcol-cli: %s\n", err.message);
+        exit_code = EXIT_ERROR;
+    } else if (stdout_write_failed()) {
+        fprintf(stderr, "selfcol-cli: cannot write to standard output: %s\n",
+                strerror(errno ? errno : EIO));
         exit_code = EXIT_ERROR;
     }
     return exit_code;

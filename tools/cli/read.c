@@ -156,6 +156,15 @@ int cli_parse_mesh(const char *name, const unsigned char *data, size_t size, cli
     memset(mesh, 0, sizeof *mesh);
     if (size == 0)
         return cli_fail(err, "%s: empty file", name);
+    // A UTF-8 byte-order mark (editors on Windows write one) is not part of
+    // the text: left in, it hid the first OBJ line, so that faces then
+    // pointed at the wrong vertices.
+    if (size >= 3 && memcmp(data, "\xEF\xBB\xBF", 3) == 0) {
+        data += 3;
+        size -= 3;
+        if (size == 0)
+            return cli_fail(err, "%s: empty file (a byte-order mark only)", name);
+    }
     cli_format format = sniff(data, size, hint);
     int status;
     switch (format) {
@@ -179,24 +188,31 @@ int cli_parse_mesh(const char *name, const unsigned char *data, size_t size, cli
     return status;
 }
 
-// Reads the whole file into memory with a NUL after its last byte. Regular
-// files are read in one go; anything else that is readable (a pipe) in chunks.
+// Reads the whole file into memory with a NUL after its last byte. Only
+// regular files are read: a FIFO would block the open forever when nothing
+// writes to it, and a device such as /dev/zero or /dev/urandom never ends.
+// The file is checked before it is opened (so a FIFO is refused without
+// blocking) and again on the open descriptor (in case it was replaced).
 static int read_whole_file(const char *path, unsigned char **data_out, size_t *size_out,
                            cli_error *err) {
-    int fd = open(path, O_RDONLY);
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return cli_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    if (S_ISDIR(st.st_mode))
+        return cli_fail(err, "%s: is a directory, not a mesh file", path);
+    if (!S_ISREG(st.st_mode))
+        return cli_fail(err, "%s: not a regular file (a pipe, device or socket); mesh files "
+                             "must be regular files", path);
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
     if (fd < 0)
         return cli_fail(err, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        int e = errno;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         close(fd);
-        return cli_fail(err, "%s: cannot stat: %s", path, strerror(e));
+        return cli_fail(err, "%s: not a regular file", path);
     }
-    if (S_ISDIR(st.st_mode)) {
-        close(fd);
-        return cli_fail(err, "%s: is a directory, not a mesh file", path);
-    }
-    size_t capacity = S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 65536;
+    // The size stat gives, plus room to notice growth (files under /proc
+    // report 0 and are read in chunks).
+    size_t capacity = (size_t)st.st_size + 1 < 65536 ? 65536 : (size_t)st.st_size + 1;
     unsigned char *data = malloc(capacity);
     if (data == NULL) {
         close(fd);

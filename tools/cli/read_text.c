@@ -182,7 +182,9 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
         ++line;
         const char *eol = line_end(p, end);
         const char *q = skip_blank(p);
-        if (q[0] == 'v' && is_blank(q[1])) {
+        // A bare 'v' or 'f' is a statement with nothing after it: an error
+        // below, like 'v 1 2', rather than a line silently skipped.
+        if (q[0] == 'v' && (is_blank(q[1]) || is_end(q[1]))) {
             double x[3];
             q += 1;
             for (int k = 0; k < 3 && status == 0; ++k) {
@@ -196,7 +198,7 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
             }
             if (status == 0 && builder_vertex(&b, x))
                 status = out_of_memory(name, err);
-        } else if (q[0] == 'f' && is_blank(q[1])) {
+        } else if (q[0] == 'f' && (is_blank(q[1]) || is_end(q[1]))) {
             q += 1;
             long long index;
             int r;
