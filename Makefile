@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet
                 libeigen3-dev libcmocka-dev libpng-dev python3
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
-.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke plot
+.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke plot fuzz
 all: build
 
 deps:
@@ -43,6 +43,11 @@ bench-smoke: build
 
 plot:
 	sh tools/plot/plot.sh
+
+# The core's fuzz targets (tests/fuzz; clang's libFuzzer): FUZZ_SECONDS each.
+FUZZ_SECONDS ?= 60
+fuzz:
+	sh tests/fuzz/run.sh $(FUZZ_SECONDS) build-fuzz
 
 # ABI baseline of this version (at a release), and the check against the newest one.
 abi-dump: build

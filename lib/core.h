@@ -9,22 +9,30 @@
 
 #define SELFCOL_UNUSED(x) ((void)(x))
 
-// Misuse checks. In every build they return SELFCOL_EINVAL from the public
-// function (a stable API must not crash on bad input); SELFCOL_VALIDATE builds
-// additionally abort, to catch the misuse in development.
+// Internal invariants: checked (aborting) in SELFCOL_VALIDATE builds, where
+// the heavy checks run too (the hierarchy validator after every build and
+// refit); nothing in other builds. Not assert(): it must not depend on NDEBUG.
 #if defined(SELFCOL_VALIDATE)
-#include <assert.h>
-#define SELFCOL_ASSERT(cond) assert(cond)
+#include <stdio.h>
+#include <stdlib.h>
+#define SELFCOL_ASSERT(cond)                                                                       \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: selfcol invariant failed: %s\n", __FILE__, __LINE__, #cond);   \
+            abort();                                                                               \
+        }                                                                                          \
+    } while (0)
 #else
 #define SELFCOL_ASSERT(cond) ((void)0)
 #endif
 
+// Misuse checks: SELFCOL_EINVAL from the public function, in every build (a
+// stable API must not crash on bad input, and the tests pass bad input on
+// purpose, also in SELFCOL_VALIDATE builds).
 #define SELFCOL_CHECK(cond)                                                                        \
     do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            SELFCOL_ASSERT(cond);                                                                  \
+        if (!(cond))                                                                               \
             return SELFCOL_EINVAL;                                                                 \
-        }                                                                                          \
     } while (0)
 
 // Checks the version field of an options struct: 0 means "never initialised",

@@ -40,6 +40,7 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
         return status;
     }
     selfcol_hierarchy__refit(h);
+    SELFCOL_ASSERT(selfcol_hierarchy__validate(h, 1) != 0);
     *out = h;
     return SELFCOL_OK;
 }
@@ -67,6 +68,7 @@ const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *hierarchy) {
 int selfcol_hierarchy_refit(selfcol_hierarchy *hierarchy) {
     SELFCOL_CHECK(hierarchy != NULL);
     selfcol_hierarchy__refit(hierarchy);
+    SELFCOL_ASSERT(selfcol_hierarchy__validate(hierarchy, 1) != 0);
     return SELFCOL_OK;
 }
 

@@ -83,6 +83,12 @@ int selfcol_hierarchy__build(selfcol_hierarchy *hierarchy);
 // Recomputes boxes, masks and cones (hierarchy_refit.c).
 void selfcol_hierarchy__refit(selfcol_hierarchy *hierarchy);
 
+// Checks the invariants (hierarchy_validate.c): the triangle order is a
+// permutation, child ranges tile their parent's, node flags are coherent,
+// and (refit != 0) every box holds its triangles or children. 1 valid, 0 not,
+// -1 when the check could not allocate its scratch.
+int selfcol_hierarchy__validate(const selfcol_hierarchy *hierarchy, int refit);
+
 // The 14 sample directions (unnormalised: components in {-1, 0, 1}).
 extern const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3];
 

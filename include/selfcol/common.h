@@ -48,15 +48,21 @@ SELFCOL_BEGIN_DECLS
  */
 typedef enum selfcol_status {
     SELFCOL_OK = 0,        /**< success */
-    SELFCOL_ERROR = -1,    /**< unspecified internal error */
+    /** Reserved (never returned by 0.2): an unspecified internal error. */
+    SELFCOL_ERROR = -1,
     SELFCOL_ENOMEM = -2,   /**< the allocator returned NULL */
     SELFCOL_EINVAL = -3,   /**< an argument or the input data is invalid */
     SELFCOL_EVERSION = -4, /**< options.version is 0 or unknown to this library */
-    SELFCOL_EBUFS = -5,    /**< a caller-provided buffer is too small */
-    SELFCOL_EUSER = -6,    /**< a callback asked to stop */
-    SELFCOL_ERANGE = -7,   /**< a count or index does not fit the library's types */
-    SELFCOL_EMISMATCH = -8, /**< handles that must belong together do not */
-    SELFCOL_ESTALE = -9     /**< a hierarchy was not refit after its mesh moved */
+    /** Reserved (never returned by 0.2): a caller-provided buffer is too small. */
+    SELFCOL_EBUFS = -5,
+    /** Reserved (never returned by 0.2): a callback asked to stop. */
+    SELFCOL_EUSER = -6,
+    /** A count, index or coordinate is outside what the library represents
+     *  exactly (mesh sizes, the coordinate range of mesh.h). */
+    SELFCOL_ERANGE = -7,
+    /** Reserved (never returned by 0.2): handles that must belong together do not. */
+    SELFCOL_EMISMATCH = -8,
+    SELFCOL_ESTALE = -9 /**< a hierarchy was not refit after its mesh moved */
 } selfcol_status;
 
 /**
