@@ -4,7 +4,7 @@
 // The hierarchy's invariants, checked in full: what the traversal, the
 // ownership rule and the contour proof take for granted. Run after every build
 // and refit in SELFCOL_VALIDATE builds (the sanitizer job of CI), and by the
-// tests directly. O(n) time; allocates one byte per triangle.
+// tests directly. O(n) time; one byte per triangle of scratch.
 #include "hierarchy.h"
 
 #include "alloc.h"
@@ -100,12 +100,15 @@ static int boxes_valid(const selfcol_hierarchy *h) {
 }
 
 int selfcol_hierarchy__validate(const selfcol_hierarchy *h, int refit) {
-    uint8_t *seen = selfcol_alloc__array(&h->allocator, h->triangle_count ? h->triangle_count : 1,
-                                         sizeof(uint8_t));
+    // The scratch comes from the system allocator, not the handle's: a
+    // validation build must make the same calls to the caller's allocator
+    // as any other (the tests count them).
+    const selfcol_allocator system = {NULL, NULL, NULL};
+    const size_t n = h->triangle_count ? h->triangle_count : 1;
+    uint8_t *seen = selfcol_alloc__array(&system, n, sizeof(uint8_t));
     if (seen == NULL)
         return -1; // cannot tell
     int valid = structure_valid(h, seen) && (!refit || boxes_valid(h));
-    selfcol_alloc__free_array(&h->allocator, seen, h->triangle_count ? h->triangle_count : 1,
-                              sizeof(uint8_t));
+    selfcol_alloc__free_array(&system, seen, n, sizeof(uint8_t));
     return valid;
 }
