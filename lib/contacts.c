@@ -128,11 +128,11 @@ selfcol_contacts *selfcol_contacts__worker(selfcol_contacts *c, unsigned w) {
 
 // absorb adds every field up to sort_seconds: a field appended to the
 // statistics must be added there too (this fails to compile until it is).
-typedef char stats_fields_all_absorbed[offsetof(selfcol_query_stats, sort_seconds) +
-                                               sizeof(double) ==
-                                           sizeof(selfcol_query_stats)
-                                       ? 1
-                                       : -1];
+typedef char
+    stats_fields_all_absorbed[offsetof(selfcol_query_stats, sort_seconds) + sizeof(double) ==
+                                      sizeof(selfcol_query_stats)
+                                  ? 1
+                                  : -1];
 
 int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker) {
     if (worker->count > 0) {

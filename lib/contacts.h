@@ -31,7 +31,7 @@ struct selfcol_contacts {
     size_t scratch_bytes[SELFCOL_SCRATCH_SLOTS];
     selfcol_contact *spare; // the sort's destination, swapped with items
     size_t spare_capacity;
-    uint32_t serial;           // bumped by every hierarchy query: validates the leaf stamps
+    uint32_t serial; // bumped by every hierarchy query: validates the leaf stamps
     // Records, statistics and scratch of the extra worker threads of a query
     // (selfcol_query_options.threads), kept so a steady state allocates nothing.
     struct selfcol_contacts **workers; // workers[w - 1] for worker w >= 1

@@ -139,7 +139,8 @@ int selfcol_exhaustive__run(selfcol_query *q) {
         box_count += q->mesh[m]->triangle_count + q->mesh[m]->edge_count;
     if (box_count > SIZE_MAX / sizeof(box))
         return SELFCOL_ENOMEM;
-    box *scratch = selfcol_contacts__scratch(q->out, SELFCOL_SCRATCH_STACK, box_count * sizeof(box), 0);
+    box *scratch =
+        selfcol_contacts__scratch(q->out, SELFCOL_SCRATCH_STACK, box_count * sizeof(box), 0);
     if (scratch == NULL)
         return SELFCOL_ENOMEM;
     mesh_boxes boxes[2];

@@ -34,17 +34,17 @@
 // patch are a contiguous range of the hierarchy's triangle order (assigned
 // depth-first).
 typedef struct selfcol_node {
-    float lo[3], hi[3];    // box at the last refit, rounded outward
-    float cone_axis[3];    // unit axis of the normal cone
-    float cone_angle;      // half-angle in radians; > pi/2 when there is no cone
-    uint32_t first_child;  // index of the first child (internal nodes)
-    uint32_t tri_begin;    // first slot in tri_order
-    uint32_t tri_count;    // triangles in the patch
+    float lo[3], hi[3];      // box at the last refit, rounded outward
+    float cone_axis[3];      // unit axis of the normal cone
+    float cone_angle;        // half-angle in radians; > pi/2 when there is no cone
+    uint32_t first_child;    // index of the first child (internal nodes)
+    uint32_t tri_begin;      // first slot in tri_order
+    uint32_t tri_count;      // triangles in the patch
     uint32_t boundary_begin; // slice of the boundary half-edge array
     uint32_t boundary_count; // 0 for a leaf (leaves keep no list)
-    uint16_t mask;         // bit j: every triangle normal has a positive dot with direction j
-    uint8_t child_count;   // 0 for a leaf
-    uint8_t flags;         // SELFCOL_NODE_*
+    uint16_t mask;           // bit j: every triangle normal has a positive dot with direction j
+    uint8_t child_count;     // 0 for a leaf
+    uint8_t flags;           // SELFCOL_NODE_*
 } selfcol_node;
 
 // Ownership bits per triangle: each vertex and each edge of the mesh is owned
@@ -62,17 +62,17 @@ struct selfcol_hierarchy {
     // The mesh's triangle count, kept so that destroy and byte_count never
     // read the borrowed mesh (it may already be gone).
     size_t triangle_count;
-    selfcol_node *nodes;  // node_count, root at 0
+    selfcol_node *nodes; // node_count, root at 0
     size_t node_count;
     size_t leaf_count;
     size_t depth;
-    uint32_t *tri_order;  // triangle_count: triangle in each slot
-    uint8_t *owned;       // triangle_count, by triangle index
-    uint32_t *bedge;      // boundary half-edges, (edge << 1) | reversed, the patch on
-                          // the left; a node's slice sorted by edge; internal
-                          // nodes only
-    size_t bedge_total;   // entries allocated
-    float *min_altitude;  // node_count: lower bound of the patch's triangle altitudes
+    uint32_t *tri_order;    // triangle_count: triangle in each slot
+    uint8_t *owned;         // triangle_count, by triangle index
+    uint32_t *bedge;        // boundary half-edges, (edge << 1) | reversed, the patch on
+                            // the left; a node's slice sorted by edge; internal
+                            // nodes only
+    size_t bedge_total;     // entries allocated
+    float *min_altitude;    // node_count: lower bound of the patch's triangle altitudes
     uint64_t refit_version; // the mesh's positions_version at the last refit
 };
 

@@ -25,8 +25,8 @@
 #define HALF_PI 1.5707963267948966
 
 const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3] = {
-    {1, 1, 1},  {1, 1, -1},  {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1},
-    {-1, -1, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1}};
+    {1, 1, 1},    {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1},
+    {-1, -1, -1}, {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1}};
 
 // Outward rounding of a double bound to float, so float boxes stay
 // conservative.
@@ -176,9 +176,12 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
             continue;
         }
         const selfcol_node *c = &h->nodes[n->first_child];
-        *n = (selfcol_node){.first_child = n->first_child, .tri_begin = n->tri_begin,
-                            .tri_count = n->tri_count, .boundary_begin = n->boundary_begin,
-                            .boundary_count = n->boundary_count, .child_count = n->child_count,
+        *n = (selfcol_node){.first_child = n->first_child,
+                            .tri_begin = n->tri_begin,
+                            .tri_count = n->tri_count,
+                            .boundary_begin = n->boundary_begin,
+                            .boundary_count = n->boundary_count,
+                            .child_count = n->child_count,
                             .flags = n->flags};
         for (int k = 0; k < 3; ++k) {
             n->lo[k] = c->lo[k];

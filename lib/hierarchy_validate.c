@@ -35,9 +35,8 @@ static int structure_valid(const selfcol_hierarchy *h, uint8_t *seen) {
         // outside the four it knows.
         if ((f & ~(SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_BAD_BOUNDARY |
                    SELFCOL_NODE_DISK)) ||
-            ((f & SELFCOL_NODE_DISK) &&
-             (f & (SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED)) !=
-                 (SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED)))
+            ((f & SELFCOL_NODE_DISK) && (f & (SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED)) !=
+                                            (SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED)))
             return 0;
         if (n->child_count == 0) {
             leaves++;

@@ -136,8 +136,8 @@ int selfcol_mesh_create(selfcol_mesh **out, size_t vertex_count, const double *p
 }
 
 int selfcol_mesh_create_float(selfcol_mesh **out, size_t vertex_count, const float *positions,
-                              size_t stride_bytes, size_t triangle_count,
-                              const uint32_t *triangles, const selfcol_mesh_options *opts) {
+                              size_t stride_bytes, size_t triangle_count, const uint32_t *triangles,
+                              const selfcol_mesh_options *opts) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
     SELFCOL_CHECK(positions != NULL && valid_stride(stride_bytes));
@@ -150,8 +150,7 @@ void selfcol_mesh_destroy(selfcol_mesh *mesh) {
         return;
     selfcol_allocator allocator = mesh->allocator;
     selfcol_mesh__free_topology(mesh);
-    selfcol_alloc__free_array(&allocator, mesh->positions, 3 * mesh->vertex_count,
-                              sizeof(double));
+    selfcol_alloc__free_array(&allocator, mesh->positions, 3 * mesh->vertex_count, sizeof(double));
     selfcol_alloc__free_array(&allocator, mesh->triangles, 3 * mesh->triangle_count,
                               sizeof(uint32_t));
     selfcol_alloc__free(&allocator, mesh, sizeof *mesh);
@@ -166,8 +165,7 @@ static int set_positions(selfcol_mesh *mesh, const position_source *src) {
     return SELFCOL_OK;
 }
 
-int selfcol_mesh_set_positions(selfcol_mesh *mesh, const double *positions,
-                               size_t vertex_count) {
+int selfcol_mesh_set_positions(selfcol_mesh *mesh, const double *positions, size_t vertex_count) {
     SELFCOL_CHECK(mesh != NULL && positions != NULL);
     SELFCOL_CHECK(vertex_count == mesh->vertex_count);
     position_source src = {positions, NULL, 0};
@@ -281,9 +279,9 @@ size_t selfcol_mesh_byte_count(const selfcol_mesh *mesh) {
     if (mesh == NULL)
         return 0;
     return sizeof *mesh + mesh->vertex_count * 3 * sizeof(double) +
-           mesh->triangle_count * (3 * sizeof(uint32_t) + 3 * sizeof(uint32_t) +
-                                   sizeof(uint32_t) + sizeof(uint8_t)) +
+           mesh->triangle_count *
+               (3 * sizeof(uint32_t) + 3 * sizeof(uint32_t) + sizeof(uint32_t) + sizeof(uint8_t)) +
            mesh->edge_count * 2 * sizeof(uint32_t) + (mesh->edge_count + 1) * sizeof(uint32_t) +
-           mesh->edge_tri_total * sizeof(uint32_t) +
-           (mesh->vertex_count + 1) * sizeof(uint32_t) + mesh->vertex_tri_total * sizeof(uint32_t);
+           mesh->edge_tri_total * sizeof(uint32_t) + (mesh->vertex_count + 1) * sizeof(uint32_t) +
+           mesh->vertex_tri_total * sizeof(uint32_t);
 }

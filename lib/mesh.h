@@ -17,14 +17,14 @@ struct selfcol_mesh {
     size_t triangle_count;
     size_t edge_count;
 
-    double *positions;  // 3 V, current frame
+    double *positions;          // 3 V, current frame
     uint64_t positions_version; // bumped by every accepted set_positions
-    uint32_t *triangles; // 3 F, as given
+    uint32_t *triangles;        // 3 F, as given
 
-    uint32_t *edges;             // 2 E, (lo, hi), sorted
-    uint32_t *triangle_edges;    // 3 F, slot i = edge (t[i], t[i+1]); INVALID if collapsed
-    uint32_t *edge_tri_offsets;  // E + 1
-    uint32_t *edge_tris;         // edge -> triangles, ascending
+    uint32_t *edges;              // 2 E, (lo, hi), sorted
+    uint32_t *triangle_edges;     // 3 F, slot i = edge (t[i], t[i+1]); INVALID if collapsed
+    uint32_t *edge_tri_offsets;   // E + 1
+    uint32_t *edge_tris;          // edge -> triangles, ascending
     uint32_t *vertex_tri_offsets; // V + 1
     uint32_t *vertex_tris;        // vertex -> triangles, ascending
     uint32_t *triangle_component; // F

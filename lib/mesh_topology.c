@@ -61,9 +61,21 @@ static uint32_t find_root(uint32_t *parent, uint32_t v) {
 
 static void sort3(uint32_t out[3], const uint32_t *t) {
     uint32_t a = t[0], b = t[1], c = t[2], x;
-    if (a > b) { x = a; a = b; b = x; }
-    if (b > c) { x = b; b = c; c = x; }
-    if (a > b) { x = a; a = b; b = x; }
+    if (a > b) {
+        x = a;
+        a = b;
+        b = x;
+    }
+    if (b > c) {
+        x = b;
+        b = c;
+        c = x;
+    }
+    if (a > b) {
+        x = a;
+        a = b;
+        b = x;
+    }
     out[0] = a;
     out[1] = b;
     out[2] = c;

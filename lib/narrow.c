@@ -241,8 +241,8 @@ double selfcol_narrow__ee(const double p0[3], const double p1[3], const double q
     return dist;
 }
 
-int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3],
-                       const double b[3], const double c[3], selfcol_narrow_result *out) {
+int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3], const double b[3],
+                       const double c[3], selfcol_narrow_result *out) {
     // First the five signs the filter can prove cheaply: when they already
     // show the endpoints on one side of the plane, or the line passing beside
     // the triangle (two lateral volumes of opposite signs), the answer is no

@@ -29,8 +29,8 @@ double selfcol_narrow__ee(const double p0[3], const double p1[3], const double q
 // Does segment (p0, p1) cross triangle (a, b, c)? Decided exactly (see
 // contacts.h for the definition). Returns 1 or 0; on 1 fills out (distance 0,
 // the crossing point as weights, direction = triangle unit normal).
-int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3],
-                       const double b[3], const double c[3], selfcol_narrow_result *out);
+int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3], const double b[3],
+                       const double c[3], selfcol_narrow_result *out);
 
 // libccd backend, same conventions, for the cross-check. libccd 2.1 has no
 // distance query (ccdGJKDist2 exists only in FCL's fork), and its GJK + EPA

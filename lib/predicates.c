@@ -280,7 +280,8 @@ static int det3_filtered(const double u[3], const double v[3], const double w[3]
 
     double det = u[2] * (vxwy - wxvy) + v[2] * (wxuy - uxwy) + w[2] * (uxvy - vxuy);
     double permanent = (fabs(vxwy) + fabs(wxvy)) * fabs(u[2]) +
-                       (fabs(wxuy) + fabs(uxwy)) * fabs(v[2]) + (fabs(uxvy) + fabs(vxuy)) * fabs(w[2]);
+                       (fabs(wxuy) + fabs(uxwy)) * fabs(v[2]) +
+                       (fabs(uxvy) + fabs(vxuy)) * fabs(w[2]);
     if (permanent >= ORIENT3D_FILTER_MIN) {
         double errbound = ORIENT3D_BOUND * permanent;
         if (det > errbound)

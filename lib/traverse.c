@@ -449,8 +449,7 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
         if (status == SELFCOL_OK)
             status = flush_batch(main_traversal);
         c->stats.narrow_seconds = main_traversal->narrow_seconds;
-        c->stats.broad_seconds =
-            selfcol_core__seconds() - start - main_traversal->narrow_seconds;
+        c->stats.broad_seconds = selfcol_core__seconds() - start - main_traversal->narrow_seconds;
         return status;
     }
 

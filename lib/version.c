@@ -3,6 +3,10 @@
 
 #include <selfcol/version.h>
 
-unsigned selfcol_version_number(void) { return SELFCOL_VERSION_NUMBER; }
+unsigned selfcol_version_number(void) {
+    return SELFCOL_VERSION_NUMBER;
+}
 
-const char *selfcol_version_string(void) { return SELFCOL_VERSION_STRING; }
+const char *selfcol_version_string(void) {
+    return SELFCOL_VERSION_STRING;
+}

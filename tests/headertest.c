@@ -4,4 +4,6 @@
 #include <selfcol/selfcol.h>
 
 int selfcol_headertest_c(void);
-int selfcol_headertest_c(void) { return SELFCOL_VERSION_CHECK(0, 0, 1) ? SELFCOL_OK : SELFCOL_ERROR; }
+int selfcol_headertest_c(void) {
+    return SELFCOL_VERSION_CHECK(0, 0, 1) ? SELFCOL_OK : SELFCOL_ERROR;
+}

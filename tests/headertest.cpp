@@ -4,4 +4,6 @@
 #include <selfcol/selfcol.h>
 
 int selfcol_headertest_cxx();
-int selfcol_headertest_cxx() { return selfcol_status_string(SELFCOL_OK) != nullptr ? 0 : 1; }
+int selfcol_headertest_cxx() {
+    return selfcol_status_string(SELFCOL_OK) != nullptr ? 0 : 1;
+}

@@ -298,7 +298,8 @@ static void test_data_simulation_frames_when_present(void **state) {
                 assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
             } else {
                 assert_int_equal(s.vertex_count, selfcol_mesh_count(m, SELFCOL_MESH_VERTICES));
-                assert_int_equal(selfcol_mesh_set_positions(m, s.positions, s.vertex_count), SELFCOL_OK);
+                assert_int_equal(selfcol_mesh_set_positions(m, s.positions, s.vertex_count),
+                                 SELFCOL_OK);
                 assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
             }
             selfcol_query_options q;

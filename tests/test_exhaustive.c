@@ -19,8 +19,8 @@
 
 #include "contact_keys.h"
 #include "scenes.h"
-#include "world.h"
 #include "test_alloc.h"
+#include "world.h"
 
 static const selfcol_contact *run_self(world *w, double d, uint32_t narrow, size_t *count) {
     selfcol_query_options q;
@@ -137,9 +137,8 @@ static void test_exhaustive_hairpin_matches_hand_derived_pairs(void **state) {
                            edges_touch(ev, twin);
             int found = 0;
             for (size_t i = 0; i < count; ++i)
-                if (c[i].kind == SELFCOL_CONTACT_EE &&
-                    ((c[i].first == e && c[i].second == f) ||
-                     (c[i].first == f && c[i].second == e))) {
+                if (c[i].kind == SELFCOL_CONTACT_EE && ((c[i].first == e && c[i].second == f) ||
+                                                        (c[i].first == f && c[i].second == e))) {
                     found = 1;
                     assert_true(c[i].first < c[i].second);
                     assert_true(fabs(c[i].distance - gap) < 1e-12);
@@ -171,9 +170,8 @@ static void test_exhaustive_hairpin_matches_hand_derived_pairs(void **state) {
 //   A's diagonal (0,2) crosses B0 at (0.1, 0.1, 0), below B's diagonal z = 2y;
 //   B's (4,6) crosses A0 at (0.1, 0, 0); (4,7) crosses A0 at (0.1, -0.5, 0);
 //   (5,6) crosses A1 at (0.1, 0.5, 0).
-static const double squares_positions[] = {
-    -1, -1, 0, 1,   -1,   0,  1,   1,    0, -1,  1,   0,
-    0.1, -0.5, -1, 0.1, 0.5, -1, 0.1, 0.5, 1, 0.1, -0.5, 1};
+static const double squares_positions[] = {-1,  -1,   0,  1,   -1,  0,  1,   1,   0, -1,  1,    0,
+                                           0.1, -0.5, -1, 0.1, 0.5, -1, 0.1, 0.5, 1, 0.1, -0.5, 1};
 static const uint32_t squares_triangles[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
 
 static void test_exhaustive_crossing_squares_report_the_crossing_edges(void **state) {
@@ -448,8 +446,8 @@ static void test_exhaustive_counts_candidate_pairs(void **state) {
 }
 
 // Keys of the contacts currently in w (see contact_keys.h); caller frees.
-static contact_key *keys_of(const selfcol_contacts *contacts, const uint32_t *map,
-                            uint32_t offset1, size_t *n) {
+static contact_key *keys_of(const selfcol_contacts *contacts, const uint32_t *map, uint32_t offset1,
+                            size_t *n) {
     const selfcol_contact *c;
     selfcol_contacts_data(contacts, &c, n);
     contact_key *keys = malloc((*n + 1) * sizeof *keys);

@@ -29,8 +29,8 @@
 
 #include "contact_keys.h"
 #include "scenes.h"
-#include "world.h"
 #include "test_alloc.h"
+#include "world.h"
 
 #define PI 3.14159265358979323846
 
@@ -121,8 +121,8 @@ static void diff_keys(const contact_key *ref, size_t nr, const contact_key *got,
             ++i;
         } else if (cmp > 0) {
             if (*extras == 0)
-                print_error("extra contact kind %u (%u %u | %u %u %u)\n", got[j].k[0],
-                            got[j].k[1], got[j].k[2], got[j].k[3], got[j].k[4], got[j].k[5]);
+                print_error("extra contact kind %u (%u %u | %u %u %u)\n", got[j].k[0], got[j].k[1],
+                            got[j].k[2], got[j].k[3], got[j].k[4], got[j].k[5]);
             ++*extras;
             ++j;
         } else {
@@ -271,9 +271,8 @@ static void test_hierarchy_wrinkled_sheet_all_methods_find_nothing(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene s;
         char name[64];
-        assert_int_equal(scene_wrinkled(&s, cases[i].nx, cases[i].ny, cases[i].seed,
-                                        cases[i].amplitude),
-                         0);
+        assert_int_equal(
+            scene_wrinkled(&s, cases[i].nx, cases[i].ny, cases[i].seed, cases[i].amplitude), 0);
         snprintf(name, sizeof name, "wrinkled %ux%u s%u a%.1f", cases[i].nx, cases[i].ny,
                  cases[i].seed, cases[i].amplitude);
         outcome o = check_and_free(name, &s);
@@ -367,17 +366,17 @@ static void test_hierarchy_spiral_ramp_seed_misses_contacts(void **state) {
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene s;
         char name[64];
-        assert_int_equal(scene_ramp(&s, cases[i].nr, cases[i].na, cases[i].r_in, cases[i].pitch,
-                                    cases[i].gmin),
-                         0);
+        assert_int_equal(
+            scene_ramp(&s, cases[i].nr, cases[i].na, cases[i].r_in, cases[i].pitch, cases[i].gmin),
+            0);
         snprintf(name, sizeof name, "ramp %ux%u r%.1f p%.1f g%.1f", cases[i].nr, cases[i].na,
                  cases[i].r_in, cases[i].pitch, cases[i].gmin);
         outcome o = check_and_free(name, &s);
         for (int di = 0; di < 2; ++di) {
-            assert_true(o.ef[di] > 0);                    // the turns cross
-            assert_true(o.total[di] > o.ef[di]);          // and come within d
-            assert_true(o.misses[0][di] > 0);             // SEED misses
-            assert_true(o.misses[1][di] > 0);             // and so does CONE
+            assert_true(o.ef[di] > 0);           // the turns cross
+            assert_true(o.total[di] > o.ef[di]); // and come within d
+            assert_true(o.misses[0][di] > 0);    // SEED misses
+            assert_true(o.misses[1][di] > 0);    // and so does CONE
         }
     }
 }
@@ -434,18 +433,18 @@ static void test_hierarchy_bvh_exact_on_degenerate_input(void **state) {
         // Vertex (i, j) is i (ny + 1) + j.
 #define V(i, j) ((uint32_t)((i) * (ny + 1) + (j)))
         const uint32_t extra[][3] = {
-            {V(3, 3), V(4, 4), V(8, 2)},  // a fin on the diagonal edge (3,3)-(4,4)
-            {V(5, 5), V(6, 6), V(1, 8)},  // another fin, crossing the sheet
-            {V(6, 2), V(7, 2), V(7, 3)},  // duplicate of a sheet triangle
-            {V(7, 3), V(6, 2), V(7, 2)},  // the same, rotated
-            {V(2, 6), V(2, 6), V(9, 1)},  // repeated index: a segment across the sheet
-            {V(0, 0), V(6, 0), V(11, 0)}, // zero-area on the flat sheet's boundary line
+            {V(3, 3), V(4, 4), V(8, 2)},   // a fin on the diagonal edge (3,3)-(4,4)
+            {V(5, 5), V(6, 6), V(1, 8)},   // another fin, crossing the sheet
+            {V(6, 2), V(7, 2), V(7, 3)},   // duplicate of a sheet triangle
+            {V(7, 3), V(6, 2), V(7, 2)},   // the same, rotated
+            {V(2, 6), V(2, 6), V(9, 1)},   // repeated index: a segment across the sheet
+            {V(0, 0), V(6, 0), V(11, 0)},  // zero-area on the flat sheet's boundary line
             {V(10, 8), V(10, 8), V(10, 8)} // a single point
         };
 #undef V
         add_triangles(&s, &extra[0][0], sizeof extra / sizeof extra[0]);
-        outcome o = check_and_free(crumple ? "crumpled 12x9 s6 + degenerate" : "flat 12x9 + degenerate",
-                                   &s);
+        outcome o = check_and_free(
+            crumple ? "crumpled 12x9 s6 + degenerate" : "flat 12x9 + degenerate", &s);
         assert_true(o.total[1] > 0);
     }
 }
@@ -507,8 +506,8 @@ static void test_hierarchy_book_of_pages_builds_in_linear_memory(void **state) {
         scene s;
         make_book(&s, k, copies);
         selfcol_mesh *mesh = NULL;
-        assert_int_equal(selfcol_mesh_create(&mesh, s.vertex_count, s.positions,
-                                             s.triangle_count, s.triangles, NULL),
+        assert_int_equal(selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
+                                             s.triangles, NULL),
                          SELFCOL_OK);
         test_allocator_state st;
         memset(&st, 0, sizeof st);
@@ -557,8 +556,8 @@ static void test_hierarchy_bvh_exact_on_z_folds(void **state) {
     const struct {
         unsigned n, w, fold_segments;
         double gap, dip;
-    } cases[] = {{10, 3, 1, 0.08, 0.0}, {12, 5, 4, 0.3, 0.0}, {10, 4, 1, 0.1, 0.25},
-                 {14, 3, 3, 0.2, 0.5}};
+    } cases[] = {
+        {10, 3, 1, 0.08, 0.0}, {12, 5, 4, 0.3, 0.0}, {10, 4, 1, 0.1, 0.25}, {14, 3, 3, 0.2, 0.5}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene s;
         char name[64];
@@ -583,9 +582,9 @@ static void test_hierarchy_bvh_exact_on_rolled_sheets(void **state) {
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene s;
         char name[64];
-        assert_int_equal(scene_rolled(&s, cases[i].w, cases[i].turns, cases[i].r0, cases[i].gap0,
-                                      cases[i].gap1),
-                         0);
+        assert_int_equal(
+            scene_rolled(&s, cases[i].w, cases[i].turns, cases[i].r0, cases[i].gap0, cases[i].gap1),
+            0);
         snprintf(name, sizeof name, "rolled w%u t%.2f gap %.2f..%.2f", cases[i].w, cases[i].turns,
                  cases[i].gap0, cases[i].gap1);
         outcome o = check_and_free(name, &s);
@@ -620,9 +619,9 @@ static void test_hierarchy_bvh_exact_on_two_sheet_components(void **state) {
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene a, b;
         char name[64];
-        assert_int_equal(scene_sheet_pair(&a, &b, cases[i].n, cases[i].seed, cases[i].angle,
-                                          cases[i].offset),
-                         0);
+        assert_int_equal(
+            scene_sheet_pair(&a, &b, cases[i].n, cases[i].seed, cases[i].angle, cases[i].offset),
+            0);
         assert_int_equal(scene_append(&a, &b), 0);
         scene_free(&b);
         snprintf(name, sizeof name, "sheet pair %u s%u a%.2f o%.2f", cases[i].n, cases[i].seed,
@@ -659,8 +658,8 @@ static void test_hierarchy_bvh_exact_on_moebius_bands(void **state) {
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene s;
         char name[64];
-        assert_int_equal(scene_moebius(&s, cases[i].nu, cases[i].nv, 6.0, 2.0,
-                                       cases[i].half_twists, cases[i].squash),
+        assert_int_equal(scene_moebius(&s, cases[i].nu, cases[i].nv, 6.0, 2.0, cases[i].half_twists,
+                                       cases[i].squash),
                          0);
         snprintf(name, sizeof name, "moebius %ux%u t%u sq%.2f", cases[i].nu, cases[i].nv,
                  cases[i].half_twists, cases[i].squash);
@@ -754,8 +753,8 @@ static void check_pair(const char *name, const scene *sa, const scene *sb) {
         }
         print_message("  %-28s F=%zu+%zu d=%.1fxE  exact %5zu (EF %zu)  BVH/SEED/CONE misses "
                       "%zu/%zu/%zu\n",
-                      name, sa->triangle_count, sb->triangle_count, distance_factors[di], n_ref,
-                      ef, misses[1], misses[2], misses[3]);
+                      name, sa->triangle_count, sb->triangle_count, distance_factors[di], n_ref, ef,
+                      misses[1], misses[2], misses[3]);
         assert_true(n_ref > 0);
         if (di == 0)
             assert_true(ef > 0);
@@ -865,11 +864,14 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
                 assert_non_null(xyz);
                 for (size_t i = 0; i < 3 * frame.vertex_count; ++i)
                     xyz[i] = (float)frame.positions[i];
-                assert_int_equal(selfcol_mesh_set_positions_float(w.mesh, xyz, 3 * sizeof(float), frame.vertex_count),
+                assert_int_equal(selfcol_mesh_set_positions_float(w.mesh, xyz, 3 * sizeof(float),
+                                                                  frame.vertex_count),
                                  SELFCOL_OK);
                 free(xyz);
             } else {
-                assert_int_equal(selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count), SELFCOL_OK);
+                assert_int_equal(
+                    selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count),
+                    SELFCOL_OK);
             }
             for (uint32_t m = SELFCOL_METHOD_BVH; m <= SELFCOL_METHOD_CONE; ++m) {
                 selfcol_query_options q = query(m, 0.1);
@@ -885,10 +887,10 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
         const double mean = selfcol_mesh_mean_edge_length(w.mesh);
         for (int di = 0; di < 2; ++di) {
             size_t n_ref, n_bvh;
-            contact_key *ref = run_keys(&w, SELFCOL_METHOD_EXHAUSTIVE, distance_factors[di] * mean,
-                                        &n_ref);
-            contact_key *bvh = run_keys(&w, SELFCOL_METHOD_BVH, distance_factors[di] * mean,
-                                        &n_bvh);
+            contact_key *ref =
+                run_keys(&w, SELFCOL_METHOD_EXHAUSTIVE, distance_factors[di] * mean, &n_ref);
+            contact_key *bvh =
+                run_keys(&w, SELFCOL_METHOD_BVH, distance_factors[di] * mean, &n_bvh);
             if (!contact_keys_equal(ref, n_ref, bvh, n_bvh))
                 fail_msg("frame %zu (amplitude %.1f), d = %.1f x mean edge: BVH differs", f,
                          amplitudes[f], distance_factors[di]);
@@ -903,12 +905,15 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
             assert_non_null(bad);
             memcpy(bad, frame.positions, 3 * frame.vertex_count * sizeof(double));
             bad[4] = NAN;
-            assert_int_equal(selfcol_mesh_set_positions(w.mesh, bad, frame.vertex_count), SELFCOL_EINVAL);
+            assert_int_equal(selfcol_mesh_set_positions(w.mesh, bad, frame.vertex_count),
+                             SELFCOL_EINVAL);
             free(bad);
             selfcol_query_options q = query(SELFCOL_METHOD_BVH, 0.1);
             assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),
                              SELFCOL_OK);
-            assert_int_equal(selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count), SELFCOL_OK);
+            assert_int_equal(
+                selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count),
+                SELFCOL_OK);
             assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),
                              SELFCOL_ESTALE);
             assert_int_equal(selfcol_hierarchy_refit(w.hierarchy), SELFCOL_OK);
@@ -1036,7 +1041,8 @@ static void test_hierarchy_structure_and_memory_on_4000_triangle_sheet(void **st
 
     // The gently wrinkled sheet has no contacts at 0.1 x mean edge (see the
     // wrinkled test); BVH on 4000 triangles agrees, and SEED stops at the root.
-    selfcol_query_options q = query(SELFCOL_METHOD_BVH, 0.1 * selfcol_mesh_mean_edge_length(w.mesh));
+    selfcol_query_options q =
+        query(SELFCOL_METHOD_BVH, 0.1 * selfcol_mesh_mean_edge_length(w.mesh));
     assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_count(w.contacts), 0);
     q.method = SELFCOL_METHOD_SEED;
@@ -1117,9 +1123,9 @@ static void test_hierarchy_steady_state_frames_allocate_nothing(void **state) {
     selfcol_mesh *m = NULL;
     selfcol_hierarchy *h = NULL;
     selfcol_contacts *c = NULL;
-    assert_int_equal(selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count,
-                                         s.triangles, NULL),
-                     SELFCOL_OK);
+    assert_int_equal(
+        selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
+        SELFCOL_OK);
     assert_int_equal(selfcol_hierarchy_create(&h, m, &hopts), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_create(&c, &copts), SELFCOL_OK);
     const uint32_t methods[] = {SELFCOL_METHOD_BVH, SELFCOL_METHOD_SEED, SELFCOL_METHOD_CONE};

@@ -92,9 +92,9 @@ static void test_mesh_create_rejects_invalid_input(void **state) {
     assert_int_equal(selfcol_mesh_create(&m, (size_t)UINT32_MAX + 1, square_positions, 2,
                                          square_triangles, NULL),
                      SELFCOL_ERANGE);
-    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, (size_t)UINT32_MAX,
-                                         square_triangles, NULL),
-                     SELFCOL_ERANGE);
+    assert_int_equal(
+        selfcol_mesh_create(&m, 4, square_positions, (size_t)UINT32_MAX, square_triangles, NULL),
+        SELFCOL_ERANGE);
 }
 
 static void test_mesh_options_check_version_and_allocator(void **state) {
@@ -103,8 +103,7 @@ static void test_mesh_options_check_version_and_allocator(void **state) {
     assert_int_equal(selfcol_mesh_options_init(&opts, 0), SELFCOL_EVERSION);
     assert_int_equal(selfcol_mesh_options_init(&opts, SELFCOL_MESH_OPTIONS_VERSION + 1),
                      SELFCOL_EVERSION);
-    assert_int_equal(selfcol_mesh_options_init(NULL, SELFCOL_MESH_OPTIONS_VERSION),
-                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_mesh_options_init(NULL, SELFCOL_MESH_OPTIONS_VERSION), SELFCOL_EINVAL);
     assert_int_equal(selfcol_mesh_options_init(&opts, SELFCOL_MESH_OPTIONS_VERSION), SELFCOL_OK);
     selfcol_mesh *m = NULL;
     opts.version = 0; // uninitialised struct
@@ -130,9 +129,9 @@ static void test_mesh_float_stride_matches_double(void **state) {
         interleaved[5 * v + 4] = 7.0f;
     }
     selfcol_mesh *m = NULL;
-    assert_int_equal(selfcol_mesh_create_float(&m, 4, interleaved, 5 * sizeof(float), 2,
-                                               square_triangles, NULL),
-                     SELFCOL_OK);
+    assert_int_equal(
+        selfcol_mesh_create_float(&m, 4, interleaved, 5 * sizeof(float), 2, square_triangles, NULL),
+        SELFCOL_OK);
     assert_memory_equal(selfcol_mesh_positions(m), square_positions, sizeof square_positions);
     interleaved[5 * 3 + 2] = 2.5f;
     assert_int_equal(selfcol_mesh_set_positions_float(m, interleaved, 5 * sizeof(float), 4),
@@ -341,9 +340,9 @@ static void test_mesh_grid_topology_matches_formula(void **state) {
         for (size_t e = 0; e < E; ++e) {
             assert_true(edges[2 * e] < edges[2 * e + 1]);
             if (e > 0)
-                assert_true(edges[2 * e - 2] < edges[2 * e] ||
-                            (edges[2 * e - 2] == edges[2 * e] &&
-                             edges[2 * e - 1] < edges[2 * e + 1]));
+                assert_true(
+                    edges[2 * e - 2] < edges[2 * e] ||
+                    (edges[2 * e - 2] == edges[2 * e] && edges[2 * e - 1] < edges[2 * e + 1]));
         }
         for (uint32_t t = 0; t < g.triangle_count; ++t) {
             uint32_t te[3];

@@ -252,14 +252,14 @@ static void check_ef_result(const selfcol_narrow_result *r, const double p0[3], 
 
 // Agreement figures of one random run.
 typedef struct figures {
-    int pairs;           // queries (pair x radius)
-    int within;          // closed form below radius - band: libccd must find them
-    int beyond;          // closed form above radius + band: libccd must not
-    int near_radius;     // in between
-    int near_found;      // ... of which libccd found
-    double max_diff;     // max |d_ccd - d_closed| over the found pairs
-    double min_rel;      // min (d_ccd - d_closed) / tol
-    double max_rel;      // max (d_ccd - d_closed) / tol
+    int pairs;       // queries (pair x radius)
+    int within;      // closed form below radius - band: libccd must find them
+    int beyond;      // closed form above radius + band: libccd must not
+    int near_radius; // in between
+    int near_found;  // ... of which libccd found
+    double max_diff; // max |d_ccd - d_closed| over the found pairs
+    double min_rel;  // min (d_ccd - d_closed) / tol
+    double max_rel;  // max (d_ccd - d_closed) / tol
     int hits_closed, hits_ccd, agree_hits, in_band, in_band_ccd_only;
     double max_touch_dist;  // max segment-triangle distance of a libccd-only hit
     double max_miss_height; // max min-endpoint-plane distance of a libccd-only miss

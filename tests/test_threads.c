@@ -31,8 +31,8 @@ typedef struct built {
 
 static built build(const scene *s) {
     built b = {NULL, NULL};
-    assert_int_equal(selfcol_mesh_create(&b.mesh, s->vertex_count, s->positions,
-                                         s->triangle_count, s->triangles, NULL),
+    assert_int_equal(selfcol_mesh_create(&b.mesh, s->vertex_count, s->positions, s->triangle_count,
+                                         s->triangles, NULL),
                      SELFCOL_OK);
     assert_int_equal(selfcol_hierarchy_create(&b.hierarchy, b.mesh, NULL), SELFCOL_OK);
     return b;

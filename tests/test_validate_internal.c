@@ -43,8 +43,7 @@ static void test_validate_accepts_what_the_build_makes(void **state) {
         // After a new frame and a refit, still valid.
         for (size_t k = 0; k < 3 * scenes[i].vertex_count; ++k)
             scenes[i].positions[k] *= 1.5;
-        assert_int_equal(selfcol_mesh_set_positions(m, scenes[i].positions,
-                                                    scenes[i].vertex_count),
+        assert_int_equal(selfcol_mesh_set_positions(m, scenes[i].positions, scenes[i].vertex_count),
                          SELFCOL_OK);
         assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
         assert_int_equal(selfcol_hierarchy__validate(h, 1), 1);

@@ -30,9 +30,9 @@ static void test_version_runtime_matches_headers(void **state) {
 
 static void test_version_status_strings_are_distinct_and_never_null(void **state) {
     (void)state;
-    const int codes[] = {SELFCOL_OK,     SELFCOL_ERROR, SELFCOL_ENOMEM,
+    const int codes[] = {SELFCOL_OK,     SELFCOL_ERROR,    SELFCOL_ENOMEM,
                          SELFCOL_EINVAL, SELFCOL_EVERSION, SELFCOL_EBUFS,
-                         SELFCOL_EUSER,  SELFCOL_ERANGE, SELFCOL_EMISMATCH};
+                         SELFCOL_EUSER,  SELFCOL_ERANGE,   SELFCOL_EMISMATCH};
     const size_t n = sizeof codes / sizeof codes[0];
     for (size_t i = 0; i < n; ++i) {
         assert_non_null(selfcol_status_string(codes[i]));

@@ -47,7 +47,7 @@ SELFCOL_BEGIN_DECLS
  * failure. The values are pinned forever; new codes are only appended.
  */
 typedef enum selfcol_status {
-    SELFCOL_OK = 0,        /**< success */
+    SELFCOL_OK = 0, /**< success */
     /** Reserved (never returned by 0.2): an unspecified internal error. */
     SELFCOL_ERROR = -1,
     SELFCOL_ENOMEM = -2,   /**< the allocator returned NULL */

@@ -90,22 +90,22 @@ typedef struct selfcol_contact {
  * that version.
  */
 typedef struct selfcol_query_stats {
-    unsigned int version;      /**< SELFCOL_QUERY_STATS_VERSION */
-    uint64_t candidate_pairs;  /**< primitive or triangle pairs examined by the broad phase */
-    uint64_t vf_tests;         /**< vertex-triangle distance evaluations (closed form or libccd) */
-    uint64_t ee_tests;         /**< edge-edge distance evaluations */
-    uint64_t ef_tests;         /**< edge-triangle crossing evaluations */
-    uint64_t vf_contacts;      /**< VF contacts found */
-    uint64_t ee_contacts;      /**< EE contacts found */
-    uint64_t ef_contacts;      /**< EF contacts found */
+    unsigned int version;     /**< SELFCOL_QUERY_STATS_VERSION */
+    uint64_t candidate_pairs; /**< primitive or triangle pairs examined by the broad phase */
+    uint64_t vf_tests;        /**< vertex-triangle distance evaluations (closed form or libccd) */
+    uint64_t ee_tests;        /**< edge-edge distance evaluations */
+    uint64_t ef_tests;        /**< edge-triangle crossing evaluations */
+    uint64_t vf_contacts;     /**< VF contacts found */
+    uint64_t ee_contacts;     /**< EE contacts found */
+    uint64_t ef_contacts;     /**< EF contacts found */
     /** Time spent selecting candidates; 0 for EXHAUSTIVE, whose enumeration
      *  and primitive tests are interleaved (its whole time is in total_seconds). */
     double broad_seconds;
-    double narrow_seconds;     /**< time spent in primitive tests; 0 for EXHAUSTIVE */
-    double total_seconds;      /**< wall time of the whole query */
+    double narrow_seconds; /**< time spent in primitive tests; 0 for EXHAUSTIVE */
+    double total_seconds;  /**< wall time of the whole query */
     /* Version 2: the hierarchy traversal (all 0 for EXHAUSTIVE). */
-    uint64_t nodes_visited;    /**< nodes and node pairs examined */
-    uint64_t culled_box;       /**< node pairs skipped because their boxes are apart */
+    uint64_t nodes_visited; /**< nodes and node pairs examined */
+    uint64_t culled_box;    /**< node pairs skipped because their boxes are apart */
     /** Nodes skipped by the curvature criterion (self; for EXACT, curvature
      *  and contour). */
     uint64_t culled_curvature;
@@ -122,7 +122,7 @@ typedef struct selfcol_query_stats {
     /** Of those, the ones the contour test could not prove free (the price
      *  of exactness: SEED would have skipped them). */
     uint64_t contour_refused;
-    double contour_seconds;    /**< time in the contour test (part of broad_seconds) */
+    double contour_seconds; /**< time in the contour test (part of broad_seconds) */
     /* Version 4: the narrow phase's filters and the sort. */
     /** Candidate triangle pairs rejected whole because one triangle lies
      *  beyond d of the other's plane (no primitive test was made for them). */
@@ -130,7 +130,7 @@ typedef struct selfcol_query_stats {
     /** Primitive pairs rejected by a conservative filter (plane distance or
      *  box) before their closed form; not counted in vf/ee/ef_tests. */
     uint64_t primitives_filtered;
-    double sort_seconds;       /**< time spent sorting the records (part of total_seconds) */
+    double sort_seconds; /**< time spent sorting the records (part of total_seconds) */
 } selfcol_query_stats;
 
 #define SELFCOL_QUERY_STATS_VERSION 4
@@ -152,8 +152,7 @@ typedef struct selfcol_contacts_options {
  * @param[in] version SELFCOL_CONTACTS_OPTIONS_VERSION
  * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
  */
-SELFCOL_API int selfcol_contacts_options_init(selfcol_contacts_options *opts,
-                                              unsigned int version);
+SELFCOL_API int selfcol_contacts_options_init(selfcol_contacts_options *opts, unsigned int version);
 
 /**
  * Creates an empty contact set.
@@ -168,7 +167,8 @@ SELFCOL_API int selfcol_contacts_create(selfcol_contacts **out,
 /** Destroys a contact set. Accepts NULL. @param[in] contacts the handle */
 SELFCOL_API void selfcol_contacts_destroy(selfcol_contacts *contacts);
 
-/** Removes all contacts and zeroes the statistics; keeps the memory. @param[in,out] contacts the handle */
+/** Removes all contacts and zeroes the statistics; keeps the memory. @param[in,out] contacts the
+ * handle */
 SELFCOL_API void selfcol_contacts_clear(selfcol_contacts *contacts);
 
 /**

@@ -137,17 +137,17 @@ SELFCOL_API int selfcol_mesh_set_positions_float(selfcol_mesh *mesh, const float
 
 /** Quantities reported by selfcol_mesh_count(). Values are pinned. */
 typedef enum selfcol_mesh_quantity {
-    SELFCOL_MESH_VERTICES = 0,              /**< vertex_count as created */
-    SELFCOL_MESH_TRIANGLES = 1,             /**< triangle_count as created */
-    SELFCOL_MESH_EDGES = 2,                 /**< unique undirected edges */
-    SELFCOL_MESH_BOUNDARY_EDGES = 3,        /**< edges with exactly one triangle */
-    SELFCOL_MESH_NONMANIFOLD_EDGES = 4,     /**< edges with three or more triangles */
-    SELFCOL_MESH_COMPONENTS = 5,            /**< components (triangles sharing a vertex) */
-    SELFCOL_MESH_UNREFERENCED_VERTICES = 6, /**< vertices used by no triangle */
+    SELFCOL_MESH_VERTICES = 0,                 /**< vertex_count as created */
+    SELFCOL_MESH_TRIANGLES = 1,                /**< triangle_count as created */
+    SELFCOL_MESH_EDGES = 2,                    /**< unique undirected edges */
+    SELFCOL_MESH_BOUNDARY_EDGES = 3,           /**< edges with exactly one triangle */
+    SELFCOL_MESH_NONMANIFOLD_EDGES = 4,        /**< edges with three or more triangles */
+    SELFCOL_MESH_COMPONENTS = 5,               /**< components (triangles sharing a vertex) */
+    SELFCOL_MESH_UNREFERENCED_VERTICES = 6,    /**< vertices used by no triangle */
     SELFCOL_MESH_REPEATED_INDEX_TRIANGLES = 7, /**< triangles such as (a, a, b) */
-    SELFCOL_MESH_DUPLICATE_TRIANGLES = 8,   /**< triangles whose vertex set appeared before */
-    SELFCOL_MESH_ZERO_AREA_TRIANGLES = 9    /**< exactly collinear corners, current
-                                                 positions; O(F) per call */
+    SELFCOL_MESH_DUPLICATE_TRIANGLES = 8,      /**< triangles whose vertex set appeared before */
+    SELFCOL_MESH_ZERO_AREA_TRIANGLES = 9       /**< exactly collinear corners, current
+                                                    positions; O(F) per call */
 } selfcol_mesh_quantity;
 
 /**

@@ -77,8 +77,10 @@ static void compare_all(const selfcol_hierarchy *a, const selfcol_hierarchy *b, 
             key *got;
             size_t n = keys_of(c, &got);
             if (n != n_ref || (n > 0 && memcmp(got, ref, n * sizeof *got) != 0)) {
-                fprintf(stderr, "method %u on %u thread(s), d = %.17g: %zu contacts, "
-                        "EXHAUSTIVE %zu\n", methods[m], threads, d, n, n_ref);
+                fprintf(stderr,
+                        "method %u on %u thread(s), d = %.17g: %zu contacts, "
+                        "EXHAUSTIVE %zu\n",
+                        methods[m], threads, d, n, n_ref);
                 abort();
             }
             free(got);

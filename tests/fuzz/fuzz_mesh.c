@@ -40,8 +40,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     for (size_t i = 0; i < 3 * F && size > 0; ++i, --size, ++data)
         tri[i] = data[0] < 250 ? data[0] % 20u : UINT32_MAX - data[0] % 4u;
     selfcol_mesh *m = NULL;
-    int rc = use_float ? selfcol_mesh_create_float(&m, V, fpos, stride * sizeof(float), F, tri, NULL)
-                       : selfcol_mesh_create(&m, V, pos, F, tri, NULL);
+    int rc = use_float
+                 ? selfcol_mesh_create_float(&m, V, fpos, stride * sizeof(float), F, tri, NULL)
+                 : selfcol_mesh_create(&m, V, pos, F, tri, NULL);
     if (rc != SELFCOL_OK) {
         if (m != NULL || selfcol_status_string(rc) == NULL)
             abort();

@@ -29,8 +29,8 @@ static int key_compare(const void *pa, const void *pb) {
     return 0;
 }
 
-void contact_keys(const selfcol_contact *c, size_t n, const uint32_t *map,
-                  const uint32_t offset[2], contact_key *out) {
+void contact_keys(const selfcol_contact *c, size_t n, const uint32_t *map, const uint32_t offset[2],
+                  contact_key *out) {
     for (size_t i = 0; i < n; ++i) {
         uint32_t *k = out[i].k;
         k[0] = c[i].kind;
@@ -38,13 +38,12 @@ void contact_keys(const selfcol_contact *c, size_t n, const uint32_t *map,
             k[1 + j] = (map ? map[c[i].a[j]] : c[i].a[j]) + offset[c[i].first_mesh];
         int nb = c[i].kind == SELFCOL_CONTACT_EE ? 2 : 3;
         for (int j = 0; j < 3; ++j)
-            k[3 + j] = j < nb ? (map ? map[c[i].b[j]] : c[i].b[j]) + offset[c[i].second_mesh]
-                              : UINT32_MAX;
+            k[3 + j] =
+                j < nb ? (map ? map[c[i].b[j]] : c[i].b[j]) + offset[c[i].second_mesh] : UINT32_MAX;
         sort_small(k + 1, 2);
         sort_small(k + 3, nb);
         // An edge-edge pair is unordered.
-        if (c[i].kind == SELFCOL_CONTACT_EE &&
-            (k[3] < k[1] || (k[3] == k[1] && k[4] < k[2]))) {
+        if (c[i].kind == SELFCOL_CONTACT_EE && (k[3] < k[1] || (k[3] == k[1] && k[4] < k[2]))) {
             uint32_t t0 = k[1], t1 = k[2];
             k[1] = k[3];
             k[2] = k[4];

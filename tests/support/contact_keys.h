@@ -16,8 +16,8 @@ typedef struct contact_key {
 
 // Writes the keys of n contacts to out (sorted). Vertex v of mesh m becomes
 // map[v] (identity when map is NULL) plus offset[m].
-void contact_keys(const selfcol_contact *c, size_t n, const uint32_t *map,
-                  const uint32_t offset[2], contact_key *out);
+void contact_keys(const selfcol_contact *c, size_t n, const uint32_t *map, const uint32_t offset[2],
+                  contact_key *out);
 
 // Sorts keys.
 void contact_keys_sort(contact_key *keys, size_t n);

@@ -12,7 +12,7 @@ enum { MAX_PROPS = 32, MAX_ELEMENTS = 8 };
 
 typedef struct property {
     char name[64];
-    int type;       // byte size of the scalar, negative for float/double marker below
+    int type; // byte size of the scalar, negative for float/double marker below
     int is_float;
     int is_signed;
     int is_list;
@@ -27,11 +27,14 @@ typedef struct element {
 } element;
 
 static int type_of(const char *t, int *size, int *is_float, int *is_signed) {
-    static const struct { const char *name; int size, is_float, is_signed; } types[] = {
-        {"char", 1, 0, 1},   {"int8", 1, 0, 1},    {"uchar", 1, 0, 0},  {"uint8", 1, 0, 0},
-        {"short", 2, 0, 1},  {"int16", 2, 0, 1},   {"ushort", 2, 0, 0}, {"uint16", 2, 0, 0},
-        {"int", 4, 0, 1},    {"int32", 4, 0, 1},   {"uint", 4, 0, 0},   {"uint32", 4, 0, 0},
-        {"float", 4, 1, 1},  {"float32", 4, 1, 1}, {"double", 8, 1, 1}, {"float64", 8, 1, 1}};
+    static const struct {
+        const char *name;
+        int size, is_float, is_signed;
+    } types[] = {
+        {"char", 1, 0, 1},  {"int8", 1, 0, 1},    {"uchar", 1, 0, 0},  {"uint8", 1, 0, 0},
+        {"short", 2, 0, 1}, {"int16", 2, 0, 1},   {"ushort", 2, 0, 0}, {"uint16", 2, 0, 0},
+        {"int", 4, 0, 1},   {"int32", 4, 0, 1},   {"uint", 4, 0, 0},   {"uint32", 4, 0, 0},
+        {"float", 4, 1, 1}, {"float32", 4, 1, 1}, {"double", 8, 1, 1}, {"float64", 8, 1, 1}};
     for (size_t i = 0; i < sizeof types / sizeof types[0]; ++i)
         if (strcmp(t, types[i].name) == 0) {
             *size = types[i].size;
@@ -58,11 +61,25 @@ static int read_binary(FILE *f, int size, int is_float, int is_signed, int swap,
             b[i] = b[size - 1 - i];
             b[size - 1 - i] = t;
         }
-    if (is_float && size == 4) { float v; memcpy(&v, b, 4); *out = v; }
-    else if (is_float) { double v; memcpy(&v, b, 8); *out = v; }
-    else if (size == 1) *out = is_signed ? (double)(int8_t)b[0] : (double)b[0];
-    else if (size == 2) { uint16_t v; memcpy(&v, b, 2); *out = is_signed ? (double)(int16_t)v : v; }
-    else { uint32_t v; memcpy(&v, b, 4); *out = is_signed ? (double)(int32_t)v : v; }
+    if (is_float && size == 4) {
+        float v;
+        memcpy(&v, b, 4);
+        *out = v;
+    } else if (is_float) {
+        double v;
+        memcpy(&v, b, 8);
+        *out = v;
+    } else if (size == 1)
+        *out = is_signed ? (double)(int8_t)b[0] : (double)b[0];
+    else if (size == 2) {
+        uint16_t v;
+        memcpy(&v, b, 2);
+        *out = is_signed ? (double)(int16_t)v : v;
+    } else {
+        uint32_t v;
+        memcpy(&v, b, 4);
+        *out = is_signed ? (double)(int32_t)v : v;
+    }
     return 0;
 }
 
@@ -92,8 +109,10 @@ int ply_read(const char *path, scene *s, char *err, size_t err_size) {
         if (strcmp(a, "end_header") == 0)
             break;
         if (strcmp(a, "format") == 0 && n >= 2)
-            format = strcmp(b, "ascii") == 0 ? 0 : strcmp(b, "binary_little_endian") == 0 ? 1
-                     : strcmp(b, "binary_big_endian") == 0 ? 2 : -1;
+            format = strcmp(b, "ascii") == 0                  ? 0
+                     : strcmp(b, "binary_little_endian") == 0 ? 1
+                     : strcmp(b, "binary_big_endian") == 0    ? 2
+                                                              : -1;
         else if (strcmp(a, "element") == 0 && n == 3 && nel < MAX_ELEMENTS) {
             snprintf(el[nel].name, sizeof el[nel].name, "%s", b);
             el[nel].count = strtol(c, NULL, 10);

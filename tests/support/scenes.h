@@ -123,7 +123,6 @@ int scene_moebius(scene *s, unsigned nu, unsigned nv, double radius, double half
 // half]^2 draped at height gap over the sphere's cap (and along its tangent
 // cone beyond 0.8 of the radius), plus a ripple of the given amplitude:
 // ripple > gap makes the cloth cross the sphere in places.
-int scene_draped_cloth(scene *s, unsigned n, double half, double radius, double gap,
-                       double ripple);
+int scene_draped_cloth(scene *s, unsigned n, double half, double radius, double gap, double ripple);
 
 #endif

@@ -11,12 +11,12 @@
 #include <selfcol/common.h>
 
 typedef struct test_allocator_state {
-    long fail_at;    // 1-based allocation number that fails; 0: never
-    long calls;      // allocations attempted so far
-    long live;       // allocations not yet freed
+    long fail_at; // 1-based allocation number that fails; 0: never
+    long calls;   // allocations attempted so far
+    long live;    // allocations not yet freed
     size_t live_bytes;
     size_t peak_bytes; // largest live_bytes seen (reset it to measure one call)
-    int misaligned;  // set if a free came with a size different from its alloc
+    int misaligned;    // set if a free came with a size different from its alloc
 } test_allocator_state;
 
 // Returns an allocator bound to state (which the caller zero-initialises).

@@ -13,8 +13,8 @@
 
 void world_make(world *w, const scene *s) {
     memset(w, 0, sizeof *w);
-    assert_int_equal(selfcol_mesh_create(&w->mesh, s->vertex_count, s->positions,
-                                         s->triangle_count, s->triangles, NULL),
+    assert_int_equal(selfcol_mesh_create(&w->mesh, s->vertex_count, s->positions, s->triangle_count,
+                                         s->triangles, NULL),
                      SELFCOL_OK);
     assert_int_equal(selfcol_hierarchy_create(&w->hierarchy, w->mesh, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_create(&w->contacts, NULL), SELFCOL_OK);

@@ -60,8 +60,8 @@ extern "C" bench_bullet *bench_bullet_create(size_t vertex_count, const double *
     try {
         std::vector<btVector3> x(vertex_count);
         for (size_t v = 0; v < vertex_count; ++v)
-            x[v] = btVector3(btScalar(xyz[3 * v]), btScalar(xyz[3 * v + 1]),
-                             btScalar(xyz[3 * v + 2]));
+            x[v] =
+                btVector3(btScalar(xyz[3 * v]), btScalar(xyz[3 * v + 1]), btScalar(xyz[3 * v + 2]));
         b->body = new btSoftBody(&b->info, int(vertex_count), x.data(), nullptr);
         for (size_t e = 0; e < edge_count; ++e)
             b->body->appendLink(int(edges[2 * e]), int(edges[2 * e + 1]));

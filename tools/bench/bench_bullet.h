@@ -24,8 +24,7 @@ typedef struct bench_bullet bench_bullet;
 // the build kept (malloc accounting). Returns NULL on failure.
 bench_bullet *bench_bullet_create(size_t vertex_count, const double *xyz, size_t triangle_count,
                                   const uint32_t *triangles, size_t edge_count,
-                                  const uint32_t *edges, double *build_seconds,
-                                  size_t *tree_bytes);
+                                  const uint32_t *edges, double *build_seconds, size_t *tree_bytes);
 
 // Detection distance: Bullet's self-collision reports node-face pairs within
 // 2 x the collision margin, so the margin is set to d / 2.

@@ -12,11 +12,10 @@
 // every method runs on the same mesh and d: EXHAUSTIVE (small sizes only), BVH,
 // SEED, CONE, EXACT, BVH with the libccd narrow phase (small sizes), EXACT
 // restricted to vertex-triangle proximities (EXACT-VF, Bullet's share of the
-// work), and Bullet 3.24's own self-collision (bench_bullet.cpp). Each timed quantity is the median of
-// `reps` runs after one warm-up run, with min and max. Every method's
-// contact set is compared with a reference: EXHAUSTIVE when it ran, else
-// EXACT (which the test suite and the smaller rows hold equal to EXHAUSTIVE);
-// the `reference` column says which.
+// work), and Bullet 3.24's own self-collision (bench_bullet.cpp). Each timed quantity is the median
+// of `reps` runs after one warm-up run, with min and max. Every method's contact set is compared
+// with a reference: EXHAUSTIVE when it ran, else EXACT (which the test suite and the smaller rows
+// hold equal to EXHAUSTIVE); the `reference` column says which.
 //
 // usage: selfcol-bench --list SUBSET        names of the cases of a subset
 //        selfcol-bench --header             the CSV header line
@@ -127,12 +126,14 @@ static int read_obj(const char *path, scene *s) {
         if (line[0] == 'v' && line[1] == ' ') {
             if (nv == vcap && (v = realloc(v, 3 * (vcap *= 2) * sizeof *v)) == NULL)
                 rc = -1;
-            else if (sscanf(line + 2, "%lf %lf %lf", v + 3 * nv, v + 3 * nv + 1, v + 3 * nv + 2) == 3)
+            else if (sscanf(line + 2, "%lf %lf %lf", v + 3 * nv, v + 3 * nv + 1, v + 3 * nv + 2) ==
+                     3)
                 nv++;
         } else if (line[0] == 'f' && line[1] == ' ') {
             long idx[64];
             int k = 0;
-            for (char *tok = strtok(line + 2, " \t\r\n"); tok && k < 64; tok = strtok(NULL, " \t\r\n"))
+            for (char *tok = strtok(line + 2, " \t\r\n"); tok && k < 64;
+                 tok = strtok(NULL, " \t\r\n"))
                 idx[k++] = strtol(tok, NULL, 10);
             for (int i = 1; rc == 0 && i + 1 < k; ++i) {
                 if (nt == tcap && (t = realloc(t, 3 * (tcap *= 2) * sizeof *t)) == NULL) {
@@ -262,15 +263,9 @@ typedef struct limits {
 static limits limits_of(unsigned subset) {
     limits l;
     switch (subset) {
-    case SMOKE:
-        l.reps = 2, l.exhaustive = 2000, l.libccd = 2000, l.bullet = 2000;
-        break;
-    case FULL:
-        l.reps = 7, l.exhaustive = 20500, l.libccd = 20500, l.bullet = 200000;
-        break;
-    default:
-        l.reps = 5, l.exhaustive = 5200, l.libccd = 5200, l.bullet = 20500;
-        break;
+    case SMOKE: l.reps = 2, l.exhaustive = 2000, l.libccd = 2000, l.bullet = 2000; break;
+    case FULL: l.reps = 7, l.exhaustive = 20500, l.libccd = 20500, l.bullet = 200000; break;
+    default: l.reps = 5, l.exhaustive = 5200, l.libccd = 5200, l.bullet = 20500; break;
     }
     return l;
 }
@@ -422,9 +417,8 @@ static void print_row(const context *cx, const row *r) {
            (unsigned long long)s->contour_refused, 1e3 * s->contour_seconds);
     // Stats version 4: the stages of the query (medians over the timed
     // repetitions, like query_ms) and the narrow phase's filters.
-    printf("%.4f,%.4f,%.4f,%llu,%llu,", 1e3 * r->broad_med, 1e3 * r->narrow_med,
-           1e3 * r->sort_med, (unsigned long long)s->pairs_separated,
-           (unsigned long long)s->primitives_filtered);
+    printf("%.4f,%.4f,%.4f,%llu,%llu,", 1e3 * r->broad_med, 1e3 * r->narrow_med, 1e3 * r->sort_med,
+           (unsigned long long)s->pairs_separated, (unsigned long long)s->primitives_filtered);
     printf("%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,", (unsigned long long)r->found[0],
            (unsigned long long)r->found[1], (unsigned long long)r->found[2],
            (unsigned long long)found, (unsigned long long)r->raw_contacts,
@@ -552,7 +546,8 @@ static void bullet_rows(bench_bullet *bb, context *cx, const keyset *ref, const 
     r.raw_contacts = raw;
     snprintf(r.note, sizeof r.note,
              "Bullet %s VF only; struct_bytes = heap kept by initializeFaceTree%s",
-             bench_bullet_version(), cx->scale != 1.0 ? "; mesh scaled for its size dead zone" : "");
+             bench_bullet_version(),
+             cx->scale != 1.0 ? "; mesh scaled for its size dead zone" : "");
     cx->peak_rss_kb = peak_rss_kb();
     print_row(cx, &r);
     free(got.k);
@@ -740,9 +735,9 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     if (s.triangle_count <= lim.bullet && pieces == 1) {
         fprintf(stderr, "selfcol-bench: %s: Bullet face-tree build (%zu faces)...\n", bc->name,
                 s.triangle_count);
-        bb = bench_bullet_create(s.vertex_count, s.positions, s.triangle_count, s.triangles,
-                                 cx.edges, selfcol_mesh_edges(mesh), &bullet_build_s,
-                                 &bullet_bytes);
+        bb =
+            bench_bullet_create(s.vertex_count, s.positions, s.triangle_count, s.triangles,
+                                cx.edges, selfcol_mesh_edges(mesh), &bullet_build_s, &bullet_bytes);
         if (bb == NULL)
             fprintf(stderr, "selfcol-bench: %s: Bullet body failed\n", bc->name);
     }
@@ -817,7 +812,8 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
             // The reference is sorted by kind, VF first: its VF set is a prefix.
             keyset ref_used = ref;
             if (vf_only)
-                for (ref_used.n = 0; ref_used.n < ref.n && ref.k[ref_used.n].kind == SELFCOL_CONTACT_VF;)
+                for (ref_used.n = 0;
+                     ref_used.n < ref.n && ref.k[ref_used.n].kind == SELFCOL_CONTACT_VF;)
                     ref_used.n++;
             count_kinds(&got, r.found);
             count_kinds(&ref_used, r.ref);
@@ -871,8 +867,8 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
     selfcol_mesh *mesh = NULL;
     selfcol_hierarchy *h = NULL;
     selfcol_contacts *c = NULL;
-    int rc = selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
-                                 s.triangles, NULL);
+    int rc = selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count, s.triangles,
+                                 NULL);
     double mean_edge = rc == SELFCOL_OK ? selfcol_mesh_mean_edge_length(mesh) : 0.0;
     double scale = 1.0;
     while (rc == SELFCOL_OK && !bc->raw && mean_edge * scale < 0.05)
@@ -926,7 +922,8 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
         }
     }
     if (rc != SELFCOL_OK)
-        fprintf(stderr, "selfcol-bench: %s: dump failed (%s)\n", bc->name, selfcol_status_string(rc));
+        fprintf(stderr, "selfcol-bench: %s: dump failed (%s)\n", bc->name,
+                selfcol_status_string(rc));
     selfcol_contacts_destroy(c);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(mesh);
@@ -944,23 +941,34 @@ bench_bullet *bench_bullet_create(size_t vertex_count, const double *xyz, size_t
     (void)edges, (void)build_seconds, (void)tree_bytes;
     return NULL;
 }
-void bench_bullet_set_distance(bench_bullet *b, double d) { (void)b, (void)d; }
-double bench_bullet_refit(bench_bullet *b) { return (void)b, 0.0; }
-double bench_bullet_self_collide(bench_bullet *b) { return (void)b, 0.0; }
+void bench_bullet_set_distance(bench_bullet *b, double d) {
+    (void)b, (void)d;
+}
+double bench_bullet_refit(bench_bullet *b) {
+    return (void)b, 0.0;
+}
+double bench_bullet_self_collide(bench_bullet *b) {
+    return (void)b, 0.0;
+}
 size_t bench_bullet_contacts(bench_bullet *b, size_t *raw, uint64_t **pairs) {
     (void)b, (void)raw, (void)pairs;
     return (size_t)-1;
 }
-void bench_bullet_destroy(bench_bullet *b) { (void)b; }
-const char *bench_bullet_version(void) { return "absent"; }
+void bench_bullet_destroy(bench_bullet *b) {
+    (void)b;
+}
+const char *bench_bullet_version(void) {
+    return "absent";
+}
 #endif
 
 static unsigned subset_of(const char *name) {
     if (name == NULL)
         return 0;
-    return strcmp(name, "smoke") == 0 ? SMOKE : strcmp(name, "default") == 0 ? DEFAULT
-                                            : strcmp(name, "full") == 0       ? FULL
-                                                                              : 0;
+    return strcmp(name, "smoke") == 0     ? SMOKE
+           : strcmp(name, "default") == 0 ? DEFAULT
+           : strcmp(name, "full") == 0    ? FULL
+                                          : 0;
 }
 
 int main(int argc, char **argv) {
@@ -1012,8 +1020,8 @@ int main(int argc, char **argv) {
         return 0;
     }
     if (data_dir == NULL)
-        data_dir = getenv("SELFCOL_SHARED_DATA") ? getenv("SELFCOL_SHARED_DATA")
-                                                 : BENCH_DEFAULT_DATA_DIR;
+        data_dir =
+            getenv("SELFCOL_SHARED_DATA") ? getenv("SELFCOL_SHARED_DATA") : BENCH_DEFAULT_DATA_DIR;
     if (dump_dir != NULL && case_name != NULL) {
         for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
             if (strcmp(cases[i].name, case_name) == 0)

@@ -201,8 +201,10 @@ static int read_whole_file(const char *path, unsigned char **data_out, size_t *s
     if (S_ISDIR(st.st_mode))
         return cli_fail(err, "%s: is a directory, not a mesh file", path);
     if (!S_ISREG(st.st_mode))
-        return cli_fail(err, "%s: not a regular file (a pipe, device or socket); mesh files "
-                             "must be regular files", path);
+        return cli_fail(err,
+                        "%s: not a regular file (a pipe, device or socket); mesh files "
+                        "must be regular files",
+                        path);
     int fd = open(path, O_RDONLY | O_NONBLOCK);
     if (fd < 0)
         return cli_fail(err, "%s: cannot open: %s", path, strerror(errno));

@@ -158,8 +158,8 @@ static int write_png_file(const char *path, const unsigned char *pixels, int wid
     // libpng's own handlers print to stderr; ours keep its message for the
     // CLI's single error line.
     png_message message = {""};
-    png_structp png =
-        png_create_write_struct(PNG_LIBPNG_VER_STRING, &message, png_error_kept, png_warning_dropped);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &message, png_error_kept,
+                                              png_warning_dropped);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     png_bytep *rows = malloc((size_t)height * sizeof *rows);
     // volatile: modified between setjmp and a possible longjmp from libpng.
