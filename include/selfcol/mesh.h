@@ -29,13 +29,14 @@
  *   triangles (SELFCOL_ERANGE): indices and internal offsets are uint32_t and
  *   UINT32_MAX is reserved for SELFCOL_INVALID_INDEX;
  * - coordinates outside the range the arithmetic holds in (SELFCOL_ERANGE):
- *   a magnitude above SELFCOL_MESH_MAX_COORDINATE = 2^200 (about 1.6e60), or
- *   a mesh whose largest coordinate magnitude is below
- *   SELFCOL_MESH_MIN_EXTENT = 2^-200 (about 6.2e-61) without being 0 (every
- *   vertex at the origin is accepted). Inside the range every contact set is
- *   exact; beyond it squared lengths overflow or underflow and answers would
- *   be silently wrong, so such meshes are refused. Single coordinates far
- *   below the mesh's scale (1e-300 in a unit mesh) are accepted.
+ *   every coordinate must be 0 or have a magnitude from
+ *   SELFCOL_MESH_MIN_COORDINATE = 2^-200 (about 6.2e-61) to
+ *   SELFCOL_MESH_MAX_COORDINATE = 2^200 (about 1.6e60). Inside the range
+ *   every contact set is exact; beyond it squared lengths and products
+ *   overflow or underflow and answers would be silently wrong, so such
+ *   positions are refused. Float positions are always inside (their
+ *   smallest subnormal is 1.4e-45). A double simulation that lets a
+ *   coordinate decay towards 0 should flush it to 0 below 2^-200.
  * @{
  */
 #ifndef SELFCOL_MESH_H
@@ -47,9 +48,8 @@ SELFCOL_BEGIN_DECLS
 
 /** Largest coordinate magnitude accepted: 2^200 (exactly this double). */
 #define SELFCOL_MESH_MAX_COORDINATE 1.6069380442589903e+60
-/** Smallest accepted largest-coordinate magnitude of a mesh that is not all
- *  zero: 2^-200 (exactly this double). */
-#define SELFCOL_MESH_MIN_EXTENT 6.223015277861142e-61
+/** Smallest nonzero coordinate magnitude accepted: 2^-200 (exactly this double). */
+#define SELFCOL_MESH_MIN_COORDINATE 6.223015277861142e-61
 
 /** Opaque triangle mesh: positions plus topology built once at creation. */
 typedef struct selfcol_mesh selfcol_mesh;
