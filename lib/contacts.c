@@ -134,26 +134,32 @@ typedef char
                                   ? 1
                                   : -1];
 
+// Room for `extra` more records, growing geometrically (at least 64).
+static int reserve_records(selfcol_contacts *c, size_t extra) {
+    if (extra <= c->capacity - c->count)
+        return SELFCOL_OK;
+    if (extra > SIZE_MAX / sizeof(selfcol_contact) - c->count)
+        return SELFCOL_ENOMEM;
+    size_t need = c->count + extra;
+    size_t capacity = c->capacity < 64 ? 64 : 2 * c->capacity;
+    capacity = capacity > need ? capacity : need;
+    selfcol_contact *items = selfcol_alloc__array(&c->allocator, capacity, sizeof(selfcol_contact));
+    if (items == NULL)
+        return SELFCOL_ENOMEM;
+    if (c->count > 0)
+        memcpy(items, c->items, c->count * sizeof(selfcol_contact));
+    selfcol_alloc__free_array(&c->allocator, c->items, c->capacity, sizeof(selfcol_contact));
+    c->items = items;
+    c->capacity = capacity;
+    return SELFCOL_OK;
+}
+
 int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker) {
     if (worker->count > 0) {
-        if (worker->count > SIZE_MAX / sizeof(selfcol_contact) - c->count)
+        if (reserve_records(c, worker->count) != SELFCOL_OK)
             return SELFCOL_ENOMEM;
-        size_t need = c->count + worker->count;
-        if (need > c->capacity) {
-            size_t capacity = c->capacity * 2 > need ? c->capacity * 2 : need;
-            selfcol_contact *items =
-                selfcol_alloc__array(&c->allocator, capacity, sizeof(selfcol_contact));
-            if (items == NULL)
-                return SELFCOL_ENOMEM;
-            if (c->count > 0)
-                memcpy(items, c->items, c->count * sizeof(selfcol_contact));
-            selfcol_alloc__free_array(&c->allocator, c->items, c->capacity,
-                                      sizeof(selfcol_contact));
-            c->items = items;
-            c->capacity = capacity;
-        }
         memcpy(c->items + c->count, worker->items, worker->count * sizeof(selfcol_contact));
-        c->count = need;
+        c->count += worker->count;
     }
     selfcol_query_stats *to = &c->stats;
     const selfcol_query_stats *from = &worker->stats;
@@ -178,18 +184,8 @@ int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker
 }
 
 int selfcol_contacts__push(selfcol_contacts *c, const selfcol_contact *contact) {
-    if (c->count == c->capacity) {
-        size_t capacity = c->capacity < 64 ? 64 : 2 * c->capacity;
-        selfcol_contact *items =
-            selfcol_alloc__array(&c->allocator, capacity, sizeof(selfcol_contact));
-        if (items == NULL)
-            return SELFCOL_ENOMEM;
-        if (c->count > 0)
-            memcpy(items, c->items, c->count * sizeof(selfcol_contact));
-        selfcol_alloc__free_array(&c->allocator, c->items, c->capacity, sizeof(selfcol_contact));
-        c->items = items;
-        c->capacity = capacity;
-    }
+    if (c->count == c->capacity && reserve_records(c, 1) != SELFCOL_OK)
+        return SELFCOL_ENOMEM;
     c->items[c->count++] = *contact;
     return SELFCOL_OK;
 }

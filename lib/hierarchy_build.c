@@ -168,15 +168,8 @@ static int dual_graph(const selfcol_mesh *m, const selfcol_allocator *al, patch_
             // neighbours there.
             const uint32_t begin = m->edge_tri_offsets[e], end = m->edge_tri_offsets[e + 1];
             uint32_t at = begin + position_in(m->edge_tris + begin, end - begin, (uint32_t)t);
-            uint32_t next[2] = {SELFCOL_INVALID_INDEX, SELFCOL_INVALID_INDEX};
-            if (end - begin == 2)
-                next[0] = m->edge_tris[at == begin ? begin + 1 : begin];
-            else if (end - begin > 2) {
-                if (at > begin)
-                    next[0] = m->edge_tris[at - 1];
-                if (at + 1 < end)
-                    next[1] = m->edge_tris[at + 1];
-            }
+            const uint32_t next[2] = {at > begin ? m->edge_tris[at - 1] : SELFCOL_INVALID_INDEX,
+                                      at + 1 < end ? m->edge_tris[at + 1] : SELFCOL_INVALID_INDEX};
             for (int j = 0; j < 2; ++j) {
                 uint32_t u = next[j];
                 if (u == SELFCOL_INVALID_INDEX || u == (uint32_t)t)

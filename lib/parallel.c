@@ -9,9 +9,9 @@
 
 #include "core.h"
 
-#include <pthread.h>
+#include <selfcol/hierarchy.h>
 
-#define MAX_WORKERS 64
+#include <pthread.h>
 
 typedef struct worker_start {
     int (*work)(void *, unsigned);
@@ -27,17 +27,15 @@ static void *worker_main(void *arg) {
 }
 
 int selfcol_parallel__run(unsigned workers, int (*work)(void *context, unsigned worker),
-                          void *context, unsigned *started) {
-    if (workers > MAX_WORKERS)
-        workers = MAX_WORKERS;
-    worker_start start[MAX_WORKERS];
-    pthread_t thread[MAX_WORKERS];
-    int running[MAX_WORKERS] = {0};
-    unsigned count = 1;
+                          void *context) {
+    if (workers > SELFCOL_MAX_THREADS)
+        workers = SELFCOL_MAX_THREADS;
+    worker_start start[SELFCOL_MAX_THREADS];
+    pthread_t thread[SELFCOL_MAX_THREADS];
+    int running[SELFCOL_MAX_THREADS] = {0};
     for (unsigned w = 1; w < workers; ++w) {
         start[w] = (worker_start){work, context, w, SELFCOL_OK};
         running[w] = pthread_create(&thread[w], NULL, worker_main, &start[w]) == 0;
-        count += (unsigned)running[w];
     }
     int status = work(context, 0);
     for (unsigned w = 1; w < workers; ++w) {
@@ -47,7 +45,5 @@ int selfcol_parallel__run(unsigned workers, int (*work)(void *context, unsigned 
         if (status == SELFCOL_OK)
             status = start[w].status;
     }
-    if (started != NULL)
-        *started = count;
     return status;
 }

@@ -11,12 +11,12 @@
 
 // Runs work(context, w) for w = 0 .. workers - 1: worker 0 on the calling
 // thread, the others on threads started here and joined before returning.
-// A worker whose thread cannot be started is not run (the work is shared
-// through a task counter, so the others take its part); *started receives
-// how many ran. Returns the first non-zero status of the workers, in worker
-// order.
+// At most SELFCOL_MAX_THREADS workers. A worker whose thread cannot be
+// started is not run (the work is shared through a task counter, so the
+// others take its part). Returns the first non-zero status of the workers,
+// in worker order.
 int selfcol_parallel__run(unsigned workers, int (*work)(void *context, unsigned worker),
-                          void *context, unsigned *started);
+                          void *context);
 
 // GCC/Clang atomic builtins (the library is C99; C11 <stdatomic.h> is not
 // assumed). Acquire/release orders are enough for the patterns used: a task

@@ -53,7 +53,6 @@ typedef struct node_pair {
 // takes it, so the counters add up to those of one thread, and the records,
 // sorted by their keys afterwards, are the same list.
 #define TASKS_PER_WORKER 32
-#define MAX_WORKERS 64
 
 // A leaf's frames are published once per query: its stamp goes from an older
 // serial to serial | FRAMES_BUSY (claimed by one worker) to serial (ready).
@@ -75,9 +74,9 @@ typedef struct shared {
     size_t next_task; // atomic
     int stop;         // atomic: a worker failed
     const selfcol_query *query;
-    selfcol_contacts *out[MAX_WORKERS];
-    double narrow_seconds[MAX_WORKERS];
-    double busy_seconds[MAX_WORKERS];
+    selfcol_contacts *out[SELFCOL_MAX_THREADS];
+    double narrow_seconds[SELFCOL_MAX_THREADS];
+    double busy_seconds[SELFCOL_MAX_THREADS];
 } shared;
 
 // One worker's traversal.
@@ -437,7 +436,7 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     s.serial = c->serial;
 
     const double start = selfcol_core__seconds();
-    unsigned workers = threads < 1 ? 1 : (threads > MAX_WORKERS ? MAX_WORKERS : threads);
+    unsigned workers = threads; // 1..SELFCOL_MAX_THREADS, checked by query.c
     traversal calling;
     traversal *main_traversal = &calling;
     traversal_init(main_traversal, &s, c);
@@ -473,7 +472,7 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     s.concurrent = 1;
     // A worker whose thread did not start left its records empty and its
     // times 0; the others took its share of the tasks.
-    status = selfcol_parallel__run(workers, worker_run, &s, NULL);
+    status = selfcol_parallel__run(workers, worker_run, &s);
     if (status == SELFCOL_OK)
         status = gather(&s, workers);
     return status;

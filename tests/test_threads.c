@@ -201,7 +201,7 @@ static void test_threads_allocation_failure_in_a_worker(void **state) {
     {
         selfcol_contacts *c = NULL;
         assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
-        assert_int_equal(query(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 1), SELFCOL_OK);
+        assert_int_equal(query(&b, NULL, c, SELFCOL_METHOD_EXHAUSTIVE, d, 1), SELFCOL_OK);
         expected = selfcol_contacts_count(c);
         selfcol_contacts_destroy(c);
     }
