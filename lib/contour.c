@@ -366,6 +366,14 @@ static void *work_area(selfcol_contacts *owner, size_t b, size_t extra) {
                                      work_bytes(b) + extra * sizeof(uint32_t), 0);
 }
 
+int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edges, size_t count,
+                                const double v[3], double d, selfcol_contacts *scratch_owner) {
+    void *work = work_area(scratch_owner, count, 0);
+    if (work == NULL)
+        return 0;
+    return counted_contour(scratch_owner, m, half_edges, count, v, d, work);
+}
+
 // Unit vector of a float axis, in double.
 static void unit_axis(const selfcol_node *n, double out[3]) {
     double len = 0.0;

@@ -85,14 +85,23 @@ int selfcol_exhaustive__run(selfcol_query *q);
 int selfcol_traverse__run(selfcol_query *q, const struct selfcol_hierarchy *h0,
                           const struct selfcol_hierarchy *h1, uint32_t method, unsigned threads);
 
+// Conditions (2) and (4) of EXACT's criterion alone (contour.c), for the
+// direct tests: 1 when the closed loop of boundary half-edges
+// ((edge << 1) | reversed, in loop order) projected along the unit vector v
+// is a simple polygon whose vertices are at least d from every edge not
+// incident to them (conservatively: a clearance within about 1e-9 d refuses).
+// 0 also without memory. Uses scratch slot SELFCOL_SCRATCH_CONTOUR.
+int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edges, size_t count,
+                                const double v[3], double d, selfcol_contacts *scratch_owner);
+
 // EXACT's criterion (contour.c): 1 when Self(node id) provably holds no
-// contact at distance d. Uses scratch slot 2 of `scratch_owner`.
+// contact at distance d. Uses scratch slot SELFCOL_SCRATCH_CONTOUR of `scratch_owner`.
 int selfcol_contour__self_skippable(const struct selfcol_hierarchy *h, uint32_t id, double d,
                                     selfcol_contacts *scratch_owner);
 
 // The same for Pair(a, b) of two nodes of one hierarchy: 1 when no primitive
 // of a has a contact with a primitive of b (judged on the union of the two
-// patches, joined along shared edges). Uses scratch slot 2.
+// patches, joined along shared edges). Uses the same scratch slot.
 int selfcol_contour__pair_skippable(const struct selfcol_hierarchy *h, uint32_t a, uint32_t b,
                                     double d, selfcol_contacts *scratch_owner);
 

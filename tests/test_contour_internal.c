@@ -1,0 +1,301 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Direct tests of the contour test of method EXACT (lib/contour.c):
+// conditions (2) and (4) on hand-made boundary loops -- a pinch, a crossing,
+// a fold-back in projection, a collinear overlap, collinear edges apart, a
+// loop seen edge-on, and clearances just below, exactly at and just above d
+// -- each decided against what the geometry says, and where a real contact
+// exists, checked against the exhaustive reference. Then the whole
+// criterion (self_skippable) on a flat disk: sound at every d of a sweep
+// (never skips a patch in which EXHAUSTIVE finds a contact) and complete
+// where the proof applies.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "hierarchy.h"
+#include "query.h"
+#include "test_alloc.h"
+
+#include <selfcol/selfcol.h>
+
+typedef struct patch {
+    selfcol_mesh *mesh;
+    selfcol_contacts *scratch;
+} patch;
+
+static patch make_patch(const double *positions, size_t vertex_count, const uint32_t *triangles,
+                        size_t triangle_count) {
+    patch p = {NULL, NULL};
+    assert_int_equal(
+        selfcol_mesh_create(&p.mesh, vertex_count, positions, triangle_count, triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&p.scratch, NULL), SELFCOL_OK);
+    return p;
+}
+
+static void free_patch(patch *p) {
+    selfcol_contacts_destroy(p->scratch);
+    selfcol_mesh_destroy(p->mesh);
+}
+
+// The half-edge u -> w in contour.c's encoding; fails the test when the mesh
+// has no such edge.
+static uint32_t half_edge(const selfcol_mesh *m, uint32_t u, uint32_t w) {
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        uint32_t lo = m->edges[2 * e], hi = m->edges[2 * e + 1];
+        if (lo == u && hi == w)
+            return (uint32_t)(e << 1);
+        if (lo == w && hi == u)
+            return (uint32_t)(e << 1) | 1u;
+    }
+    fail_msg("no edge %u-%u", u, w);
+    return 0;
+}
+
+// 1 when the loop through vertices loop[0..n) (closing back to loop[0]) is
+// clear along v at distance d.
+static int loop_clear(const patch *p, const uint32_t *loop, size_t n, const double v[3], double d) {
+    uint32_t he[16];
+    assert_true(n <= 16);
+    for (size_t i = 0; i < n; ++i)
+        he[i] = half_edge(p->mesh, loop[i], loop[(i + 1) % n]);
+    return selfcol_contour__loop_clear(p->mesh, he, n, v, d, p->scratch);
+}
+
+static const double along_z[3] = {0.0, 0.0, 1.0};
+
+// A flat square: clear while d is below the clearance 1 between a corner and
+// the far sides, refused above; refused seen edge-on (its projection folds).
+static void test_square(void **state) {
+    (void)state;
+    const double pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const uint32_t tri[] = {0, 1, 2, 0, 2, 3}, loop[] = {0, 1, 2, 3};
+    patch p = make_patch(pos, 4, tri, 2);
+    assert_int_equal(loop_clear(&p, loop, 4, along_z, 0.0), 1);
+    assert_int_equal(loop_clear(&p, loop, 4, along_z, 0.5), 1);
+    assert_int_equal(loop_clear(&p, loop, 4, along_z, 1.5), 0);
+    const double along_x[3] = {1.0, 0.0, 0.0};
+    assert_int_equal(loop_clear(&p, loop, 4, along_x, 0.0), 0);
+    // Tilted by 60 degrees the square projects to a 1 x 0.5 rectangle: still
+    // simple, but its clearance is 0.5.
+    const double tilted[3] = {0.0, 0.8660254037844386, 0.5};
+    assert_int_equal(loop_clear(&p, loop, 4, tilted, 0.0), 1);
+    assert_int_equal(loop_clear(&p, loop, 4, tilted, 0.45), 1);
+    assert_int_equal(loop_clear(&p, loop, 4, tilted, 0.55), 0);
+    free_patch(&p);
+}
+
+// A bowtie: two triangles sharing only vertex 0. The loop visits vertex 0
+// twice (a pinch): refused even at d = 0, and even with one wing lifted off
+// the plane (the pinch is in the loop, not in the projection).
+static void test_pinch(void **state) {
+    (void)state;
+    for (int lifted = 0; lifted < 2; ++lifted) {
+        const double z = lifted ? 1.0 : 0.0;
+        const double pos[] = {0, 0, 0, 1, 1, 0, -1, 1, 0, -1, -1, z, 1, -1, z};
+        const uint32_t tri[] = {0, 1, 2, 0, 3, 4}, loop[] = {0, 1, 2, 0, 3, 4};
+        patch p = make_patch(pos, 5, tri, 2);
+        assert_int_equal(loop_clear(&p, loop, 6, along_z, 0.0), 0);
+        free_patch(&p);
+    }
+}
+
+// A loop whose projection crosses itself (a figure eight): refused. Lifting
+// two of its corners does not help: the crossing is in the projection.
+static void test_crossing(void **state) {
+    (void)state;
+    for (int lifted = 0; lifted < 2; ++lifted) {
+        const double z = lifted ? 0.5 : 0.0;
+        const double pos[] = {0, 0, 0, 2, 2, 0, 0, 2, z, 2, 0, z};
+        const uint32_t tri[] = {0, 1, 2, 0, 2, 3}, loop[] = {0, 1, 2, 3};
+        patch p = make_patch(pos, 4, tri, 2);
+        assert_int_equal(loop_clear(&p, loop, 4, along_z, 0.0), 0);
+        free_patch(&p);
+    }
+}
+
+// A triangle standing on its base: along z its third corner projects onto
+// the base, so the loop folds back on itself (consecutive edges collinear
+// and pointing back; decided by the exact predicate, the projected
+// orientation is exactly 0). Seen from the side (along y) it is a proper
+// triangle.
+static void test_fold_back(void **state) {
+    (void)state;
+    const double pos[] = {0, 0, 0, 2, 0, 0, 1, 0, 1};
+    const uint32_t tri[] = {0, 1, 2}, loop[] = {0, 1, 2};
+    patch p = make_patch(pos, 3, tri, 1);
+    assert_int_equal(loop_clear(&p, loop, 3, along_z, 0.0), 0);
+    const double along_y[3] = {0.0, 1.0, 0.0};
+    assert_int_equal(loop_clear(&p, loop, 3, along_y, 0.0), 1);
+    free_patch(&p);
+}
+
+// Consecutive collinear edges that continue straight on (a vertex in the
+// middle of a side) are fine: a pentagon with a flat corner is clear.
+static void test_straight_continuation(void **state) {
+    (void)state;
+    const double pos[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0};
+    const uint32_t tri[] = {0, 1, 4, 1, 2, 3, 1, 3, 4}, loop[] = {0, 1, 2, 3, 4};
+    patch p = make_patch(pos, 5, tri, 3);
+    assert_int_equal(loop_clear(&p, loop, 5, along_z, 0.0), 1);
+    assert_int_equal(loop_clear(&p, loop, 5, along_z, 0.9), 1);
+    assert_int_equal(loop_clear(&p, loop, 5, along_z, 1.1), 0);
+    free_patch(&p);
+}
+
+// Two edges at different heights that are collinear and overlap in
+// projection (x in [0, 2] and [1, 4] on y = 0): refused at d = 0.
+static void test_collinear_overlap(void **state) {
+    (void)state;
+    const double pos[] = {0, 0, 0, 2, 0, 0, 2, -1, 0, 4, -1, 1, 4, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 0};
+    const uint32_t tri[] = {0, 1, 2, 2, 3, 4, 4, 5, 6, 6, 7, 0};
+    const uint32_t loop[] = {0, 1, 2, 3, 4, 5, 6, 7};
+    patch p = make_patch(pos, 8, tri, 4);
+    assert_int_equal(loop_clear(&p, loop, 8, along_z, 0.0), 0);
+    free_patch(&p);
+}
+
+// The exhaustive reference's EE contact between edges {u0, u1} and {w0, w1}
+// of mesh m at distance d: 1 when found.
+static int exhaustive_has_ee(const selfcol_mesh *m, double d, uint32_t u0, uint32_t u1, uint32_t w0,
+                             uint32_t w1) {
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.method = SELFCOL_METHOD_EXHAUSTIVE;
+    o.distance = d;
+    assert_int_equal(selfcol_hierarchy_self_collide(h, c, &o), SELFCOL_OK);
+    int found = 0;
+    const selfcol_contact *data = NULL;
+    size_t count = 0;
+    assert_int_equal(selfcol_contacts_data(c, &data, &count), SELFCOL_OK);
+    for (size_t i = 0; i < count; ++i) {
+        const selfcol_contact *k = &data[i];
+        if (k->kind != SELFCOL_CONTACT_EE)
+            continue;
+        const int first = k->a[0] == u0 && k->a[1] == u1, second = k->b[0] == w0 && k->b[1] == w1;
+        found |= first && second;
+        found |= (k->a[0] == w0 && k->a[1] == w1) && (k->b[0] == u0 && k->b[1] == u1);
+    }
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(h);
+    return found;
+}
+
+// A flat polygon with two collinear boundary edges apart by a gap of 1
+// (x in [0, 1] and [2, 4] on y = 0), every other clearance also 1.
+// Below 1 the loop is clear (the collinear pair is told apart by its
+// extents); at exactly 1 no contact exists (contacts need distance < d) but
+// the test refuses by its documented relative margin of ~1e-9; above 1 it
+// must refuse, and the exhaustive reference indeed reports the EE contact
+// of the two collinear edges there and only there.
+static void test_collinear_apart_and_clearance_at_d(void **state) {
+    (void)state;
+    const double pos[] = {0, 0, 0, 1, 0, 0, 1, -1, 0, 4, -1, 0, 4, 0, 0, 2, 0, 0, 2, 1, 0, 0, 1, 0};
+    const uint32_t tri[] = {0, 1, 7, 1, 5, 6, 1, 6, 7, 1, 2, 3, 1, 3, 5, 5, 3, 4};
+    const uint32_t loop[] = {0, 1, 2, 3, 4, 5, 6, 7};
+    patch p = make_patch(pos, 8, tri, 6);
+    assert_int_equal(loop_clear(&p, loop, 8, along_z, 0.0), 1);
+    assert_int_equal(loop_clear(&p, loop, 8, along_z, 0.999999), 1);
+    assert_int_equal(loop_clear(&p, loop, 8, along_z, 1.0), 0);
+    assert_int_equal(loop_clear(&p, loop, 8, along_z, 1.000001), 0);
+    assert_int_equal(exhaustive_has_ee(p.mesh, 1.0, 0, 1, 4, 5), 0);
+    assert_int_equal(exhaustive_has_ee(p.mesh, 1.000001, 0, 1, 4, 5), 1);
+    free_patch(&p);
+}
+
+// The scratch comes from the caller's contacts handle: without memory the
+// test refuses (never a false "clear"), and works again once memory returns.
+static void test_no_memory_refuses(void **state) {
+    (void)state;
+    const double pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const uint32_t tri[] = {0, 1, 2, 0, 2, 3}, loop[] = {0, 1, 2, 3};
+    patch p = make_patch(pos, 4, tri, 2);
+    selfcol_contacts_destroy(p.scratch);
+    test_allocator_state alloc = {0};
+    selfcol_contacts_options o;
+    selfcol_contacts_options_init(&o, SELFCOL_CONTACTS_OPTIONS_VERSION);
+    o.allocator = test_allocator(&alloc);
+    assert_int_equal(selfcol_contacts_create(&p.scratch, &o), SELFCOL_OK);
+    alloc.fail_at = alloc.calls + 1;
+    assert_int_equal(loop_clear(&p, loop, 4, along_z, 0.0), 0);
+    alloc.fail_at = 0;
+    assert_int_equal(loop_clear(&p, loop, 4, along_z, 0.0), 1);
+    free_patch(&p);
+    assert_int_equal(alloc.live, 0);
+}
+
+// The whole criterion on a flat U: a 9 x 6 unit grid without the cells of
+// column 4 above row 0, so two arms face each other across a slot of width
+// 1; a disk, consistently oriented, normals all +z. At every d of a sweep a
+// skip is allowed only if the exhaustive reference finds no contact; below
+// every altitude (1/sqrt 2) and the slot's width the proof goes through.
+static void test_self_skippable_is_sound_on_a_flat_u(void **state) {
+    (void)state;
+    enum { NX = 9, NY = 6 };
+    double pos[3 * (NX + 1) * (NY + 1)];
+    uint32_t tri[6 * NX * NY];
+    // t counts triangles; each cell adds two.
+    size_t t = 0;
+    for (unsigned i = 0; i <= NX; ++i)
+        for (unsigned j = 0; j <= NY; ++j) {
+            double *x = &pos[3 * (i * (NY + 1) + j)];
+            x[0] = i, x[1] = j, x[2] = 0.0;
+        }
+    for (uint32_t i = 0; i < NX; ++i)
+        for (uint32_t j = 0; j < NY; ++j) {
+            if (i == 4 && j >= 1)
+                continue; // the slot
+            const uint32_t a = i * (NY + 1) + j, b = a + NY + 1;
+            const uint32_t cell[6] = {a, b, b + 1, a, b + 1, a + 1};
+            for (int k = 0; k < 6; ++k)
+                tri[3 * t + k] = cell[k];
+            t += 2;
+        }
+    patch p = make_patch(pos, (NX + 1) * (NY + 1), tri, t);
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, p.mesh, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    assert_true(h->nodes[0].child_count > 0);
+    const double sweep[] = {0.0, 0.1, 0.3, 0.5, 0.7, 0.70711, 0.8, 0.99, 1.0, 1.01, 1.5, 3.0};
+    for (size_t i = 0; i < sizeof sweep / sizeof *sweep; ++i) {
+        selfcol_query_options o;
+        selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+        o.method = SELFCOL_METHOD_EXHAUSTIVE;
+        o.distance = sweep[i];
+        assert_int_equal(selfcol_hierarchy_self_collide(h, c, &o), SELFCOL_OK);
+        const int skippable = selfcol_contour__self_skippable(h, 0, sweep[i], p.scratch);
+        if (skippable && selfcol_contacts_count(c) != 0)
+            fail_msg("d = %g: skipped, but %zu contacts exist", sweep[i],
+                     selfcol_contacts_count(c));
+        if (sweep[i] <= 0.5)
+            assert_int_equal(skippable, 1);
+    }
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(h);
+    free_patch(&p);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_square),
+        cmocka_unit_test(test_pinch),
+        cmocka_unit_test(test_crossing),
+        cmocka_unit_test(test_fold_back),
+        cmocka_unit_test(test_straight_continuation),
+        cmocka_unit_test(test_collinear_overlap),
+        cmocka_unit_test(test_collinear_apart_and_clearance_at_d),
+        cmocka_unit_test(test_no_memory_refuses),
+        cmocka_unit_test(test_self_skippable_is_sound_on_a_flat_u),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
