@@ -199,6 +199,8 @@ size_t selfcol_mesh_count(const selfcol_mesh *mesh, selfcol_mesh_quantity quanti
     case SELFCOL_MESH_UNREFERENCED_VERTICES: return mesh->unreferenced_vertices;
     case SELFCOL_MESH_REPEATED_INDEX_TRIANGLES: return mesh->repeated_index_triangles;
     case SELFCOL_MESH_DUPLICATE_TRIANGLES: return mesh->duplicate_triangles;
+    case SELFCOL_MESH_BOUNDARY_LOOPS: return mesh->boundary_loops;
+    case SELFCOL_MESH_MISORIENTED_EDGES: return mesh->misoriented_edges;
     case SELFCOL_MESH_ZERO_AREA_TRIANGLES: {
         size_t count = 0;
         for (size_t t = 0; t < mesh->triangle_count; ++t)

@@ -34,6 +34,8 @@ struct selfcol_mesh {
     size_t vertex_tri_total; // entries of vertex_tris
     size_t boundary_edges;
     size_t nonmanifold_edges;
+    size_t boundary_loops;
+    size_t misoriented_edges;
     size_t components;
     size_t unreferenced_vertices;
     size_t repeated_index_triangles;

@@ -235,6 +235,57 @@ static int build_vertex_triangles(selfcol_mesh *m) {
     return SELFCOL_OK;
 }
 
+// Boundary loops: the connected sets of boundary edges, two boundary edges
+// being connected when they share a vertex (so a loop that touches itself,
+// or two loops meeting at a vertex, count once). Union-find over the
+// boundary vertices in the caller's V-entry scratch `parent`: the sets
+// number the boundary vertices minus the unions that joined two sets.
+static void count_boundary_loops(selfcol_mesh *m, uint32_t *parent) {
+    for (size_t v = 0; v < m->vertex_count; ++v)
+        parent[v] = SELFCOL_INVALID_INDEX;
+    size_t boundary_vertices = 0, unions = 0;
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        if (m->edge_tri_offsets[e + 1] - m->edge_tri_offsets[e] != 1)
+            continue;
+        for (int k = 0; k < 2; ++k) {
+            uint32_t v = m->edges[2 * e + (size_t)k];
+            if (parent[v] == SELFCOL_INVALID_INDEX) {
+                parent[v] = v;
+                boundary_vertices++;
+            }
+        }
+        uint32_t a = find_root(parent, m->edges[2 * e]), b = find_root(parent, m->edges[2 * e + 1]);
+        if (a != b) {
+            parent[a < b ? b : a] = a < b ? a : b;
+            unions++;
+        }
+    }
+    m->boundary_loops = boundary_vertices - unions;
+}
+
+// Misoriented edges: two-triangle edges that the two triangles do not
+// traverse once in each direction (the signed count of the slots using the
+// edge, +1 from lower to higher index, is not 0). O(E), no memory.
+static void count_misoriented_edges(selfcol_mesh *m) {
+    m->misoriented_edges = 0;
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        const uint32_t begin = m->edge_tri_offsets[e];
+        if (m->edge_tri_offsets[e + 1] - begin != 2)
+            continue;
+        int direction = 0;
+        for (int i = 0; i < 2; ++i) {
+            const size_t t = m->edge_tris[begin + (uint32_t)i];
+            for (int k = 0; k < 3; ++k)
+                if (m->triangle_edges[3 * t + (size_t)k] == e)
+                    direction +=
+                        m->triangles[3 * t + (size_t)k] < m->triangles[3 * t + (size_t)(k + 1) % 3]
+                            ? 1
+                            : -1;
+        }
+        m->misoriented_edges += direction != 0;
+    }
+}
+
 static int build_components(selfcol_mesh *m) {
     const selfcol_allocator *al = &m->allocator;
     const size_t V = m->vertex_count, F = m->triangle_count;
@@ -279,6 +330,7 @@ static int build_components(selfcol_mesh *m) {
     }
     selfcol_alloc__free_array(al, label, V, sizeof(uint32_t));
     m->components = components;
+    count_boundary_loops(m, parent);
     selfcol_alloc__free_array(al, parent, V, sizeof(uint32_t));
     return SELFCOL_OK;
 }
@@ -325,8 +377,10 @@ int selfcol_mesh__build_topology(selfcol_mesh *m) {
         status = build_vertex_triangles(m);
     if (status == SELFCOL_OK)
         status = build_components(m);
-    if (status == SELFCOL_OK)
+    if (status == SELFCOL_OK) {
         find_duplicates(m);
+        count_misoriented_edges(m);
+    }
     return status;
 }
 

@@ -362,6 +362,96 @@ static void test_mesh_grid_topology_matches_formula(void **state) {
     }
 }
 
+static selfcol_mesh *mesh_of(const scene *g) {
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, g->vertex_count, g->positions, g->triangle_count,
+                                         g->triangles, NULL),
+                     SELFCOL_OK);
+    return m;
+}
+
+static void expect_loops_and_misoriented(const scene *g, size_t loops, size_t misoriented) {
+    selfcol_mesh *m = mesh_of(g);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_LOOPS), loops);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_MISORIENTED_EDGES), misoriented);
+    selfcol_mesh_destroy(m);
+}
+
+// Boundary loops and misoriented edges against what each surface's shape
+// says: a disk has one loop, an annulus two, a closed sphere none, two
+// disks two; a Moebius band (one-sided) has one loop and cannot be oriented;
+// flipping one interior triangle of a grid misorients its three edges, and
+// flipping the whole grid misorients none.
+static void test_mesh_boundary_loops_and_orientation(void **state) {
+    (void)state;
+    scene g, other;
+    assert_int_equal(scene_grid(&g, 6, 4, 1.0), 0);
+    expect_loops_and_misoriented(&g, 1, 0);
+    // Flip one interior triangle (its three edges each have two triangles).
+    uint32_t *t = &g.triangles[3 * 13];
+    uint32_t swap = t[1];
+    t[1] = t[2];
+    t[2] = swap;
+    expect_loops_and_misoriented(&g, 1, 3);
+    // Flip every triangle: consistently oriented again.
+    for (size_t k = 0; k < g.triangle_count; ++k) {
+        if (k == 13)
+            continue;
+        t = &g.triangles[3 * k];
+        swap = t[1];
+        t[1] = t[2];
+        t[2] = swap;
+    }
+    expect_loops_and_misoriented(&g, 1, 0);
+    // Two grids side by side: two loops.
+    assert_int_equal(scene_grid(&other, 3, 3, 1.0), 0);
+    const double offset[3] = {100.0, 0.0, 0.0};
+    scene_translate(&other, offset);
+    assert_int_equal(scene_append(&g, &other), 0);
+    expect_loops_and_misoriented(&g, 2, 0);
+    scene_free(&g);
+    scene_free(&other);
+
+    assert_int_equal(scene_holed(&g, 12, 12, 3.0, 1, 0.0), 0);
+    expect_loops_and_misoriented(&g, 2, 0);
+    scene_free(&g);
+    assert_int_equal(scene_icosphere(&g, 2, 1.0), 0);
+    expect_loops_and_misoriented(&g, 0, 0);
+    scene_free(&g);
+
+    // A Moebius band: one boundary loop; at least one misoriented edge
+    // wherever the seam is (a one-sided surface has no consistent orientation).
+    assert_int_equal(scene_moebius(&g, 40, 4, 5.0, 1.0, 1, 1.0), 0);
+    selfcol_mesh *m = mesh_of(&g);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_LOOPS), 1);
+    assert_true(selfcol_mesh_count(m, SELFCOL_MESH_MISORIENTED_EDGES) >= 1);
+    selfcol_mesh_destroy(m);
+    scene_free(&g);
+    // Two half-twists: an orientable band with two boundary loops.
+    assert_int_equal(scene_moebius(&g, 40, 4, 5.0, 1.0, 2, 1.0), 0);
+    expect_loops_and_misoriented(&g, 2, 0);
+    scene_free(&g);
+
+    // A bowtie (two triangles sharing one vertex): boundary edges sharing a
+    // vertex are one set, so one loop (documented).
+    const double bow_positions[] = {0, 0, 0, 1, 1, 0, -1, 1, 0, -1, -1, 0, 1, -1, 0};
+    const uint32_t bow_triangles[] = {0, 1, 2, 0, 3, 4};
+    m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, 5, bow_positions, 2, bow_triangles, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_LOOPS), 1);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_MISORIENTED_EDGES), 0);
+    selfcol_mesh_destroy(m);
+    // The unit square's two triangles (0 1 2) and (2 1 3) cross edge 1-2 in
+    // opposite directions; a duplicate of the first with the same winding
+    // makes edge 0-1 and 0-2 two-triangle edges traversed the same way.
+    const uint32_t doubled[] = {0, 1, 2, 2, 1, 3, 0, 1, 2};
+    m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, 4, square_positions, 3, doubled, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_LOOPS), 1);
+    assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_MISORIENTED_EDGES), 2);
+    selfcol_mesh_destroy(m);
+}
+
 // A vertex of valence 200 (a fan) exercises the large-bucket sort path.
 static void test_mesh_fan_has_expected_edges(void **state) {
     (void)state;
@@ -434,6 +524,7 @@ int main(void) {
         cmocka_unit_test(test_mesh_handles_nonmanifold_degenerate_and_duplicate_triangles),
         cmocka_unit_test(test_mesh_grid_topology_matches_formula),
         cmocka_unit_test(test_mesh_fan_has_expected_edges),
+        cmocka_unit_test(test_mesh_boundary_loops_and_orientation),
         cmocka_unit_test(test_mesh_create_survives_every_allocation_failure),
     };
     return cmocka_run_group_tests_name("mesh", tests, NULL, NULL);

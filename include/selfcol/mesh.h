@@ -146,8 +146,16 @@ typedef enum selfcol_mesh_quantity {
     SELFCOL_MESH_UNREFERENCED_VERTICES = 6,    /**< vertices used by no triangle */
     SELFCOL_MESH_REPEATED_INDEX_TRIANGLES = 7, /**< triangles such as (a, a, b) */
     SELFCOL_MESH_DUPLICATE_TRIANGLES = 8,      /**< triangles whose vertex set appeared before */
-    SELFCOL_MESH_ZERO_AREA_TRIANGLES = 9       /**< exactly collinear corners, current
+    SELFCOL_MESH_ZERO_AREA_TRIANGLES = 9,      /**< exactly collinear corners, current
                                                     positions; O(F) per call */
+    /** Connected sets of boundary edges, boundary edges sharing a vertex
+     *  being connected: 1 for a disk, 0 for a closed surface, 2 for an annulus;
+     *  loops that touch at a vertex count once. */
+    SELFCOL_MESH_BOUNDARY_LOOPS = 10,
+    /** Edges with exactly two triangles that do not traverse it once in each
+     *  direction. 0, with no non-manifold edge, means the mesh is consistently
+     *  oriented (its triangle normals agree across every edge). */
+    SELFCOL_MESH_MISORIENTED_EDGES = 11
 } selfcol_mesh_quantity;
 
 /**

@@ -945,94 +945,35 @@ done:
 // ---------------------------------------------------------------------------
 // info
 
+// What info reports beyond the library's counts: degenerate triangles (a
+// repeated index or exactly zero area) and the bounding box of the used
+// vertices. Boundary loops and orientation come from selfcol_mesh_count().
 typedef struct mesh_facts {
-    size_t boundary_loops, degenerate, disagreeing_edges;
+    size_t degenerate;
     double lo[3], hi[3];
 } mesh_facts;
 
-static uint32_t find_root(uint32_t *parent, uint32_t v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]]; // path halving
-        v = parent[v];
-    }
-    return v;
-}
-
-static int gather_facts(const cli_part *part, mesh_facts *facts) {
+static void gather_facts(const cli_part *part, mesh_facts *facts) {
     const selfcol_mesh *mesh = part->mesh;
-    size_t nv = part->file.vertex_count, nt = part->file.triangle_count;
-    size_t ne = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
-    const uint32_t *edges = selfcol_mesh_edges(mesh);
+    const size_t nt = part->file.triangle_count;
     const uint32_t *tris = selfcol_mesh_triangles(mesh);
-    memset(facts, 0, sizeof *facts);
-    uint32_t *parent = malloc(nv * sizeof *parent + 1);
-    // Per edge for the orientation check; first used per vertex to count loops.
-    int *direction = calloc((ne > nv ? ne : nv) + 1, sizeof *direction);
-    if (parent == NULL || direction == NULL) {
-        free(parent);
-        free(direction);
-        return -1;
-    }
-    // Boundary loops: connected groups of boundary edges (union-find on their vertices).
-    for (size_t v = 0; v < nv; ++v)
-        parent[v] = (uint32_t)v;
-    for (size_t e = 0; e < ne; ++e) {
-        const uint32_t *et;
-        size_t n;
-        if (selfcol_mesh_edge_triangles(mesh, (uint32_t)e, &et, &n) == SELFCOL_OK && n == 1) {
-            uint32_t a = find_root(parent, edges[2 * e]), b = find_root(parent, edges[2 * e + 1]);
-            if (a != b)
-                parent[a < b ? b : a] = a < b ? a : b;
-        }
-    }
-    for (size_t e = 0; e < ne; ++e) {
-        const uint32_t *et;
-        size_t n;
-        if (selfcol_mesh_edge_triangles(mesh, (uint32_t)e, &et, &n) == SELFCOL_OK && n == 1) {
-            uint32_t root = find_root(parent, edges[2 * e]);
-            if (direction[root] == 0) { // direction[] doubles as "loop counted" here
-                direction[root] = 1;
-                facts->boundary_loops++;
-            }
-        }
-    }
-    memset(direction, 0, ((ne > nv ? ne : nv) + 1) * sizeof *direction);
-    // Orientation: each manifold edge must be used once in each direction.
-    for (size_t t = 0; t < nt; ++t) {
-        uint32_t te[3];
-        if (selfcol_mesh_triangle_edges(mesh, (uint32_t)t, te) != SELFCOL_OK)
-            continue;
-        if (selfcol_mesh_triangle_flags(mesh, (uint32_t)t) &
-            (SELFCOL_TRIANGLE_REPEATED_INDEX | SELFCOL_TRIANGLE_ZERO_AREA))
-            facts->degenerate++;
-        for (int k = 0; k < 3; ++k) {
-            if (te[k] == SELFCOL_INVALID_INDEX)
-                continue;
-            uint32_t a = tris[3 * t + (size_t)k], b = tris[3 * t + (size_t)(k + 1) % 3];
-            direction[te[k]] += a < b ? 1 : -1;
-        }
-    }
-    for (size_t e = 0; e < ne; ++e) {
-        const uint32_t *et;
-        size_t n;
-        if (selfcol_mesh_edge_triangles(mesh, (uint32_t)e, &et, &n) == SELFCOL_OK && n == 2 &&
-            direction[e] != 0)
-            facts->disagreeing_edges++;
-    }
     const double *p = selfcol_mesh_positions(mesh);
+    memset(facts, 0, sizeof *facts);
     for (int k = 0; k < 3; ++k) {
         facts->lo[k] = INFINITY;
         facts->hi[k] = -INFINITY;
     }
-    for (size_t i = 0; i < 3 * nt; ++i)
-        for (int k = 0; k < 3; ++k) {
-            double x = p[3 * (size_t)tris[i] + (size_t)k];
-            facts->lo[k] = fmin(facts->lo[k], x);
-            facts->hi[k] = fmax(facts->hi[k], x);
-        }
-    free(parent);
-    free(direction);
-    return 0;
+    for (size_t t = 0; t < nt; ++t) {
+        if (selfcol_mesh_triangle_flags(mesh, (uint32_t)t) &
+            (SELFCOL_TRIANGLE_REPEATED_INDEX | SELFCOL_TRIANGLE_ZERO_AREA))
+            facts->degenerate++;
+        for (size_t i = 3 * t; i < 3 * t + 3; ++i)
+            for (int k = 0; k < 3; ++k) {
+                double x = p[3 * (size_t)tris[i] + (size_t)k];
+                facts->lo[k] = fmin(facts->lo[k], x);
+                facts->hi[k] = fmax(facts->hi[k], x);
+            }
+    }
 }
 
 static int command_info(const options *o) {
@@ -1058,17 +999,17 @@ static int command_info(const options *o) {
             part_create(&part, o->no_weld, 0, &topology, &hierarchy, &err) != 0) {
             fprintf(stderr, "selfcol-cli: %s\n", err.message);
             exit_code = EXIT_ERROR;
-        } else if (gather_facts(&part, &facts) != 0) {
-            fprintf(stderr, "selfcol-cli: %s: out of memory\n", part.path);
-            exit_code = EXIT_ERROR;
         } else {
+            gather_facts(&part, &facts);
             const selfcol_mesh *m = part.mesh;
             size_t boundary = selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_EDGES);
             size_t nonmanifold = selfcol_mesh_count(m, SELFCOL_MESH_NONMANIFOLD_EDGES);
             size_t unreferenced = selfcol_mesh_count(m, SELFCOL_MESH_UNREFERENCED_VERTICES);
             size_t used = part.file.vertex_count - unreferenced;
             int closed = boundary == 0;
-            int oriented = facts.disagreeing_edges == 0;
+            size_t loops = selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_LOOPS);
+            size_t misoriented = selfcol_mesh_count(m, SELFCOL_MESH_MISORIENTED_EDGES);
+            int oriented = misoriented == 0;
             size_t ne = selfcol_mesh_count(m, SELFCOL_MESH_EDGES);
             size_t duplicates = selfcol_mesh_count(m, SELFCOL_MESH_DUPLICATE_TRIANGLES);
             size_t components = selfcol_mesh_count(m, SELFCOL_MESH_COMPONENTS);
@@ -1084,7 +1025,7 @@ static int command_info(const options *o) {
                         part.file.face_count);
                 fprintf(s, "  edges               %zu (%zu boundary, %zu non-manifold)\n", ne,
                         boundary, nonmanifold);
-                fprintf(s, "  boundary loops      %zu\n", facts.boundary_loops);
+                fprintf(s, "  boundary loops      %zu\n", loops);
                 fprintf(s,
                         "  degenerate          %zu triangles (zero area or repeated index), "
                         "%zu duplicates\n",
@@ -1093,8 +1034,7 @@ static int command_info(const options *o) {
                 fprintf(s, "  closed              %s\n", closed ? "yes" : "no");
                 fprintf(s, "  oriented            %s", oriented ? "yes, consistently\n" : "no");
                 if (!oriented)
-                    fprintf(s, " (%zu edges traversed twice in the same direction)\n",
-                            facts.disagreeing_edges);
+                    fprintf(s, " (%zu edges traversed twice in the same direction)\n", misoriented);
                 fprintf(s, "  mean edge length    %g\n", mean);
                 fprintf(s, "  bounding box        [%g %g %g] - [%g %g %g]\n", facts.lo[0],
                         facts.lo[1], facts.lo[2], facts.hi[0], facts.hi[1], facts.hi[2]);
@@ -1109,14 +1049,15 @@ static int command_info(const options *o) {
                         "\"boundary_loops\":%zu,\"nonmanifold_edges\":%zu,"
                         "\"degenerate_triangles\":%zu,\"duplicate_triangles\":%zu,"
                         "\"components\":%zu,\"closed\":%s,\"consistently_oriented\":%s,"
+                        "\"misoriented_edges\":%zu,"
                         "\"mean_edge_length\":%.17g,\"bbox\":[[%.17g,%.17g,%.17g],"
                         "[%.17g,%.17g,%.17g]]}\n",
                         cli_format_name(part.file.format), part.file.format_detail,
                         part.file.vertex_count, used, part.merged_vertices, part.file.face_count,
-                        part.file.triangle_count, ne, boundary, facts.boundary_loops, nonmanifold,
+                        part.file.triangle_count, ne, boundary, loops, nonmanifold,
                         facts.degenerate, duplicates, components, closed ? "true" : "false",
-                        oriented ? "true" : "false", mean, facts.lo[0], facts.lo[1], facts.lo[2],
-                        facts.hi[0], facts.hi[1], facts.hi[2]);
+                        oriented ? "true" : "false", misoriented, mean, facts.lo[0], facts.lo[1],
+                        facts.lo[2], facts.hi[0], facts.hi[1], facts.hi[2]);
             }
         }
         part_free(&part);
