@@ -6,7 +6,7 @@
 // of its case alone; tools/bench/run.sh runs the cases of a subset one after
 // the other and collects the CSV rows.
 //
-// For each case: the mesh is generated (tests/support/scenes.c) or read
+// For each case: the mesh is generated (tools/scenes/scenes.c) or read
 // (real frames from the Sample-Scalable-CCD-Data layout), the hierarchy is
 // built once, and for each detection distance d = 0.1 and 0.5 x mean edge
 // every method runs on the same mesh and d: EXHAUSTIVE (small sizes only), BVH,

@@ -1,9 +1,12 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Generated test scenes (plain arrays; the tests turn them into meshes).
-#ifndef SELFCOL_TEST_SCENES_H
-#define SELFCOL_TEST_SCENES_H
+// Generated scenes (plain arrays of positions and triangles, turned into
+// meshes by their users): the shapes the tests check and the benchmark
+// times. Built as the small static library selfcol_scenes, which the tests
+// and the tools link; it uses no selfcol API.
+#ifndef SELFCOL_SCENES_H
+#define SELFCOL_SCENES_H
 
 #include <stddef.h>
 #include <stdint.h>
