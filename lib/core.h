@@ -7,8 +7,6 @@
 
 #include <selfcol/common.h>
 
-#define SELFCOL_UNUSED(x) ((void)(x))
-
 // Internal invariants: checked (aborting) in SELFCOL_VALIDATE builds, where
 // the heavy checks run too (the hierarchy validator after every build and
 // refit); nothing in other builds. Not assert(): it must not depend on NDEBUG.

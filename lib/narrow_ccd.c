@@ -154,11 +154,6 @@
 // tolerance to tolerance / 100).
 #define NARROW_CCD_MPR_SHARE 16.0
 
-// Rounding slack, in units of DBL_EPSILON times the largest coordinate
-// magnitude: closest points closer than that are "coincident" for the
-// direction.
-#define NARROW_CCD_ROUNDING 64.0
-
 // The convex hull of n (1..3) vertices, swept by a ball of radius `radius`
 // (0: not swept). The coordinates are a copy (the local frame for the
 // proximities, the caller's for EF). `supports` counts the support-function
