@@ -1,14 +1,17 @@
 #!/bin/sh
 # SPDX-FileCopyrightText: 2026 selfcol authors
 # SPDX-License-Identifier: MIT
-# Builds the core's fuzz targets with clang (libFuzzer + ASan + UBSan) and
-# runs each from its committed seed corpus for a bounded time.
+# Builds the fuzz targets with clang (libFuzzer + ASan + UBSan) and runs each
+# from its committed seed corpus for a bounded time.
 # usage: tests/fuzz/run.sh [SECONDS_PER_TARGET] [OUTDIR]   (defaults: 60, build-fuzz)
 #   fuzz_differential  random small meshes (degenerate, non-manifold,
 #                      near-coincident), d, refits and two-mesh queries:
 #                      BVH and EXACT (1 and 3 threads) == EXHAUSTIVE
 #   fuzz_mesh          selfcol_mesh_create(_float) on arbitrary counts,
 #                      indices and raw positions
+#   fuzz_readers       selfcol-cli's OBJ, PLY, OFF and STL readers: a parse
+#                      that succeeds gives indices in range and finite
+#                      coordinates (first byte: the format hint)
 # New inputs found go to OUTDIR/corpus-*, crashes to OUTDIR/crash-*; the
 # script fails when a target fails. CI runs it (make fuzz, short).
 set -eu
@@ -30,16 +33,25 @@ for src in "$root"/lib/*.c; do
   objs="$objs $obj"
 done
 status=0
-for target in differential mesh; do
-  $cc $flags -fsanitize=fuzzer -DSELFCOL_STATIC -I "$root/include" \
-    "$root/tests/fuzz/fuzz_$target.c" $objs $(pkg-config --libs ccd) -lm -lpthread \
-    -o "$out/fuzz_$target"
+for target in differential mesh readers; do
+  max_len=""
+  if [ "$target" = readers ]; then
+    max_len=-max_len=65536 # room for a whole small mesh file
+    # The CLI's readers alone (they do not use the library).
+    $cc $flags -fsanitize=fuzzer -I "$root/include" -I "$root/tools/cli" \
+      "$root/tests/fuzz/fuzz_readers.c" "$root/tools/cli/read.c" "$root/tools/cli/read_text.c" \
+      "$root/tools/cli/read_ply.c" -lm -o "$out/fuzz_readers"
+  else
+    $cc $flags -fsanitize=fuzzer -DSELFCOL_STATIC -I "$root/include" \
+      "$root/tests/fuzz/fuzz_$target.c" $objs $(pkg-config --libs ccd) -lm -lpthread \
+      -o "$out/fuzz_$target"
+  fi
   # A fresh working corpus seeded from the committed one (which stays small).
   mkdir -p "$out/corpus-$target"
   cp "$root/tests/fuzz/corpus/$target"/* "$out/corpus-$target/"
   echo "fuzz: $target for $seconds s"
   if ! (cd "$out" && "./fuzz_$target" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 \
-        -print_final_stats=1 "corpus-$target" > "fuzz_$target.log" 2>&1); then
+        $max_len -print_final_stats=1 "corpus-$target" > "fuzz_$target.log" 2>&1); then
     echo "fuzz: $target FAILED; see $out/fuzz_$target.log and $out/crash-*" >&2
     tail -n 40 "$out/fuzz_$target.log" >&2
     status=1

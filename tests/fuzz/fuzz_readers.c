@@ -5,7 +5,8 @@
 // The first input byte picks the format hint (as a file extension would);
 // the rest is the file. A successful parse must give a mesh the library
 // would accept: indices in range, finite coordinates, at least one triangle.
-// Build and run: tools/cli/fuzz/run.sh (needs clang; not part of the build).
+// Built and run by tests/fuzz/run.sh (make fuzz; needs clang), seeded from
+// tests/fuzz/corpus/readers.
 #include "cli.h"
 
 #include <math.h>
