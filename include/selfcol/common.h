@@ -60,7 +60,8 @@ typedef enum selfcol_status {
     /** A count, index or coordinate is outside what the library represents
      *  exactly (mesh sizes, the coordinate range of mesh.h). */
     SELFCOL_ERANGE = -7,
-    /** Reserved (never returned by 0.2): handles that must belong together do not. */
+    /** Handles or data that must belong together do not (selfcol_store_update()
+     *  with other meshes than the store follows, or records of another mesh). */
     SELFCOL_EMISMATCH = -8,
     SELFCOL_ESTALE = -9 /**< a hierarchy was not refit after its mesh moved */
 } selfcol_status;

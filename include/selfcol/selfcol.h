@@ -26,6 +26,7 @@
 #include "contacts.h"
 #include "hierarchy.h"
 #include "mesh.h"
+#include "store.h"
 #include "version.h"
 
 #endif /* SELFCOL_SELFCOL_H */

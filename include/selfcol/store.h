@@ -1,0 +1,245 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+/**
+ * @file store.h
+ * @defgroup store Contact store
+ * The persistent contact store: section 3 of Volino & Magnenat Thalmann
+ * (1995) -- remnance, orientation tracked through crossings, and consistency
+ * by region -- for surfaces that have no inside or outside of their own.
+ *
+ * A query (selfcol_hierarchy_self_collide(), selfcol_hierarchy_collide())
+ * fills a `selfcol_contacts` with one frame's contacts and forgets them. A
+ * `selfcol_store` is given each frame's query result with
+ * selfcol_store_update() and keeps, per contact (keyed by its kind and
+ * primitives, as in selfcol_contact):
+ *
+ * - **side** (+1, -1; 0 while never decided): the sign of the oriented
+ *   distance of the first element from the second along the contact's
+ *   reference direction, which moves with the elements: VF, the triangle's
+ *   normal (b[0], b[1], b[2] counter-clockwise); EE, (a[1] - a[0]) x
+ *   (b[1] - b[0]). Decided exactly (orient3d). When it changes sign between
+ *   two updates the elements have crossed: the contact is FLIPPED. A sign of
+ *   exactly 0 (coplanar) keeps the previous side: touching is not crossing.
+ *   Two frames' positions cannot tell a vertex that went through a triangle
+ *   from one that went around its border: both count as a crossing (the
+ *   region vote below is what corrects a lone wrong flip).
+ * - **right side** (+1, -1; 0 unknown): the side the elements belong on. A
+ *   new contact is taken to be on its right side (the seed's assumption: a
+ *   detected proximity has a positive distance); a crossing leaves it
+ *   unchanged, so the contact then has a negative signed distance.
+ * - **signed distance**: +distance on the right side, -distance otherwise.
+ * - **age** (updates since it appeared) and **missed** (updates since it was
+ *   last detected). Remnance: a VF or EE contact that is no longer detected
+ *   stays, recomputed from the current positions and still tracking its
+ *   side, for `remnance_frames` updates, then goes. EF interferences are
+ *   states, not contacts: they stay only while detected.
+ * - **region**: contacts are neighbours when their elements are neighbours
+ *   on the mesh (first shares a vertex with first and second with second,
+ *   or crosswise); regions are the connected groups (union-find, no
+ *   recursion). With consistency on, each region's majority side is imposed
+ *   on all its contacts (see selfcol_store_update() for the exact rule);
+ *   interferences in a region mark it CROSSED.
+ *
+ * Memory is linear in the contacts held; once the store's arrays have grown,
+ * an update allocates nothing.
+ * @{
+ */
+#ifndef SELFCOL_STORE_H
+#define SELFCOL_STORE_H
+
+#include "common.h"
+#include "contacts.h"
+#include "mesh.h"
+
+SELFCOL_BEGIN_DECLS
+
+/** Opaque persistent contact store. */
+typedef struct selfcol_store selfcol_store;
+
+/** Default remnance: a contact stays 4 updates after it was last detected.
+ *  A contact scattered by one bad step (the seed's case) and the solver's
+ *  next 2-3 steps of recovery keep their side; at a detection distance of
+ *  0.1 x edge and contact speeds of at most d per step, elements apart for 4
+ *  steps are over 4 d away, where a remembered side would be stale rather
+ *  than useful (the "flip over and touch again" limit, README). */
+#define SELFCOL_STORE_DEFAULT_REMNANCE 4u
+
+/** Options for selfcol_store_create(). Initialise with selfcol_store_options_init(). */
+typedef struct selfcol_store_options {
+    unsigned int version;        /**< SELFCOL_STORE_OPTIONS_VERSION */
+    selfcol_allocator allocator; /**< all-zero: malloc/free */
+    /** Updates a VF/EE contact stays after it was last detected (0: none). */
+    uint32_t remnance_frames;
+    /** 1 (default): impose each region's majority side; 0: track sides only. */
+    int consistency;
+} selfcol_store_options;
+
+#define SELFCOL_STORE_OPTIONS_VERSION 1
+
+/** Bits of selfcol_store_contact.flags, about the last update. */
+typedef enum selfcol_store_contact_flag {
+    SELFCOL_STORE_NEW = 1u << 0,      /**< first detected by this update */
+    SELFCOL_STORE_REMNANT = 1u << 1,  /**< not detected by this update, kept by remnance */
+    SELFCOL_STORE_FLIPPED = 1u << 2,  /**< its side changed sign: the elements crossed */
+    SELFCOL_STORE_CORRECTED = 1u << 3 /**< its right side was changed by its region's vote */
+} selfcol_store_contact_flag;
+
+/** One contact held by the store. Plain data; the layout is part of the ABI. */
+typedef struct selfcol_store_contact {
+    uint32_t kind;        /**< selfcol_contact_kind */
+    uint32_t first;       /**< vertex (VF) or edge (EE, EF), as in selfcol_contact */
+    uint32_t second;      /**< triangle (VF, EF) or edge (EE) */
+    uint32_t first_mesh;  /**< 0 or 1 */
+    uint32_t second_mesh; /**< 0 or 1 */
+    uint32_t a[2];        /**< vertices of the first primitive */
+    uint32_t b[3];        /**< vertices of the second (b[2] = SELFCOL_INVALID_INDEX for EE) */
+    uint32_t region;      /**< index into selfcol_store_regions() */
+    uint32_t age;         /**< updates since it was first detected (0: this one) */
+    uint32_t missed;      /**< updates since it was last detected (0: this one) */
+    uint32_t flags;       /**< selfcol_store_contact_flag bits */
+    int32_t side;         /**< +1, -1; 0 never decided (always 0 for EF) */
+    int32_t right_side;   /**< +1, -1; 0 unknown (always 0 for EF) */
+    double distance;      /**< current distance, >= 0 (0 for EF) */
+    /** +distance when side == right_side (or either is 0), -distance otherwise. */
+    double signed_distance;
+    double wa[2];        /**< closest point weights, as in selfcol_contact */
+    double wb[3];        /**< closest point weights, as in selfcol_contact */
+    double direction[3]; /**< unit vector from the second closest point toward the first */
+} selfcol_store_contact;
+
+/** Bits of selfcol_store_region.flags. */
+typedef enum selfcol_store_region_flag {
+    SELFCOL_REGION_CROSSED = 1u << 0,   /**< holds EF interferences: the surfaces cross here */
+    SELFCOL_REGION_CORRECTED = 1u << 1, /**< the vote changed the right side of some contact */
+    SELFCOL_REGION_TIE = 1u << 2        /**< some vote was tied and decided by the tie rule */
+} selfcol_store_region_flag;
+
+/** One region: a connected group of neighbouring contacts. */
+typedef struct selfcol_store_region {
+    uint32_t contacts;      /**< VF and EE contacts */
+    uint32_t interferences; /**< EF interferences */
+    /** Contacts already on the majority side (the vote's winners). */
+    uint32_t votes_majority;
+    /** Contacts on the minority side (corrected when consistency is on). */
+    uint32_t votes_minority;
+    uint32_t abstained; /**< contacts without a decided side (no vote) */
+    uint32_t flags;     /**< selfcol_store_region_flag bits */
+} selfcol_store_region;
+
+/**
+ * Counters of the last update. The caller sets version to
+ * SELFCOL_STORE_UPDATE_STATS_VERSION; the library writes the fields of that version.
+ */
+typedef struct selfcol_store_update_stats {
+    unsigned int version;       /**< SELFCOL_STORE_UPDATE_STATS_VERSION */
+    uint64_t contacts;          /**< VF and EE contacts held after the update */
+    uint64_t interferences;     /**< EF interferences held (those detected) */
+    uint64_t new_contacts;      /**< VF/EE first detected by this update */
+    uint64_t kept;              /**< VF/EE held before and detected again */
+    uint64_t remnant;           /**< VF/EE held but not detected (kept by remnance) */
+    uint64_t dropped;           /**< VF/EE/EF removed (remnance over, or EF gone) */
+    uint64_t flipped;           /**< contacts whose side changed sign (crossings) */
+    uint64_t corrected;         /**< contacts whose right side the vote changed */
+    uint64_t regions;           /**< regions */
+    uint64_t crossed_regions;   /**< regions holding interferences */
+    uint64_t corrected_regions; /**< regions where the vote corrected a contact */
+    double seconds;             /**< wall time of the update */
+} selfcol_store_update_stats;
+
+#define SELFCOL_STORE_UPDATE_STATS_VERSION 1
+
+/**
+ * Writes the defaults into opts (remnance SELFCOL_STORE_DEFAULT_REMNANCE,
+ * consistency on).
+ * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version);
+
+/**
+ * Creates an empty store.
+ * @param[out] out the new handle; NULL on failure. Free it with selfcol_store_destroy().
+ * @param[in] opts options, or NULL for defaults
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, half-set allocator,
+ *         consistency not 0 or 1); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ */
+SELFCOL_API int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts);
+
+/** Destroys a store. Accepts NULL. Never reads the meshes. */
+SELFCOL_API void selfcol_store_destroy(selfcol_store *store);
+
+/** Forgets every contact and region, and the meshes; keeps the memory. Accepts NULL. */
+SELFCOL_API void selfcol_store_clear(selfcol_store *store);
+
+/**
+ * Merges one frame's query result into the store, then regroups and votes.
+ * `detected` must come from a query on the same meshes at their current
+ * positions: selfcol_hierarchy_self_collide() on a hierarchy of `first`
+ * (second NULL), or selfcol_hierarchy_collide() of hierarchies of `first`
+ * and `second`. A store follows one such query from frame to frame; it
+ * remembers its meshes (not their positions) from the first update until
+ * selfcol_store_clear(). Any contact kinds and distance may be queried; a
+ * contact is detected when the query reports it.
+ *
+ * Consistency rule. Within a region, each contact's push direction (its
+ * direction, times +1 on its right side and -1 on the wrong one) is compared
+ * with its neighbours': neighbours with the same roles (first near first)
+ * should push the same way, crosswise neighbours opposite ways. Links
+ * between contacts whose directions are within 60 degrees of parallel or
+ * antiparallel carry this relation (union-find with parity; a link closing
+ * a cycle against the relation is ignored); each group so linked votes:
+ * every contact with a decided side and right side votes for its right side
+ * as seen from the group's frame, the majority wins and is imposed (right
+ * sides changed: CORRECTED). A tied vote keeps the right side of the group's
+ * oldest contact (greatest age; among equals, the first in key order) and
+ * sets SELFCOL_REGION_TIE. Contacts whose side was never decided (exactly
+ * coplanar since they appeared) abstain; a contact takes its first decided
+ * side as its right side, then votes like the others.
+ *
+ * On any error the store is unchanged.
+ * @param[in,out] store the store
+ * @param[in] first the query's first (or only) mesh
+ * @param[in] second the second mesh of a two-mesh query, or NULL
+ * @param[in] detected the query's result
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments or records that are
+ *         not sorted as a query sorts them; SELFCOL_EMISMATCH when the meshes
+ *         are not those of the store's earlier updates, or a record does not
+ *         match them (an index out of range, vertices that are not its
+ *         elements'); SELFCOL_ENOMEM.
+ */
+SELFCOL_API int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
+                                     const selfcol_mesh *second, const selfcol_contacts *detected);
+
+/**
+ * The contacts held (VF, EE and EF), sorted by (kind, first_mesh, first,
+ * second_mesh, second).
+ * @param[out] data_out borrowed, valid until the next update, clear or destroy; NULL when empty
+ * @param[out] count_out number of records
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments.
+ */
+SELFCOL_API int selfcol_store_contacts(const selfcol_store *store,
+                                       const selfcol_store_contact **data_out, size_t *count_out);
+
+/**
+ * The regions of the last update, numbered in order of their first contact.
+ * @param[out] data_out borrowed, valid until the next update, clear or destroy; NULL when empty
+ * @param[out] count_out number of regions
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments.
+ */
+SELFCOL_API int selfcol_store_regions(const selfcol_store *store,
+                                      const selfcol_store_region **data_out, size_t *count_out);
+
+/**
+ * Counters of the last update.
+ * @param[in,out] stats its version field set by the caller
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL; SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_store_stats(const selfcol_store *store, selfcol_store_update_stats *stats);
+
+/** Bytes of memory held by the store. @return the count; 0 for NULL. */
+SELFCOL_API size_t selfcol_store_byte_count(const selfcol_store *store);
+
+SELFCOL_END_DECLS
+/** @} */
+
+#endif /* SELFCOL_STORE_H */

@@ -1,0 +1,666 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The persistent contact store (include/selfcol/store.h): section 3 of
+// Volino & Magnenat Thalmann (1995). One update is linear in the contacts:
+//  1. a merge of the held entries and the query's records, both sorted by
+//     key (kind, first_mesh, first, second_mesh, second): kept, new,
+//     remnant (geometry recomputed by the closed-form narrow phase) or
+//     dropped; the side of every VF/EE entry is the exact sign of orient3d;
+//  2. regions: each entry hashes the unordered pairs {u, w} of a vertex u of
+//     its first element and a vertex w of its second (at most 6); entries
+//     sharing a pair are neighbours. A grouping union-find over all entries
+//     gives the regions; a second one, with parity, over VF/EE links whose
+//     directions are comparable, gives the voting groups (seed 3.2.1's
+//     labelling, without its recursion);
+//  3. the vote per group and the region records.
+// Every array is kept and grown geometrically: a steady state allocates
+// nothing.
+#include <selfcol/store.h>
+
+#include "alloc.h"
+#include "contacts.h"
+#include "core.h"
+#include "mesh.h"
+#include "narrow.h"
+#include "predicates.h"
+
+#include <math.h>
+#include <string.h>
+
+// An entry of the neighbour hash: the unordered vertex pair {lo, hi} (mesh
+// << 32 | vertex) of the first entry that produced it, and whether that
+// entry's first element held lo.
+typedef struct pair_slot {
+    uint64_t lo, hi;
+    uint32_t entry; // SELFCOL_INVALID_INDEX: empty
+    uint32_t first_holds_lo;
+} pair_slot;
+
+struct selfcol_store {
+    selfcol_allocator allocator;
+    uint32_t remnance;
+    int consistency;
+    const selfcol_mesh *meshes[2]; // NULL until the first update
+    int bound;
+
+    selfcol_store_contact *entries, *spare; // held entries; the merge's destination
+    size_t count, capacity;                 // capacity of both arrays
+
+    selfcol_store_region *regions;
+    size_t region_count, region_capacity;
+
+    // Per entry (capacity): grouping union-find, voting union-find with parity.
+    uint32_t *group_parent, *vote_parent, *label;
+    int8_t *vote_parity;
+    // Per voting group root: vote counts, tie-break entry.
+    int32_t *tally;
+    uint32_t *oldest;
+
+    pair_slot *pairs;
+    size_t pair_capacity;
+
+    selfcol_store_update_stats stats;
+};
+
+int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version) {
+    SELFCOL_CHECK(opts != NULL);
+    if (version == 0 || version > SELFCOL_STORE_OPTIONS_VERSION)
+        return SELFCOL_EVERSION;
+    memset(opts, 0, sizeof *opts);
+    opts->version = version;
+    opts->remnance_frames = SELFCOL_STORE_DEFAULT_REMNANCE;
+    opts->consistency = 1;
+    return SELFCOL_OK;
+}
+
+int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts) {
+    SELFCOL_CHECK(out != NULL);
+    *out = NULL;
+    SELFCOL_CHECK_VERSION(opts, SELFCOL_STORE_OPTIONS_VERSION);
+    selfcol_store_options o;
+    selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
+    if (opts != NULL)
+        o = *opts;
+    SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
+    SELFCOL_CHECK(o.consistency == 0 || o.consistency == 1);
+    selfcol_store *s = selfcol_alloc__raw(&o.allocator, sizeof *s);
+    if (s == NULL)
+        return SELFCOL_ENOMEM;
+    memset(s, 0, sizeof *s);
+    s->allocator = o.allocator;
+    s->remnance = o.remnance_frames;
+    s->consistency = o.consistency;
+    s->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    *out = s;
+    return SELFCOL_OK;
+}
+
+static void free_entry_arrays(selfcol_store *s) {
+    const selfcol_allocator *al = &s->allocator;
+    const size_t n = s->capacity;
+    selfcol_alloc__free_array(al, s->entries, n, sizeof *s->entries);
+    selfcol_alloc__free_array(al, s->spare, n, sizeof *s->spare);
+    selfcol_alloc__free_array(al, s->group_parent, n, sizeof *s->group_parent);
+    selfcol_alloc__free_array(al, s->vote_parent, n, sizeof *s->vote_parent);
+    selfcol_alloc__free_array(al, s->label, n, sizeof *s->label);
+    selfcol_alloc__free_array(al, s->vote_parity, n, sizeof *s->vote_parity);
+    selfcol_alloc__free_array(al, s->tally, 2 * n, sizeof *s->tally);
+    selfcol_alloc__free_array(al, s->oldest, n, sizeof *s->oldest);
+}
+
+void selfcol_store_destroy(selfcol_store *store) {
+    if (store == NULL)
+        return;
+    selfcol_allocator al = store->allocator;
+    free_entry_arrays(store);
+    selfcol_alloc__free_array(&al, store->regions, store->region_capacity, sizeof *store->regions);
+    selfcol_alloc__free_array(&al, store->pairs, store->pair_capacity, sizeof *store->pairs);
+    selfcol_alloc__free(&al, store, sizeof *store);
+}
+
+void selfcol_store_clear(selfcol_store *store) {
+    if (store == NULL)
+        return;
+    store->count = 0;
+    store->region_count = 0;
+    store->meshes[0] = store->meshes[1] = NULL;
+    store->bound = 0;
+    memset(&store->stats, 0, sizeof store->stats);
+    store->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+}
+
+// Grows every per-entry array to hold n entries (the held ones are kept).
+static int reserve_entries(selfcol_store *s, size_t n) {
+    if (n <= s->capacity)
+        return SELFCOL_OK;
+    size_t cap = s->capacity < 64 ? 64 : s->capacity;
+    while (cap < n)
+        cap = cap > SIZE_MAX / 2 ? n : 2 * cap;
+    if (cap > UINT32_MAX - 1)
+        return n > UINT32_MAX - 1 ? SELFCOL_ERANGE : reserve_entries(s, UINT32_MAX - 1);
+    const selfcol_allocator *al = &s->allocator;
+    selfcol_store grown = *s;
+    grown.capacity = cap;
+    grown.entries = selfcol_alloc__array(al, cap, sizeof *grown.entries);
+    grown.spare = selfcol_alloc__array(al, cap, sizeof *grown.spare);
+    grown.group_parent = selfcol_alloc__array(al, cap, sizeof *grown.group_parent);
+    grown.vote_parent = selfcol_alloc__array(al, cap, sizeof *grown.vote_parent);
+    grown.label = selfcol_alloc__array(al, cap, sizeof *grown.label);
+    grown.vote_parity = selfcol_alloc__array(al, cap, sizeof *grown.vote_parity);
+    grown.tally = selfcol_alloc__array(al, 2 * cap, sizeof *grown.tally);
+    grown.oldest = selfcol_alloc__array(al, cap, sizeof *grown.oldest);
+    if (grown.entries == NULL || grown.spare == NULL || grown.group_parent == NULL ||
+        grown.vote_parent == NULL || grown.label == NULL || grown.vote_parity == NULL ||
+        grown.tally == NULL || grown.oldest == NULL) {
+        free_entry_arrays(&grown);
+        return SELFCOL_ENOMEM;
+    }
+    if (s->count > 0)
+        memcpy(grown.entries, s->entries, s->count * sizeof *s->entries);
+    free_entry_arrays(s);
+    *s = grown;
+    return SELFCOL_OK;
+}
+
+// The neighbour hash for n entries (at most 6 pairs each, load <= 1/2).
+static int reserve_pairs(selfcol_store *s, size_t n) {
+    size_t need = 16;
+    while (need < 12 * n)
+        need *= 2;
+    if (need <= s->pair_capacity)
+        return SELFCOL_OK;
+    pair_slot *p = selfcol_alloc__array(&s->allocator, need, sizeof *p);
+    if (p == NULL)
+        return SELFCOL_ENOMEM;
+    selfcol_alloc__free_array(&s->allocator, s->pairs, s->pair_capacity, sizeof *s->pairs);
+    s->pairs = p;
+    s->pair_capacity = need;
+    return SELFCOL_OK;
+}
+
+// ---------------------------------------------------------------------------
+// Keys and validation
+
+static int key_compare(uint32_t ka, uint32_t fma, uint32_t fa, uint32_t sma, uint32_t sa,
+                       uint32_t kb, uint32_t fmb, uint32_t fb, uint32_t smb, uint32_t sb) {
+    const uint32_t x[5] = {ka, fma, fa, sma, sa}, y[5] = {kb, fmb, fb, smb, sb};
+    for (int i = 0; i < 5; ++i)
+        if (x[i] != y[i])
+            return x[i] < y[i] ? -1 : 1;
+    return 0;
+}
+
+static int record_compare(const selfcol_contact *x, const selfcol_contact *y) {
+    return key_compare(x->kind, x->first_mesh, x->first, x->second_mesh, x->second, y->kind,
+                       y->first_mesh, y->first, y->second_mesh, y->second);
+}
+
+static int entry_record_compare(const selfcol_store_contact *e, const selfcol_contact *r) {
+    return key_compare(e->kind, e->first_mesh, e->first, e->second_mesh, e->second, r->kind,
+                       r->first_mesh, r->first, r->second_mesh, r->second);
+}
+
+// 1 when the record's primitives exist in the meshes and its vertices are
+// theirs.
+static int record_matches(const selfcol_store *s, const selfcol_contact *r) {
+    if (r->kind > SELFCOL_CONTACT_EF || r->first_mesh > 1 || r->second_mesh > 1)
+        return 0;
+    const selfcol_mesh *ma = s->meshes[r->first_mesh], *mb = s->meshes[r->second_mesh];
+    if (ma == NULL || mb == NULL)
+        return 0;
+    if (r->kind == SELFCOL_CONTACT_VF) {
+        if (r->first >= ma->vertex_count || r->a[0] != r->first || r->a[1] != r->first)
+            return 0;
+    } else {
+        if (r->first >= ma->edge_count || r->a[0] != ma->edges[2 * (size_t)r->first] ||
+            r->a[1] != ma->edges[2 * (size_t)r->first + 1])
+            return 0;
+    }
+    if (r->kind == SELFCOL_CONTACT_EE) {
+        if (r->second >= mb->edge_count || r->b[0] != mb->edges[2 * (size_t)r->second] ||
+            r->b[1] != mb->edges[2 * (size_t)r->second + 1])
+            return 0;
+    } else {
+        if (r->second >= mb->triangle_count)
+            return 0;
+        for (int k = 0; k < 3; ++k)
+            if (r->b[k] != mb->triangles[3 * (size_t)r->second + (size_t)k])
+                return 0;
+    }
+    return 1;
+}
+
+// ---------------------------------------------------------------------------
+// Geometry
+
+static const double *vertex_of(const selfcol_store *s, uint32_t mesh, uint32_t v) {
+    return selfcol_mesh__position(s->meshes[mesh], v);
+}
+
+// Exact side of the first element relative to the second's reference
+// direction (store.h): VF orient3d(b0, b1, b2, v), EE orient3d(a0, a1, b0, b1).
+static int exact_side(const selfcol_store *s, const selfcol_store_contact *e) {
+    const uint32_t fm = e->first_mesh, sm = e->second_mesh;
+    if (e->kind == SELFCOL_CONTACT_VF)
+        return selfcol_predicates__orient3d(vertex_of(s, sm, e->b[0]), vertex_of(s, sm, e->b[1]),
+                                            vertex_of(s, sm, e->b[2]), vertex_of(s, fm, e->a[0]));
+    return selfcol_predicates__orient3d(vertex_of(s, fm, e->a[0]), vertex_of(s, fm, e->a[1]),
+                                        vertex_of(s, sm, e->b[0]), vertex_of(s, sm, e->b[1]));
+}
+
+// Distance, weights and direction of a remnant VF/EE entry at the current
+// positions (the closed form of the narrow phase).
+static void recompute(const selfcol_store *s, selfcol_store_contact *e) {
+    const uint32_t fm = e->first_mesh, sm = e->second_mesh;
+    selfcol_narrow_result r;
+    if (e->kind == SELFCOL_CONTACT_VF)
+        selfcol_narrow__vf(vertex_of(s, fm, e->a[0]), vertex_of(s, sm, e->b[0]),
+                           vertex_of(s, sm, e->b[1]), vertex_of(s, sm, e->b[2]), &r);
+    else
+        selfcol_narrow__ee(vertex_of(s, fm, e->a[0]), vertex_of(s, fm, e->a[1]),
+                           vertex_of(s, sm, e->b[0]), vertex_of(s, sm, e->b[1]), &r);
+    e->distance = r.distance;
+    memcpy(e->wa, r.wa, sizeof e->wa);
+    memcpy(e->wb, r.wb, sizeof e->wb);
+    memcpy(e->direction, r.direction, sizeof e->direction);
+}
+
+static void take_record(selfcol_store_contact *e, const selfcol_contact *r) {
+    e->kind = r->kind;
+    e->first = r->first;
+    e->second = r->second;
+    e->first_mesh = r->first_mesh;
+    e->second_mesh = r->second_mesh;
+    memcpy(e->a, r->a, sizeof e->a);
+    memcpy(e->b, r->b, sizeof e->b);
+    e->distance = r->distance;
+    memcpy(e->wa, r->wa, sizeof e->wa);
+    memcpy(e->wb, r->wb, sizeof e->wb);
+    memcpy(e->direction, r->direction, sizeof e->direction);
+}
+
+static void set_signed_distance(selfcol_store_contact *e) {
+    const int wrong = e->side != 0 && e->right_side != 0 && e->side != e->right_side;
+    e->signed_distance = wrong ? -e->distance : e->distance;
+}
+
+// Side tracking of a VF/EE entry at the current positions: a nonzero exact
+// sign different from the held side is a crossing; 0 keeps the held side.
+static void track_side(selfcol_store *s, selfcol_store_contact *e) {
+    if (e->kind == SELFCOL_CONTACT_EF) {
+        e->side = e->right_side = 0;
+        return;
+    }
+    const int now = exact_side(s, e);
+    if (now != 0) {
+        if (e->side != 0 && now != e->side) {
+            e->flags |= SELFCOL_STORE_FLIPPED;
+            s->stats.flipped++;
+        }
+        e->side = now;
+        if (e->right_side == 0)
+            e->right_side = now; // first decided side: taken as the right one
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Union-find
+
+static uint32_t group_find(uint32_t *parent, uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]]; // path halving
+        x = parent[x];
+    }
+    return x;
+}
+
+static void group_unite(uint32_t *parent, uint32_t x, uint32_t y) {
+    x = group_find(parent, x);
+    y = group_find(parent, y);
+    if (x != y)
+        parent[x < y ? y : x] = x < y ? x : y; // the smaller index is the root
+}
+
+// Root of x in the voting union-find, and x's parity relative to it
+// (o_x = parity * o_root), compressing the path (two iterative passes).
+static uint32_t vote_find(uint32_t *parent, int8_t *parity, uint32_t x, int *parity_out) {
+    uint32_t root = x;
+    int p = 1;
+    while (parent[root] != root) {
+        p *= parity[root];
+        root = parent[root];
+    }
+    uint32_t y = x;
+    int py = p;
+    while (parent[y] != y) {
+        const uint32_t next = parent[y];
+        const int pnext = py * parity[y];
+        parent[y] = root;
+        parity[y] = (int8_t)py;
+        y = next;
+        py = pnext;
+    }
+    *parity_out = p;
+    return root;
+}
+
+// Links x and y with o_x = relation * o_y; a link inside one group is
+// ignored (consistent or not: the first links win).
+static void vote_unite(uint32_t *parent, int8_t *parity, uint32_t x, uint32_t y, int relation) {
+    int px, py;
+    uint32_t rx = vote_find(parent, parity, x, &px), ry = vote_find(parent, parity, y, &py);
+    if (rx == ry)
+        return;
+    // o_rx = px o_x = px relation o_y = px relation py o_ry.
+    const int8_t link = (int8_t)(px * relation * py);
+    if (rx < ry) {
+        parent[ry] = rx;
+        parity[ry] = link;
+    } else {
+        parent[rx] = ry;
+        parity[rx] = link;
+    }
+}
+
+static uint64_t vertex_key(uint32_t mesh, uint32_t v) {
+    return (uint64_t)mesh << 32 | v;
+}
+
+static size_t pair_hash(uint64_t lo, uint64_t hi, size_t mask) {
+    uint64_t h = lo * 0x9E3779B97F4A7C15ull ^ (hi + 0x632BE59BD9B4E019ull) * 0xC2B2AE3D27D4EB4Full;
+    h ^= h >> 29;
+    return (size_t)h & mask;
+}
+
+// Two entries linked through a shared vertex pair: group them; if both vote
+// (VF/EE) and their directions are comparable (|cos| >= 1/2), link their
+// orientations: same roles (parity +1) should push the same way, crosswise
+// ones (-1) opposite ways, so o_i = parity * sign(dir_i . dir_j) o_j.
+static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles) {
+    group_unite(s->group_parent, i, j);
+    const selfcol_store_contact *x = &s->entries[i], *y = &s->entries[j];
+    if (x->kind == SELFCOL_CONTACT_EF || y->kind == SELFCOL_CONTACT_EF)
+        return;
+    const double c = x->direction[0] * y->direction[0] + x->direction[1] * y->direction[1] +
+                     x->direction[2] * y->direction[2];
+    if (!(fabs(c) >= 0.5))
+        return;
+    vote_unite(s->vote_parent, s->vote_parity, i, j, (same_roles ? 1 : -1) * (c > 0 ? 1 : -1));
+}
+
+static void link_neighbours(selfcol_store *s) {
+    const size_t mask = s->pair_capacity - 1;
+    for (size_t k = 0; k < s->pair_capacity; ++k)
+        s->pairs[k].entry = SELFCOL_INVALID_INDEX;
+    for (uint32_t i = 0; i < s->count; ++i) {
+        const selfcol_store_contact *e = &s->entries[i];
+        const int na = e->kind == SELFCOL_CONTACT_VF ? 1 : 2;
+        const int nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
+        for (int p = 0; p < na; ++p)
+            for (int q = 0; q < nb; ++q) {
+                const uint64_t u = vertex_key(e->first_mesh, e->a[p]);
+                const uint64_t w = vertex_key(e->second_mesh, e->b[q]);
+                if (u == w)
+                    continue; // cannot happen for a contact; stay safe
+                const uint64_t lo = u < w ? u : w, hi = u < w ? w : u;
+                const uint32_t holds_lo = u < w;
+                size_t h = pair_hash(lo, hi, mask);
+                for (;;) {
+                    pair_slot *slot = &s->pairs[h];
+                    if (slot->entry == SELFCOL_INVALID_INDEX) {
+                        *slot = (pair_slot){lo, hi, i, holds_lo};
+                        break;
+                    }
+                    if (slot->lo == lo && slot->hi == hi) {
+                        if (slot->entry != i)
+                            link_entries(s, i, slot->entry, slot->first_holds_lo == holds_lo);
+                        break;
+                    }
+                    h = (h + 1) & mask;
+                }
+            }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The vote
+
+// Each voting group's majority right side, imposed; then the region records.
+static void vote_and_label(selfcol_store *s) {
+    const size_t n = s->count;
+    int32_t *votes = s->tally; // [2 r]: for o = +1, [2 r + 1]: for o = -1, per group root r
+    for (size_t i = 0; i < n; ++i) {
+        votes[2 * i] = votes[2 * i + 1] = 0;
+        s->oldest[i] = SELFCOL_INVALID_INDEX;
+    }
+    // Tally: contact i's vote, in its group's frame, is sigma_i * o_i with
+    // sigma_i = side * right_side (+1 on its right side). Contacts whose
+    // side was never decided abstain.
+    for (uint32_t i = 0; i < n; ++i) {
+        const selfcol_store_contact *e = &s->entries[i];
+        if (e->kind == SELFCOL_CONTACT_EF || e->side == 0)
+            continue;
+        int o;
+        const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
+        const int vote = e->side * e->right_side * o;
+        votes[2 * r + (vote > 0 ? 0 : 1)]++;
+        const uint32_t old = s->oldest[r];
+        if (old == SELFCOL_INVALID_INDEX || e->age > s->entries[old].age)
+            s->oldest[r] = i;
+    }
+    // Regions, numbered by their first entry.
+    for (size_t i = 0; i < n; ++i)
+        s->label[i] = SELFCOL_INVALID_INDEX;
+    size_t regions = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t g = group_find(s->group_parent, i);
+        if (s->label[g] == SELFCOL_INVALID_INDEX)
+            s->label[g] = (uint32_t)regions++;
+        s->entries[i].region = s->label[g];
+    }
+    // The update reserved one region per entry.
+    s->region_count = regions;
+    memset(s->regions, 0, regions * sizeof *s->regions);
+    // Impose and count.
+    for (uint32_t i = 0; i < n; ++i) {
+        selfcol_store_contact *e = &s->entries[i];
+        selfcol_store_region *reg = &s->regions[e->region];
+        if (e->kind == SELFCOL_CONTACT_EF) {
+            reg->interferences++;
+            reg->flags |= SELFCOL_REGION_CROSSED;
+            continue;
+        }
+        reg->contacts++;
+        int o;
+        const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
+        const int32_t plus = votes[2 * r], minus = votes[2 * r + 1];
+        if (e->side == 0) {
+            reg->abstained++;
+            set_signed_distance(e);
+            continue;
+        }
+        int majority; // the group's winning sigma * o
+        if (plus != minus) {
+            majority = plus > minus ? 1 : -1;
+        } else if (plus == 0) {
+            majority = 0; // nobody voted: nothing to impose
+        } else {
+            // Tie: the oldest contact keeps its right side.
+            const selfcol_store_contact *t = &s->entries[s->oldest[r]];
+            int ot;
+            vote_find(s->vote_parent, s->vote_parity, s->oldest[r], &ot);
+            majority = t->side * t->right_side * ot;
+            reg->flags |= SELFCOL_REGION_TIE;
+        }
+        // A decided side always has a right side (track_side).
+        if (e->side * e->right_side * o == majority || majority == 0) {
+            reg->votes_majority++;
+        } else {
+            reg->votes_minority++;
+            if (s->consistency) {
+                e->right_side = -e->right_side;
+                e->flags |= SELFCOL_STORE_CORRECTED;
+                s->stats.corrected++;
+                reg->flags |= SELFCOL_REGION_CORRECTED;
+            }
+        }
+        set_signed_distance(e);
+    }
+    for (size_t r = 0; r < regions; ++r) {
+        s->stats.crossed_regions += (s->regions[r].flags & SELFCOL_REGION_CROSSED) != 0;
+        s->stats.corrected_regions += (s->regions[r].flags & SELFCOL_REGION_CORRECTED) != 0;
+    }
+    s->stats.regions = regions;
+}
+
+// ---------------------------------------------------------------------------
+// The update
+
+int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
+                         const selfcol_mesh *second, const selfcol_contacts *detected) {
+    SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL);
+    const double start = selfcol_core__seconds();
+    if (store->bound && (store->meshes[0] != first || store->meshes[1] != second))
+        return SELFCOL_EMISMATCH;
+    const selfcol_mesh *previous[2] = {store->meshes[0], store->meshes[1]};
+    store->meshes[0] = first;
+    store->meshes[1] = second;
+    const selfcol_contact *rec = detected->items;
+    const size_t m = detected->count;
+    // Validate everything before changing anything.
+    int status = SELFCOL_OK;
+    for (size_t j = 0; j < m && status == SELFCOL_OK; ++j) {
+        if (!record_matches(store, &rec[j]))
+            status = SELFCOL_EMISMATCH;
+        else if (second == NULL && (rec[j].first_mesh != 0 || rec[j].second_mesh != 0))
+            status = SELFCOL_EMISMATCH;
+        else if (j > 0 && record_compare(&rec[j - 1], &rec[j]) >= 0)
+            status = SELFCOL_EINVAL;
+    }
+    if (status == SELFCOL_OK && store->count + m > UINT32_MAX - 1)
+        status = SELFCOL_ERANGE;
+    if (status == SELFCOL_OK)
+        status = reserve_entries(store, store->count + m);
+    if (status == SELFCOL_OK)
+        status = reserve_pairs(store, store->count + m);
+    if (status != SELFCOL_OK) {
+        store->meshes[0] = previous[0];
+        store->meshes[1] = previous[1];
+        return status;
+    }
+    // Room for the regions too (at most one per entry), so that nothing can
+    // fail after the merge: grown here, before any entry changes.
+    {
+        const size_t most = store->count + m;
+        if (most > store->region_capacity) {
+            size_t cap = store->region_capacity < 16 ? 16 : store->region_capacity;
+            while (cap < most)
+                cap *= 2;
+            selfcol_store_region *r = selfcol_alloc__array(&store->allocator, cap, sizeof *r);
+            if (r == NULL) {
+                store->meshes[0] = previous[0];
+                store->meshes[1] = previous[1];
+                return SELFCOL_ENOMEM;
+            }
+            selfcol_alloc__free_array(&store->allocator, store->regions, store->region_capacity,
+                                      sizeof *store->regions);
+            store->regions = r;
+            store->region_capacity = cap;
+        }
+    }
+    store->bound = 1;
+    memset(&store->stats, 0, sizeof store->stats);
+    store->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+
+    // 1. Merge the held entries (sorted) with the records (sorted).
+    selfcol_store_contact *out = store->spare;
+    size_t i = 0, j = 0, n = 0;
+    const selfcol_store_contact *held = store->entries;
+    while (i < store->count || j < m) {
+        int c = i == store->count ? 1 : j == m ? -1 : entry_record_compare(&held[i], &rec[j]);
+        selfcol_store_contact *e = &out[n];
+        if (c == 0) { // held and detected again
+            *e = held[i++];
+            take_record(e, &rec[j++]);
+            e->age += e->age < UINT32_MAX;
+            e->missed = 0;
+            e->flags = 0;
+            store->stats.kept += e->kind != SELFCOL_CONTACT_EF;
+        } else if (c > 0) { // new
+            memset(e, 0, sizeof *e);
+            take_record(e, &rec[j++]);
+            e->flags = SELFCOL_STORE_NEW;
+            store->stats.new_contacts += e->kind != SELFCOL_CONTACT_EF;
+        } else { // held, not detected
+            const selfcol_store_contact *h = &held[i++];
+            if (h->kind == SELFCOL_CONTACT_EF || h->missed >= store->remnance) {
+                store->stats.dropped++;
+                continue;
+            }
+            *e = *h;
+            e->age += e->age < UINT32_MAX;
+            e->missed++;
+            e->flags = SELFCOL_STORE_REMNANT;
+            recompute(store, e);
+            store->stats.remnant++;
+        }
+        track_side(store, e);
+        set_signed_distance(e);
+        if (e->kind == SELFCOL_CONTACT_EF)
+            store->stats.interferences++;
+        else
+            store->stats.contacts++;
+        ++n;
+    }
+    store->spare = store->entries;
+    store->entries = out;
+    store->count = n;
+
+    // 2. Regions and voting groups.
+    for (uint32_t k = 0; k < n; ++k) {
+        store->group_parent[k] = store->vote_parent[k] = k;
+        store->vote_parity[k] = 1;
+    }
+    link_neighbours(store);
+    // 3. The vote.
+    vote_and_label(store);
+    store->stats.seconds = selfcol_core__seconds() - start;
+    return SELFCOL_OK;
+}
+
+int selfcol_store_contacts(const selfcol_store *store, const selfcol_store_contact **data_out,
+                           size_t *count_out) {
+    SELFCOL_CHECK(store != NULL && data_out != NULL && count_out != NULL);
+    *data_out = store->count > 0 ? store->entries : NULL;
+    *count_out = store->count;
+    return SELFCOL_OK;
+}
+
+int selfcol_store_regions(const selfcol_store *store, const selfcol_store_region **data_out,
+                          size_t *count_out) {
+    SELFCOL_CHECK(store != NULL && data_out != NULL && count_out != NULL);
+    *data_out = store->region_count > 0 ? store->regions : NULL;
+    *count_out = store->region_count;
+    return SELFCOL_OK;
+}
+
+int selfcol_store_stats(const selfcol_store *store, selfcol_store_update_stats *stats) {
+    SELFCOL_CHECK(store != NULL && stats != NULL);
+    if (stats->version == 0 || stats->version > SELFCOL_STORE_UPDATE_STATS_VERSION)
+        return SELFCOL_EVERSION;
+    const unsigned version = stats->version;
+    *stats = store->stats; // one version so far: the whole struct
+    stats->version = version;
+    return SELFCOL_OK;
+}
+
+size_t selfcol_store_byte_count(const selfcol_store *store) {
+    if (store == NULL)
+        return 0;
+    const size_t per_entry = 2 * sizeof(selfcol_store_contact) + 3 * sizeof(uint32_t) +
+                             sizeof(int8_t) + 2 * sizeof(int32_t) + sizeof(uint32_t);
+    return sizeof *store + store->capacity * per_entry +
+           store->region_capacity * sizeof(selfcol_store_region) +
+           store->pair_capacity * sizeof(pair_slot);
+}

@@ -1,0 +1,525 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The persistent contact store (include/selfcol/store.h), through the public
+// API, fed by EXACT queries: remnance for exactly R updates with the side
+// kept; sides flipping through crossings, decided exactly (coplanar keeps
+// the side; a pass-around counts as a crossing, the documented limit);
+// regions; the vote on the seed's Figure 8 situation (a patch that starts
+// on the wrong side is corrected to the majority) and its limits (a wrong
+// majority wins; an A-B-A wedge is one region with two truths, decided by
+// the tie rule); EF marking crossed regions; one region of a large sheet
+// pair without recursion; errors leave the store unchanged; no allocation
+// in steady state; allocation failure at every call.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <string.h>
+
+#include <selfcol/selfcol.h>
+
+#include "scenes.h"
+#include "test_alloc.h"
+
+// One mesh, its hierarchy, a query result and a store, advanced frame by
+// frame with EXACT self queries.
+typedef struct rig {
+    selfcol_mesh *mesh;
+    selfcol_hierarchy *hierarchy;
+    selfcol_contacts *detected;
+    selfcol_store *store;
+} rig;
+
+static rig make_rig(const double *positions, size_t vertex_count, const uint32_t *triangles,
+                    size_t triangle_count, const selfcol_store_options *opts) {
+    rig r = {NULL, NULL, NULL, NULL};
+    assert_int_equal(
+        selfcol_mesh_create(&r.mesh, vertex_count, positions, triangle_count, triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&r.hierarchy, r.mesh, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&r.detected, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_store_create(&r.store, opts), SELFCOL_OK);
+    return r;
+}
+
+static void free_rig(rig *r) {
+    selfcol_store_destroy(r->store);
+    selfcol_contacts_destroy(r->detected);
+    selfcol_hierarchy_destroy(r->hierarchy);
+    selfcol_mesh_destroy(r->mesh);
+}
+
+// New positions (NULL: keep), an EXACT query at d, and the store update.
+static void advance(rig *r, const double *positions, double d) {
+    if (positions != NULL) {
+        assert_int_equal(
+            selfcol_mesh_set_positions(r->mesh, positions,
+                                       selfcol_mesh_count(r->mesh, SELFCOL_MESH_VERTICES)),
+            SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_refit(r->hierarchy), SELFCOL_OK);
+    }
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.method = SELFCOL_METHOD_EXACT;
+    o.distance = d;
+    assert_int_equal(selfcol_hierarchy_self_collide(r->hierarchy, r->detected, &o), SELFCOL_OK);
+    assert_int_equal(selfcol_store_update(r->store, r->mesh, NULL, r->detected), SELFCOL_OK);
+}
+
+static const selfcol_store_contact *find(const rig *r, uint32_t kind, uint32_t first,
+                                         uint32_t second) {
+    const selfcol_store_contact *c;
+    size_t n;
+    assert_int_equal(selfcol_store_contacts(r->store, &c, &n), SELFCOL_OK);
+    for (size_t i = 0; i < n; ++i)
+        if (c[i].kind == kind && c[i].first == first && c[i].second == second)
+            return &c[i];
+    return NULL;
+}
+
+static selfcol_store_update_stats stats_of(const rig *r) {
+    selfcol_store_update_stats s;
+    s.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    assert_int_equal(selfcol_store_stats(r->store, &s), SELFCOL_OK);
+    return s;
+}
+
+// Triangle T = (0 1 2) in z = 0, and a tall triangle P = (3 4 5) whose
+// lowest corner p = 3 hovers over T's interior at height h: the only
+// contact within d = 0.2 is VF(p, T).
+static void hover(double pos[18], double px, double py, double h) {
+    const double base[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    memcpy(pos, base, sizeof base);
+    const double p[9] = {px, py, h, px, py, h + 3.0, px + 1.0, py, h + 3.0};
+    memcpy(pos + 9, p, sizeof p);
+}
+static const uint32_t hover_triangles[6] = {0, 1, 2, 3, 4, 5};
+
+static void test_remnance_keeps_a_contact_exactly_r_updates_with_its_side(void **state) {
+    (void)state;
+    for (uint32_t remnance = 0; remnance <= 3; ++remnance) {
+        selfcol_store_options o;
+        selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
+        o.remnance_frames = remnance;
+        double pos[18];
+        hover(pos, 0.25, 0.25, 0.1);
+        rig r = make_rig(pos, 6, hover_triangles, 2, &o);
+        advance(&r, NULL, 0.2);
+        const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+        assert_non_null(c);
+        assert_int_equal(c->flags, SELFCOL_STORE_NEW);
+        assert_int_equal(c->side, 1);
+        assert_int_equal(c->right_side, 1);
+        assert_true(fabs(c->signed_distance - 0.1) < 1e-12);
+        // The elements separate: the contact stays `remnance` updates, its
+        // geometry recomputed and its side kept, then goes.
+        hover(pos, 0.25, 0.25, 0.6);
+        for (uint32_t k = 1; k <= remnance + 1; ++k) {
+            advance(&r, pos, 0.2);
+            c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+            selfcol_store_update_stats s = stats_of(&r);
+            if (k <= remnance) {
+                assert_non_null(c);
+                assert_int_equal(c->missed, k);
+                assert_int_equal(c->age, k);
+                assert_int_equal(c->flags, SELFCOL_STORE_REMNANT);
+                assert_int_equal(c->side, 1);
+                assert_true(fabs(c->signed_distance - 0.6) < 1e-12);
+                assert_int_equal(s.remnant, 1);
+            } else {
+                assert_null(c);
+                assert_int_equal(s.dropped, 1);
+                assert_int_equal(s.contacts, 0);
+            }
+        }
+        free_rig(&r);
+    }
+}
+
+static void test_side_flips_through_crossings_decided_exactly(void **state) {
+    (void)state;
+    double pos[18];
+    hover(pos, 0.25, 0.25, 0.1);
+    rig r = make_rig(pos, 6, hover_triangles, 2, NULL);
+    advance(&r, NULL, 0.2);
+    // Exactly in T's plane: touching, not crossing; the side is kept.
+    hover(pos, 0.25, 0.25, 0.0);
+    advance(&r, pos, 0.2);
+    const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+    assert_non_null(c);
+    assert_int_equal(c->side, 1);
+    assert_int_equal(c->flags & SELFCOL_STORE_FLIPPED, 0);
+    assert_true(c->distance == 0.0 && c->signed_distance == 0.0);
+    // Below: crossed. The side flips, the right side stays: negative.
+    hover(pos, 0.25, 0.25, -0.1);
+    advance(&r, pos, 0.2);
+    c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+    assert_int_equal(c->side, -1);
+    assert_int_equal(c->right_side, 1);
+    assert_true(c->flags & SELFCOL_STORE_FLIPPED);
+    assert_true(fabs(c->signed_distance + 0.1) < 1e-12);
+    assert_int_equal(stats_of(&r).flipped, 1);
+    // A tiny step below to a tinier one: still crossed, no new flip.
+    hover(pos, 0.25, 0.25, -1e-12);
+    advance(&r, pos, 0.2);
+    c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+    assert_int_equal(c->side, -1);
+    assert_int_equal(stats_of(&r).flipped, 0);
+    // Back up: flips again, positive.
+    hover(pos, 0.25, 0.25, 0.1);
+    advance(&r, pos, 0.2);
+    c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+    assert_int_equal(c->side, 1);
+    assert_true(c->flags & SELFCOL_STORE_FLIPPED);
+    assert_true(c->signed_distance > 0.0);
+    free_rig(&r);
+}
+
+// Known limit: with two frames' positions, a vertex that went around T's
+// border (out of detection, as a remnant) and ended below T's plane counts
+// as crossed, though it never passed through T.
+static void test_pass_around_counts_as_crossing(void **state) {
+    (void)state;
+    double pos[18];
+    hover(pos, 0.25, 0.25, 0.1);
+    rig r = make_rig(pos, 6, hover_triangles, 2, NULL);
+    advance(&r, NULL, 0.2);
+    hover(pos, -0.4, 0.25, -0.1); // beside T, below its plane: not detected
+    advance(&r, pos, 0.2);
+    const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+    assert_non_null(c);
+    assert_int_equal(c->flags, SELFCOL_STORE_REMNANT | SELFCOL_STORE_FLIPPED);
+    assert_int_equal(c->side, -1);
+    assert_true(c->signed_distance < 0.0);
+    free_rig(&r);
+}
+
+// Two n x n unit grids, one at z = 0 and one at z = gap shifted by (0.31,
+// 0.17) (no coincident coordinates); vertex indices of the upper grid
+// start at (n + 1)^2.
+static void sheet_pair(scene *s, unsigned n, double gap) {
+    scene top;
+    assert_int_equal(scene_grid(s, n, n, 1.0), 0);
+    assert_int_equal(scene_grid(&top, n, n, 1.0), 0);
+    const double offset[3] = {0.31, 0.17, gap};
+    scene_translate(&top, offset);
+    assert_int_equal(scene_append(s, &top), 0);
+    scene_free(&top);
+}
+
+// In the pair, is upper-grid vertex (i, j) inside the block [lo, hi]^2?
+static int in_block(unsigned n, uint32_t v, unsigned lo, unsigned hi) {
+    const uint32_t base = (n + 1) * (n + 1);
+    if (v < base)
+        return 0;
+    const unsigned i = (v - base) / (n + 1), j = (v - base) % (n + 1);
+    return i >= lo && i <= hi && j >= lo && j <= hi;
+}
+
+// The seed's Figure 8: the upper sheet lies on the lower one, but a block
+// of its vertices starts below it. Every contact is new and taken to be on
+// its right side; the region's vote finds the block in the minority and
+// corrects it, so every VF contact of an upper vertex against the lower
+// sheet ends with a negative signed distance exactly when that vertex is
+// below. EF interferences mark the region crossed. Without consistency
+// nothing is corrected.
+static void test_vote_corrects_a_patch_that_starts_crossed(void **state) {
+    (void)state;
+    const unsigned n = 10;
+    for (int consistency = 1; consistency >= 0; --consistency) {
+        scene s;
+        sheet_pair(&s, n, 0.05);
+        for (uint32_t v = 0; v < s.vertex_count; ++v)
+            if (in_block(n, v, 4, 5))
+                s.positions[3 * v + 2] = -0.05;
+        selfcol_store_options o;
+        selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
+        o.consistency = consistency;
+        rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, &o);
+        advance(&r, NULL, 0.1);
+        selfcol_store_update_stats st = stats_of(&r);
+        assert_true(st.interferences > 0);
+        assert_int_equal(st.crossed_regions, 1);
+        const selfcol_store_region *regions;
+        size_t region_count;
+        assert_int_equal(selfcol_store_regions(r.store, &regions, &region_count), SELFCOL_OK);
+        assert_int_equal(region_count, 1);
+        assert_true(regions[0].flags & SELFCOL_REGION_CROSSED);
+        assert_true(regions[0].votes_majority > regions[0].votes_minority);
+        const selfcol_store_contact *c;
+        size_t count, checked = 0;
+        assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+        const uint32_t base = (n + 1) * (n + 1);
+        for (size_t i = 0; i < count; ++i) {
+            if (c[i].kind != SELFCOL_CONTACT_VF || c[i].first < base || c[i].b[0] >= base)
+                continue;
+            const int below = in_block(n, c[i].first, 4, 5);
+            if (consistency) {
+                assert_int_equal(c[i].signed_distance < 0.0, below);
+                assert_int_equal((c[i].flags & SELFCOL_STORE_CORRECTED) != 0, below);
+            } else {
+                assert_true(c[i].signed_distance >= 0.0);
+            }
+            checked++;
+        }
+        assert_true(checked > 50);
+        if (consistency) {
+            assert_true(st.corrected > 0);
+            assert_int_equal(st.corrected, regions[0].votes_minority);
+            assert_int_equal(st.corrected_regions, 1);
+        } else {
+            assert_int_equal(st.corrected, 0);
+        }
+        // The next frame, same positions: nothing new, nothing to correct.
+        advance(&r, NULL, 0.1);
+        st = stats_of(&r);
+        assert_int_equal(st.new_contacts, 0);
+        assert_int_equal(st.corrected, 0);
+        assert_int_equal(st.flipped, 0);
+        free_rig(&r);
+        scene_free(&s);
+    }
+}
+
+// Known limit: the majority wins even when it is the crossed part. With
+// most of the upper sheet below, the few vertices above are the ones
+// "corrected".
+static void test_a_wrong_majority_wins(void **state) {
+    (void)state;
+    const unsigned n = 8;
+    scene s;
+    sheet_pair(&s, n, -0.05);
+    for (uint32_t v = 0; v < s.vertex_count; ++v)
+        if (in_block(n, v, 3, 4))
+            s.positions[3 * v + 2] = 0.05;
+    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
+    advance(&r, NULL, 0.1);
+    const selfcol_store_contact *c;
+    size_t count;
+    assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+    const uint32_t base = (n + 1) * (n + 1);
+    size_t corrected_above = 0;
+    for (size_t i = 0; i < count; ++i)
+        if (c[i].kind == SELFCOL_CONTACT_VF && c[i].first >= base && c[i].b[0] < base) {
+            const int above = in_block(n, c[i].first, 3, 4);
+            assert_int_equal(c[i].signed_distance < 0.0, above);
+            corrected_above += above && (c[i].flags & SELFCOL_STORE_CORRECTED);
+        }
+    assert_true(corrected_above > 0);
+    free_rig(&r);
+    scene_free(&s);
+}
+
+// An A-B-A wedge: triangle T1 in z = 0 and T2 folded back over it (z = 0.2
+// x, sharing the edge x = 0), and a thin triangle P whose corner p lies
+// between them, its two long edges leaving over the far edges. Every
+// contact is right (P is above T1 and below T2), but they are one region
+// whose contacts push both ways: three each way, a tie. Known limit, pinned:
+// the tie rule keeps the oldest contact's side, and among equals the first
+// in key order (here T1's VF, triangle 0) -- so T2's side is "corrected".
+// With T2's contacts detected one frame earlier (a smaller d), they are the
+// oldest and T1's side is corrected instead.
+static void test_wedge_is_one_region_decided_by_the_tie_rule(void **state) {
+    (void)state;
+    const double pos[] = {0,   0,   0, 0,   2,   0, 2,   1,   0, 2,  1,
+                          0.4, 0.8, 1, 0.1, 0.8, 4, 0.1, 0.9, 4, 0.1};
+    // 0 s0, 1 s1, 2 t1, 3 t2, 4 p, 5 and 6 P's far corners.
+    const uint32_t tri[] = {0, 2, 1, 0, 1, 3, 4, 5, 6};
+    for (int staged = 0; staged < 2; ++staged) {
+        rig r = make_rig(pos, 7, tri, 3, NULL);
+        if (staged) {
+            advance(&r, NULL, 0.062); // T2's side only (0.0588, 0.06 away)
+            assert_null(find(&r, SELFCOL_CONTACT_VF, 4, 0));
+            assert_non_null(find(&r, SELFCOL_CONTACT_VF, 4, 1));
+        }
+        advance(&r, NULL, 0.15);
+        const selfcol_store_region *regions;
+        size_t region_count;
+        assert_int_equal(selfcol_store_regions(r.store, &regions, &region_count), SELFCOL_OK);
+        assert_int_equal(region_count, 1);
+        assert_true(regions[0].flags & SELFCOL_REGION_TIE);
+        assert_int_equal(regions[0].votes_majority, regions[0].votes_minority);
+        const selfcol_store_contact *below_t2 = find(&r, SELFCOL_CONTACT_VF, 4, 1);
+        const selfcol_store_contact *above_t1 = find(&r, SELFCOL_CONTACT_VF, 4, 0);
+        assert_non_null(below_t2);
+        assert_non_null(above_t1);
+        const selfcol_store_contact *loser = staged ? above_t1 : below_t2;
+        const selfcol_store_contact *winner = staged ? below_t2 : above_t1;
+        assert_true(loser->flags & SELFCOL_STORE_CORRECTED);
+        assert_true(loser->signed_distance < 0.0);
+        assert_int_equal(winner->flags & SELFCOL_STORE_CORRECTED, 0);
+        assert_true(winner->signed_distance > 0.0);
+        free_rig(&r);
+    }
+}
+
+// Separate contact areas are separate regions; a large sheet pair is one
+// region (union-find: no recursion however many contacts).
+static void test_regions(void **state) {
+    (void)state;
+    scene a, b;
+    sheet_pair(&a, 6, 0.05);
+    sheet_pair(&b, 6, 0.05);
+    const double far[3] = {50.0, 0.0, 0.0};
+    scene_translate(&b, far);
+    assert_int_equal(scene_append(&a, &b), 0);
+    rig r = make_rig(a.positions, a.vertex_count, a.triangles, a.triangle_count, NULL);
+    advance(&r, NULL, 0.1);
+    const selfcol_store_region *regions;
+    size_t count;
+    assert_int_equal(selfcol_store_regions(r.store, &regions, &count), SELFCOL_OK);
+    assert_int_equal(count, 2);
+    assert_int_equal(regions[0].contacts, regions[1].contacts);
+    assert_int_equal(regions[0].flags, 0);
+    free_rig(&r);
+    scene_free(&a);
+    scene_free(&b);
+
+    sheet_pair(&a, 150, 0.05);
+    r = make_rig(a.positions, a.vertex_count, a.triangles, a.triangle_count, NULL);
+    advance(&r, NULL, 0.1);
+    assert_int_equal(selfcol_store_regions(r.store, &regions, &count), SELFCOL_OK);
+    assert_int_equal(count, 1);
+    assert_true(regions[0].contacts > 100000);
+    assert_int_equal(regions[0].votes_minority, 0);
+    free_rig(&r);
+    scene_free(&a);
+}
+
+// Bad calls return an error and leave the store as it was.
+static void test_errors_leave_the_store_unchanged(void **state) {
+    (void)state;
+    double pos[18];
+    hover(pos, 0.25, 0.25, 0.1);
+    rig r = make_rig(pos, 6, hover_triangles, 2, NULL);
+    advance(&r, NULL, 0.2);
+    selfcol_mesh *other = NULL;
+    assert_int_equal(selfcol_mesh_create(&other, 6, pos, 2, hover_triangles, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_store_update(r.store, other, NULL, r.detected), SELFCOL_EMISMATCH);
+    assert_int_equal(selfcol_store_update(r.store, r.mesh, other, r.detected), SELFCOL_EMISMATCH);
+    assert_int_equal(selfcol_store_update(NULL, r.mesh, NULL, r.detected), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_update(r.store, NULL, NULL, r.detected), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_update(r.store, r.mesh, NULL, NULL), SELFCOL_EINVAL);
+    const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+    assert_non_null(c);
+    assert_int_equal(c->age, 0);
+    // Records of a query on another mesh (more vertices) do not match.
+    scene big;
+    assert_int_equal(scene_crumpled(&big, 6, 6, 1, 3.0), 0);
+    selfcol_mesh *bm = NULL;
+    selfcol_hierarchy *bh = NULL;
+    assert_int_equal(selfcol_mesh_create(&bm, big.vertex_count, big.positions, big.triangle_count,
+                                         big.triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&bh, bm, NULL), SELFCOL_OK);
+    selfcol_contacts *bc = NULL;
+    assert_int_equal(selfcol_contacts_create(&bc, NULL), SELFCOL_OK);
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.distance = 0.5;
+    assert_int_equal(selfcol_hierarchy_self_collide(bh, bc, &o), SELFCOL_OK);
+    assert_true(selfcol_contacts_count(bc) > 0);
+    assert_int_equal(selfcol_store_update(r.store, r.mesh, NULL, bc), SELFCOL_EMISMATCH);
+    assert_int_equal(stats_of(&r).new_contacts, 1); // still the first update's
+    // After clear, the store follows whichever meshes come next.
+    selfcol_store_clear(r.store);
+    assert_int_equal(selfcol_store_update(r.store, bm, NULL, bc), SELFCOL_OK);
+    assert_int_equal(stats_of(&r).new_contacts + stats_of(&r).interferences,
+                     selfcol_contacts_count(bc));
+    // Options.
+    selfcol_store_options so;
+    assert_int_equal(selfcol_store_options_init(&so, 0), SELFCOL_EVERSION);
+    assert_int_equal(selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION), SELFCOL_OK);
+    assert_int_equal(so.remnance_frames, SELFCOL_STORE_DEFAULT_REMNANCE);
+    so.consistency = 2;
+    selfcol_store *bad = NULL;
+    assert_int_equal(selfcol_store_create(&bad, &so), SELFCOL_EINVAL);
+    assert_null(bad);
+    selfcol_store_update_stats st = {0};
+    assert_int_equal(selfcol_store_stats(r.store, &st), SELFCOL_EVERSION);
+    selfcol_contacts_destroy(bc);
+    selfcol_hierarchy_destroy(bh);
+    selfcol_mesh_destroy(bm);
+    scene_free(&big);
+    selfcol_mesh_destroy(other);
+    free_rig(&r);
+}
+
+// Steady state: from the third update on the same contact count, an update
+// allocates nothing. Allocation failure
+// at every allocation of an update: ENOMEM, the store unchanged, no leak.
+static void test_memory(void **state) {
+    (void)state;
+    scene s;
+    sheet_pair(&s, 12, 0.05);
+    test_allocator_state alloc = {0};
+    selfcol_store_options o;
+    selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
+    o.allocator = test_allocator(&alloc);
+    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, &o);
+    // The merge needs room for the held and the detected contacts together:
+    // the second update grows the arrays once more, then they suffice.
+    advance(&r, NULL, 0.1);
+    advance(&r, NULL, 0.1);
+    const size_t held = stats_of(&r).contacts;
+    const long calls = alloc.calls;
+    for (int frame = 0; frame < 5; ++frame) {
+        for (size_t k = 0; k < s.vertex_count; ++k)
+            s.positions[3 * k] += 0.01;
+        advance(&r, s.positions, 0.1);
+    }
+    assert_int_equal(alloc.calls, calls);
+    assert_int_equal(stats_of(&r).contacts, held);
+    assert_true(selfcol_store_byte_count(r.store) > 0);
+    free_rig(&r);
+    assert_int_equal(alloc.live, 0);
+
+    // Fail each allocation of a first update in turn.
+    for (long fail = 1;; ++fail) {
+        memset(&alloc, 0, sizeof alloc);
+        r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, &o);
+        selfcol_query_options q;
+        selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+        q.distance = 0.1;
+        assert_int_equal(selfcol_hierarchy_self_collide(r.hierarchy, r.detected, &q), SELFCOL_OK);
+        alloc.fail_at = alloc.calls + fail;
+        int status = selfcol_store_update(r.store, r.mesh, NULL, r.detected);
+        if (status == SELFCOL_OK) {
+            free_rig(&r);
+            assert_true(fail > 1);
+            break;
+        }
+        assert_int_equal(status, SELFCOL_ENOMEM);
+        const selfcol_store_contact *c;
+        size_t n;
+        assert_int_equal(selfcol_store_contacts(r.store, &c, &n), SELFCOL_OK);
+        assert_int_equal(n, 0);
+        alloc.fail_at = 0;
+        assert_int_equal(selfcol_store_update(r.store, r.mesh, NULL, r.detected), SELFCOL_OK);
+        assert_int_equal(stats_of(&r).new_contacts + stats_of(&r).interferences,
+                         selfcol_contacts_count(r.detected));
+        free_rig(&r);
+        assert_int_equal(alloc.live, 0);
+    }
+    scene_free(&s);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_remnance_keeps_a_contact_exactly_r_updates_with_its_side),
+        cmocka_unit_test(test_side_flips_through_crossings_decided_exactly),
+        cmocka_unit_test(test_pass_around_counts_as_crossing),
+        cmocka_unit_test(test_vote_corrects_a_patch_that_starts_crossed),
+        cmocka_unit_test(test_a_wrong_majority_wins),
+        cmocka_unit_test(test_wedge_is_one_region_decided_by_the_tie_rule),
+        cmocka_unit_test(test_regions),
+        cmocka_unit_test(test_errors_leave_the_store_unchanged),
+        cmocka_unit_test(test_memory),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
