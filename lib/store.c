@@ -28,13 +28,14 @@
 #include <math.h>
 #include <string.h>
 
-// An entry of the neighbour hash: the unordered vertex pair {lo, hi} (mesh
-// << 32 | vertex) of the first entry that produced it, and whether that
-// entry's first element held lo.
+// An entry of the neighbour hash: the unordered vertex pair {lo, hi} of the
+// first entry that produced it (vertex indices; their meshes in bits 0 and
+// 1 of `tag`), that entry, and whether its first element held lo (bit 2).
+// 16 bytes.
 typedef struct pair_slot {
-    uint64_t lo, hi;
+    uint32_t lo, hi;
     uint32_t entry; // SELFCOL_INVALID_INDEX: empty
-    uint32_t first_holds_lo;
+    uint32_t tag;
 } pair_slot;
 
 struct selfcol_store {
@@ -163,10 +164,15 @@ static int reserve_entries(selfcol_store *s, size_t n) {
     return SELFCOL_OK;
 }
 
-// The neighbour hash for n entries (at most 6 pairs each, load <= 1/2).
-static int reserve_pairs(selfcol_store *s, size_t n) {
+// Vertex pairs an entry hashes: |first's vertices| x |second's|.
+static size_t pairs_of_kind(uint32_t kind) {
+    return kind == SELFCOL_CONTACT_VF ? 3 : kind == SELFCOL_CONTACT_EE ? 4 : 6;
+}
+
+// The neighbour hash for at most `keys` vertex pairs (load <= 1/2).
+static int reserve_pairs(selfcol_store *s, size_t keys) {
     size_t need = 16;
-    while (need < 12 * n)
+    while (need < 2 * keys)
         need *= 2;
     if (need <= s->pair_capacity)
         return SELFCOL_OK;
@@ -363,13 +369,10 @@ static void vote_unite(uint32_t *parent, int8_t *parity, uint32_t x, uint32_t y,
     }
 }
 
-static uint64_t vertex_key(uint32_t mesh, uint32_t v) {
-    return (uint64_t)mesh << 32 | v;
-}
-
-static size_t pair_hash(uint64_t lo, uint64_t hi, size_t mask) {
-    uint64_t h = lo * 0x9E3779B97F4A7C15ull ^ (hi + 0x632BE59BD9B4E019ull) * 0xC2B2AE3D27D4EB4Full;
-    h ^= h >> 29;
+static size_t pair_hash(uint32_t lo, uint32_t hi, uint32_t meshes, size_t mask) {
+    uint64_t h = ((uint64_t)lo << 32 | hi) * 0x9E3779B97F4A7C15ull;
+    h ^= (h >> 29) ^ (uint64_t)meshes * 0xC2B2AE3D27D4EB4Full;
+    h ^= h >> 32;
     return (size_t)h & mask;
 }
 
@@ -399,22 +402,23 @@ static void link_neighbours(selfcol_store *s) {
         const int nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
         for (int p = 0; p < na; ++p)
             for (int q = 0; q < nb; ++q) {
-                const uint64_t u = vertex_key(e->first_mesh, e->a[p]);
-                const uint64_t w = vertex_key(e->second_mesh, e->b[q]);
-                if (u == w)
+                // (mesh, vertex) of each end, ordered by (mesh, vertex).
+                const uint32_t u = e->a[p], w = e->b[q], mu = e->first_mesh, mw = e->second_mesh;
+                if (u == w && mu == mw)
                     continue; // cannot happen for a contact; stay safe
-                const uint64_t lo = u < w ? u : w, hi = u < w ? w : u;
-                const uint32_t holds_lo = u < w;
-                size_t h = pair_hash(lo, hi, mask);
+                const int first_is_lo = mu < mw || (mu == mw && u < w);
+                const uint32_t lo = first_is_lo ? u : w, hi = first_is_lo ? w : u;
+                const uint32_t meshes = first_is_lo ? (mu | mw << 1) : (mw | mu << 1);
+                size_t h = pair_hash(lo, hi, meshes, mask);
                 for (;;) {
                     pair_slot *slot = &s->pairs[h];
                     if (slot->entry == SELFCOL_INVALID_INDEX) {
-                        *slot = (pair_slot){lo, hi, i, holds_lo};
+                        *slot = (pair_slot){lo, hi, i, meshes | (uint32_t)first_is_lo << 2};
                         break;
                     }
-                    if (slot->lo == lo && slot->hi == hi) {
+                    if (slot->lo == lo && slot->hi == hi && (slot->tag & 3u) == meshes) {
                         if (slot->entry != i)
-                            link_entries(s, i, slot->entry, slot->first_holds_lo == holds_lo);
+                            link_entries(s, i, slot->entry, (int)(slot->tag >> 2) == first_is_lo);
                         break;
                     }
                     h = (h + 1) & mask;
@@ -542,8 +546,14 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
         status = SELFCOL_ERANGE;
     if (status == SELFCOL_OK)
         status = reserve_entries(store, store->count + m);
-    if (status == SELFCOL_OK)
-        status = reserve_pairs(store, store->count + m);
+    if (status == SELFCOL_OK) {
+        size_t keys = 0;
+        for (size_t k = 0; k < store->count; ++k)
+            keys += pairs_of_kind(store->entries[k].kind);
+        for (size_t k = 0; k < m; ++k)
+            keys += pairs_of_kind(rec[k].kind);
+        status = reserve_pairs(store, keys);
+    }
     if (status != SELFCOL_OK) {
         store->meshes[0] = previous[0];
         store->meshes[1] = previous[1];
