@@ -170,6 +170,13 @@ void cli_write_csv(FILE *out, long frame, const cli_sets *sets);
 /** Prints a JSON string literal (quotes and escapes included). */
 void cli_json_string(FILE *out, const char *s);
 
+/** Opens an output file for writing ("-": stdout). NULL with err set on failure. */
+FILE *cli_open_output(const char *path, cli_error *err);
+/** Flushes stdout or closes f (NULL: nothing). Returns 0, or -1 with err set on a write error. */
+int cli_close_output(FILE *f, const char *path, cli_error *err);
+/** Flushes stdout: 1 when anything written to it was lost (errno says why). */
+int cli_stdout_write_failed(void);
+
 /**
  * Writes an ASCII PLY with per-face and per-vertex colours from classes
  * (0 plain, 1 proximity, 2 intersecting). Returns 0 or -1 with err set.

@@ -4,7 +4,7 @@
 // From library contacts to the output contract: index arrays in file
 // indices (sorted, the second mesh's indices after the first's), the
 // intersecting triangle pairs derived from the EF interferences, and the JSON,
-// CSV and coloured-PLY writers.
+// CSV and coloured-PLY writers, and opening and closing the commands' output files.
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
@@ -315,4 +315,34 @@ int cli_write_marked_ply(const char *path, const double *positions, size_t verte
     if (fclose(f) != 0 || bad)
         return cli_fail(err, "%s: write error", path);
     return 0;
+}
+
+// ---------------------------------------------------------------------------
+// Output files of the commands ("-" is standard output).
+
+FILE *cli_open_output(const char *path, cli_error *err) {
+    if (strcmp(path, "-") == 0)
+        return stdout;
+    FILE *f = fopen(path, "w");
+    if (f == NULL)
+        cli_fail(err, "%s: cannot write: %s", path, strerror(errno));
+    return f;
+}
+
+int cli_close_output(FILE *f, const char *path, cli_error *err) {
+    if (f == NULL)
+        return 0;
+    int bad = ferror(f);
+    if (f == stdout)
+        bad |= fflush(f) != 0;
+    else
+        bad |= fclose(f) != 0;
+    return bad ? cli_fail(err, "%s: write error", path) : 0;
+}
+
+// Flushes stdout: 1 when anything written to it was lost (errno says why).
+int cli_stdout_write_failed(void) {
+    errno = 0;
+    int failed = fflush(stdout) != 0;
+    return failed || ferror(stdout);
 }

@@ -1,0 +1,411 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// selfcol-cli command-line arguments: the options of check and info, the
+// usage and help texts, and the file name patterns of frame sequences and
+// per-frame outputs.
+#define _POSIX_C_SOURCE 200809L
+#include "commands.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *const cli_method_names[] = {"exhaustive", "bvh", "seed", "cone", "exact"};
+const char *const cli_narrow_names[] = {"closed", "libccd"};
+
+static const char check_help[] =
+    "usage: selfcol-cli check [options] MESH [MESH2]\n"
+    "       selfcol-cli check [options] --frames FRAME...\n"
+    "       selfcol-cli check [options] --range FIRST:LAST[:STEP] PATTERN\n"
+    "\n"
+    "Finds the contacts of a triangle surface with itself (one MESH), or of two\n"
+    "surfaces with themselves and each other (MESH MESH2), at a detection distance d:\n"
+    "  VF proximities  a vertex closer than d to a triangle (not its own)\n"
+    "  EE proximities  two edges closer than d (no common vertex)\n"
+    "  EF interferences  an edge crossing a triangle: the surface intersects itself\n"
+    "Frames of one topology (--frames, or a printf pattern such as frame_%04d.ply\n"
+    "with --range) are checked in turn: the hierarchy is built once and refit per\n"
+    "frame; --json then writes one JSON object per frame (JSON Lines).\n"
+    "Reads OBJ, PLY (ascii, binary), OFF and STL (ascii, binary). Vertices at\n"
+    "exactly the same position are welded (the lowest file index stands for them).\n"
+    "\n"
+    "options:\n"
+    "  --distance D        detection distance in mesh units\n"
+    "  --distance-rel K    d = K x mean edge length (default 0.1, a cloth's thickness;\n"
+    "                      of the first frame for a sequence, of both meshes together)\n"
+    "  --method M          exact (default), bvh, exhaustive: exact methods;\n"
+    "                      seed, cone: faster on smooth surfaces, may miss contacts\n"
+    "  --narrow N          closed (default: closed forms, exact predicates) or libccd\n"
+    "  --json FILE|-       the contact sets as JSON (one line per frame)\n"
+    "  --csv FILE|-        one row per contact: frame,kind,i0,i1,i2,i3,distance\n"
+    "  --mark OUT.ply      the mesh with intersecting faces red, proximities orange\n"
+    "  --png OUT.png       a picture: intersecting triangles red, proximities orange\n"
+    "  --view AZ,EL        view angles in degrees for --png (default 35,25; y is up)\n"
+    "  --size WxH          picture size in pixels, 16 to 4096 each (default 1024x768)\n"
+    "  --fail-on WHAT      interference (default) or proximity: what makes exit status 1\n"
+    "  --no-weld           keep vertices as the file has them (no welding)\n"
+    "  --quiet             no summary (errors only)\n"
+    "  -h, --help          this help\n"
+    "For sequences, --mark and --png write every frame when OUT contains %d (as in\n"
+    "out_%04d.png), otherwise the last frame.\n"
+    "There is no --threads: libselfcol runs on the calling thread and starts none.\n"
+    "\n"
+    "exit status: 0 no interference, 1 interferences found (or proximities, with\n"
+    "--fail-on proximity), 2 usage or input error.\n";
+
+static const char info_help[] =
+    "usage: selfcol-cli info [--json FILE|-] [--no-weld] MESH...\n"
+    "\n"
+    "Describes each mesh: vertices (and how many were welded), triangles, edges,\n"
+    "boundary loops, non-manifold edges, degenerate triangles, components, whether\n"
+    "it is closed and consistently oriented, and its mean edge length.\n"
+    "exit status: 0, or 2 for a usage or input error.\n";
+
+const char cli_main_help[] =
+    "usage: selfcol-cli COMMAND [options] ...\n"
+    "\n"
+    "commands:\n"
+    "  check   find self-contacts and interferences of meshes or frame sequences\n"
+    "  info    describe meshes (topology, degeneracies, scale)\n"
+    "\n"
+    "selfcol-cli COMMAND --help shows a command's options; --version the version.\n";
+
+int cli_usage_error(const char *command, const char *format, const char *what) {
+    fprintf(stderr, "selfcol-cli: ");
+    fprintf(stderr, format, what);
+    fprintf(stderr, "\nTry 'selfcol-cli %s--help'.\n", command ? command : "");
+    return CLI_EXIT_ERROR;
+}
+
+static int parse_double(const char *text, double *out) {
+    char *end;
+    errno = 0;
+    double x = strtod(text, &end);
+    // ERANGE with a finite result is an underflow (1e-320 is a valid,
+    // subnormal number); an overflow gives HUGE_VAL, refused as not finite.
+    if (end == text || *end != '\0' || (errno != 0 && errno != ERANGE) || !isfinite(x))
+        return -1;
+    *out = x;
+    return 0;
+}
+
+static int lookup(const char *name, const char *const *names, int count) {
+    for (int i = 0; i < count; ++i)
+        if (strcmp(name, names[i]) == 0)
+            return i;
+    return -1;
+}
+
+// ---------------------------------------------------------------------------
+// Frame lists: explicit files, or a pattern with one %d (flags 0 and a width
+// allowed; %% is a literal %) expanded over FIRST:LAST[:STEP].
+
+// A field width above this is refused (a file name has no use for more).
+#define MAX_PATTERN_WIDTH 64
+
+typedef struct pattern {
+    char prefix[1024], suffix[1024];
+    int zero_pad, width; // width <= MAX_PATTERN_WIDTH
+} pattern;
+
+// Copies text into out turning %% into %; fails on any other %.
+static int unescape(const char *text, size_t n, char *out, size_t out_size) {
+    size_t j = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (text[i] == '%') {
+            if (i + 1 < n && text[i + 1] == '%')
+                ++i;
+            else
+                return -1;
+        }
+        if (j + 1 >= out_size)
+            return -1;
+        out[j++] = text[i];
+    }
+    out[j] = '\0';
+    return 0;
+}
+
+// Returns 1 for a valid pattern with one integer conversion, 0 without any %
+// conversion, -1 for anything else.
+static int parse_pattern(const char *text, pattern *p) {
+    const char *conv = NULL;
+    for (const char *s = text; *s; ++s) {
+        if (*s != '%')
+            continue;
+        if (s[1] == '%') {
+            ++s;
+            continue;
+        }
+        if (conv != NULL)
+            return -1; // two conversions
+        conv = s;
+    }
+    if (conv == NULL)
+        return 0;
+    const char *s = conv + 1;
+    p->zero_pad = *s == '0';
+    if (p->zero_pad)
+        ++s;
+    p->width = 0;
+    while (*s >= '0' && *s <= '9') {
+        p->width = 10 * p->width + (*s++ - '0');
+        if (p->width > MAX_PATTERN_WIDTH)
+            return -1;
+    }
+    if (*s != 'd' && *s != 'i' && *s != 'u')
+        return -1;
+    if (unescape(text, (size_t)(conv - text), p->prefix, sizeof p->prefix) ||
+        unescape(s + 1, strlen(s + 1), p->suffix, sizeof p->suffix))
+        return -1;
+    return 1;
+}
+
+// Writes the pattern with value into out; -1 when it does not fit.
+static int expand_pattern(const pattern *p, long value, char *out, size_t out_size) {
+    char digits[32];
+    snprintf(digits, sizeof digits, "%lu",
+             value < 0 ? 0ul - (unsigned long)value : (unsigned long)value);
+    int length = (int)strlen(digits) + (value < 0);
+    int pad = p->width > length ? p->width - length : 0;
+    char padding[MAX_PATTERN_WIDTH + 1];
+    memset(padding, p->zero_pad ? '0' : ' ', (size_t)pad);
+    padding[pad] = '\0';
+    int n;
+    if (p->zero_pad)
+        n = snprintf(out, out_size, "%s%s%s%s%s", p->prefix, value < 0 ? "-" : "", padding, digits,
+                     p->suffix);
+    else
+        n = snprintf(out, out_size, "%s%s%s%s%s", p->prefix, padding, value < 0 ? "-" : "", digits,
+                     p->suffix);
+    return n >= 0 && (size_t)n < out_size ? 0 : -1;
+}
+
+// An output name with %d gets the frame number; otherwise it is used as is
+// (cli_parse_options has refused malformed patterns). -1 when it does not fit.
+int cli_output_name(const char *name, long frame, char *out, size_t out_size) {
+    pattern p;
+    int n;
+    if (parse_pattern(name, &p) == 1)
+        return expand_pattern(&p, frame, out, out_size);
+    n = snprintf(out, out_size, "%s", name);
+    return n >= 0 && (size_t)n < out_size ? 0 : -1;
+}
+
+// Builds the list of frame files for --frames / --range.
+int cli_frame_list(const cli_options *o, char ***names_out, long **numbers_out, long *count_out,
+                   cli_error *err) {
+    *names_out = NULL;
+    *numbers_out = NULL;
+    *count_out = 0;
+    long first = 0, last = -1, step = 1;
+    pattern pat;
+    if (o->range != NULL) {
+        char tail;
+        int n = sscanf(o->range, "%ld:%ld%c", &first, &last, &tail);
+        if (n == 3 && tail == ':') {
+            const char *third = strchr(strchr(o->range, ':') + 1, ':') + 1;
+            char *end;
+            step = strtol(third, &end, 10);
+            if (*end != '\0' || end == third)
+                n = 0;
+        }
+        if (n < 2 || step <= 0 || last < first || (n == 3 && tail != ':') || first < -1000000000L ||
+            last > 1000000000L)
+            return cli_fail(err, "--range needs FIRST:LAST[:STEP] with FIRST <= LAST, STEP > 0");
+        if ((last - first) / step >= 1000000)
+            return cli_fail(err, "--range gives too many frames");
+        if (o->input_count != 1 || parse_pattern(o->inputs[0], &pat) != 1)
+            return cli_fail(err, "--range needs one file name pattern with one %%d conversion "
+                                 "(e.g. frame_%%04d.ply)");
+    }
+    long count = o->range ? (last - first) / step + 1 : o->input_count;
+    char **names = calloc((size_t)count + 1, sizeof *names);
+    long *numbers = calloc((size_t)count + 1, sizeof *numbers);
+    if (names == NULL || numbers == NULL) {
+        free(names);
+        free(numbers);
+        return cli_fail(err, "out of memory");
+    }
+    for (long i = 0; i < count; ++i) {
+        char buffer[2300];
+        if (o->range) {
+            numbers[i] = first + i * step;
+            if (expand_pattern(&pat, numbers[i], buffer, sizeof buffer) != 0) {
+                *names_out = names;
+                *numbers_out = numbers;
+                *count_out = i;
+                return cli_fail(err, "--range: the file name for frame %ld is too long",
+                                numbers[i]);
+            }
+        } else {
+            numbers[i] = i;
+            if (strlen(o->inputs[i]) >= sizeof buffer) {
+                *names_out = names;
+                *numbers_out = numbers;
+                *count_out = i;
+                return cli_fail(err, "%.64s...: the file name is too long", o->inputs[i]);
+            }
+            snprintf(buffer, sizeof buffer, "%s", o->inputs[i]);
+        }
+        names[i] = malloc(strlen(buffer) + 1);
+        if (names[i] == NULL) {
+            *names_out = names;
+            *numbers_out = numbers;
+            *count_out = i;
+            return cli_fail(err, "out of memory");
+        }
+        memcpy(names[i], buffer, strlen(buffer) + 1);
+    }
+    *names_out = names;
+    *numbers_out = numbers;
+    *count_out = count;
+    return 0;
+}
+
+// Parses argv[first..]; `--opt value` and `--opt=value` both work.
+int cli_parse_options(int argc, char **argv, int first, const char *command, cli_options *o) {
+    memset(o, 0, sizeof *o);
+    o->method = SELFCOL_METHOD_EXACT;
+    o->narrow = SELFCOL_NARROW_CLOSED_FORM;
+    o->distance_rel = 0.1;
+    o->view.azimuth = 35.0;
+    o->view.elevation = 25.0;
+    o->view.width = 1024;
+    o->view.height = 768;
+    int only_inputs = 0;
+    const char *cmd = strcmp(command, "check") == 0 ? "check " : "info ";
+    for (int i = first; i < argc; ++i) {
+        char *arg = argv[i];
+        if (only_inputs || arg[0] != '-' || strcmp(arg, "-") == 0) {
+            if (o->input_count == CLI_MAX_INPUTS)
+                return cli_usage_error(cmd, "too many input files (at most %s)", "4096");
+            o->inputs[o->input_count++] = arg;
+            continue;
+        }
+        if (strcmp(arg, "--") == 0) {
+            only_inputs = 1;
+            continue;
+        }
+        if (strcmp(arg, "--version") == 0) {
+            printf("selfcol-cli %s\n", selfcol_version_string());
+            return -1;
+        }
+        if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
+            fputs(strcmp(command, "check") == 0 ? check_help : info_help, stdout);
+            return -1; // --help and --version: done, exit 0
+        }
+        // Split "--name=value".
+        char name[64];
+        const char *value = NULL;
+        const char *eq = strchr(arg, '=');
+        size_t name_length = eq ? (size_t)(eq - arg) : strlen(arg);
+        if (name_length >= sizeof name)
+            return cli_usage_error(cmd, "unknown option '%s'", arg);
+        memcpy(name, arg, name_length);
+        name[name_length] = '\0';
+        static const char *const flags[] = {"--quiet", "--no-weld", "--frames"};
+        int is_flag = lookup(name, flags, 3) >= 0;
+        if (is_flag && eq)
+            return cli_usage_error(cmd, "option '%s' takes no value", name);
+        if (!is_flag) {
+            if (eq)
+                value = eq + 1;
+            else if (i + 1 < argc)
+                value = argv[++i];
+            else
+                return cli_usage_error(cmd, "option '%s' needs a value", name);
+        }
+        int check_only = 1;
+        if (strcmp(name, "--quiet") == 0) {
+            o->quiet = 1;
+            check_only = 0;
+        } else if (strcmp(name, "--no-weld") == 0) {
+            o->no_weld = 1;
+            check_only = 0;
+        } else if (strcmp(name, "--json") == 0) {
+            o->json = value;
+            check_only = 0;
+        } else if (strcmp(name, "--frames") == 0) {
+            o->frames = 1;
+        } else if (strcmp(name, "--range") == 0) {
+            o->range = value;
+        } else if (strcmp(name, "--distance") == 0) {
+            if (parse_double(value, &o->distance) || o->distance < 0)
+                return cli_usage_error(cmd, "--distance needs a number >= 0, not '%s'", value);
+            o->distance_given = 1;
+        } else if (strcmp(name, "--distance-rel") == 0) {
+            if (parse_double(value, &o->distance_rel) || o->distance_rel < 0)
+                return cli_usage_error(cmd, "--distance-rel needs a number >= 0, not '%s'", value);
+            o->distance_rel_given = 1;
+        } else if (strcmp(name, "--method") == 0) {
+            int m = lookup(value, cli_method_names, 5);
+            if (m < 0)
+                return cli_usage_error(
+                    cmd, "unknown method '%s' (exact, bvh, exhaustive, seed, cone)", value);
+            o->method = (uint32_t)m;
+        } else if (strcmp(name, "--narrow") == 0) {
+            int m = lookup(value, cli_narrow_names, 2);
+            if (m < 0)
+                return cli_usage_error(cmd, "unknown narrow phase '%s' (closed, libccd)", value);
+            o->narrow = (uint32_t)m;
+        } else if (strcmp(name, "--csv") == 0) {
+            o->csv = value;
+        } else if (strcmp(name, "--mark") == 0) {
+            o->mark = value;
+        } else if (strcmp(name, "--png") == 0) {
+            o->png = value;
+        } else if (strcmp(name, "--view") == 0) {
+            char *end;
+            o->view.azimuth = strtod(value, &end);
+            if (end == value || *end != ',')
+                return cli_usage_error(cmd, "--view needs AZIMUTH,ELEVATION in degrees, not '%s'",
+                                       value);
+            const char *second = end + 1;
+            o->view.elevation = strtod(second, &end);
+            if (end == second || *end != '\0' || !isfinite(o->view.azimuth) ||
+                !isfinite(o->view.elevation))
+                return cli_usage_error(cmd, "--view needs AZIMUTH,ELEVATION in degrees, not '%s'",
+                                       value);
+        } else if (strcmp(name, "--size") == 0) {
+            int w, h;
+            char tail;
+            if (sscanf(value, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 ||
+                h > 4096)
+                return cli_usage_error(cmd, "--size needs WIDTHxHEIGHT (16 to 4096), not '%s'",
+                                       value);
+            o->view.width = w;
+            o->view.height = h;
+        } else if (strcmp(name, "--fail-on") == 0) {
+            if (strcmp(value, "proximity") == 0)
+                o->fail_on_proximity = 1;
+            else if (strcmp(value, "interference") == 0)
+                o->fail_on_proximity = 0;
+            else
+                return cli_usage_error(
+                    cmd, "--fail-on takes 'interference' or 'proximity', not '%s'", value);
+        } else {
+            return cli_usage_error(cmd, "unknown option '%s'", name);
+        }
+        if (check_only && strcmp(command, "check") != 0)
+            return cli_usage_error(cmd, "option '%s' belongs to the check command", name);
+    }
+    if (o->distance_given && o->distance_rel_given)
+        return cli_usage_error(cmd, "give either --distance or --distance-rel, not both%s", "");
+    if (o->json && o->csv && strcmp(o->json, "-") == 0 && strcmp(o->csv, "-") == 0)
+        return cli_usage_error(cmd, "--json and --csv cannot both write to standard output%s", "");
+    // Output names may carry one %d for the frame number; anything else with
+    // a % is refused here rather than written under a surprising name.
+    const char *named[2] = {o->mark, o->png};
+    for (int i = 0; i < 2; ++i) {
+        pattern p;
+        if (named[i] != NULL && parse_pattern(named[i], &p) < 0)
+            return cli_usage_error(cmd,
+                                   "bad file name pattern '%s': at most one %%d (flag 0, width up "
+                                   "to 64), and %%%% for a literal %%",
+                                   named[i]);
+    }
+    return 0;
+}

@@ -1,0 +1,448 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// selfcol-cli check: the contacts of one mesh, of two meshes, or of a
+// sequence of frames of one topology (hierarchy built once, refit per frame).
+#define _POSIX_C_SOURCE 200809L
+#include "commands.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+// Combined geometry of the parts (second mesh's indices after the first's),
+// for --png and --mark.
+typedef struct scene {
+    double *positions;
+    uint32_t *triangles;
+    size_t vertex_count, triangle_count;
+} scene;
+
+static int scene_build(scene *s, cli_part *const *parts, int count) {
+    memset(s, 0, sizeof *s);
+    for (int i = 0; i < count; ++i) {
+        s->vertex_count += parts[i]->file.vertex_count;
+        s->triangle_count += parts[i]->file.triangle_count;
+    }
+    s->positions = malloc(3 * s->vertex_count * sizeof(double) + 1);
+    s->triangles = malloc(3 * s->triangle_count * sizeof(uint32_t) + 1);
+    if (s->positions == NULL || s->triangles == NULL)
+        return -1;
+    size_t v = 0, t = 0;
+    for (int i = 0; i < count; ++i) {
+        const cli_part *p = parts[i];
+        memcpy(s->positions + 3 * v, selfcol_mesh_positions(p->mesh),
+               3 * p->file.vertex_count * sizeof(double));
+        for (size_t j = 0; j < 3 * p->file.triangle_count; ++j)
+            s->triangles[3 * t + j] = p->welded_triangles[j] + (uint32_t)v;
+        v += p->file.vertex_count;
+        t += p->file.triangle_count;
+    }
+    return 0;
+}
+
+static void scene_free(scene *s) {
+    free(s->positions);
+    free(s->triangles);
+}
+
+static int write_pictures(const cli_options *o, long frame, cli_part *const *parts, int count,
+                          const unsigned char *classes, cli_error *err) {
+    if (o->mark == NULL && o->png == NULL)
+        return 0;
+    scene s;
+    if (scene_build(&s, parts, count) != 0) {
+        scene_free(&s);
+        return cli_fail(err, "out of memory");
+    }
+    char path[2048];
+    int status = 0;
+    if (o->mark != NULL) {
+        if (cli_output_name(o->mark, frame, path, sizeof path) != 0) {
+            scene_free(&s);
+            return cli_fail(err, "--mark: the file name is too long");
+        }
+        status = cli_write_marked_ply(path, s.positions, s.vertex_count, s.triangles,
+                                      s.triangle_count, classes, err);
+    }
+    if (status == 0 && o->png != NULL) {
+        if (cli_output_name(o->png, frame, path, sizeof path) != 0) {
+            scene_free(&s);
+            return cli_fail(err, "--png: the file name is too long");
+        }
+        status =
+            cli_write_png(path, s.positions, s.triangles, s.triangle_count, classes, &o->view, err);
+    }
+    scene_free(&s);
+    return status;
+}
+
+typedef struct check_state {
+    const cli_options *o;
+    FILE *json, *csv, *summary;
+    selfcol_contacts *contacts;
+    cli_sets sets;
+    unsigned char *classes;
+    selfcol_query_options query;
+    cli_run_info info;
+    cli_progress *progress; /* cleared before each summary line */
+    long frames_checked, frames_intersecting, frames_near;
+    cli_array intersecting_frames; /* long: frame numbers with interferences */
+    int found;                     /* exit status 1 */
+} check_state;
+
+static void print_summary_header(check_state *st, cli_part *const *parts, int count) {
+    if (st->summary == NULL)
+        return;
+    FILE *s = st->summary;
+    fprintf(s, "selfcol-cli %s", selfcol_version_string());
+    for (int i = 0; i < count; ++i)
+        fprintf(s, "  %s", parts[i]->path);
+    fputc('\n', s);
+    for (int i = 0; i < count; ++i) {
+        const cli_part *p = parts[i];
+        fprintf(s, "  %s%s %s: %zu vertices (%zu welded), %zu triangles, %zu edges\n",
+                count > 1 ? (i == 0 ? "mesh 1, " : "mesh 2, ") : "",
+                cli_format_name(p->file.format), p->file.format_detail, p->file.vertex_count,
+                p->merged_vertices, p->file.triangle_count,
+                selfcol_mesh_count(p->mesh, SELFCOL_MESH_EDGES));
+    }
+    if (st->info.distance_rel >= 0)
+        fprintf(s, "  detection distance d = %g (%g x mean edge length %g)\n", st->info.distance,
+                st->info.distance_rel, st->info.mean_edge);
+    else
+        fprintf(s, "  detection distance d = %g (mean edge length %g)\n", st->info.distance,
+                st->info.mean_edge);
+    fprintf(s, "  method %s, narrow phase %s\n", st->info.method, st->info.narrow);
+}
+
+// Runs the queries of one frame and writes its outputs.
+static int check_frame(check_state *st, cli_part *const *parts, int count, long frame,
+                       cli_error *err) {
+    const cli_options *o = st->o;
+    cli_sets_clear(&st->sets);
+    size_t triangles = 0;
+    for (int i = 0; i < count; ++i)
+        triangles += parts[i]->file.triangle_count;
+    if (st->classes)
+        memset(st->classes, 0, triangles);
+    double start = cli_now();
+    for (int q = 0; q < (count == 2 ? 3 : 1); ++q) {
+        cli_part *pair[2];
+        int rc;
+        if (q < count) {
+            pair[0] = pair[1] = parts[q];
+            rc = selfcol_hierarchy_self_collide(parts[q]->hierarchy, st->contacts, &st->query);
+        } else {
+            pair[0] = parts[0];
+            pair[1] = parts[1];
+            rc = selfcol_hierarchy_collide(parts[0]->hierarchy, parts[1]->hierarchy, st->contacts,
+                                           &st->query);
+        }
+        if (rc != SELFCOL_OK)
+            return cli_fail(err, "query failed: %s", selfcol_status_string(rc));
+        if (cli_sets_add(&st->sets, st->contacts, pair, st->classes) != 0)
+            return cli_fail(err, "out of memory");
+    }
+    cli_sets_finish(&st->sets);
+    st->info.seconds_query = cli_now() - start;
+    st->info.frame = o->frames ? frame : -1;
+    if (st->json)
+        cli_write_json(st->json, &st->info, &st->sets);
+    if (st->csv)
+        cli_write_csv(st->csv, o->frames ? frame : 0, &st->sets);
+    size_t proximities = st->sets.vf.count + st->sets.ee.count;
+    int intersects = st->sets.ef.count > 0;
+    st->frames_checked++;
+    st->frames_intersecting += intersects;
+    if (intersects && cli_array_reserve(&st->intersecting_frames, 1) == 0)
+        ((long *)st->intersecting_frames.data)[st->intersecting_frames.count++] = frame;
+    st->frames_near += proximities > 0;
+    if (intersects || (o->fail_on_proximity && proximities > 0))
+        st->found = 1;
+    if (st->summary) {
+        FILE *s = st->summary;
+        cli_progress_end(st->progress);
+        if (o->frames)
+            fprintf(s, "  frame %ld (%s): ", frame, parts[0]->path);
+        else
+            fputs("  ", s);
+        fprintf(s,
+                "VF proximities %zu, EE proximities %zu, EF interferences %zu, intersecting "
+                "triangle pairs %zu\n",
+                st->sets.vf.count, st->sets.ee.count, st->sets.ef.count, st->sets.tt.count);
+        if (!o->frames)
+            fprintf(s,
+                    "  time: load %.1f ms, topology %.1f ms, hierarchy %.1f ms, query %.1f ms "
+                    "(broad %.1f, narrow %.1f)\n",
+                    1e3 * st->info.seconds_load, 1e3 * st->info.seconds_topology,
+                    1e3 * st->info.seconds_hierarchy, 1e3 * st->info.seconds_query,
+                    1e3 * st->sets.stats.broad_seconds, 1e3 * st->sets.stats.narrow_seconds);
+    }
+    return write_pictures(o, frame, parts, count, st->classes, err);
+}
+
+// "frames with interferences: 3, 5-9, 12": runs of consecutive frames of the
+// sequence (in --range steps) as FIRST-LAST.
+static void print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
+                             long sequence_count) {
+    const long *f = frames->data;
+    if (frames->count == 0)
+        return;
+    fputs("  frames with interferences:", out);
+    size_t i = 0;
+    long at = 0; // position of f[i] in the sequence
+    while (i < frames->count) {
+        while (at < sequence_count && sequence[at] != f[i])
+            ++at;
+        size_t j = i;
+        while (j + 1 < frames->count && at + (long)(j - i) + 1 < sequence_count &&
+               sequence[at + (long)(j - i) + 1] == f[j + 1])
+            ++j;
+        if (j > i)
+            fprintf(out, "%s %ld-%ld", i ? "," : "", f[i], f[j]);
+        else
+            fprintf(out, "%s %ld", i ? "," : "", f[i]);
+        at += (long)(j - i) + 1;
+        i = j + 1;
+    }
+    fputc('\n', out);
+}
+
+static double combined_mean_edge(cli_part *const *parts, int count) {
+    double sum = 0.0, edges = 0.0;
+    for (int i = 0; i < count; ++i) {
+        double e = (double)selfcol_mesh_count(parts[i]->mesh, SELFCOL_MESH_EDGES);
+        sum += e * selfcol_mesh_mean_edge_length(parts[i]->mesh);
+        edges += e;
+    }
+    return edges > 0 ? sum / edges : 0.0;
+}
+
+// Positions of a later frame: same vertex count and triangles as frame 0.
+static int load_next_frame(cli_part *part, const char *path, cli_progress *progress,
+                           size_t *split_groups, cli_error *err) {
+    cli_mesh next;
+    if (cli_read_mesh(path, &next, err, progress) != 0)
+        return -1;
+    int status = 0;
+    if (next.vertex_count != part->file.vertex_count ||
+        next.triangle_count != part->file.triangle_count ||
+        memcmp(next.triangles, part->file.triangles, 3 * next.triangle_count * sizeof(uint32_t)))
+        status = cli_fail(err,
+                          "%s: topology differs from the first frame (%zu vertices, %zu "
+                          "triangles; the first frame has %zu and %zu)",
+                          path, next.vertex_count, next.triangle_count, part->file.vertex_count,
+                          part->file.triangle_count);
+    if (status == 0) {
+        int rc = selfcol_mesh_set_positions(part->mesh, next.positions, next.vertex_count);
+        if (rc != SELFCOL_OK)
+            status = cli_fail(err, "%s: %s", path, selfcol_status_string(rc));
+    }
+    // The weld was decided on the first frame. A welded vertex that moved
+    // away from its group's representative is a seam that tore: count them.
+    if (status == 0) {
+        const uint32_t *file_tris = part->file.triangles;
+        for (size_t i = 0; i < 3 * next.triangle_count; ++i) {
+            uint32_t v = file_tris[i], r = part->welded_triangles[i];
+            if (v != r && memcmp(next.positions + 3 * (size_t)v, next.positions + 3 * (size_t)r,
+                                 3 * sizeof(double)) != 0) {
+                ++*split_groups;
+                break;
+            }
+        }
+    }
+    cli_mesh_free(&next);
+    return status;
+}
+
+int cli_command_check(const cli_options *o) {
+    cli_error err;
+    err.message[0] = '\0';
+    int exit_code = CLI_EXIT_ERROR;
+    if (o->input_count == 0)
+        return cli_usage_error("check ", "no mesh given%s", "");
+    int sequence = o->frames || o->range != NULL;
+    if (!sequence && o->input_count > 2)
+        return cli_usage_error("check ",
+                               "check takes one or two meshes; for frames of one mesh use --frames "
+                               "or --range (got %s)",
+                               "more");
+    cli_options local = *o;
+    local.frames = sequence;
+    o = &local;
+
+    cli_progress progress;
+    cli_progress_init(&progress, !o->quiet);
+    check_state st;
+    memset(&st, 0, sizeof st);
+    st.o = o;
+    st.progress = &progress;
+    st.intersecting_frames.item_size = sizeof(long);
+    cli_sets_init(&st.sets);
+    cli_part parts_storage[2];
+    memset(parts_storage, 0, sizeof parts_storage);
+    cli_part *parts[2] = {&parts_storage[0], &parts_storage[1]};
+    char **frame_names = NULL;
+    long *frame_numbers = NULL;
+    long frame_count = 0;
+    int count = sequence ? 1 : o->input_count;
+    const char *files[2] = {NULL, NULL};
+    size_t split_frames = 0;
+
+    if (sequence && cli_frame_list(o, &frame_names, &frame_numbers, &frame_count, &err) != 0)
+        goto done;
+    // Outputs first, so a bad output path fails before a long run.
+    int stdout_taken =
+        (o->json && strcmp(o->json, "-") == 0) || (o->csv && strcmp(o->csv, "-") == 0);
+    st.summary = o->quiet ? NULL : stdout_taken ? stderr : stdout;
+    if (o->json && (st.json = cli_open_output(o->json, &err)) == NULL)
+        goto done;
+    if (o->csv && (st.csv = cli_open_output(o->csv, &err)) == NULL)
+        goto done;
+    if (st.csv)
+        cli_write_csv_header(st.csv);
+
+    double t0 = cli_now();
+    for (int i = 0; i < count; ++i) {
+        parts[i]->path = sequence ? frame_names[0] : o->inputs[i];
+        files[i] = parts[i]->path;
+        if (cli_read_mesh(parts[i]->path, &parts[i]->file, &err, &progress) != 0)
+            goto done;
+    }
+    st.info.seconds_load = cli_now() - t0;
+    for (int i = 0; i < count; ++i)
+        if (cli_part_create(parts[i], o->no_weld, 1, &st.info.seconds_topology,
+                            &st.info.seconds_hierarchy, &err) != 0)
+            goto done;
+    parts[1]->vertex_offset = (uint32_t)parts[0]->file.vertex_count;
+    parts[1]->triangle_offset = (uint32_t)parts[0]->file.triangle_count;
+    if (count == 2 && (uint64_t)parts[0]->file.vertex_count + parts[1]->file.vertex_count >=
+                          (uint64_t)UINT32_MAX - 1) {
+        cli_fail(&err, "the two meshes have too many vertices together");
+        goto done;
+    }
+
+    int rc = selfcol_contacts_create(&st.contacts, NULL);
+    if (rc != SELFCOL_OK) {
+        cli_fail(&err, "%s", selfcol_status_string(rc));
+        goto done;
+    }
+    selfcol_query_options_init(&st.query, SELFCOL_QUERY_OPTIONS_VERSION);
+    st.query.method = o->method;
+    st.query.narrow = o->narrow;
+    st.info.mean_edge = combined_mean_edge(parts, count);
+    st.info.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
+    st.info.distance = o->distance_given ? o->distance : o->distance_rel * st.info.mean_edge;
+    st.query.distance = st.info.distance;
+    if (!(st.info.distance <= SELFCOL_MESH_MAX_COORDINATE)) {
+        if (o->distance_given)
+            cli_fail(&err, "--distance %g is above the largest the library accepts (%g)",
+                     o->distance, SELFCOL_MESH_MAX_COORDINATE);
+        else
+            cli_fail(&err,
+                     "--distance-rel %g x mean edge length %g = %g is above the largest "
+                     "distance the library accepts (%g)",
+                     o->distance_rel, st.info.mean_edge, st.info.distance,
+                     SELFCOL_MESH_MAX_COORDINATE);
+        goto done;
+    }
+    st.info.method = cli_method_names[o->method];
+    st.info.narrow = cli_narrow_names[o->narrow];
+    st.info.files = files;
+    st.info.file_count = count;
+    for (int i = 0; i < count; ++i) {
+        st.info.vertices += parts[i]->file.vertex_count;
+        st.info.triangles += parts[i]->file.triangle_count;
+        st.info.edges += selfcol_mesh_count(parts[i]->mesh, SELFCOL_MESH_EDGES);
+        st.info.merged_vertices += parts[i]->merged_vertices;
+    }
+    if (o->mark || o->png) {
+        st.classes = malloc(st.info.triangles + 1);
+        if (st.classes == NULL) {
+            cli_fail(&err, "out of memory");
+            goto done;
+        }
+    }
+    print_summary_header(&st, parts, count);
+
+    if (!sequence) {
+        if (check_frame(&st, parts, count, 0, &err) != 0)
+            goto done;
+    } else {
+        for (long f = 0; f < frame_count; ++f) {
+            if (f > 0) {
+                double start = cli_now();
+                parts[0]->path = frame_names[f];
+                files[0] = frame_names[f];
+                if (load_next_frame(parts[0], frame_names[f], &progress, &split_frames, &err))
+                    goto done;
+                st.info.seconds_load = cli_now() - start;
+                start = cli_now();
+                rc = selfcol_hierarchy_refit(parts[0]->hierarchy);
+                st.info.seconds_refit = cli_now() - start;
+                st.info.seconds_topology = st.info.seconds_hierarchy = 0.0;
+                if (rc != SELFCOL_OK) {
+                    cli_fail(&err, "%s: %s", frame_names[f], selfcol_status_string(rc));
+                    goto done;
+                }
+            }
+            cli_progress_update(&progress, "frames", (double)f, (double)frame_count);
+            if (check_frame(&st, parts, 1, frame_numbers[f], &err) != 0)
+                goto done;
+        }
+        cli_progress_end(&progress);
+        if (st.summary) {
+            fprintf(st.summary, "  %ld frame(s): %ld with interferences, %ld with proximities\n",
+                    st.frames_checked, st.frames_intersecting, st.frames_near);
+            print_frame_list(st.summary, &st.intersecting_frames, frame_numbers, frame_count);
+            if (split_frames)
+                fprintf(st.summary,
+                        "  warning: in %zu frame(s) vertices welded in the first frame have "
+                        "moved apart (the weld keeps the first frame's topology)\n",
+                        split_frames);
+        }
+    }
+    if (st.summary)
+        fprintf(st.summary, "  result: %s (exit status %d)\n",
+                st.frames_intersecting ? "INTERSECTS"
+                : st.frames_near       ? "no interference, proximities found"
+                                       : "clean",
+                st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
+    if (cli_close_output(st.json, o->json, &err) != 0) {
+        st.json = NULL;
+        goto done;
+    }
+    st.json = NULL;
+    if (cli_close_output(st.csv, o->csv, &err) != 0) {
+        st.csv = NULL;
+        goto done;
+    }
+    st.csv = NULL;
+    exit_code = st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN;
+done:
+    cli_progress_end(&progress);
+    // The summary went to stdout: a full disk or closed pipe there is an
+    // error too, not a silent exit status.
+    if (exit_code != CLI_EXIT_ERROR && cli_stdout_write_failed()) {
+        cli_fail(&err, "cannot write to standard output: %s", strerror(errno ? errno : EIO));
+        exit_code = CLI_EXIT_ERROR;
+    }
+    if (exit_code == CLI_EXIT_ERROR)
+        fprintf(stderr, "selfcol-cli: %s\n", err.message);
+    if (st.json && st.json != stdout)
+        fclose(st.json);
+    if (st.csv && st.csv != stdout)
+        fclose(st.csv);
+    selfcol_contacts_destroy(st.contacts);
+    cli_sets_free(&st.sets);
+    free(st.intersecting_frames.data);
+    free(st.classes);
+    cli_part_free(parts[0]);
+    cli_part_free(parts[1]);
+    for (long i = 0; frame_names && i < frame_count; ++i)
+        free(frame_names[i]);
+    free(frame_names);
+    free(frame_numbers);
+    return exit_code;
+}

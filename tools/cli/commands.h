@@ -1,0 +1,70 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// selfcol-cli commands: the parsed options (args.c), the check (check.c) and
+// info (info.c) commands, and the meshes they load into the library (part.c).
+#ifndef SELFCOL_CLI_COMMANDS_H
+#define SELFCOL_CLI_COMMANDS_H
+
+#include "cli.h"
+
+enum { CLI_EXIT_CLEAN = 0, CLI_EXIT_FOUND = 1, CLI_EXIT_ERROR = 2 };
+enum { CLI_MAX_INPUTS = 4096 };
+
+typedef struct cli_options {
+    double distance, distance_rel;
+    int distance_given, distance_rel_given;
+    uint32_t method, narrow;
+    const char *json, *csv, *mark, *png;
+    int quiet, fail_on_proximity, no_weld, frames;
+    const char *range; /* "FIRST:LAST[:STEP]" for a pattern */
+    cli_view view;
+    const char *inputs[CLI_MAX_INPUTS];
+    int input_count;
+} cli_options;
+
+/** Names of the --method and --narrow values, indexed by the library's enums. */
+extern const char *const cli_method_names[5];
+extern const char *const cli_narrow_names[2];
+
+/** selfcol-cli --help. */
+extern const char cli_main_help[];
+
+/**
+ * Prints "selfcol-cli: " format (with what) and a pointer to command's --help
+ * (command: "check ", "info " or NULL) on stderr. Returns CLI_EXIT_ERROR.
+ */
+int cli_usage_error(const char *command, const char *format, const char *what);
+
+/**
+ * Parses argv[first..] for command ("check" or "info") into o. Returns 0, -1
+ * after --help or --version (exit 0), or CLI_EXIT_ERROR after a usage error.
+ */
+int cli_parse_options(int argc, char **argv, int first, const char *command, cli_options *o);
+
+/** An output name (--mark, --png) for a frame. Returns 0, or -1 when it does not fit. */
+int cli_output_name(const char *name, long frame, char *out, size_t out_size);
+
+/**
+ * The frame files of --frames or --range and their frame numbers. Returns 0,
+ * or -1 with err set; the arrays (count_out names) are to be freed either way.
+ */
+int cli_frame_list(const cli_options *o, char ***names_out, long **numbers_out, long *count_out,
+                   cli_error *err);
+
+/** Frees what cli_part_create made and the mesh as read, and zeroes part. */
+void cli_part_free(cli_part *part);
+
+/**
+ * Welds part->file (unless no_weld) and creates its library mesh and, when
+ * build_hierarchy, its hierarchy; adds the time taken to the two counters.
+ * Returns 0, or -1 with err set.
+ */
+int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *seconds_topology,
+                    double *seconds_hierarchy, cli_error *err);
+
+/** The commands: each returns the exit status. */
+int cli_command_check(const cli_options *o);
+int cli_command_info(const cli_options *o);
+
+#endif /* SELFCOL_CLI_COMMANDS_H */

@@ -1,0 +1,56 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Loading meshes into the library.
+#define _POSIX_C_SOURCE 200809L
+#include "commands.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void cli_part_free(cli_part *part) {
+    selfcol_hierarchy_destroy(part->hierarchy);
+    selfcol_mesh_destroy(part->mesh);
+    free(part->welded_triangles);
+    cli_mesh_free(&part->file);
+    memset(part, 0, sizeof *part);
+}
+
+// Welds (unless no_weld) and creates the library mesh: its vertices are the
+// file's vertices (duplicates stay, unreferenced), so library indices are
+// file indices and each welded group is named by its lowest file index.
+int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *seconds_topology,
+                    double *seconds_hierarchy, cli_error *err) {
+    size_t nv = part->file.vertex_count, nt = part->file.triangle_count;
+    part->welded_triangles = malloc(3 * nt * sizeof(uint32_t) + 1);
+    uint32_t *representative = malloc(nv * sizeof(uint32_t) + 1);
+    if (part->welded_triangles == NULL || representative == NULL) {
+        free(representative);
+        return cli_fail(err, "%s: out of memory", part->path);
+    }
+    double start = cli_now();
+    if (no_weld) {
+        for (size_t v = 0; v < nv; ++v)
+            representative[v] = (uint32_t)v;
+        part->merged_vertices = 0;
+    } else {
+        part->merged_vertices = cli_weld(part->file.positions, nv, representative);
+        if (part->merged_vertices == (size_t)-1) {
+            free(representative);
+            return cli_fail(err, "%s: out of memory", part->path);
+        }
+    }
+    for (size_t i = 0; i < 3 * nt; ++i)
+        part->welded_triangles[i] = representative[part->file.triangles[i]];
+    free(representative);
+    int rc = selfcol_mesh_create(&part->mesh, nv, part->file.positions, nt, part->welded_triangles,
+                                 NULL);
+    double mid = cli_now();
+    *seconds_topology += mid - start;
+    if (rc == SELFCOL_OK && build_hierarchy)
+        rc = selfcol_hierarchy_create(&part->hierarchy, part->mesh, NULL);
+    *seconds_hierarchy += cli_now() - mid;
+    if (rc != SELFCOL_OK)
+        return cli_fail(err, "%s: %s", part->path, selfcol_status_string(rc));
+    return 0;
+}
