@@ -76,6 +76,7 @@
 // edge, 62 tests and ~217k edges per query (stats: contour_seconds).
 #include "query.h"
 
+#include "cone.h"
 #include "contacts.h"
 #include "core.h"
 #include "hierarchy.h"
@@ -83,8 +84,6 @@
 
 #include <math.h>
 #include <stdlib.h>
-
-#define HALF_PI 1.5707963267948966
 
 // One boundary half-edge in the projection plane.
 typedef struct projected_edge {
@@ -374,23 +373,11 @@ int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edge
     return counted_contour(scratch_owner, m, half_edges, count, v, d, work);
 }
 
-// Unit vector of a float axis, in double.
-static void unit_axis(const selfcol_node *n, double out[3]) {
-    double len = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        out[k] = n->cone_axis[k];
-        len += out[k] * out[k];
-    }
-    len = sqrt(len);
-    for (int k = 0; k < 3; ++k)
-        out[k] /= len;
-}
-
 int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, double d,
                                     selfcol_contacts *scratch_owner) {
     const selfcol_node *n = &h->nodes[id];
     const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
-    if ((n->flags & need) != need || !(n->cone_angle < HALF_PI))
+    if ((n->flags & need) != need || !(n->cone_angle < SELFCOL_HALF_PI))
         return 0;
     // (3): altitudes. The float axis differs from the exact cone's by far less
     // than the 1e-6 rad the refit added to the angle.
@@ -404,44 +391,41 @@ int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, dou
     if (work == NULL)
         return 0; // no memory: do not skip (still exact)
     double v[3];
-    unit_axis(n, v);
+    selfcol_cone__unit_axis(n->cone_axis, v);
     // A disk's boundary is one loop.
     return counted_contour(scratch_owner, h->mesh, h->bedge + n->boundary_begin, b, v, d, work);
-}
-
-static double angle_between_units(const double u[3], const double v[3]) {
-    double c = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
-    return acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
 }
 
 int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib, double d,
                                     selfcol_contacts *scratch_owner) {
     const selfcol_node *na = &h->nodes[ia], *nb = &h->nodes[ib];
     const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
-    // Leaves keep no boundary list (hierarchy_build.c): not tried.
+    // Leaves keep no boundary list (hierarchy_boundary.c): not tried.
     if (na->child_count == 0 || nb->child_count == 0)
         return 0;
-    if ((na->flags & nb->flags & need) != need || !(na->cone_angle < HALF_PI) ||
-        !(nb->cone_angle < HALF_PI))
+    if ((na->flags & nb->flags & need) != need || !(na->cone_angle < SELFCOL_HALF_PI) ||
+        !(nb->cone_angle < SELFCOL_HALF_PI))
         return 0;
     double ta = na->cone_angle, tb = nb->cone_angle;
     // Cheap rejections first (most pairs a crumpled sheet visits fail
     // here): the joint cone needs ta + phi + tb < pi, and (3) needs at least
     // d <= the smaller altitude.
-    if (!(ta + tb < 2.0 * HALF_PI) ||
+    if (!(ta + tb < 2.0 * SELFCOL_HALF_PI) ||
         !(d <= (double)(h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia]
                                                                   : h->min_altitude[ib])))
         return 0;
     double ua[3], ub[3], v[3];
-    unit_axis(na, ua);
-    unit_axis(nb, ub);
+    selfcol_cone__unit_axis(na->cone_axis, ua);
+    selfcol_cone__unit_axis(nb->cone_axis, ub);
     // phi < pi - ta - tb  <=>  cos(phi) > -cos(ta + tb); a prefilter only
     // (the rigorous half-angle is computed below).
     if (!(ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2] > -cos(ta + tb) - 1e-12))
         return 0;
     // (1): a projection direction V inside the smallest cone around both
-    // cones, and a rigorous half-angle around V.
-    double phi = angle_between_units(ua, ub);
+    // cones, and a rigorous half-angle around V. V is the axis
+    // selfcol_cone__merge gives, in its cases, except that a phi <= 1e-9
+    // takes a's axis (theta below bounds the normals around any V).
+    double phi = selfcol_cone__angle_between(ua, ub);
     if (phi + tb <= ta || !(phi > 1e-9)) {
         for (int k = 0; k < 3; ++k)
             v[k] = ua[k];
@@ -450,22 +434,14 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
             v[k] = ub[k];
     } else {
         double half = 0.5 * (ta + phi + tb);
-        if (!(half < HALF_PI))
+        if (!(half < SELFCOL_HALF_PI))
             return 0;
-        double t = (half - ta) / phi;
-        double s0 = sin((1.0 - t) * phi) / sin(phi), s1 = sin(t * phi) / sin(phi);
-        double len = 0.0;
-        for (int k = 0; k < 3; ++k) {
-            v[k] = s0 * ua[k] + s1 * ub[k];
-            len += v[k] * v[k];
-        }
-        len = sqrt(len);
-        for (int k = 0; k < 3; ++k)
-            v[k] /= len;
+        selfcol_cone__turn_axis(v, ua, ub, phi, half - ta);
     }
-    double theta_a = angle_between_units(v, ua) + ta, theta_b = angle_between_units(v, ub) + tb;
+    double theta_a = selfcol_cone__angle_between(v, ua) + ta,
+           theta_b = selfcol_cone__angle_between(v, ub) + tb;
     double theta = (theta_a > theta_b ? theta_a : theta_b) + 1e-7;
-    if (!(theta < HALF_PI))
+    if (!(theta < SELFCOL_HALF_PI))
         return 0;
     // (3)
     double h_min =

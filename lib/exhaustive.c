@@ -15,34 +15,16 @@
 // (kind, first_mesh, first, second_mesh, second) without a sort.
 #include "query.h"
 
+#include "box.h"
+
 typedef struct box {
     double lo[3];
     double hi[3];
 } box;
 
-static void box_of(box *b, const double *const *points, int count) {
-    for (int k = 0; k < 3; ++k) {
-        b->lo[k] = b->hi[k] = points[0][k];
-        for (int i = 1; i < count; ++i) {
-            b->lo[k] = points[i][k] < b->lo[k] ? points[i][k] : b->lo[k];
-            b->hi[k] = points[i][k] > b->hi[k] ? points[i][k] : b->hi[k];
-        }
-    }
-}
-
 // Boxes closer than d on every axis (d = 0: overlapping or touching).
 static int boxes_near(const box *a, const box *b, double d) {
-    for (int k = 0; k < 3; ++k)
-        if (a->lo[k] - d > b->hi[k] || b->lo[k] - d > a->hi[k])
-            return 0;
-    return 1;
-}
-
-static int point_near_box(const double p[3], const box *b, double d) {
-    for (int k = 0; k < 3; ++k)
-        if (p[k] < b->lo[k] - d || p[k] > b->hi[k] + d)
-            return 0;
-    return 1;
+    return selfcol_box__near(a->lo, a->hi, b->lo, b->hi, d);
 }
 
 typedef struct mesh_boxes {
@@ -56,12 +38,12 @@ static void compute_boxes(const selfcol_mesh *m, mesh_boxes *out) {
         const double *pts[3] = {selfcol_mesh__position(m, tri[0]),
                                 selfcol_mesh__position(m, tri[1]),
                                 selfcol_mesh__position(m, tri[2])};
-        box_of(&out->triangles[t], pts, 3);
+        selfcol_box__of_points(out->triangles[t].lo, out->triangles[t].hi, pts, 3);
     }
     for (size_t e = 0; e < m->edge_count; ++e) {
         const double *pts[2] = {selfcol_mesh__position(m, m->edges[2 * e]),
                                 selfcol_mesh__position(m, m->edges[2 * e + 1])};
-        box_of(&out->edges[e], pts, 2);
+        selfcol_box__of_points(out->edges[e].lo, out->edges[e].hi, pts, 2);
     }
 }
 
@@ -80,7 +62,8 @@ static int run_vf(selfcol_query *q, int mv, int mt, const mesh_boxes *boxes) {
             if (q->self && is_corner(v, mesht->triangles + 3 * (size_t)t))
                 continue;
             q->out->stats.candidate_pairs++;
-            if (!point_near_box(p, &boxes[mt].triangles[t], q->distance))
+            const box *tb = &boxes[mt].triangles[t];
+            if (!selfcol_box__point_near(p, tb->lo, tb->hi, q->distance))
                 continue;
             int status = selfcol_pairs__test_vf(q, mv, v, mt, t);
             if (status != SELFCOL_OK)

@@ -76,8 +76,9 @@ struct selfcol_hierarchy {
     uint64_t refit_version; // the mesh's positions_version at the last refit
 };
 
-// Builds the tree (hierarchy_build.c); the hierarchy's mesh and allocator are
-// set. SELFCOL_OK or SELFCOL_ENOMEM (arrays built so far are freed by destroy).
+// Builds the tree (hierarchy_build.c, with the stages of hierarchy_build.h);
+// the hierarchy's mesh and allocator are set. SELFCOL_OK or SELFCOL_ENOMEM
+// (arrays built so far are freed by destroy).
 int selfcol_hierarchy__build(selfcol_hierarchy *hierarchy);
 
 // Recomputes boxes, masks and cones (hierarchy_refit.c).
@@ -91,12 +92,5 @@ int selfcol_hierarchy__validate(const selfcol_hierarchy *hierarchy, int refit);
 
 // The 14 sample directions (unnormalised: components in {-1, 0, 1}).
 extern const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3];
-
-// 1 when the two (disjoint) nodes' patches share a manifold edge: their
-// sorted boundary lists meet, or for a leaf, an edge of its triangles has a
-// triangle of the other node. Patches touching only at a vertex count as
-// not adjacent, which only costs culling.
-int selfcol_hierarchy__adjacent(const selfcol_hierarchy *h, const selfcol_node *a,
-                                const selfcol_node *b);
 
 #endif // SELFCOL_HIERARCHY_INTERNAL_H

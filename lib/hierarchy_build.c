@@ -17,13 +17,18 @@
 // count, so the whole build is O(n). Nothing here compares all pairs.
 //
 // The nodes are then laid out breadth-first (children contiguous) and the
-// triangles depth-first (every patch a contiguous range), each vertex and edge
-// is given one owner triangle, triangles are flipped to orient each component
-// consistently, and each node gets the list of its boundary half-edges,
-// sorted by edge (the adjacency test of SEED/CONE and the contour test of
-// EXACT read it) and its disk flag (see build_disks).
+// triangles depth-first (every patch a contiguous range). This file holds the
+// matching, the layout and the driver of the whole build; the later stages
+// live next to it (hierarchy_build.h): each vertex and edge is given one
+// owner triangle and triangles are flipped to orient each component
+// consistently (hierarchy_orient.c), and each node gets the list of its
+// boundary half-edges, sorted by edge (the adjacency test of SEED/CONE and
+// the contour test of EXACT read it) and its disk flag
+// (hierarchy_boundary.c).
+#include "hierarchy_build.h"
+
 #include "alloc.h"
-#include "hierarchy.h"
+#include "box.h"
 
 #include <float.h>
 #include <string.h>
@@ -97,45 +102,6 @@ static int add_children(builder *b, const uint32_t *ids, size_t count) {
     return SELFCOL_OK;
 }
 
-static double merged_half_perimeter(const double *a, const double *b) {
-    double sum = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        double lo = a[k] < b[k] ? a[k] : b[k];
-        double hi = a[3 + k] > b[3 + k] ? a[3 + k] : b[3 + k];
-        sum += hi - lo;
-    }
-    return sum;
-}
-
-// Index of t in the ascending list a of n entries (t must be there).
-static uint32_t position_in(const uint32_t *a, uint32_t n, uint32_t t) {
-    uint32_t lo = 0, hi = n;
-    while (lo < hi) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (a[mid] < t)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
-}
-
-// The triangle after t in edge e's (ascending) list, or SELFCOL_INVALID_INDEX.
-static uint32_t successor_on_edge(const selfcol_mesh *m, uint32_t e, uint32_t t) {
-    const uint32_t first = m->edge_tri_offsets[e], n = m->edge_tri_offsets[e + 1] - first;
-    uint32_t at = position_in(m->edge_tris + first, n, t);
-    return at + 1 < n ? m->edge_tris[first + at + 1] : SELFCOL_INVALID_INDEX;
-}
-
-// Union-find root with path halving (over a vertex star).
-static uint32_t star_root(uint32_t *uf, uint32_t x) {
-    while (uf[x] != x) {
-        uf[x] = uf[uf[x]];
-        x = uf[x];
-    }
-    return x;
-}
-
 // The dual graph: triangles sharing an edge are neighbours. On a manifold
 // edge that is its two triangles; on a non-manifold edge of k triangles
 // (a "book" of pages, or k copies of one triangle) each is joined to the
@@ -167,7 +133,8 @@ static int dual_graph(const selfcol_mesh *m, const selfcol_allocator *al, patch_
             // a binary search, so a k-fan costs O(k log k)), and its chain
             // neighbours there.
             const uint32_t begin = m->edge_tri_offsets[e], end = m->edge_tri_offsets[e + 1];
-            uint32_t at = begin + position_in(m->edge_tris + begin, end - begin, (uint32_t)t);
+            uint32_t at = begin + selfcol_hierarchy__position_in(m->edge_tris + begin, end - begin,
+                                                                 (uint32_t)t);
             const uint32_t next[2] = {at > begin ? m->edge_tris[at - 1] : SELFCOL_INVALID_INDEX,
                                       at + 1 < end ? m->edge_tris[at + 1] : SELFCOL_INVALID_INDEX};
             for (int j = 0; j < 2; ++j) {
@@ -182,17 +149,10 @@ static int dual_graph(const selfcol_mesh *m, const selfcol_allocator *al, patch_
             }
         }
         const uint32_t *tri = m->triangles + 3 * t;
-        for (int c = 0; c < 3; ++c) {
-            const double *p = selfcol_mesh__position(m, tri[0]);
-            double lo = p[c], hi = p[c];
-            for (int i = 1; i < 3; ++i) {
-                double x = selfcol_mesh__position(m, tri[i])[c];
-                lo = x < lo ? x : lo;
-                hi = x > hi ? x : hi;
-            }
-            g->box[6 * t + (size_t)c] = lo;
-            g->box[6 * t + 3 + (size_t)c] = hi;
-        }
+        const double *corner[3] = {selfcol_mesh__position(m, tri[0]),
+                                   selfcol_mesh__position(m, tri[1]),
+                                   selfcol_mesh__position(m, tri[2])};
+        selfcol_box__of_points(g->box + 6 * t, g->box + 6 * t + 3, corner, 3);
     }
     g->adj_off[F] = (uint32_t)k;
     return SELFCOL_OK;
@@ -220,7 +180,8 @@ static uint32_t best_neighbour(const patch_graph *g, size_t c, const uint32_t *p
                                : partner[u] == NONE;
         if (!eligible)
             continue;
-        double score = merged_half_perimeter(g->box + 6 * c, g->box + 6 * (size_t)u);
+        const double *cb = g->box + 6 * c, *ub = g->box + 6 * (size_t)u;
+        double score = selfcol_box__merged_half_perimeter(cb, cb + 3, ub, ub + 3);
         if (score < best_score) {
             best_score = score;
             best = u;
@@ -301,11 +262,8 @@ static int contract(const selfcol_allocator *al, const patch_graph *g, const uin
         stamp[h] = (uint32_t)h; // no self loop
         for (uint32_t m = order_off[h]; m < order_off[h + 1]; ++m) {
             uint32_t c = order[m];
-            for (int i = 0; i < 3; ++i) {
-                box[i] = g->box[6 * c + i] < box[i] ? g->box[6 * c + i] : box[i];
-                box[3 + i] =
-                    g->box[6 * c + 3 + i] > box[3 + i] ? g->box[6 * c + 3 + i] : box[3 + i];
-            }
+            const double *member = g->box + 6 * (size_t)c;
+            selfcol_box__merge(box, box + 3, member, member + 3);
             for (uint32_t j = g->adj_off[c]; j < g->adj_off[c + 1]; ++j) {
                 uint32_t u = group[g->adj[j]];
                 if (stamp[u] != (uint32_t)h) {
@@ -390,324 +348,6 @@ static int layout(selfcol_hierarchy *h, const builder *b, uint32_t root, const u
     }
     selfcol_alloc__free_array(al, build_of, N, sizeof(uint32_t));
     return SELFCOL_OK;
-}
-
-// One owner triangle per vertex and per edge: its first incident triangle.
-static void assign_owners(selfcol_hierarchy *h) {
-    const selfcol_mesh *m = h->mesh;
-    memset(h->owned, 0, m->triangle_count);
-    for (size_t v = 0; v < m->vertex_count; ++v) {
-        if (m->vertex_tri_offsets[v + 1] == m->vertex_tri_offsets[v])
-            continue;
-        uint32_t t = m->vertex_tris[m->vertex_tri_offsets[v]];
-        const uint32_t *tri = m->triangles + 3 * (size_t)t;
-        int i = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-        h->owned[t] |= (uint8_t)SELFCOL_OWNS_VERTEX(i);
-    }
-    for (size_t e = 0; e < m->edge_count; ++e) {
-        uint32_t t = m->edge_tris[m->edge_tri_offsets[e]];
-        const uint32_t *te = m->triangle_edges + 3 * (size_t)t;
-        int i = te[0] == e ? 0 : (te[1] == e ? 1 : 2);
-        h->owned[t] |= (uint8_t)SELFCOL_OWNS_EDGE(i);
-    }
-}
-
-// Direction of edge slot i of triangle t: +1 when it runs from the smaller to
-// the larger vertex index.
-static int slot_direction(const selfcol_mesh *m, uint32_t t, int i) {
-    const uint32_t *tri = m->triangles + 3 * (size_t)t;
-    return tri[i] < tri[(i + 1) % 3] ? 1 : -1;
-}
-
-static int slot_of_edge(const selfcol_mesh *m, uint32_t t, uint32_t e) {
-    const uint32_t *te = m->triangle_edges + 3 * (size_t)t;
-    return te[0] == e ? 0 : (te[1] == e ? 1 : 2);
-}
-
-// The curvature criterion compares normals, so it needs the triangles of a
-// patch oriented consistently. Triangles are flipped (SELFCOL_TRIANGLE_FLIPPED
-// in owned) by a breadth-first walk across manifold edges, so every
-// orientable component comes out consistent whatever the file's winding; an
-// edge that stays inconsistent (a Moebius band), a non-manifold edge and an
-// edge of a repeated-index triangle are marked bad: no node containing both
-// sides of a bad edge may be skipped for curvature. `queue` has F entries,
-// `bad` one byte per edge.
-static void orient(selfcol_hierarchy *h, uint32_t *queue, uint8_t *seen, uint8_t *bad) {
-    const selfcol_mesh *m = h->mesh;
-    const size_t F = m->triangle_count;
-    memset(seen, 0, F);
-    memset(bad, 0, m->edge_count);
-    for (size_t e = 0; e < m->edge_count; ++e)
-        if (m->edge_tri_offsets[e + 1] - m->edge_tri_offsets[e] > 2)
-            bad[e] = 1;
-    for (size_t t = 0; t < F; ++t)
-        if (m->triangle_flags[t] & SELFCOL_TRIANGLE_REPEATED_INDEX)
-            for (int i = 0; i < 3; ++i)
-                if (m->triangle_edges[3 * t + (size_t)i] != SELFCOL_INVALID_INDEX)
-                    bad[m->triangle_edges[3 * t + (size_t)i]] = 1;
-    for (size_t start = 0; start < F; ++start) {
-        if (seen[start])
-            continue;
-        size_t head = 0, tail = 0;
-        queue[tail++] = (uint32_t)start;
-        seen[start] = 1;
-        while (head < tail) {
-            uint32_t t = queue[head++];
-            int flip_t = (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED) != 0;
-            for (int i = 0; i < 3; ++i) {
-                uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)i];
-                if (e == SELFCOL_INVALID_INDEX || bad[e])
-                    continue;
-                uint32_t first = m->edge_tri_offsets[e];
-                if (m->edge_tri_offsets[e + 1] - first != 2)
-                    continue; // boundary edge
-                uint32_t u =
-                    m->edge_tris[first] == t ? m->edge_tris[first + 1] : m->edge_tris[first];
-                int same = slot_direction(m, t, i) == slot_direction(m, u, slot_of_edge(m, u, e));
-                int flip_u = flip_t ^ same; // consistent: opposite directions after flips
-                if (!seen[u]) {
-                    seen[u] = 1;
-                    if (flip_u)
-                        h->owned[u] |= (uint8_t)SELFCOL_TRIANGLE_FLIPPED;
-                    queue[tail++] = u;
-                } else if (((h->owned[u] & SELFCOL_TRIANGLE_FLIPPED) != 0) != flip_u) {
-                    bad[e] = 1; // not orientable across this edge
-                }
-            }
-        }
-    }
-}
-
-// Clears SELFCOL_NODE_ORIENTED on every node that contains both sides of a
-// bad edge (the lowest common ancestor of the edge's leaves and its
-// ancestors), and sets SELFCOL_NODE_BAD_BOUNDARY on the nodes that contain
-// only some of its sides (the nodes below that ancestor on the way up).
-static void mark_unoriented(selfcol_hierarchy *h, const uint8_t *bad, const uint32_t *parent,
-                            const uint32_t *depth, const uint32_t *leaf_of_tri) {
-    const selfcol_mesh *m = h->mesh;
-    for (size_t id = 0; id < h->node_count; ++id)
-        h->nodes[id].flags |= SELFCOL_NODE_ORIENTED;
-    for (size_t e = 0; e < m->edge_count; ++e) {
-        if (!bad[e])
-            continue;
-        uint32_t lca = leaf_of_tri[m->edge_tris[m->edge_tri_offsets[e]]];
-        for (uint32_t j = m->edge_tri_offsets[e] + 1; j < m->edge_tri_offsets[e + 1]; ++j) {
-            uint32_t other = leaf_of_tri[m->edge_tris[j]];
-            // Every node climbed from holds some but not all of the edge's
-            // triangles: the bad edge is on its boundary.
-            while (lca != other) {
-                if (depth[lca] >= depth[other]) {
-                    h->nodes[lca].flags |= SELFCOL_NODE_BAD_BOUNDARY;
-                    lca = parent[lca];
-                } else {
-                    h->nodes[other].flags |= SELFCOL_NODE_BAD_BOUNDARY;
-                    other = parent[other];
-                }
-            }
-        }
-        h->nodes[lca].flags &= (uint8_t)~SELFCOL_NODE_ORIENTED;
-    }
-    // Children come after their parents: one reverse sweep propagates upward.
-    for (size_t id = h->node_count; id-- > 1;)
-        if (!(h->nodes[id].flags & SELFCOL_NODE_ORIENTED))
-            h->nodes[parent[id]].flags &= (uint8_t)~SELFCOL_NODE_ORIENTED;
-}
-
-// The boundary half-edge of triangle t on edge e, oriented with t (after the
-// build's flip) so the patch containing t lies on its left, encoded as
-// (e << 1) | reversed: reversed when it runs from the edge's larger vertex to
-// its smaller one.
-static uint32_t half_edge_of(const selfcol_hierarchy *h, uint32_t t, uint32_t e) {
-    const selfcol_mesh *m = h->mesh;
-    int i = slot_of_edge(m, t, e);
-    const uint32_t *tri = m->triangles + 3 * (size_t)t;
-    int reversed = tri[i] > tri[(i + 1) % 3];
-    if (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED)
-        reversed = !reversed;
-    return (e << 1) | (uint32_t)reversed;
-}
-
-typedef struct pair_list {
-    uint32_t *node, *half_edge;
-    size_t count, capacity;
-} pair_list;
-
-static int pair_add(const selfcol_allocator *al, pair_list *l, uint32_t node, uint32_t half_edge) {
-    if (l->count == l->capacity) {
-        size_t cap = l->capacity ? 2 * l->capacity : 1024;
-        uint32_t *node_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
-        uint32_t *he_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
-        if (node_grown == NULL || he_grown == NULL) {
-            selfcol_alloc__free_array(al, node_grown, cap, sizeof(uint32_t));
-            selfcol_alloc__free_array(al, he_grown, cap, sizeof(uint32_t));
-            return SELFCOL_ENOMEM; // the old arrays stay valid
-        }
-        if (l->count > 0) {
-            memcpy(node_grown, l->node, l->count * sizeof(uint32_t));
-            memcpy(he_grown, l->half_edge, l->count * sizeof(uint32_t));
-        }
-        selfcol_alloc__free_array(al, l->node, l->capacity, sizeof(uint32_t));
-        selfcol_alloc__free_array(al, l->half_edge, l->capacity, sizeof(uint32_t));
-        l->node = node_grown;
-        l->half_edge = he_grown;
-        l->capacity = cap;
-    }
-    l->node[l->count] = node;
-    l->half_edge[l->count++] = half_edge;
-    return SELFCOL_OK;
-}
-
-static void mark_path(uint8_t *mark, const uint32_t *parent, uint32_t node) {
-    for (; node != SELFCOL_INVALID_INDEX && !mark[node]; node = parent[node])
-        mark[node] = 1;
-}
-
-// Boundary half-edges of every node, and SELFCOL_NODE_DISK.
-// - A manifold edge is on the boundary of the nodes below the lowest common
-//   ancestor of its two triangles' leaves (each side with its own triangle's
-//   orientation); a mesh-boundary edge on the boundary of every ancestor of
-//   its triangle's leaf. A non-manifold edge makes every node holding one of
-//   its triangles a non-disk.
-// - Vertex counts: a vertex belongs to every ancestor of its triangles'
-//   leaves (each counted once with a stamp). A vertex whose triangles do not
-//   form one edge-connected fan (a bowtie) makes its ancestors non-disks.
-// - With interior edges manifold (the ORIENTED flag), a patch of F triangles
-//   and b boundary edges has E = (3F + b) / 2 edges; it is a disk iff it is
-//   connected, oriented, manifold and V - E + F = 1 (an orientable connected
-//   surface has chi = 2 - 2 genus - loops).
-static int build_disks(selfcol_hierarchy *h, const uint32_t *parent, const uint32_t *depth,
-                       const uint32_t *leaf_of_tri) {
-    const selfcol_mesh *m = h->mesh;
-    const selfcol_allocator *al = &h->allocator;
-    const size_t N = h->node_count;
-    int status = SELFCOL_ENOMEM;
-    pair_list l;
-    memset(&l, 0, sizeof l);
-    uint32_t *stamp = selfcol_alloc__array(al, N, sizeof(uint32_t));
-    uint32_t *vcount = selfcol_alloc__array(al, N, sizeof(uint32_t));
-    uint8_t *nondisk = selfcol_alloc__array(al, N, sizeof(uint8_t));
-    size_t max_degree = 1;
-    for (size_t v = 0; v < m->vertex_count; ++v) {
-        size_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
-        max_degree = k > max_degree ? k : max_degree;
-    }
-    uint32_t *uf = selfcol_alloc__array(al, max_degree, sizeof(uint32_t));
-    uint32_t *offset = selfcol_alloc__array(al, N + 1, sizeof(uint32_t));
-    if (stamp == NULL || vcount == NULL || nondisk == NULL || uf == NULL || offset == NULL)
-        goto done;
-    memset(nondisk, 0, N);
-    memset(vcount, 0, N * sizeof(uint32_t));
-    for (size_t e = 0; e < m->edge_count; ++e) {
-        uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
-        const uint32_t *tris = m->edge_tris + first;
-        if (k >= 3) {
-            for (uint32_t j = 0; j < k; ++j)
-                mark_path(nondisk, parent, leaf_of_tri[tris[j]]);
-            continue;
-        }
-        if (k == 1) {
-            uint32_t he = half_edge_of(h, tris[0], (uint32_t)e);
-            for (uint32_t n = leaf_of_tri[tris[0]]; n != SELFCOL_INVALID_INDEX; n = parent[n])
-                if ((status = pair_add(al, &l, n, he)) != SELFCOL_OK)
-                    goto done;
-            continue;
-        }
-        uint32_t n1 = leaf_of_tri[tris[0]], n2 = leaf_of_tri[tris[1]];
-        uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e);
-        uint32_t he2 = half_edge_of(h, tris[1], (uint32_t)e);
-        while (n1 != n2) {
-            if (depth[n1] >= depth[n2]) {
-                if ((status = pair_add(al, &l, n1, he1)) != SELFCOL_OK)
-                    goto done;
-                n1 = parent[n1];
-            } else {
-                if ((status = pair_add(al, &l, n2, he2)) != SELFCOL_OK)
-                    goto done;
-                n2 = parent[n2];
-            }
-        }
-    }
-    status = SELFCOL_ENOMEM;
-    memset(stamp, 0xff, N * sizeof(uint32_t));
-    for (uint32_t v = 0; v < m->vertex_count; ++v) {
-        const uint32_t *star = m->vertex_tris + m->vertex_tri_offsets[v];
-        uint32_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
-        for (uint32_t j = 0; j < k; ++j)
-            for (uint32_t n = leaf_of_tri[star[j]]; n != SELFCOL_INVALID_INDEX && stamp[n] != v;
-                 n = parent[n]) {
-                stamp[n] = v;
-                vcount[n]++;
-            }
-        // Fan connectivity: union the star's triangles across their edges at
-        // v. Each triangle is joined to its successor in each such edge's
-        // list (a chain connects the edge's triangles as all pairs would),
-        // found in the ascending star by binary search, with path halving:
-        // O(k log k) for a star of k triangles, also when k pages share one
-        // edge (all pairs with linear searches took O(k^3)).
-        for (uint32_t j = 0; j < k; ++j)
-            uf[j] = j;
-        uint32_t components = k;
-        for (uint32_t j = 0; j < k; ++j) {
-            const uint32_t *te = m->triangle_edges + 3 * (size_t)star[j];
-            for (int i = 0; i < 3; ++i) {
-                uint32_t e = te[i];
-                if (e == SELFCOL_INVALID_INDEX ||
-                    (m->edges[2 * e] != v && m->edges[2 * e + 1] != v))
-                    continue;
-                uint32_t next = successor_on_edge(m, e, star[j]);
-                if (next == SELFCOL_INVALID_INDEX)
-                    continue;
-                uint32_t ra = star_root(uf, j), rb = star_root(uf, position_in(star, k, next));
-                if (ra != rb) {
-                    uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
-                    components--;
-                }
-            }
-        }
-        if (components > 1)
-            for (uint32_t j = 0; j < k; ++j)
-                mark_path(nondisk, parent, leaf_of_tri[star[j]]);
-    }
-    // Counting sort of the half-edges by node. Edges were visited in
-    // increasing order, so each node's slice comes out sorted by edge.
-    // Leaves keep no list (a quarter of all entries, ~6 bytes per
-    // triangle): their few triangles give their boundary on demand
-    // (selfcol_hierarchy__adjacent), and EXACT's contour proof does not
-    // try nodes that small. Their counts still decide SELFCOL_NODE_DISK.
-    memset(offset, 0, (N + 1) * sizeof(uint32_t));
-    for (size_t i = 0; i < l.count; ++i)
-        offset[l.node[i] + 1]++;
-    size_t stored = 0;
-    for (size_t n = 0; n < N; ++n) {
-        selfcol_node *node = &h->nodes[n];
-        uint64_t b = offset[n + 1], F = node->tri_count;
-        int disk = !nondisk[n] && (3 * F + b) % 2 == 0 &&
-                   (int64_t)vcount[n] - (int64_t)((3 * F + b) / 2) + (int64_t)F == 1;
-        const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED;
-        if (disk && (node->flags & need) == need)
-            node->flags |= SELFCOL_NODE_DISK;
-        node->boundary_begin = (uint32_t)stored;
-        node->boundary_count = node->child_count == 0 ? 0 : (uint32_t)b;
-        offset[n] = (uint32_t)stored; // from here on: the write position
-        stored += node->boundary_count;
-    }
-    h->bedge_total = stored + 1;
-    h->bedge = selfcol_alloc__array(al, stored + 1, sizeof(uint32_t));
-    if (h->bedge == NULL)
-        goto done;
-    for (size_t i = 0; i < l.count; ++i)
-        if (h->nodes[l.node[i]].child_count > 0)
-            h->bedge[offset[l.node[i]]++] = l.half_edge[i];
-    status = SELFCOL_OK;
-done:
-    selfcol_alloc__free_array(al, l.node, l.capacity, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, l.half_edge, l.capacity, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, offset, N + 1, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, stamp, N, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, vcount, N, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, nondisk, N, sizeof(uint8_t));
-    selfcol_alloc__free_array(al, uf, max_degree, sizeof(uint32_t));
-    return status;
 }
 
 int selfcol_hierarchy__build(selfcol_hierarchy *h) {
@@ -827,20 +467,13 @@ int selfcol_hierarchy__build(selfcol_hierarchy *h) {
     // group is free now: reuse it as leaf_of_tri.
     if ((status = layout(h, &b, node_of[0], tri_patch, parent, depth, group)) != SELFCOL_OK)
         goto done;
-    assign_owners(h);
-    // partner and stamp are free now: a BFS queue and the per-edge bad flags
-    // (edges may outnumber triangles: allocate that one).
-    {
-        uint8_t *bad = selfcol_alloc__array(al, m->edge_count + 1, sizeof(uint8_t));
-        if (bad == NULL) {
-            status = SELFCOL_ENOMEM;
-            goto done;
-        }
-        orient(h, partner, (uint8_t *)stamp, bad);
-        mark_unoriented(h, bad, parent, depth, group);
-        selfcol_alloc__free_array(al, bad, m->edge_count + 1, sizeof(uint8_t));
-    }
-    status = build_disks(h, parent, depth, group);
+    selfcol_hierarchy__assign_owners(h);
+    // partner and stamp are free now: a BFS queue and the seen flags of the
+    // orientation walk.
+    if ((status = selfcol_hierarchy__orient(h, parent, depth, group, partner, (uint8_t *)stamp)) !=
+        SELFCOL_OK)
+        goto done;
+    status = selfcol_hierarchy__build_boundaries(h, parent, depth, group);
     if (status == SELFCOL_OK) {
         h->min_altitude = selfcol_alloc__array(al, h->node_count, sizeof(float));
         status = h->min_altitude != NULL ? SELFCOL_OK : SELFCOL_ENOMEM;
@@ -861,77 +494,4 @@ done:
     selfcol_alloc__free_array(al, tri_patch, F, sizeof(uint32_t));
     selfcol_alloc__free_array(al, node_of, F, sizeof(uint32_t));
     return status;
-}
-
-// 1 when triangle t is one of node n's (a leaf: a short scan).
-static int leaf_holds(const selfcol_hierarchy *h, const selfcol_node *n, uint32_t t) {
-    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s)
-        if (h->tri_order[s] == t)
-            return 1;
-    return 0;
-}
-
-// 1 when edge e is in the (sorted) boundary list of internal node n.
-static int on_boundary_list(const selfcol_hierarchy *h, const selfcol_node *n, uint32_t e) {
-    const uint32_t *list = h->bedge + n->boundary_begin;
-    uint32_t lo = 0, hi = n->boundary_count;
-    while (lo < hi) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if ((list[mid] >> 1) < e)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo < n->boundary_count && (list[lo] >> 1) == e;
-}
-
-// Leaf `leaf` against any node `other` (disjoint from it): some edge of the
-// leaf's triangles has a triangle of `other` -- for an internal node, the
-// edge is then on its boundary list.
-static int leaf_adjacent(const selfcol_hierarchy *h, const selfcol_node *leaf,
-                         const selfcol_node *other) {
-    const selfcol_mesh *m = h->mesh;
-    for (uint32_t s = leaf->tri_begin; s < leaf->tri_begin + leaf->tri_count; ++s) {
-        uint32_t t = h->tri_order[s];
-        for (int k = 0; k < 3; ++k) {
-            uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)k];
-            if (other->child_count > 0) {
-                if (on_boundary_list(h, other, e))
-                    return 1;
-                continue;
-            }
-            // Manifold edges only, as in the boundary lists (an edge of
-            // three or more triangles is on no list).
-            uint32_t first = m->edge_tri_offsets[e];
-            if (m->edge_tri_offsets[e + 1] - first != 2)
-                continue;
-            uint32_t across =
-                m->edge_tris[first] == t ? m->edge_tris[first + 1] : m->edge_tris[first];
-            if (leaf_holds(h, other, across))
-                return 1;
-        }
-    }
-    return 0;
-}
-
-int selfcol_hierarchy__adjacent(const selfcol_hierarchy *h, const selfcol_node *a,
-                                const selfcol_node *b) {
-    if (a->child_count == 0)
-        return leaf_adjacent(h, a, b);
-    if (b->child_count == 0)
-        return leaf_adjacent(h, b, a);
-    // Both boundary lists are sorted by edge: a shared edge shows up as the
-    // same edge in both (with opposite directions).
-    const uint32_t *x = h->bedge + a->boundary_begin, *y = h->bedge + b->boundary_begin;
-    const uint32_t *xe = x + a->boundary_count, *ye = y + b->boundary_count;
-    while (x < xe && y < ye) {
-        uint32_t ex = *x >> 1, ey = *y >> 1;
-        if (ex == ey)
-            return 1;
-        if (ex < ey)
-            ++x;
-        else
-            ++y;
-    }
-    return 0;
 }

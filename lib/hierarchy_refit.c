@@ -15,14 +15,14 @@
 //
 // Cones: a node keeps an axis and a half-angle containing every unit normal
 // of its patch; two cones merge into the smallest cone containing both
-// (the axis turns in the plane of the two axes). A half-angle of pi/2 or more
-// means no half-space contains the normals.
+// (the axis turns in the plane of the two axes; cone.c). A half-angle of
+// pi/2 or more means no half-space contains the normals.
 #include "hierarchy.h"
 
-#include <math.h>
+#include "box.h"
+#include "cone.h"
 
-#define NO_CONE 4.0f // any half-angle >= pi/2 means "no cone"
-#define HALF_PI 1.5707963267948966
+#include <math.h>
 
 const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3] = {
     {1, 1, 1},    {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1},
@@ -40,51 +40,14 @@ static float round_up(double x) {
     return (double)f < x ? nextafterf(f, INFINITY) : f;
 }
 
-typedef struct cone {
-    double axis[3];
-    double angle;
-} cone;
-
-static void cone_merge(cone *a, const cone *b) {
-    if (a->angle >= NO_CONE || b->angle >= NO_CONE) {
-        a->angle = NO_CONE;
-        return;
-    }
-    double c = a->axis[0] * b->axis[0] + a->axis[1] * b->axis[1] + a->axis[2] * b->axis[2];
-    double phi = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
-    if (phi + b->angle <= a->angle)
-        return;
-    if (phi + a->angle <= b->angle) {
-        *a = *b;
-        return;
-    }
-    double angle = 0.5 * (a->angle + phi + b->angle);
-    if (angle >= HALF_PI || !(phi > 0.0)) {
-        a->angle = NO_CONE;
-        return;
-    }
-    // Rotate a's axis toward b's by (angle - a->angle) in their common plane.
-    double t = (angle - a->angle) / phi;
-    double s0 = sin((1.0 - t) * phi) / sin(phi), s1 = sin(t * phi) / sin(phi);
-    double len = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        a->axis[k] = s0 * a->axis[k] + s1 * b->axis[k];
-        len += a->axis[k] * a->axis[k];
-    }
-    len = sqrt(len);
-    for (int k = 0; k < 3; ++k)
-        a->axis[k] /= len;
-    a->angle = angle;
-}
-
-static void store_cone(selfcol_node *n, const cone *c) {
+static void store_cone(selfcol_node *n, const selfcol_cone *c) {
     for (int k = 0; k < 3; ++k)
         n->cone_axis[k] = (float)c->axis[k];
     // Widen by a small margin for the float axis and the merges' rounding.
-    n->cone_angle = c->angle >= NO_CONE ? NO_CONE : (float)(c->angle + 1e-6);
+    n->cone_angle = c->angle >= SELFCOL_NO_CONE ? SELFCOL_NO_CONE : (float)(c->angle + 1e-6);
 }
 
-static void load_cone(cone *c, const selfcol_node *n) {
+static void load_cone(selfcol_cone *c, const selfcol_node *n) {
     for (int k = 0; k < 3; ++k)
         c->axis[k] = n->cone_axis[k];
     c->angle = n->cone_angle;
@@ -94,17 +57,14 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
     const selfcol_mesh *m = h->mesh;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     uint16_t mask = (1u << SELFCOL_DIRECTIONS) - 1u;
-    cone acc = {{0, 0, 1}, NO_CONE};
+    selfcol_cone acc = {{0, 0, 1}, SELFCOL_NO_CONE};
     double min_altitude = INFINITY;
     for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
         const uint32_t *tri = m->triangles + 3 * (size_t)h->tri_order[s];
         const double *p[3] = {selfcol_mesh__position(m, tri[0]), selfcol_mesh__position(m, tri[1]),
                               selfcol_mesh__position(m, tri[2])};
-        for (int k = 0; k < 3; ++k)
-            for (int i = 0; i < 3; ++i) {
-                lo[k] = p[i][k] < lo[k] ? p[i][k] : lo[k];
-                hi[k] = p[i][k] > hi[k] ? p[i][k] : hi[k];
-            }
+        for (int i = 0; i < 3; ++i)
+            selfcol_box__grow_point(lo, hi, p[i]);
         double u[3], v[3], nrm[3];
         for (int k = 0; k < 3; ++k) {
             u[k] = p[1][k] - p[0][k];
@@ -130,10 +90,9 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
                 if (nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 1e-9 * len * dn)
                     bits |= (uint16_t)(1u << j);
             }
-            // The exact normal is within err of the computed one: within an
-            // angle asin(err / len) < 1.5 err / len of it (err < len / 100).
-            cone one = {{nrm[0] / len, nrm[1] / len, nrm[2] / len},
-                        err < 0.01 * len ? 1.5 * err / len + 1e-12 : NO_CONE};
+            // The exact normal is within err of the computed one: inside the
+            // cone of selfcol_cone__of_normal.
+            selfcol_cone one = selfcol_cone__of_normal(nrm, len, err);
             // Smallest altitude = twice the area over the longest side, with
             // the area bounded below through the same error bound.
             double l2 = 0.0;
@@ -150,14 +109,14 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
             if (s == n->tri_begin)
                 acc = one;
             else
-                cone_merge(&acc, &one);
+                selfcol_cone__merge(&acc, &one);
         } else {
-            acc.angle = NO_CONE;
+            acc.angle = SELFCOL_NO_CONE;
             min_altitude = 0.0;
         }
         mask &= bits;
         if (len == 0.0)
-            acc.angle = NO_CONE;
+            acc.angle = SELFCOL_NO_CONE;
     }
     for (int k = 0; k < 3; ++k) {
         n->lo[k] = round_down(lo[k]);
@@ -189,21 +148,18 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
         }
         n->mask = c->mask;
         h->min_altitude[id] = h->min_altitude[n->first_child];
-        cone acc;
+        selfcol_cone acc;
         load_cone(&acc, c);
         for (uint32_t i = 1; i < n->child_count; ++i) {
             const selfcol_node *ci = &h->nodes[n->first_child + i];
-            for (int k = 0; k < 3; ++k) {
-                n->lo[k] = ci->lo[k] < n->lo[k] ? ci->lo[k] : n->lo[k];
-                n->hi[k] = ci->hi[k] > n->hi[k] ? ci->hi[k] : n->hi[k];
-            }
+            selfcol_box__merge_float(n->lo, n->hi, ci->lo, ci->hi);
             n->mask &= ci->mask;
             float alt = h->min_altitude[n->first_child + i];
             if (alt < h->min_altitude[id])
                 h->min_altitude[id] = alt;
-            cone other;
+            selfcol_cone other;
             load_cone(&other, ci);
-            cone_merge(&acc, &other);
+            selfcol_cone__merge(&acc, &other);
         }
         store_cone(n, &acc);
     }

@@ -33,6 +33,7 @@
 // search, which the tests check on every scene.
 #include "query.h"
 
+#include "box.h"
 #include "hierarchy.h"
 #include "narrow.h"
 
@@ -177,13 +178,12 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
                 f->edge_reversed |= (uint8_t)(1u << i);
         }
     }
+    const double *corner[3] = {f->corner[0], f->corner[1], f->corner[2]};
+    selfcol_box__of_points(f->lo, f->hi, corner, 3);
     double u[3], v[3];
     for (int k = 0; k < 3; ++k) {
-        double a = f->corner[0][k], b = f->corner[1][k], c = f->corner[2][k];
-        f->lo[k] = a < b ? (a < c ? a : c) : (b < c ? b : c);
-        f->hi[k] = a > b ? (a > c ? a : c) : (b > c ? b : c);
-        u[k] = b - a;
-        v[k] = c - a;
+        u[k] = f->corner[1][k] - f->corner[0][k];
+        v[k] = f->corner[2][k] - f->corner[0][k];
     }
     double abs_max = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -256,22 +256,11 @@ static int shares_corner(uint32_t v, const uint32_t *tri) {
     return v == tri[0] || v == tri[1] || v == tri[2];
 }
 
-static int point_near(const double *p, const selfcol_tri_frame *f, double d) {
-    for (int k = 0; k < 3; ++k)
-        if (p[k] < f->lo[k] - d || p[k] > f->hi[k] + d)
-            return 0;
-    return 1;
-}
-
-// Box of segment (p, q) within d of the box (lo, hi) on every axis.
-static int segment_near(const double *p, const double *q, const double *lo, const double *hi,
-                        double d) {
-    for (int k = 0; k < 3; ++k) {
-        double l = p[k] < q[k] ? p[k] : q[k], h = p[k] > q[k] ? p[k] : q[k];
-        if (l - d > hi[k] || lo[k] - d > h)
-            return 0;
-    }
-    return 1;
+// Box of segment (p[0], p[1]) within d of the box (lo, hi) on every axis.
+static int segment_near(const double *const p[2], const double *lo, const double *hi, double d) {
+    double slo[3], shi[3];
+    selfcol_box__of_points(slo, shi, p, 2);
+    return selfcol_box__near(slo, shi, lo, hi, d);
 }
 
 // 1 when both ends of edge slot i (corners i and i + 1) have the flag at `bit`.
@@ -305,7 +294,7 @@ static int one_way(selfcol_query *q, int ma, const selfcol_tri_frame *a, int mb,
             const uint32_t v = a->corner_id[i];
             if (self && shares_corner(v, b->corner_id))
                 continue;
-            if ((far >> i) & 1u || !point_near(a->corner[i], b, d)) {
+            if ((far >> i) & 1u || !selfcol_box__point_near(a->corner[i], b->lo, b->hi, d)) {
                 q->out->stats.primitives_filtered++;
                 continue;
             }
@@ -323,7 +312,7 @@ static int one_way(selfcol_query *q, int ma, const selfcol_tri_frame *a, int mb,
                 continue;
             // Both ends strictly on one side of b's plane: no crossing.
             if (edge_has(of_a, SIDE_POS, i) || edge_has(of_a, SIDE_NEG, i) ||
-                !segment_near(p[0], p[1], b->lo, b->hi, 0.0)) {
+                !segment_near(p, b->lo, b->hi, 0.0)) {
                 q->out->stats.primitives_filtered++;
                 continue;
             }
@@ -361,12 +350,9 @@ static int edges_both_ways(selfcol_query *q, int ma, const selfcol_tri_frame *a,
             if (self && (ev[0] == fv[0] || ev[0] == fv[1] || ev[1] == fv[0] || ev[1] == fv[1]))
                 continue;
             double lo[3], hi[3];
-            for (int k = 0; k < 3; ++k) {
-                lo[k] = r[0][k] < r[1][k] ? r[0][k] : r[1][k];
-                hi[k] = r[0][k] > r[1][k] ? r[0][k] : r[1][k];
-            }
+            selfcol_box__of_points(lo, hi, r, 2);
             if (edge_has(of_b, FAR_POS, j) || edge_has(of_b, FAR_NEG, j) ||
-                !segment_near(p[0], p[1], lo, hi, d)) {
+                !segment_near(p, lo, hi, d)) {
                 q->out->stats.primitives_filtered++;
                 continue;
             }

@@ -28,11 +28,12 @@
 // none of them.
 #include "query.h"
 
+#include "box.h"
+#include "cone.h"
 #include "core.h"
 #include "hierarchy.h"
 #include "parallel.h"
 
-#include <math.h>
 #include <string.h>
 
 typedef struct node_pair {
@@ -117,20 +118,12 @@ static int flush_batch(traversal *t) {
     return status;
 }
 
-static int boxes_apart(const selfcol_node *a, const selfcol_node *b, double d) {
-    for (int k = 0; k < 3; ++k)
-        if ((double)a->lo[k] - d > (double)b->hi[k] || (double)b->lo[k] - d > (double)a->hi[k])
-            return 1;
-    return 0;
-}
-
 // EXACT tries its contour proof only on nodes and node pairs of at least
 // this many triangles: below, the narrow phase over the few triangle pairs
 // costs about what the proof does (crumpled 20k sheet, d = 0.1 x mean edge:
 // query 51.7 ms trying every node, 47.7 ms from 16 triangles; spheres and
 // flat sheets are proven far above it).
 #define CONTOUR_MIN_TRIANGLES 16
-#define HALF_PI 1.5707963267948966
 
 // All normals of the node in one open half-space, by the method's measure.
 static const uint8_t SMOOTHABLE = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED;
@@ -138,7 +131,7 @@ static const uint8_t SMOOTHABLE = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED
 static int smooth(uint32_t method, const selfcol_node *n) {
     if ((n->flags & SMOOTHABLE) != SMOOTHABLE)
         return 0;
-    return method == SELFCOL_METHOD_CONE ? n->cone_angle < HALF_PI : n->mask != 0;
+    return method == SELFCOL_METHOD_CONE ? n->cone_angle < SELFCOL_HALF_PI : n->mask != 0;
 }
 
 // The same for the union of two nodes.
@@ -150,17 +143,93 @@ static int jointly_smooth(uint32_t method, const selfcol_node *a, const selfcol_
         return 0;
     if (method != SELFCOL_METHOD_CONE)
         return (a->mask & b->mask) != 0;
-    if (!(a->cone_angle < HALF_PI && b->cone_angle < HALF_PI))
+    if (!(a->cone_angle < SELFCOL_HALF_PI && b->cone_angle < SELFCOL_HALF_PI))
         return 0;
-    double c = 0.0;
-    for (int k = 0; k < 3; ++k)
-        c += (double)a->cone_axis[k] * (double)b->cone_axis[k];
-    double phi = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
-    double lo = phi + b->cone_angle <= a->cone_angle ? a->cone_angle
-                : phi + a->cone_angle <= b->cone_angle
-                    ? b->cone_angle
-                    : 0.5 * (a->cone_angle + phi + b->cone_angle);
-    return lo < HALF_PI;
+    // The float axes as they are (not renormalised), widened exactly.
+    const double ua[3] = {a->cone_axis[0], a->cone_axis[1], a->cone_axis[2]};
+    const double ub[3] = {b->cone_axis[0], b->cone_axis[1], b->cone_axis[2]};
+    double phi = selfcol_cone__angle_between(ua, ub);
+    return selfcol_cone__merged_angle(a->cone_angle, phi, b->cone_angle) < SELFCOL_HALF_PI;
+}
+
+// The adjacency query of SEED and CONE's Pair(a, b), from the boundary
+// lists the build keeps (hierarchy_boundary.c).
+
+// 1 when triangle t is one of node n's (a leaf: a short scan).
+static int leaf_holds(const selfcol_hierarchy *h, const selfcol_node *n, uint32_t t) {
+    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s)
+        if (h->tri_order[s] == t)
+            return 1;
+    return 0;
+}
+
+// 1 when edge e is in the (sorted) boundary list of internal node n.
+static int on_boundary_list(const selfcol_hierarchy *h, const selfcol_node *n, uint32_t e) {
+    const uint32_t *list = h->bedge + n->boundary_begin;
+    uint32_t lo = 0, hi = n->boundary_count;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if ((list[mid] >> 1) < e)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n->boundary_count && (list[lo] >> 1) == e;
+}
+
+// Leaf `leaf` against any node `other` (disjoint from it): some edge of the
+// leaf's triangles has a triangle of `other` -- for an internal node, the
+// edge is then on its boundary list.
+static int leaf_adjacent(const selfcol_hierarchy *h, const selfcol_node *leaf,
+                         const selfcol_node *other) {
+    const selfcol_mesh *m = h->mesh;
+    for (uint32_t s = leaf->tri_begin; s < leaf->tri_begin + leaf->tri_count; ++s) {
+        uint32_t t = h->tri_order[s];
+        for (int k = 0; k < 3; ++k) {
+            uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)k];
+            if (other->child_count > 0) {
+                if (on_boundary_list(h, other, e))
+                    return 1;
+                continue;
+            }
+            // Manifold edges only, as in the boundary lists (an edge of
+            // three or more triangles is on no list).
+            uint32_t first = m->edge_tri_offsets[e];
+            if (m->edge_tri_offsets[e + 1] - first != 2)
+                continue;
+            uint32_t across =
+                m->edge_tris[first] == t ? m->edge_tris[first + 1] : m->edge_tris[first];
+            if (leaf_holds(h, other, across))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+// 1 when the two (disjoint) nodes' patches share a manifold edge: their
+// sorted boundary lists meet, or for a leaf, an edge of its triangles has a
+// triangle of the other node. Patches touching only at a vertex count as
+// not adjacent, which only costs culling.
+static int nodes_adjacent(const selfcol_hierarchy *h, const selfcol_node *a,
+                          const selfcol_node *b) {
+    if (a->child_count == 0)
+        return leaf_adjacent(h, a, b);
+    if (b->child_count == 0)
+        return leaf_adjacent(h, b, a);
+    // Both boundary lists are sorted by edge: a shared edge shows up as the
+    // same edge in both (with opposite directions).
+    const uint32_t *x = h->bedge + a->boundary_begin, *y = h->bedge + b->boundary_begin;
+    const uint32_t *xe = x + a->boundary_count, *ye = y + b->boundary_count;
+    while (x < xe && y < ye) {
+        uint32_t ex = *x >> 1, ey = *y >> 1;
+        if (ex == ey)
+            return 1;
+        if (ex < ey)
+            ++x;
+        else
+            ++y;
+    }
+    return 0;
 }
 
 // The frames of a leaf's triangles, computed at its first visit in this
@@ -206,11 +275,7 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
     for (uint32_t sa = a->tri_begin; sa < a->tri_begin + a->tri_count; ++sa) {
         const double *alo = fa[sa].lo, *ahi = fa[sa].hi;
         for (uint32_t sb = same ? sa + 1 : b->tri_begin; sb < b->tri_begin + b->tri_count; ++sb) {
-            const double *blo = fb[sb].lo, *bhi = fb[sb].hi;
-            int apart = 0;
-            for (int k = 0; k < 3; ++k)
-                apart |= (alo[k] - d > bhi[k]) | (blo[k] - d > ahi[k]);
-            if (apart)
+            if (!selfcol_box__near(alo, ahi, fb[sb].lo, fb[sb].hi, d))
                 continue;
             st->triangle_pairs++;
             uint32_t flags;
@@ -261,11 +326,11 @@ static int visit(traversal *t, node_pair p) {
         }
         return status;
     }
-    if (boxes_apart(a, b, d)) {
+    if (!selfcol_box__near_float(a->lo, a->hi, b->lo, b->hi, d)) {
         st->culled_box++;
         return SELFCOL_OK;
     }
-    if (curvature ? jointly_smooth(method, a, b) && selfcol_hierarchy__adjacent(s->h[0], a, b)
+    if (curvature ? jointly_smooth(method, a, b) && nodes_adjacent(s->h[0], a, b)
                   : exact_pairs && a->tri_count + b->tri_count >= CONTOUR_MIN_TRIANGLES &&
                         selfcol_contour__pair_skippable(s->h[0], p.a, p.b, d, t->q.out)) {
         st->culled_adjacency++;
