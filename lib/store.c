@@ -42,16 +42,15 @@ struct selfcol_store {
     selfcol_allocator allocator;
     uint32_t remnance;
     int consistency;
-    const selfcol_mesh *meshes[2]; // NULL until the first update
-    int bound;
+    const selfcol_mesh *meshes[2]; // meshes[0] NULL until the first update after create or clear
 
     selfcol_store_contact *entries, *spare; // held entries; the merge's destination
     size_t count, capacity;                 // capacity of both arrays
 
+    // Per entry (capacity): the regions (at most one per entry), the grouping
+    // union-find, the voting union-find with parity.
     selfcol_store_region *regions;
-    size_t region_count, region_capacity;
-
-    // Per entry (capacity): grouping union-find, voting union-find with parity.
+    size_t region_count;
     uint32_t *group_parent, *vote_parent, *label;
     int8_t *vote_parity;
     // Per voting group root: vote counts, tie-break entry.
@@ -108,6 +107,7 @@ static void free_entry_arrays(selfcol_store *s) {
     selfcol_alloc__free_array(al, s->vote_parity, n, sizeof *s->vote_parity);
     selfcol_alloc__free_array(al, s->tally, 2 * n, sizeof *s->tally);
     selfcol_alloc__free_array(al, s->oldest, n, sizeof *s->oldest);
+    selfcol_alloc__free_array(al, s->regions, n, sizeof *s->regions);
 }
 
 void selfcol_store_destroy(selfcol_store *store) {
@@ -115,7 +115,6 @@ void selfcol_store_destroy(selfcol_store *store) {
         return;
     selfcol_allocator al = store->allocator;
     free_entry_arrays(store);
-    selfcol_alloc__free_array(&al, store->regions, store->region_capacity, sizeof *store->regions);
     selfcol_alloc__free_array(&al, store->pairs, store->pair_capacity, sizeof *store->pairs);
     selfcol_alloc__free(&al, store, sizeof *store);
 }
@@ -126,7 +125,6 @@ void selfcol_store_clear(selfcol_store *store) {
     store->count = 0;
     store->region_count = 0;
     store->meshes[0] = store->meshes[1] = NULL;
-    store->bound = 0;
     memset(&store->stats, 0, sizeof store->stats);
     store->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 }
@@ -135,11 +133,13 @@ void selfcol_store_clear(selfcol_store *store) {
 static int reserve_entries(selfcol_store *s, size_t n) {
     if (n <= s->capacity)
         return SELFCOL_OK;
+    if (n > UINT32_MAX - 1)
+        return SELFCOL_ERANGE; // entries are indexed by uint32_t
     size_t cap = s->capacity < 64 ? 64 : s->capacity;
     while (cap < n)
-        cap = cap > SIZE_MAX / 2 ? n : 2 * cap;
+        cap *= 2;
     if (cap > UINT32_MAX - 1)
-        return n > UINT32_MAX - 1 ? SELFCOL_ERANGE : reserve_entries(s, UINT32_MAX - 1);
+        cap = UINT32_MAX - 1;
     const selfcol_allocator *al = &s->allocator;
     selfcol_store grown = *s;
     grown.capacity = cap;
@@ -151,9 +151,10 @@ static int reserve_entries(selfcol_store *s, size_t n) {
     grown.vote_parity = selfcol_alloc__array(al, cap, sizeof *grown.vote_parity);
     grown.tally = selfcol_alloc__array(al, 2 * cap, sizeof *grown.tally);
     grown.oldest = selfcol_alloc__array(al, cap, sizeof *grown.oldest);
+    grown.regions = selfcol_alloc__array(al, cap, sizeof *grown.regions);
     if (grown.entries == NULL || grown.spare == NULL || grown.group_parent == NULL ||
         grown.vote_parent == NULL || grown.label == NULL || grown.vote_parity == NULL ||
-        grown.tally == NULL || grown.oldest == NULL) {
+        grown.tally == NULL || grown.oldest == NULL || grown.regions == NULL) {
         free_entry_arrays(&grown);
         return SELFCOL_ENOMEM;
     }
@@ -209,10 +210,10 @@ static int entry_record_compare(const selfcol_store_contact *e, const selfcol_co
 
 // 1 when the record's primitives exist in the meshes and its vertices are
 // theirs.
-static int record_matches(const selfcol_store *s, const selfcol_contact *r) {
+static int record_matches(const selfcol_mesh *const meshes[2], const selfcol_contact *r) {
     if (r->kind > SELFCOL_CONTACT_EF || r->first_mesh > 1 || r->second_mesh > 1)
         return 0;
-    const selfcol_mesh *ma = s->meshes[r->first_mesh], *mb = s->meshes[r->second_mesh];
+    const selfcol_mesh *ma = meshes[r->first_mesh], *mb = meshes[r->second_mesh];
     if (ma == NULL || mb == NULL)
         return 0;
     if (r->kind == SELFCOL_CONTACT_VF) {
@@ -463,7 +464,7 @@ static void vote_and_label(selfcol_store *s) {
             s->label[g] = (uint32_t)regions++;
         s->entries[i].region = s->label[g];
     }
-    // The update reserved one region per entry.
+    // One region per entry at most: the per-entry array suffices.
     s->region_count = regions;
     memset(s->regions, 0, regions * sizeof *s->regions);
     // Impose and count.
@@ -525,25 +526,19 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                          const selfcol_mesh *second, const selfcol_contacts *detected) {
     SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL);
     const double start = selfcol_core__seconds();
-    if (store->bound && (store->meshes[0] != first || store->meshes[1] != second))
+    if (store->meshes[0] != NULL && (store->meshes[0] != first || store->meshes[1] != second))
         return SELFCOL_EMISMATCH;
-    const selfcol_mesh *previous[2] = {store->meshes[0], store->meshes[1]};
-    store->meshes[0] = first;
-    store->meshes[1] = second;
+    const selfcol_mesh *const meshes[2] = {first, second};
     const selfcol_contact *rec = detected->items;
     const size_t m = detected->count;
-    // Validate everything before changing anything.
+    // Validate and reserve everything before changing anything.
     int status = SELFCOL_OK;
     for (size_t j = 0; j < m && status == SELFCOL_OK; ++j) {
-        if (!record_matches(store, &rec[j]))
-            status = SELFCOL_EMISMATCH;
-        else if (second == NULL && (rec[j].first_mesh != 0 || rec[j].second_mesh != 0))
+        if (!record_matches(meshes, &rec[j]))
             status = SELFCOL_EMISMATCH;
         else if (j > 0 && record_compare(&rec[j - 1], &rec[j]) >= 0)
             status = SELFCOL_EINVAL;
     }
-    if (status == SELFCOL_OK && store->count + m > UINT32_MAX - 1)
-        status = SELFCOL_ERANGE;
     if (status == SELFCOL_OK)
         status = reserve_entries(store, store->count + m);
     if (status == SELFCOL_OK) {
@@ -554,32 +549,10 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
             keys += pairs_of_kind(rec[k].kind);
         status = reserve_pairs(store, keys);
     }
-    if (status != SELFCOL_OK) {
-        store->meshes[0] = previous[0];
-        store->meshes[1] = previous[1];
+    if (status != SELFCOL_OK)
         return status;
-    }
-    // Room for the regions too (at most one per entry), so that nothing can
-    // fail after the merge: grown here, before any entry changes.
-    {
-        const size_t most = store->count + m;
-        if (most > store->region_capacity) {
-            size_t cap = store->region_capacity < 16 ? 16 : store->region_capacity;
-            while (cap < most)
-                cap *= 2;
-            selfcol_store_region *r = selfcol_alloc__array(&store->allocator, cap, sizeof *r);
-            if (r == NULL) {
-                store->meshes[0] = previous[0];
-                store->meshes[1] = previous[1];
-                return SELFCOL_ENOMEM;
-            }
-            selfcol_alloc__free_array(&store->allocator, store->regions, store->region_capacity,
-                                      sizeof *store->regions);
-            store->regions = r;
-            store->region_capacity = cap;
-        }
-    }
-    store->bound = 1;
+    store->meshes[0] = first;
+    store->meshes[1] = second;
     memset(&store->stats, 0, sizeof store->stats);
     store->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 
@@ -669,8 +642,7 @@ size_t selfcol_store_byte_count(const selfcol_store *store) {
     if (store == NULL)
         return 0;
     const size_t per_entry = 2 * sizeof(selfcol_store_contact) + 3 * sizeof(uint32_t) +
-                             sizeof(int8_t) + 2 * sizeof(int32_t) + sizeof(uint32_t);
-    return sizeof *store + store->capacity * per_entry +
-           store->region_capacity * sizeof(selfcol_store_region) +
-           store->pair_capacity * sizeof(pair_slot);
+                             sizeof(int8_t) + 2 * sizeof(int32_t) + sizeof(uint32_t) +
+                             sizeof(selfcol_store_region);
+    return sizeof *store + store->capacity * per_entry + store->pair_capacity * sizeof(pair_slot);
 }
