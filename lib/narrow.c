@@ -325,3 +325,34 @@ int selfcol_narrow__ef(const double p0[3], const double p1[3], const double a[3]
         any_perpendicular(out->direction, dp);
     return 1;
 }
+
+double selfcol_narrow__segment_triangle(const double p0[3], const double p1[3], const double a[3],
+                                        const double b[3], const double c[3],
+                                        selfcol_narrow_result *out) {
+    if (selfcol_narrow__ef(p0, p1, a, b, c, out))
+        return 0.0;
+    const double *tri[3] = {a, b, c};
+    selfcol_narrow_result r;
+    double best = HUGE_VAL;
+    for (int i = 0; i < 2; ++i) { // an endpoint against the triangle
+        double d = selfcol_narrow__vf(i ? p1 : p0, a, b, c, &r);
+        if (d < best) {
+            best = d;
+            *out = r;
+            out->wa[0] = i ? 0.0 : 1.0;
+            out->wa[1] = i ? 1.0 : 0.0;
+        }
+    }
+    for (int i = 0; i < 3; ++i) { // the segment against an edge
+        int j = (i + 1) % 3;
+        double d = selfcol_narrow__ee(p0, p1, tri[i], tri[j], &r);
+        if (d < best) {
+            best = d;
+            *out = r;
+            out->wb[i] = r.wb[0];
+            out->wb[j] = r.wb[1];
+            out->wb[3 - i - j] = 0.0;
+        }
+    }
+    return best;
+}

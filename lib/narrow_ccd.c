@@ -118,6 +118,7 @@
 #include <ccd/vec3.h>
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 
 #ifndef CCD_DOUBLE
@@ -161,6 +162,8 @@
 typedef struct hull_shape {
     double v[3][3];
     int n;
+    // A hull of more points (colliders): n points here instead of in v.
+    const double (*many)[3];
     double radius;
     double escape; // > every |coordinate| + radius: the cut-short distance
     unsigned long *supports;
@@ -186,18 +189,19 @@ static int unit_vector(double out[3], const double v[3]) {
 // intersection" (GJK's and MPR's first test of every new support point).
 static void hull_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out) {
     const hull_shape *s = obj;
+    const double(*v)[3] = s->many != NULL ? s->many : (const double(*)[3])s->v;
     int best = 0;
-    double best_dot = vec3_dot(s->v[0], dir->v);
+    double best_dot = vec3_dot(v[0], dir->v);
     for (int i = 1; i < s->n; ++i) {
-        double d = vec3_dot(s->v[i], dir->v);
+        double d = vec3_dot(v[i], dir->v);
         if (d > best_dot) {
             best_dot = d;
             best = i;
         }
     }
-    out->v[0] = s->v[best][0];
-    out->v[1] = s->v[best][1];
-    out->v[2] = s->v[best][2];
+    out->v[0] = v[best][0];
+    out->v[1] = v[best][1];
+    out->v[2] = v[best][2];
     double u[3];
     if (++*s->supports > NARROW_CCD_SUPPORT_BUDGET) {
         if (unit_vector(u, dir->v)) // (a zero direction already ends MPR and GJK)
@@ -230,11 +234,12 @@ static void hull_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out
 // lies in the hull; the sweep does not move it.
 static void hull_center(const void *obj, ccd_vec3_t *out) {
     const hull_shape *s = obj;
+    const double(*v)[3] = s->many != NULL ? s->many : (const double(*)[3])s->v;
     double c[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < s->n; ++i) {
-        c[0] += s->v[i][0];
-        c[1] += s->v[i][1];
-        c[2] += s->v[i][2];
+        c[0] += v[i][0];
+        c[1] += v[i][1];
+        c[2] += v[i][2];
     }
     out->v[0] = c[0] / s->n;
     out->v[1] = c[1] / s->n;
@@ -302,6 +307,7 @@ static int proximity_setup(proximity *q, int na, const double *const a[], int nb
     q->tolerance = tol >= NARROW_CCD_MIN_RELATIVE_TOLERANCE * q->radius
                        ? tol
                        : NARROW_CCD_MIN_RELATIVE_TOLERANCE * q->radius;
+    q->first.many = q->second.many = NULL;
     q->first.radius = 0.0;
     q->second.radius = 0.0;
     q->first.escape = q->second.escape = 4.0 * (limit + q->radius);
@@ -387,8 +393,8 @@ int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double 
     if (!all_finite(5, pts))
         return 0;
     unsigned long supports = 0;
-    hull_shape S = {{{0.0}}, 2, 0.0, 0.0, &supports};
-    hull_shape T = {{{0.0}}, 3, 0.0, 0.0, &supports};
+    hull_shape S = {{{0.0}}, 2, NULL, 0.0, 0.0, &supports};
+    hull_shape T = {{{0.0}}, 3, NULL, 0.0, 0.0, &supports};
     for (int k = 0; k < 3; ++k) {
         S.v[0][k] = p0[k];
         S.v[1][k] = p1[k];
@@ -410,31 +416,7 @@ int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double 
     // crossing within rounding outside an edge, a zero-area triangle), whose
     // closest pair of points is an endpoint against the triangle or the
     // segment against an edge of it.
-    if (selfcol_narrow__ef(p0, p1, a, b, c, out))
-        return 1;
-    const double *tri[3] = {a, b, c};
-    selfcol_narrow_result r;
-    double best = HUGE_VAL;
-    for (int i = 0; i < 2; ++i) { // an endpoint against the triangle
-        double d = selfcol_narrow__vf(i ? p1 : p0, a, b, c, &r);
-        if (d < best) {
-            best = d;
-            *out = r;
-            out->wa[0] = i ? 0.0 : 1.0;
-            out->wa[1] = i ? 1.0 : 0.0;
-        }
-    }
-    for (int i = 0; i < 3; ++i) { // the segment against an edge
-        int j = (i + 1) % 3;
-        double d = selfcol_narrow__ee(p0, p1, tri[i], tri[j], &r);
-        if (d < best) {
-            best = d;
-            *out = r;
-            out->wb[i] = r.wb[0];
-            out->wb[j] = r.wb[1];
-            out->wb[3 - i - j] = 0.0;
-        }
-    }
+    selfcol_narrow__segment_triangle(p0, p1, a, b, c, out);
     out->distance = 0.0;
     // EF records carry the triangle's normal (contacts.h); keep the closed
     // form's fallback when the triangle has no area.
@@ -444,4 +426,56 @@ int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double 
     vec3_cross(n, ab, ac);
     vec3_normalize(out->direction, n);
     return 1;
+}
+
+// ---------------------------------------------------------------------------
+// A convex hull of many points against a triangle (the scene's colliders).
+
+double selfcol_narrow_ccd__hull_triangle(const double (*points)[3], size_t n, const double a[3],
+                                         const double b[3], const double c[3], double radius,
+                                         double tolerance, double (*scratch)[3], double normal[3],
+                                         double point[3]) {
+    if (n == 0 || n > INT_MAX)
+        return HUGE_VAL;
+    // The frame of the primitive queries (proximity_setup), set up on the
+    // triangle and the hull's first point, then the hull's points copied in.
+    const double *first[1] = {points[0]}, *second[3] = {a, b, c};
+    proximity q;
+    if (!proximity_setup(&q, 1, first, 3, second, radius, tolerance))
+        return HUGE_VAL;
+    double limit = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) {
+            if (!isfinite(points[i][k]))
+                return HUGE_VAL;
+            scratch[i][k] = ldexp(points[i][k] - a[k], q.exponent);
+            limit = fmax(limit, fabs(scratch[i][k]));
+        }
+    if (!(limit <= NARROW_CCD_FRAME_LIMIT))
+        return HUGE_VAL;
+    q.first.many = (const double(*)[3])scratch;
+    q.first.n = (int)n;
+    q.first.escape = q.second.escape = fmax(q.first.escape, 4.0 * (limit + q.radius));
+    double dist = proximity_distance(&q);
+    if (dist < HUGE_VAL && normal != NULL) {
+        // MPR's penetration of the triangle into the hull swept just past
+        // the contact (the bracket's upper end, or the first radius whose
+        // sweep meets it): libccd moves obj2, the triangle, along dir to
+        // separate them, so dir points from the hull toward the triangle.
+        double rho = ldexp(dist, q.exponent) + q.tolerance;
+        ccd_real_t depth = 0.0;
+        ccd_vec3_t dir, pos;
+        q.first.radius = rho;
+        q.supports = 0;
+        if (ccdMPRPenetration(&q.first, &q.second, &q.ccd, &depth, &dir, &pos) == 0 &&
+            unit_vector(normal, dir.v)) {
+            for (int k = 0; k < 3; ++k)
+                point[k] = ldexp(pos.v[k], -q.exponent) + a[k];
+        } else {
+            normal[0] = normal[1] = normal[2] = 0.0; // no direction found
+            for (int k = 0; k < 3; ++k)
+                point[k] = a[k];
+        }
+    }
+    return dist;
 }

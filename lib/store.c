@@ -24,6 +24,7 @@
 #include "mesh.h"
 #include "narrow.h"
 #include "predicates.h"
+#include "vec3.h"
 
 #include <math.h>
 #include <string.h>
@@ -42,6 +43,7 @@ struct selfcol_store {
     selfcol_allocator allocator;
     uint32_t remnance;
     int consistency;
+    int orientation[2];            // per mesh slot: 0 none, +1 / -1 (store.h)
     const selfcol_mesh *meshes[2]; // meshes[0] NULL until the first update after create or clear
 
     selfcol_store_contact *entries, *spare; // held entries; the merge's destination
@@ -84,6 +86,8 @@ int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts)
         o = *opts;
     SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
     SELFCOL_CHECK(o.consistency == 0 || o.consistency == 1);
+    SELFCOL_CHECK(o.first_orientation >= -1 && o.first_orientation <= 1);
+    SELFCOL_CHECK(o.second_orientation >= -1 && o.second_orientation <= 1);
     selfcol_store *s = selfcol_alloc__raw(&o.allocator, sizeof *s);
     if (s == NULL)
         return SELFCOL_ENOMEM;
@@ -91,6 +95,8 @@ int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts)
     s->allocator = o.allocator;
     s->remnance = o.remnance_frames;
     s->consistency = o.consistency;
+    s->orientation[0] = o.first_orientation;
+    s->orientation[1] = o.second_orientation;
     s->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
     *out = s;
     return SELFCOL_OK;
@@ -292,12 +298,84 @@ static void set_signed_distance(selfcol_store_contact *e) {
     e->signed_distance = wrong ? -e->distance : e->distance;
 }
 
+// ---------------------------------------------------------------------------
+// Oriented surfaces (store.h: "Oriented surfaces")
+
+static void add_triangle_normal(const selfcol_mesh *m, uint32_t t, double n[3]) {
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    double c[3];
+    vec3_triangle_normal(c, selfcol_mesh__position(m, tri[0]), selfcol_mesh__position(m, tri[1]),
+                         selfcol_mesh__position(m, tri[2]));
+    vec3_add(n, n, c);
+}
+
+// Adds `orientation` times the unit outward normal of an element (a vertex,
+// an edge by index, or a triangle by index) of mesh m to o; a zero normal
+// (degenerate triangles only) adds nothing.
+static void add_element_normal(const selfcol_mesh *m, int orientation, int vertices, uint32_t index,
+                               double o[3]) {
+    double n[3] = {0.0, 0.0, 0.0};
+    if (vertices == 1) {
+        for (uint32_t k = m->vertex_tri_offsets[index]; k < m->vertex_tri_offsets[index + 1]; ++k)
+            add_triangle_normal(m, m->vertex_tris[k], n);
+    } else if (vertices == 2) {
+        for (uint32_t k = m->edge_tri_offsets[index]; k < m->edge_tri_offsets[index + 1]; ++k)
+            add_triangle_normal(m, m->edge_tris[k], n);
+    } else {
+        add_triangle_normal(m, index, n);
+    }
+    double u[3];
+    if (vec3_normalize(u, n))
+        for (int k = 0; k < 3; ++k)
+            o[k] += orientation * u[k];
+}
+
+// The right side an oriented surface gives a VF/EE entry: +1, -1, or 0 when
+// neither mesh is oriented or the sign is not clear.
+static int oriented_right_side(const selfcol_store *s, const selfcol_store_contact *e) {
+    const int of = s->orientation[e->first_mesh], os = s->orientation[e->second_mesh];
+    if (of == 0 && os == 0)
+        return 0;
+    const selfcol_mesh *mf = s->meshes[e->first_mesh], *ms = s->meshes[e->second_mesh];
+    const int vf = e->kind == SELFCOL_CONTACT_VF;
+    double o[3] = {0.0, 0.0, 0.0}, r[3], unit_r[3];
+    if (os != 0)
+        add_element_normal(ms, os, vf ? 3 : 2, e->second, o);
+    if (of != 0) {
+        double nf[3] = {0.0, 0.0, 0.0};
+        add_element_normal(mf, of, vf ? 1 : 2, e->first, nf);
+        vec3_sub(o, o, nf);
+    }
+    // The reference direction R (store.h; side = sign((first - second) . R)).
+    if (vf) {
+        vec3_triangle_normal(r, vertex_of(s, e->second_mesh, e->b[0]),
+                             vertex_of(s, e->second_mesh, e->b[1]),
+                             vertex_of(s, e->second_mesh, e->b[2]));
+    } else {
+        double u[3], w[3];
+        vec3_sub(u, vertex_of(s, e->first_mesh, e->a[1]), vertex_of(s, e->first_mesh, e->a[0]));
+        vec3_sub(w, vertex_of(s, e->second_mesh, e->b[1]), vertex_of(s, e->second_mesh, e->b[0]));
+        vec3_cross(r, u, w);
+    }
+    if (!vec3_normalize(unit_r, r))
+        return 0;
+    const double d = vec3_dot(o, unit_r);
+    return d > 1e-9 ? 1 : d < -1e-9 ? -1 : 0;
+}
+
 // Side tracking of a VF/EE entry at the current positions: a nonzero exact
 // sign different from the held side is a crossing; 0 keeps the held side.
+// An oriented entry's right side is then recomputed from the normals.
 static void track_side(selfcol_store *s, selfcol_store_contact *e) {
     if (e->kind == SELFCOL_CONTACT_EF) {
         e->side = e->right_side = 0;
         return;
+    }
+    if (s->orientation[e->first_mesh] != 0 || s->orientation[e->second_mesh] != 0) {
+        e->flags |= SELFCOL_STORE_ORIENTED;
+        const int given = oriented_right_side(s, e);
+        if (given != 0)
+            e->right_side = given;
     }
     const int now = exact_side(s, e);
     if (now != 0) {
@@ -384,8 +462,9 @@ static size_t pair_hash(uint32_t lo, uint32_t hi, uint32_t meshes, size_t mask) 
 static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles) {
     group_unite(s->group_parent, i, j);
     const selfcol_store_contact *x = &s->entries[i], *y = &s->entries[j];
-    if (x->kind == SELFCOL_CONTACT_EF || y->kind == SELFCOL_CONTACT_EF)
-        return;
+    if (x->kind == SELFCOL_CONTACT_EF || y->kind == SELFCOL_CONTACT_EF ||
+        ((x->flags | y->flags) & SELFCOL_STORE_ORIENTED))
+        return; // only voting contacts are linked for the vote
     const double c = x->direction[0] * y->direction[0] + x->direction[1] * y->direction[1] +
                      x->direction[2] * y->direction[2];
     if (!(fabs(c) >= 0.5))
@@ -444,8 +523,9 @@ static void vote_and_label(selfcol_store *s) {
     // side was never decided abstain.
     for (uint32_t i = 0; i < n; ++i) {
         const selfcol_store_contact *e = &s->entries[i];
-        if (e->kind == SELFCOL_CONTACT_EF || e->side == 0)
+        if (e->kind == SELFCOL_CONTACT_EF || e->side == 0 || (e->flags & SELFCOL_STORE_ORIENTED))
             continue;
+        s->stats.voted++;
         int o;
         const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
         const int vote = e->side * e->right_side * o;
@@ -477,6 +557,12 @@ static void vote_and_label(selfcol_store *s) {
             continue;
         }
         reg->contacts++;
+        if (e->flags & SELFCOL_STORE_ORIENTED) {
+            reg->oriented++;
+            s->stats.oriented++;
+            set_signed_distance(e);
+            continue;
+        }
         int o;
         const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
         const int32_t plus = votes[2 * r], minus = votes[2 * r + 1];

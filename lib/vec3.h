@@ -13,6 +13,12 @@ static inline void vec3_sub(double out[3], const double a[3], const double b[3])
     out[2] = a[2] - b[2];
 }
 
+static inline void vec3_add(double out[3], const double a[3], const double b[3]) {
+    out[0] = a[0] + b[0];
+    out[1] = a[1] + b[1];
+    out[2] = a[2] + b[2];
+}
+
 static inline double vec3_dot(const double a[3], const double b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
@@ -24,6 +30,16 @@ static inline void vec3_cross(double out[3], const double a[3], const double b[3
     out[0] = x;
     out[1] = y;
     out[2] = z;
+}
+
+// (b - a) x (c - a): twice the area times the unit normal of the
+// counter-clockwise triangle a, b, c.
+static inline void vec3_triangle_normal(double out[3], const double a[3], const double b[3],
+                                        const double c[3]) {
+    double u[3], w[3];
+    vec3_sub(u, b, a);
+    vec3_sub(w, c, a);
+    vec3_cross(out, u, w);
 }
 
 // out = a + t * (b - a)

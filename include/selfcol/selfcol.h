@@ -27,6 +27,7 @@
 #include "hierarchy.h"
 #include "mesh.h"
 #include "store.h"
+#include "scene.h"
 #include "version.h"
 
 #endif /* SELFCOL_SELFCOL_H */

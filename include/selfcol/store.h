@@ -73,16 +73,29 @@ typedef struct selfcol_store_options {
     uint32_t remnance_frames;
     /** 1 (default): impose each region's majority side; 0: track sides only. */
     int consistency;
+    /**
+     * Orientation of the first (or only) mesh's surface: 0 (default) none,
+     * the right sides of its contacts are voted; +1 its counter-clockwise
+     * triangle normals point to the side where other surfaces belong (a
+     * closed body wound counter-clockwise seen from outside, or an oriented
+     * floor); -1 they point away from it. See "Oriented surfaces" in
+     * selfcol_store_update().
+     */
+    int first_orientation;
+    /** Orientation of the second mesh of a two-mesh query, as first_orientation. */
+    int second_orientation;
 } selfcol_store_options;
 
 #define SELFCOL_STORE_OPTIONS_VERSION 1
 
 /** Bits of selfcol_store_contact.flags, about the last update. */
 typedef enum selfcol_store_contact_flag {
-    SELFCOL_STORE_NEW = 1u << 0,      /**< first detected by this update */
-    SELFCOL_STORE_REMNANT = 1u << 1,  /**< not detected by this update, kept by remnance */
-    SELFCOL_STORE_FLIPPED = 1u << 2,  /**< its side changed sign: the elements crossed */
-    SELFCOL_STORE_CORRECTED = 1u << 3 /**< its right side was changed by its region's vote */
+    SELFCOL_STORE_NEW = 1u << 0,       /**< first detected by this update */
+    SELFCOL_STORE_REMNANT = 1u << 1,   /**< not detected by this update, kept by remnance */
+    SELFCOL_STORE_FLIPPED = 1u << 2,   /**< its side changed sign: the elements crossed */
+    SELFCOL_STORE_CORRECTED = 1u << 3, /**< its right side was changed by its region's vote */
+    /** its right side comes from the meshes' orientation (never voted) */
+    SELFCOL_STORE_ORIENTED = 1u << 4
 } selfcol_store_contact_flag;
 
 /** One contact held by the store. Plain data; the layout is part of the ABI. */
@@ -124,7 +137,9 @@ typedef struct selfcol_store_region {
     /** Contacts on the minority side (corrected when consistency is on). */
     uint32_t votes_minority;
     uint32_t abstained; /**< contacts without a decided side (no vote) */
-    uint32_t flags;     /**< selfcol_store_region_flag bits */
+    /** Contacts whose right side an oriented surface gives (not voted). */
+    uint32_t oriented;
+    uint32_t flags; /**< selfcol_store_region_flag bits */
 } selfcol_store_region;
 
 /**
@@ -141,6 +156,8 @@ typedef struct selfcol_store_update_stats {
     uint64_t dropped;           /**< VF/EE/EF removed (remnance over, or EF gone) */
     uint64_t flipped;           /**< contacts whose side changed sign (crossings) */
     uint64_t corrected;         /**< contacts whose right side the vote changed */
+    uint64_t voted;             /**< contacts that took part in a vote */
+    uint64_t oriented;          /**< contacts whose right side an oriented surface gave */
     uint64_t regions;           /**< regions */
     uint64_t crossed_regions;   /**< regions holding interferences */
     uint64_t corrected_regions; /**< regions where the vote corrected a contact */
@@ -195,6 +212,21 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  * sets SELFCOL_REGION_TIE. Contacts whose side was never decided (exactly
  * coplanar since they appeared) abstain; a contact takes its first decided
  * side as its right side, then votes like the others.
+ *
+ * Oriented surfaces (first_orientation, second_orientation). A contact with
+ * an element of an oriented mesh takes no part in the vote: its right side
+ * is recomputed at every update from the surface normals (SELFCOL_STORE_
+ * ORIENTED). With n_s and n_f the unit outward normals of the second and
+ * first elements (a triangle's own normal, an edge's or a vertex's sum of its
+ * triangles' area-weighted normals, times the mesh's orientation; 0 for an
+ * element of a mesh without orientation), the right side is the sign of
+ * (n_s - n_f) . R, where R is the contact's reference direction: the first
+ * element belongs outside the second's surface and the second outside the
+ * first's. When that sign is not clear (|(n_s - n_f) . R| < 1e-9 |R|, e.g.
+ * an edge grazing along a body's edge) the right side stays what it was (or
+ * the first decided side, as for unoriented contacts). A closed body whose
+ * outward normals give the side never needs a vote: its contacts are right
+ * or wrong on their own.
  *
  * On any error the store is unchanged.
  * @param[in,out] store the store

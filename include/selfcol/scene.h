@@ -1,0 +1,287 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+/**
+ * @file scene.h
+ * @defgroup scene Scenes of several surfaces and colliders
+ * A `selfcol_scene` holds several surfaces, each declared by kind and
+ * modelled no more than its kind needs, and convex colliders. One
+ * selfcol_scene_update() per frame refits what moves, queries the pairs
+ * that can matter, and keeps one contact store (store.h) per surface pair.
+ *
+ * | kind                    | refit       | self-collision | right side of its contacts        |
+ * |-------------------------|-------------|----------------|-----------------------------------|
+ * | SELFCOL_SURFACE_CLOTH   | every update| on (optional)  | voted by region (store.h)          |
+ * | SELFCOL_SURFACE_BODY    | every update| off (optional) | its outward normals, never voted   |
+ * | SELFCOL_SURFACE_STATIC  | never       | never          | voted, or a declared orientation   |
+ * | collider (sphere, capsule, box, convex points) | a pose per update | never | outside the
+ * collider |
+ *
+ * Pairs tested by an update: every surface with itself when its
+ * self-collision is on; every two surfaces except two static ones; every
+ * collider with every cloth and body surface (never with a static surface
+ * nor with another collider: rigid against rigid is the rigid solver's
+ * job). Two surfaces whose hierarchies' root boxes are farther apart than
+ * the distance are skipped without a query (their store then ages as after
+ * an update that detects nothing).
+ *
+ * Surfaces reference caller-owned meshes: the caller moves a cloth or body
+ * by selfcol_mesh_set_positions() between updates. A static surface's mesh
+ * must not move after it was added (selfcol_scene_update() returns
+ * SELFCOL_ESTALE if it did).
+ *
+ * Colliders are convex: the convex hull of points (one for a sphere, two for
+ * a capsule, eight for a box, any for a convex point set) swept by a ball of
+ * `radius`. Their contacts with triangles come from libccd's MPR test by
+ * inflation and bisection (the narrow phase of narrow_ccd.c): the distance
+ * is within `collider_tolerance` of the truth. The contact's normal and the
+ * closest point on the triangle are the closed form's for spheres and
+ * capsules; for boxes and convex point sets they come from libccd's MPR
+ * penetration just past the contact (approximate: the README gives the
+ * measured error).
+ *
+ * Memory is linear in the triangles plus the contacts held; once every
+ * array has grown, an update allocates nothing.
+ * @{
+ */
+#ifndef SELFCOL_SCENE_H
+#define SELFCOL_SCENE_H
+
+#include "common.h"
+#include "hierarchy.h"
+#include "mesh.h"
+#include "store.h"
+
+SELFCOL_BEGIN_DECLS
+
+/** Opaque scene. */
+typedef struct selfcol_scene selfcol_scene;
+
+/** What a surface is (the table above). */
+typedef enum selfcol_surface_kind {
+    SELFCOL_SURFACE_CLOTH = 0,  /**< a deformable open surface */
+    SELFCOL_SURFACE_BODY = 1,   /**< a deformable closed oriented surface */
+    SELFCOL_SURFACE_STATIC = 2, /**< a surface that never moves */
+} selfcol_surface_kind;
+
+/** Options for selfcol_scene_add_surface(). Initialise with selfcol_surface_options_init(). */
+typedef struct selfcol_surface_options {
+    unsigned int version; /**< SELFCOL_SURFACE_OPTIONS_VERSION */
+    uint32_t kind;        /**< selfcol_surface_kind */
+    /** 1: query the surface against itself (cloth default 1, body 0; static must be 0). */
+    int self_collision;
+    /**
+     * Static surfaces only (0 for the others): 0 (default) its contacts'
+     * sides are voted; +1 or -1 as selfcol_store_options.first_orientation
+     * (e.g. +1 for a floor whose normals point up). A body's orientation is
+     * always taken from its signed volume.
+     */
+    int orientation;
+} selfcol_surface_options;
+
+#define SELFCOL_SURFACE_OPTIONS_VERSION 1
+
+/** Shapes of convex colliders. */
+typedef enum selfcol_collider_shape {
+    SELFCOL_COLLIDER_SPHERE = 0, /**< a point swept by radius */
+    SELFCOL_COLLIDER_CAPSULE =
+        1, /**< the segment (0, 0, -half_height)..(0, 0, +half_height) swept by radius */
+    SELFCOL_COLLIDER_BOX = 2,   /**< the box of half_extents, rounded by radius (0: sharp) */
+    SELFCOL_COLLIDER_CONVEX = 3 /**< the convex hull of points, rounded by radius */
+} selfcol_collider_shape;
+
+/** A convex collider, in its local frame. Initialise with selfcol_collider_desc_init(). */
+typedef struct selfcol_collider_desc {
+    unsigned int version;   /**< SELFCOL_COLLIDER_DESC_VERSION */
+    uint32_t shape;         /**< selfcol_collider_shape */
+    double radius;          /**< sphere and capsule: > 0; box and convex: >= 0 (rounding) */
+    double half_height;     /**< capsule: >= 0 */
+    double half_extents[3]; /**< box: each >= 0 */
+    const double *points;   /**< convex: point_count x 3 coordinates, copied */
+    size_t point_count;     /**< convex: 1 .. SELFCOL_COLLIDER_MAX_POINTS */
+} selfcol_collider_desc;
+
+#define SELFCOL_COLLIDER_DESC_VERSION 1
+/** The most points of a convex collider (libccd's support search is linear in them). */
+#define SELFCOL_COLLIDER_MAX_POINTS 4096u
+
+/** Options for selfcol_scene_create(). Initialise with selfcol_scene_options_init(). */
+typedef struct selfcol_scene_options {
+    unsigned int version;        /**< SELFCOL_SCENE_OPTIONS_VERSION */
+    selfcol_allocator allocator; /**< all-zero: malloc/free */
+    double distance;          /**< detection distance, > 0 (no default: it depends on the scale) */
+    uint32_t kinds;           /**< contact kinds of the surface queries (default VF|EE|EF) */
+    uint32_t method;          /**< selfcol_method of the surface queries (default EXACT) */
+    unsigned int threads;     /**< threads of the surface queries (default 1) */
+    uint32_t remnance_frames; /**< of every store (default SELFCOL_STORE_DEFAULT_REMNANCE) */
+    int consistency;          /**< of every store (default 1) */
+    /** Absolute accuracy of collider distances (default 0: 1e-6 x distance). */
+    double collider_tolerance;
+} selfcol_scene_options;
+
+#define SELFCOL_SCENE_OPTIONS_VERSION 1
+
+/** Bits of selfcol_collider_contact.flags. */
+typedef enum selfcol_collider_contact_flag {
+    /** The triangle meets the collider (distance 0). */
+    SELFCOL_COLLIDER_PENETRATING = 1u << 0,
+    /** normal and wb come from libccd's MPR penetration (approximate), not a closed form. */
+    SELFCOL_COLLIDER_APPROXIMATE = 1u << 1
+} selfcol_collider_contact_flag;
+
+/** One collider contact: a triangle within the distance of a collider. */
+typedef struct selfcol_collider_contact {
+    uint32_t collider; /**< collider id */
+    uint32_t surface;  /**< surface id */
+    uint32_t triangle; /**< triangle of the surface's mesh */
+    uint32_t flags;    /**< selfcol_collider_contact_flag bits */
+    double distance;   /**< >= 0, within collider_tolerance; 0 when penetrating */
+    double wb[3];      /**< weights of the closest point on the triangle */
+    /** Unit vector from the collider toward the triangle (the way to push the triangle). */
+    double normal[3];
+} selfcol_collider_contact;
+
+/** Counters of the last update. The caller sets version. */
+typedef struct selfcol_scene_update_stats {
+    unsigned int version;          /**< SELFCOL_SCENE_UPDATE_STATS_VERSION */
+    uint64_t surfaces;             /**< surfaces in the scene */
+    uint64_t colliders;            /**< colliders in the scene */
+    uint64_t refits;               /**< hierarchies refit by the last update */
+    uint64_t builds;               /**< hierarchies built since the scene was created */
+    uint64_t pairs_queried;        /**< surface pairs queried by the last update */
+    uint64_t pairs_apart;          /**< surface pairs skipped: root boxes apart */
+    uint64_t contacts;             /**< VF/EE contacts held by all stores */
+    uint64_t interferences;        /**< EF interferences held by all stores */
+    uint64_t flipped;              /**< summed over the stores (selfcol_store_update_stats) */
+    uint64_t corrected;            /**< summed over the stores */
+    uint64_t voted;                /**< summed over the stores */
+    uint64_t oriented;             /**< summed over the stores */
+    uint64_t collider_candidates;  /**< triangles given to the collider narrow phase */
+    uint64_t collider_contacts;    /**< collider contacts found */
+    uint64_t collider_penetrating; /**< of which penetrating */
+    double seconds;                /**< wall time of the update */
+} selfcol_scene_update_stats;
+
+#define SELFCOL_SCENE_UPDATE_STATS_VERSION 1
+
+/**
+ * Writes the defaults into opts (distance 0: must be set).
+ * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned int version);
+
+/**
+ * Writes the defaults of a kind into opts (self-collision on for a cloth
+ * only; orientation 0).
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, unknown kind); SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_surface_options_init(selfcol_surface_options *opts, uint32_t kind,
+                                             unsigned int version);
+
+/**
+ * Writes the defaults of a shape into desc (radius 0, half-height 0, half
+ * extents 0, no points: the caller sets the shape's sizes).
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, unknown shape); SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_collider_desc_init(selfcol_collider_desc *desc, uint32_t shape,
+                                           unsigned int version);
+
+/**
+ * Creates an empty scene.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, distance not in (0, 2^200],
+ *         bad kinds, method, threads, consistency, negative or non-finite
+ *         tolerance, half-set allocator); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ */
+SELFCOL_API int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts);
+
+/** Destroys a scene, its hierarchies and stores (never the meshes). Accepts NULL. */
+SELFCOL_API void selfcol_scene_destroy(selfcol_scene *scene);
+
+/**
+ * Adds a surface on a caller-owned mesh, which must outlive the scene, and
+ * builds its hierarchy. Surfaces are numbered from 0 in the order added.
+ * A body must be closed (no boundary edge), manifold and consistently
+ * oriented (SELFCOL_MESH_MISORIENTED_EDGES 0), with a nonzero signed volume;
+ * its orientation (+1 counter-clockwise outward, -1 inward) is taken from
+ * the sign of that volume at the positions it has when added.
+ * @param[out] id_out the surface id (may be NULL)
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL scene or mesh, a mesh added
+ *         twice, unknown kind, self-collision on a static surface, an
+ *         orientation on a non-static surface, a body that is not closed
+ *         and oriented); SELFCOL_EVERSION; SELFCOL_ERANGE (more than 2^16
+ *         surfaces, or the hierarchy's limits); SELFCOL_ENOMEM. On error the
+ *         scene is unchanged.
+ */
+SELFCOL_API int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
+                                          const selfcol_surface_options *opts, uint32_t *id_out);
+
+/**
+ * Adds a convex collider, placed at the origin with no rotation until
+ * selfcol_scene_set_collider_pose(). Colliders are numbered from 0.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, unknown shape, sizes negative or
+ *         non-finite or beyond 2^200, a sphere or capsule without radius, a
+ *         convex collider without points or with more than
+ *         SELFCOL_COLLIDER_MAX_POINTS); SELFCOL_EVERSION; SELFCOL_ERANGE
+ *         (more than 2^16 colliders); SELFCOL_ENOMEM.
+ */
+SELFCOL_API int selfcol_scene_add_collider(selfcol_scene *scene, const selfcol_collider_desc *desc,
+                                           uint32_t *id_out);
+
+/**
+ * Places a collider: world = rotation * local + position.
+ * @param[in] position 3 coordinates
+ * @param[in] rotation 3 x 3, row-major, orthonormal with determinant +1
+ *            (within 1e-6), or NULL for the identity
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL scene or position, unknown id,
+ *         non-finite values, not a rotation); SELFCOL_ERANGE (a coordinate
+ *         beyond 2^200). On error the pose is unchanged.
+ */
+SELFCOL_API int selfcol_scene_set_collider_pose(selfcol_scene *scene, uint32_t collider,
+                                                const double position[3], const double rotation[9]);
+
+/**
+ * One frame: refits the cloth and body hierarchies (never a static one),
+ * queries every pair that can matter and updates its store, then finds the
+ * collider contacts.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL); SELFCOL_ESTALE (a static
+ *         surface's mesh moved); the first error of a query or a store
+ *         update (SELFCOL_ENOMEM, SELFCOL_ERANGE), after which the stores
+ *         not yet updated keep the previous frame and the collider contacts
+ *         are empty.
+ */
+SELFCOL_API int selfcol_scene_update(selfcol_scene *scene);
+
+/**
+ * The store of a surface pair (first <= second; first == second for
+ * self-collision).
+ * @param[out] store_out borrowed, valid until the scene is destroyed; NULL
+ *             when the scene never tests that pair (two static surfaces, a
+ *             self pair without self-collision)
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL arguments, unknown ids, first > second).
+ */
+SELFCOL_API int selfcol_scene_store(const selfcol_scene *scene, uint32_t first, uint32_t second,
+                                    const selfcol_store **store_out);
+
+/**
+ * The collider contacts of the last update, sorted by (collider, surface,
+ * triangle).
+ * @param[out] data_out borrowed, valid until the next update or destroy; NULL when empty
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments.
+ */
+SELFCOL_API int selfcol_scene_collider_contacts(const selfcol_scene *scene,
+                                                const selfcol_collider_contact **data_out,
+                                                size_t *count_out);
+
+/**
+ * Counters of the last update.
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL; SELFCOL_EVERSION.
+ */
+SELFCOL_API int selfcol_scene_stats(const selfcol_scene *scene, selfcol_scene_update_stats *stats);
+
+/** Bytes held by the scene, its hierarchies and stores (not the meshes). 0 for NULL. */
+SELFCOL_API size_t selfcol_scene_byte_count(const selfcol_scene *scene);
+
+SELFCOL_END_DECLS
+/** @} */
+
+#endif /* SELFCOL_SCENE_H */
