@@ -199,6 +199,46 @@ static void test_pass_around_counts_as_crossing(void **state) {
     free_rig(&r);
 }
 
+// Known limit: a stale side. The vertex hovers over the triangle, the two
+// part for `apart` updates, the triangle turns over (rotated half a turn
+// about the x axis: its normal now points down) and they meet again with the
+// vertex still above it, no crossing anywhere. Within the remnance time the
+// store still holds the contact: the sign change reads as a crossing, so the
+// contact is FLIPPED and wrongly negative (a stale side). After the remnance
+// time the memory is gone: a NEW contact whose current side is taken as
+// right (here correct, by no merit of the store).
+static void test_stale_side_after_parting_and_turning_over(void **state) {
+    (void)state;
+    for (uint32_t apart = 1; apart <= 3; ++apart) {
+        selfcol_store_options o;
+        selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
+        o.remnance_frames = 2;
+        double pos[18];
+        hover(pos, 0.25, 0.25, 0.1);
+        rig r = make_rig(pos, 6, hover_triangles, 2, &o);
+        advance(&r, NULL, 0.2);
+        hover(pos, 0.25, 0.25, 5.0);
+        for (uint32_t k = 0; k < apart; ++k)
+            advance(&r, pos, 0.2);
+        hover(pos, 0.25, -0.25, 0.1);
+        pos[7] = -1.0; // vertex 2: (0, 1, 0) -> (0, -1, 0), the triangle turned over
+        advance(&r, pos, 0.2);
+        const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+        assert_non_null(c);
+        assert_int_equal(c->side, -1);
+        if (apart <= o.remnance_frames) {
+            assert_int_equal(c->flags, SELFCOL_STORE_FLIPPED);
+            assert_int_equal(c->right_side, 1);
+            assert_true(c->signed_distance < 0.0); // stale: nothing crossed
+        } else {
+            assert_int_equal(c->flags, SELFCOL_STORE_NEW);
+            assert_int_equal(c->right_side, -1);
+            assert_true(c->signed_distance > 0.0);
+        }
+        free_rig(&r);
+    }
+}
+
 // Two n x n unit grids, one at z = 0 and one at z = gap shifted by (0.31,
 // 0.17) (no coincident coordinates); vertex indices of the upper grid
 // start at (n + 1)^2.
@@ -514,6 +554,7 @@ int main(void) {
         cmocka_unit_test(test_remnance_keeps_a_contact_exactly_r_updates_with_its_side),
         cmocka_unit_test(test_side_flips_through_crossings_decided_exactly),
         cmocka_unit_test(test_pass_around_counts_as_crossing),
+        cmocka_unit_test(test_stale_side_after_parting_and_turning_over),
         cmocka_unit_test(test_vote_corrects_a_patch_that_starts_crossed),
         cmocka_unit_test(test_a_wrong_majority_wins),
         cmocka_unit_test(test_wedge_is_one_region_decided_by_the_tie_rule),
