@@ -381,6 +381,7 @@ static void track_side(selfcol_store *s, selfcol_store_contact *e) {
     if (now != 0) {
         if (e->side != 0 && now != e->side) {
             e->flags |= SELFCOL_STORE_FLIPPED;
+            e->flags &= ~(uint32_t)SELFCOL_STORE_SETTLED; // a crossing reopens the vote
             s->stats.flipped++;
         }
         e->side = now;
@@ -589,13 +590,15 @@ static void vote_and_label(selfcol_store *s) {
             reg->votes_majority++;
         } else {
             reg->votes_minority++;
-            if (s->consistency) {
+            if (s->consistency && !(e->flags & SELFCOL_STORE_SETTLED)) {
                 e->right_side = -e->right_side;
                 e->flags |= SELFCOL_STORE_CORRECTED;
                 s->stats.corrected++;
                 reg->flags |= SELFCOL_REGION_CORRECTED;
             }
         }
+        if (s->consistency && majority != 0)
+            e->flags |= SELFCOL_STORE_SETTLED; // through a vote: settled until it crosses
         set_signed_distance(e);
     }
     for (size_t r = 0; r < regions; ++r) {
@@ -654,7 +657,7 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
             take_record(e, &rec[j++]);
             e->age += e->age < UINT32_MAX;
             e->missed = 0;
-            e->flags = 0;
+            e->flags &= SELFCOL_STORE_SETTLED; // the only flag that persists
             store->stats.kept += e->kind != SELFCOL_CONTACT_EF;
         } else if (c > 0) { // new
             memset(e, 0, sizeof *e);
@@ -670,7 +673,7 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
             *e = *h;
             e->age += e->age < UINT32_MAX;
             e->missed++;
-            e->flags = SELFCOL_STORE_REMNANT;
+            e->flags = (e->flags & SELFCOL_STORE_SETTLED) | SELFCOL_STORE_REMNANT;
             recompute(store, e);
             store->stats.remnant++;
         }

@@ -100,6 +100,11 @@ static void hover(double pos[18], double px, double py, double h) {
 }
 static const uint32_t hover_triangles[6] = {0, 1, 2, 3, 4, 5};
 
+// The flags about the last update (SETTLED persists across updates).
+static uint32_t update_flags(const selfcol_store_contact *c) {
+    return c->flags & ~(uint32_t)SELFCOL_STORE_SETTLED;
+}
+
 static void test_remnance_keeps_a_contact_exactly_r_updates_with_its_side(void **state) {
     (void)state;
     for (uint32_t remnance = 0; remnance <= 3; ++remnance) {
@@ -112,7 +117,7 @@ static void test_remnance_keeps_a_contact_exactly_r_updates_with_its_side(void *
         advance(&r, NULL, 0.2);
         const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
         assert_non_null(c);
-        assert_int_equal(c->flags, SELFCOL_STORE_NEW);
+        assert_int_equal(update_flags(c), SELFCOL_STORE_NEW);
         assert_int_equal(c->side, 1);
         assert_int_equal(c->right_side, 1);
         assert_true(fabs(c->signed_distance - 0.1) < 1e-12);
@@ -127,7 +132,7 @@ static void test_remnance_keeps_a_contact_exactly_r_updates_with_its_side(void *
                 assert_non_null(c);
                 assert_int_equal(c->missed, k);
                 assert_int_equal(c->age, k);
-                assert_int_equal(c->flags, SELFCOL_STORE_REMNANT);
+                assert_int_equal(update_flags(c), SELFCOL_STORE_REMNANT);
                 assert_int_equal(c->side, 1);
                 assert_true(fabs(c->signed_distance - 0.6) < 1e-12);
                 assert_int_equal(s.remnant, 1);
@@ -193,7 +198,7 @@ static void test_pass_around_counts_as_crossing(void **state) {
     advance(&r, pos, 0.2);
     const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
     assert_non_null(c);
-    assert_int_equal(c->flags, SELFCOL_STORE_REMNANT | SELFCOL_STORE_FLIPPED);
+    assert_int_equal(update_flags(c), SELFCOL_STORE_REMNANT | SELFCOL_STORE_FLIPPED);
     assert_int_equal(c->side, -1);
     assert_true(c->signed_distance < 0.0);
     free_rig(&r);
@@ -227,11 +232,11 @@ static void test_stale_side_after_parting_and_turning_over(void **state) {
         assert_non_null(c);
         assert_int_equal(c->side, -1);
         if (apart <= o.remnance_frames) {
-            assert_int_equal(c->flags, SELFCOL_STORE_FLIPPED);
+            assert_int_equal(update_flags(c), SELFCOL_STORE_FLIPPED);
             assert_int_equal(c->right_side, 1);
             assert_true(c->signed_distance < 0.0); // stale: nothing crossed
         } else {
-            assert_int_equal(c->flags, SELFCOL_STORE_NEW);
+            assert_int_equal(update_flags(c), SELFCOL_STORE_NEW);
             assert_int_equal(c->right_side, -1);
             assert_true(c->signed_distance > 0.0);
         }
@@ -302,8 +307,10 @@ static void test_vote_corrects_a_patch_that_starts_crossed(void **state) {
             if (consistency) {
                 assert_int_equal(c[i].signed_distance < 0.0, below);
                 assert_int_equal((c[i].flags & SELFCOL_STORE_CORRECTED) != 0, below);
+                assert_true(c[i].flags & SELFCOL_STORE_SETTLED); // through the vote
             } else {
                 assert_true(c[i].signed_distance >= 0.0);
+                assert_int_equal(c[i].flags & SELFCOL_STORE_SETTLED, 0);
             }
             checked++;
         }

@@ -88,14 +88,20 @@ typedef struct selfcol_store_options {
 
 #define SELFCOL_STORE_OPTIONS_VERSION 1
 
-/** Bits of selfcol_store_contact.flags, about the last update. */
+/** Bits of selfcol_store_contact.flags, about the last update (VOTED excepted). */
 typedef enum selfcol_store_contact_flag {
     SELFCOL_STORE_NEW = 1u << 0,       /**< first detected by this update */
     SELFCOL_STORE_REMNANT = 1u << 1,   /**< not detected by this update, kept by remnance */
     SELFCOL_STORE_FLIPPED = 1u << 2,   /**< its side changed sign: the elements crossed */
     SELFCOL_STORE_CORRECTED = 1u << 3, /**< its right side was changed by its region's vote */
     /** its right side comes from the meshes' orientation (never voted) */
-    SELFCOL_STORE_ORIENTED = 1u << 4
+    SELFCOL_STORE_ORIENTED = 1u << 4,
+    /** Persistent (not about the last update alone): its right side has
+     *  been through a vote (kept or corrected) and it has not crossed
+     *  since, so no later vote changes it until it crosses (FLIPPED clears
+     *  the bit). This keeps the vote from flickering where a region's links
+     *  contradict each other. */
+    SELFCOL_STORE_SETTLED = 1u << 5
 } selfcol_store_contact_flag;
 
 /** One contact held by the store. Plain data; the layout is part of the ABI. */
@@ -209,7 +215,15 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  * as seen from the group's frame, the majority wins and is imposed (right
  * sides changed: CORRECTED). A tied vote keeps the right side of the group's
  * oldest contact (greatest age; among equals, the first in key order) and
- * sets SELFCOL_REGION_TIE. Contacts whose side was never decided (exactly
+ * sets SELFCOL_REGION_TIE. Only contacts that have not been through a vote
+ * since they appeared or last crossed can be corrected; the others vote but
+ * keep their right side (SELFCOL_STORE_SETTLED): where a region's links
+ * contradict each other (surfaces that already cross, folds) the groups a
+ * frame's links form change from frame to frame with no crossing, and
+ * re-deciding settled contacts would flip them back and forth (measured on a
+ * crumpled, self-intersecting 45k-triangle cloth: 44 to 214 corrections per
+ * update with no crossing at all, 0 with this rule).
+ * Contacts whose side was never decided (exactly
  * coplanar since they appeared) abstain; a contact takes its first decided
  * side as its right side, then votes like the others.
  *
