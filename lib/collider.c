@@ -203,6 +203,7 @@ int selfcol_collider__contacts(const selfcol_collider *c, uint32_t collider_id,
             out->items[out->count++] = contact;
         }
     }
-    qsort(out->items + start, out->count - start, sizeof *out->items, by_triangle);
+    if (out->count > start) // (items is NULL until the first contact)
+        qsort(out->items + start, out->count - start, sizeof *out->items, by_triangle);
     return SELFCOL_OK;
 }

@@ -547,7 +547,8 @@ static void vote_and_label(selfcol_store *s) {
     }
     // One region per entry at most: the per-entry array suffices.
     s->region_count = regions;
-    memset(s->regions, 0, regions * sizeof *s->regions);
+    if (regions > 0) // (never grown when no contact was ever held: no array)
+        memset(s->regions, 0, regions * sizeof *s->regions);
     // Impose and count.
     for (uint32_t i = 0; i < n; ++i) {
         selfcol_store_contact *e = &s->entries[i];
