@@ -703,6 +703,251 @@ def test_cloth_ball_frames():
     print('cloth-ball: %s' % [o['counts'] for o in objs])
 
 
+# ---------------------------------------------------------------------------
+# track: sequences through the contact store.
+
+def spikes_frame(heights, d=0.1):
+    """One big triangle T in the plane z = 0 (normal +z) and small upright
+    triangles ("spikes") whose lowest vertex p_i is at heights[i] times d above
+    T's interior, the rest of each spike 3 units higher. A spike at 0.5
+    touches T (one VF contact, no EE: every other element is far away); at
+    -0.5 its vertex has gone through T (the same VF contact on the other
+    side, and its two edges from p_i cross T: 2 EF interferences); at 3 it
+    is clear of T."""
+    pos = [(0.0, 0.0, 0.0), (4.0, 0.0, 0.0), (0.0, 4.0, 0.0)]
+    tris = [(0, 1, 2)]
+    for i, h in enumerate(heights):
+        x, y = ((1.0, 1.0), (2.5, 0.5))[i]
+        base = len(pos)
+        pos += [(x, y, h * d), (x + 0.5, y, 3.0), (x, y + 0.5, 3.0)]
+        tris.append((base, base + 1, base + 2))
+    return pos, tris
+
+
+def write_sequence(name, heights_per_frame):
+    """Frames name_000.obj ... of spikes_frame(); returns (paths, pattern)."""
+    paths = []
+    for k, heights in enumerate(heights_per_frame):
+        pos, tris = spikes_frame(heights)
+        paths.append(work('track/%s_%03d.obj' % (name, k)))
+        fx.write_obj(paths[-1], pos, tris)
+    return paths, work('track/%s_%%03d.obj' % name)
+
+
+def track_jsonl(*args, expect=None):
+    """Runs track with --jsonl - and returns (status, objects, stderr)."""
+    status, out, err = run('track', '--jsonl', '-', *args, expect=expect)
+    return status, [json.loads(line) for line in out.splitlines() if line.strip()], err
+
+
+TRACK_KEYS = ('frame', 'file', 'contacts', 'regions', 'new', 'kept', 'remnant', 'dropped',
+              'flipped', 'corrected', 'corrected_regions', 'interferences', 'crossed_regions')
+
+
+def check_track_object(o, what):
+    for key in TRACK_KEYS[2:]:
+        check(isinstance(o.get(key), int) and o[key] >= 0, '%s: %s is not a count: %r'
+              % (what, key, o.get(key)))
+    check(isinstance(o['frame'], int) and isinstance(o['file'], str), '%s: frame, file' % what)
+    for key in ('query_ms', 'store_ms'):
+        check(isinstance(o.get(key), (int, float)), '%s: %s missing' % (what, key))
+    det = o['detected']
+    check(o['kept'] + o['new'] == det['vf'] + det['ee'], '%s: kept + new = %d, detected %s'
+          % (what, o['kept'] + o['new'], det))
+    check(o['contacts'] == o['kept'] + o['new'] + o['remnant'],
+          '%s: contacts %d != kept + new + remnant' % (what, o['contacts']))
+    check(o['interferences'] == det['ef'], '%s: interferences %d, detected %d EF'
+          % (what, o['interferences'], det['ef']))
+
+
+def test_track_flip():
+    """A vertex goes through a triangle: flipped 1 on the crossing frame."""
+    paths, pattern = write_sequence('flip', [[30], [0.5], [-0.5]])
+    status, objs, err = track_jsonl('--distance', '0.1', *paths)
+    check(status == 1, 'crossing sequence: exit %d (%s)' % (status, err))
+    check(len(objs) == 3, '%d JSON lines, expected 3' % len(objs))
+    for k, o in enumerate(objs):
+        check_track_object(o, 'frame %d' % k)
+        check(o['frame'] == k and o['file'] == paths[k], 'frame %d: frame %r, file %r'
+              % (k, o['frame'], o['file']))
+    want = [dict(contacts=0, new=0, flipped=0, interferences=0, regions=0),
+            dict(contacts=1, new=1, flipped=0, interferences=0, regions=1, crossed_regions=0),
+            dict(contacts=1, new=0, kept=1, flipped=1, interferences=2, corrected=0, regions=1,
+                 crossed_regions=1)]
+    for k, (o, w) in enumerate(zip(objs, want)):
+        for key, value in w.items():
+            check(o[key] == value, 'frame %d: %s = %r, expected %r' % (k, key, o[key], value))
+    # The human lines went to standard error (standard output holds the JSON).
+    check('flipped 1' in err and 'frame 2 (%s)' % paths[2] in err,
+          'per-frame lines on stderr: %r' % err)
+    # --range gives the same objects, numbered by the range.
+    _, ranged, _ = track_jsonl('--distance', '0.1', '--range', '0:2', pattern)
+    check([o['flipped'] for o in ranged] == [0, 0, 1] and [o['frame'] for o in ranged] == [0, 1, 2],
+          '--range: %s' % ranged)
+    # Human output on stdout without --jsonl -, JSON in a file.
+    jsonl = work('track/flip.jsonl')
+    status, out, err = run('track', '--distance', '0.1', '--jsonl', jsonl, *paths, expect=1)
+    lines = [x for x in out.splitlines() if x.startswith('  frame ')]
+    check(len(lines) == 3 and 'flipped 1' in lines[2] and 'interferences 2' in lines[2],
+          'per-frame lines: %r' % out)
+    for word in ('contacts', 'regions', 'new', 'remnant', 'corrected', 'crossed regions', 'query',
+                 'store', 'ms'):
+        check(word in lines[2], 'the frame line lacks %r: %r' % (word, lines[2]))
+    check([json.loads(x) for x in open(jsonl).read().splitlines()][2]['flipped'] == 1,
+          '--jsonl FILE')
+    # Consistency off: the same crossing is tracked the same way.
+    _, objs, _ = track_jsonl('--distance', '0.1', '--no-consistency', *paths)
+    check(objs[2]['flipped'] == 1 and objs[2]['corrected'] == 0, '--no-consistency: %s' % objs[2])
+    _, out, _ = run('track', '--quiet', '--distance', '0.1', *paths, expect=1)
+    check(out == '', '--quiet printed %r' % out)
+
+
+def test_track_remnance():
+    """A contact parts after frame 0: it stays exactly --remnance updates."""
+    frames = [[0.5]] + [[30]] * 6
+    paths, pattern = write_sequence('part', frames)
+    for remnance in (None, 0, 1, 2, 5):
+        args = ['--distance', '0.1', '--range', '0:%d' % (len(frames) - 1), pattern]
+        if remnance is not None:
+            args = ['--remnance', str(remnance)] + args
+        r = 4 if remnance is None else remnance  # SELFCOL_STORE_DEFAULT_REMNANCE
+        status, objs, err = track_jsonl(*args, expect=0)
+        check(len(objs) == len(frames), 'remnance %s: %d objects' % (remnance, len(objs)))
+        for k, o in enumerate(objs):
+            check_track_object(o, 'remnance %s, frame %d' % (remnance, k))
+            held = 1 if k <= r else 0
+            check(o['contacts'] == held, 'remnance %s, frame %d: contacts %d, expected %d'
+                  % (remnance, k, o['contacts'], held))
+            want_remnant = 1 if 1 <= k <= r else 0
+            check(o['remnant'] == want_remnant, 'remnance %s, frame %d: remnant %d, expected %d'
+                  % (remnance, k, o['remnant'], want_remnant))
+            check(o['dropped'] == (1 if k == r + 1 else 0), 'remnance %s, frame %d: dropped %d'
+                  % (remnance, k, o['dropped']))
+            check(o['new'] == (1 if k == 0 else 0) and o['interferences'] == 0,
+                  'remnance %s, frame %d: %s' % (remnance, k, o))
+
+
+def test_track_summary():
+    """Intersecting frames 1-2 and 4, the worst (two spikes through) 2."""
+    d = 0.5
+    frames = [[6, 6], [-d, 6], [-d, -d], [6, 6], [-d, 6]]
+    paths, pattern = write_sequence('summary', frames)
+    status, out, err = run('track', '--distance', '0.1', '--range', '0:4', pattern)
+    check(status == 1, 'exit %d, expected 1 (%s)' % (status, err))
+    check('frames with interferences: 1-2, 4\n' in out, 'frame list: %r' % out)
+    check('5 frame(s): 3 with interferences' in out, 'frame count: %r' % out)
+    check(re.search(r'worst frame: 2 \(%s\), 4 interferences' % re.escape(paths[2]), out),
+          'worst frame: %r' % out)
+    check('INTERSECTS' in out, 'result: %r' % out)
+    _, objs, _ = track_jsonl('--distance', '0.1', '--range', '0:4', pattern, expect=1)
+    check([o['interferences'] for o in objs] == [0, 2, 4, 0, 2],
+          'interferences %r' % [o['interferences'] for o in objs])
+    # Each frame's interferences are what check finds in it.
+    _, checked = check_json('--distance', '0.1', '--range', '0:4', pattern, expect=1)
+    check([o['counts']['ef'] for o in checked] == [o['interferences'] for o in objs],
+          'track and check disagree on the interferences')
+    # A clean sequence exits 0 and lists nothing.
+    status, out, err = run('track', '--distance', '0.1', paths[0], paths[3], expect=0)
+    check('frames with interferences' not in out and 'worst frame' not in out and
+          'result: clean' in out, 'clean sequence: %r' % out)
+    # Pictures: --png-worst draws frame 2, --png every frame.
+    worst = work('track/worst.png')
+    if os.path.exists(worst):
+        os.remove(worst)
+    run('track', '--distance', '0.1', '--size', '64x48', '--png-worst', worst, '--range', '0:4',
+        pattern, expect=1)
+    data = open(worst, 'rb').read()
+    check(data[:8] == b'\x89PNG\r\n\x1a\n' and struct.unpack('>II', data[16:24]) == (64, 48),
+          '--png-worst did not write a 64x48 PNG')
+    run('track', '--distance', '0.1', '--size', '64x48', '--png-worst',
+        work('track/worst_%d.png'), '--png', work('track/each_%02d.png'), '--range', '0:4',
+        pattern, expect=1)
+    check(os.path.exists(work('track/worst_2.png')), '--png-worst with %d: not named by frame 2')
+    check(all(os.path.exists(work('track/each_%02d.png' % k)) for k in range(5)),
+          '--png PATTERN: not every frame drawn')
+    # The worst frame's picture is that frame's, not the last one's: it is
+    # the picture --png drew of frame 2.
+    check(open(work('track/worst_2.png'), 'rb').read() == open(work('track/each_02.png'),
+                                                                 'rb').read(),
+          '--png-worst is not the picture of the worst frame')
+
+
+def test_track_errors():
+    paths, pattern = write_sequence('err', [[3], [0.5]])
+    # Another vertex and triangle count: an input error naming the frame.
+    pos, tris = fx.grid_sheet(3, 3, fx.flat)
+    other = work('track/other.obj')
+    fx.write_obj(other, pos, tris)
+    status, out, err = run('track', paths[0], other, paths[1])
+    check(status == 2 and 'topology' in err and other in err, 'topology change: %d %r'
+          % (status, err))
+    # The same counts, other triangles: an input error too.
+    pos, tris = spikes_frame([0.5])
+    swapped = work('track/swapped.obj')
+    fx.write_obj(swapped, pos, [tris[0], tuple(reversed(tris[1]))])
+    status, out, err = run('track', paths[0], swapped)
+    check(status == 2 and 'topology' in err and swapped in err, 'other triangles: %d %r'
+          % (status, err))
+    run('track', '--range', '0:5', pattern, expect=2)  # err_002.obj is missing
+    status, out, err = run('track', '--range', '0:1', paths[0])  # not a pattern
+    check(status == 2 and '--range' in err, '--range without a pattern: %d %r' % (status, err))
+    usage = [['track'], ['track', '--remnance', '-1', paths[0]],
+             ['track', '--remnance', 'four', paths[0]], ['track', '--remnance', '', paths[0]],
+             ['track', '--remnance', '99999999999', paths[0]],
+             ['track', '--no-consistency=1', paths[0]], ['track', '--json', '-', paths[0]],
+             ['track', '--csv', '-', paths[0]], ['track', '--fail-on', 'proximity', paths[0]],
+             ['track', '--distance', '1', '--distance-rel', '0.1', paths[0]],
+             ['track', '--method', 'fast', paths[0]], ['track', '--bogus', paths[0]],
+             ['track', '--png-worst', work('track/w_%d_%d.png'), paths[0]],
+             ['track', paths[0], '--jsonl'],
+             ['check', '--jsonl', '-', paths[0]], ['check', '--remnance', '2', paths[0]],
+             ['info', '--png-worst', 'x.png', paths[0]]]
+    for args in usage:
+        status, out, err = run(*args)
+        check(status == 2, '%s: exit %d, expected 2' % (args, status))
+        check(err.strip() != '' and 'selfcol-cli' in err, '%s: no message on stderr' % args)
+        check('--help' in err, '%s: the usage error does not point to --help: %r' % (args, err))
+    _, out, _ = run('track', '--help', expect=0)
+    for option in ('--distance', '--distance-rel', '--method', '--remnance', '--no-consistency',
+                   '--jsonl', '--png', '--png-worst', '--range', '--quiet'):
+        check(option in out, 'track --help does not mention %s' % option)
+    _, out, _ = run('--help', expect=0)
+    check('track' in out, 'the main help does not list track')
+
+
+def test_track_cloth_ball():
+    """The store on two real frames: consistent counters, and the
+    interferences check finds."""
+    frames = os.path.join(ARGS.shared or '', 'sample-scalable-ccd-data', 'cloth-ball', 'frames')
+    pair = [os.path.join(frames, 'cloth_ball%d.ply' % k) for k in (92, 93)]
+    if not all(os.path.exists(p) for p in pair):
+        print('skipped: no cloth-ball frames 92 and 93 under %s' % frames)
+        sys.exit(SKIP)
+    status, objs, err = track_jsonl(*pair)
+    check(status in (0, 1) and len(objs) == 2, 'exit %d, %d objects (%s)'
+          % (status, len(objs), err))
+    for k, o in enumerate(objs):
+        check_track_object(o, 'cloth-ball frame %d' % k)
+    first, second = objs
+    check(first['new'] == first['contacts'] and first['kept'] == first['remnant'] == 0 and
+          first['flipped'] == 0, 'first frame: everything is new: %s' % first)
+    check(second['kept'] + second['new'] + second['remnant'] == second['contacts'],
+          'second frame: kept + new + remnant != contacts: %s' % second)
+    check(second['kept'] <= first['contacts'], 'second frame keeps more than the first held')
+    # The same query as check: its counts, frame by frame (same distance).
+    _, checked = check_json('--frames', *pair)
+    for k, (o, c) in enumerate(zip(objs, checked)):
+        check(o['distance'] == c['distance'], 'frame %d: distance %r, check %r'
+              % (k, o['distance'], c['distance']))
+        check(o['interferences'] == c['counts']['ef'], 'frame %d: interferences %d, check %d'
+              % (k, o['interferences'], c['counts']['ef']))
+        check(o['detected']['vf'] == c['counts']['vf'] and
+              o['detected']['ee'] == c['counts']['ee'], 'frame %d: detected %s, check %s'
+              % (k, o['detected'], c['counts']))
+    check(status == (1 if any(o['interferences'] for o in objs) else 0), 'exit status %d' % status)
+    print('cloth-ball track: %s' % [{k: o[k] for k in TRACK_KEYS[2:]} for o in objs])
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()

@@ -63,11 +63,52 @@ static const char info_help[] =
     "it is closed and consistently oriented, and its mean edge length.\n"
     "exit status: 0, or 2 for a usage or input error.\n";
 
+static const char track_help[] =
+    "usage: selfcol-cli track [options] FRAME...\n"
+    "       selfcol-cli track [options] --range FIRST:LAST[:STEP] PATTERN\n"
+    "\n"
+    "Follows the contacts of a sequence of frames of one topology across frames\n"
+    "with the persistent contact store (include/selfcol/store.h): per frame, the\n"
+    "hierarchy is refit (built on the first frame), the self-contacts are found as\n"
+    "check finds them (VF, EE, EF), and the store keeps each contact's side, keeps\n"
+    "contacts that part for --remnance updates, notices crossings (flipped) and\n"
+    "imposes each region's majority side (corrected). One line per frame:\n"
+    "  contacts   VF and EE contacts held (detected, and remnants)\n"
+    "  regions    connected groups of contacts; crossed: holding interferences\n"
+    "  new, remnant, flipped, corrected (contacts, and regions)\n"
+    "  interferences  EF interferences: the surface intersects itself\n"
+    "then which frames intersect and the worst (most interferences).\n"
+    "Every frame must have the first frame's vertices and triangles.\n"
+    "\n"
+    "options:\n"
+    "  --distance D        detection distance in mesh units\n"
+    "  --distance-rel K    d = K x the first frame's mean edge length (default 0.1)\n"
+    "  --method M          exact (default), bvh, exhaustive, seed, cone (as check)\n"
+    "  --narrow N          closed (default) or libccd\n"
+    "  --remnance N        updates a contact stays after it was last detected\n"
+    "                      (default 4; 0: none)\n"
+    "  --no-consistency    track sides only, no region vote\n"
+    "  --jsonl FILE|-      one JSON object per frame (JSON Lines); with '-' the\n"
+    "                      per-frame lines and the summary go to standard error\n"
+    "  --png PATTERN       a picture of every frame (PATTERN with %d, as\n"
+    "                      out_%04d.png; without %d, the last frame)\n"
+    "  --png-worst FILE    a picture of the worst frame only\n"
+    "  --view AZ,EL        view angles in degrees for pictures (default 35,25)\n"
+    "  --size WxH          picture size in pixels, 16 to 4096 each (default 1024x768)\n"
+    "  --no-weld           keep vertices as the file has them (no welding)\n"
+    "  --quiet             no per-frame lines or summary (errors only)\n"
+    "  -h, --help          this help\n"
+    "Pictures: intersecting triangles red, proximities orange (as check).\n"
+    "\n"
+    "exit status: 0 no interference in any frame, 1 interferences in some frame,\n"
+    "2 usage or input error.\n";
+
 const char cli_main_help[] =
     "usage: selfcol-cli COMMAND [options] ...\n"
     "\n"
     "commands:\n"
     "  check   find self-contacts and interferences of meshes or frame sequences\n"
+    "  track   follow contacts across the frames of a sequence (contact store)\n"
     "  info    describe meshes (topology, degeneracies, scale)\n"
     "\n"
     "selfcol-cli COMMAND --help shows a command's options; --version the version.\n";
@@ -265,6 +306,21 @@ int cli_frame_list(const cli_options *o, char ***names_out, long **numbers_out, 
     return 0;
 }
 
+// The commands an option belongs to (bits).
+enum { FOR_CHECK = 1, FOR_INFO = 2, FOR_TRACK = 4 };
+
+static int parse_remnance(const char *text, uint32_t *out) {
+    char *end;
+    if (text[0] < '0' || text[0] > '9')
+        return -1;
+    errno = 0;
+    unsigned long long n = strtoull(text, &end, 10);
+    if (*end != '\0' || errno != 0 || n > UINT32_MAX)
+        return -1;
+    *out = (uint32_t)n;
+    return 0;
+}
+
 // Parses argv[first..]; `--opt value` and `--opt=value` both work.
 int cli_parse_options(int argc, char **argv, int first, const char *command, cli_options *o) {
     memset(o, 0, sizeof *o);
@@ -275,8 +331,14 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
     o->view.elevation = 25.0;
     o->view.width = 1024;
     o->view.height = 768;
+    o->remnance = SELFCOL_STORE_DEFAULT_REMNANCE;
     int only_inputs = 0;
-    const char *cmd = strcmp(command, "check") == 0 ? "check " : "info ";
+    const int this_command = strcmp(command, "check") == 0   ? FOR_CHECK
+                             : strcmp(command, "track") == 0 ? FOR_TRACK
+                                                             : FOR_INFO;
+    const char *cmd = this_command == FOR_CHECK   ? "check "
+                      : this_command == FOR_TRACK ? "track "
+                                                  : "info ";
     for (int i = first; i < argc; ++i) {
         char *arg = argv[i];
         if (only_inputs || arg[0] != '-' || strcmp(arg, "-") == 0) {
@@ -294,7 +356,10 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             return -1;
         }
         if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
-            fputs(strcmp(command, "check") == 0 ? check_help : info_help, stdout);
+            fputs(this_command == FOR_CHECK   ? check_help
+                  : this_command == FOR_TRACK ? track_help
+                                              : info_help,
+                  stdout);
             return -1; // --help and --version: done, exit 0
         }
         // Split "--name=value".
@@ -306,8 +371,8 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             return cli_usage_error(cmd, "unknown option '%s'", arg);
         memcpy(name, arg, name_length);
         name[name_length] = '\0';
-        static const char *const flags[] = {"--quiet", "--no-weld", "--frames"};
-        int is_flag = lookup(name, flags, 3) >= 0;
+        static const char *const flags[] = {"--quiet", "--no-weld", "--frames", "--no-consistency"};
+        int is_flag = lookup(name, flags, 4) >= 0;
         if (is_flag && eq)
             return cli_usage_error(cmd, "option '%s' takes no value", name);
         if (!is_flag) {
@@ -318,20 +383,34 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             else
                 return cli_usage_error(cmd, "option '%s' needs a value", name);
         }
-        int check_only = 1;
+        int belongs = FOR_CHECK | FOR_TRACK; // the commands this option belongs to
         if (strcmp(name, "--quiet") == 0) {
             o->quiet = 1;
-            check_only = 0;
+            belongs = FOR_CHECK | FOR_INFO | FOR_TRACK;
         } else if (strcmp(name, "--no-weld") == 0) {
             o->no_weld = 1;
-            check_only = 0;
+            belongs = FOR_CHECK | FOR_INFO | FOR_TRACK;
         } else if (strcmp(name, "--json") == 0) {
             o->json = value;
-            check_only = 0;
+            belongs = FOR_CHECK | FOR_INFO;
         } else if (strcmp(name, "--frames") == 0) {
             o->frames = 1;
         } else if (strcmp(name, "--range") == 0) {
             o->range = value;
+        } else if (strcmp(name, "--jsonl") == 0) {
+            o->jsonl = value;
+            belongs = FOR_TRACK;
+        } else if (strcmp(name, "--png-worst") == 0) {
+            o->png_worst = value;
+            belongs = FOR_TRACK;
+        } else if (strcmp(name, "--remnance") == 0) {
+            if (parse_remnance(value, &o->remnance))
+                return cli_usage_error(
+                    cmd, "--remnance needs a whole number of updates >= 0, not '%s'", value);
+            belongs = FOR_TRACK;
+        } else if (strcmp(name, "--no-consistency") == 0) {
+            o->no_consistency = 1;
+            belongs = FOR_TRACK;
         } else if (strcmp(name, "--distance") == 0) {
             if (parse_double(value, &o->distance) || o->distance < 0)
                 return cli_usage_error(cmd, "--distance needs a number >= 0, not '%s'", value);
@@ -353,8 +432,10 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             o->narrow = (uint32_t)m;
         } else if (strcmp(name, "--csv") == 0) {
             o->csv = value;
+            belongs = FOR_CHECK;
         } else if (strcmp(name, "--mark") == 0) {
             o->mark = value;
+            belongs = FOR_CHECK;
         } else if (strcmp(name, "--png") == 0) {
             o->png = value;
         } else if (strcmp(name, "--view") == 0) {
@@ -386,11 +467,20 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             else
                 return cli_usage_error(
                     cmd, "--fail-on takes 'interference' or 'proximity', not '%s'", value);
+            belongs = FOR_CHECK;
         } else {
             return cli_usage_error(cmd, "unknown option '%s'", name);
         }
-        if (check_only && strcmp(command, "check") != 0)
-            return cli_usage_error(cmd, "option '%s' belongs to the check command", name);
+        if (!(belongs & this_command)) {
+            char message[160];
+            snprintf(message, sizeof message, "option '%s' belongs to the %s command%s", name,
+                     belongs == FOR_TRACK                ? "track"
+                     : belongs == FOR_CHECK              ? "check"
+                     : belongs == (FOR_CHECK | FOR_INFO) ? "check and info"
+                                                         : "check and track",
+                     belongs == FOR_CHECK || belongs == FOR_TRACK ? "" : "s");
+            return cli_usage_error(cmd, "%s", message);
+        }
     }
     if (o->distance_given && o->distance_rel_given)
         return cli_usage_error(cmd, "give either --distance or --distance-rel, not both%s", "");
@@ -398,8 +488,8 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
         return cli_usage_error(cmd, "--json and --csv cannot both write to standard output%s", "");
     // Output names may carry one %d for the frame number; anything else with
     // a % is refused here rather than written under a surprising name.
-    const char *named[2] = {o->mark, o->png};
-    for (int i = 0; i < 2; ++i) {
+    const char *named[3] = {o->mark, o->png, o->png_worst};
+    for (int i = 0; i < 3; ++i) {
         pattern p;
         if (named[i] != NULL && parse_pattern(named[i], &p) < 0)
             return cli_usage_error(cmd,

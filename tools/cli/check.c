@@ -184,8 +184,8 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
 
 // "frames with interferences: 3, 5-9, 12": runs of consecutive frames of the
 // sequence (in --range steps) as FIRST-LAST.
-static void print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
-                             long sequence_count) {
+void cli_print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
+                          long sequence_count) {
     const long *f = frames->data;
     if (frames->count == 0)
         return;
@@ -220,8 +220,8 @@ static double combined_mean_edge(cli_part *const *parts, int count) {
 }
 
 // Positions of a later frame: same vertex count and triangles as frame 0.
-static int load_next_frame(cli_part *part, const char *path, cli_progress *progress,
-                           size_t *split_groups, cli_error *err) {
+int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress,
+                        size_t *split_groups, cli_error *err) {
     cli_mesh next;
     if (cli_read_mesh(path, &next, err, progress) != 0)
         return -1;
@@ -375,7 +375,7 @@ int cli_command_check(const cli_options *o) {
                 double start = cli_now();
                 parts[0]->path = frame_names[f];
                 files[0] = frame_names[f];
-                if (load_next_frame(parts[0], frame_names[f], &progress, &split_frames, &err))
+                if (cli_load_next_frame(parts[0], frame_names[f], &progress, &split_frames, &err))
                     goto done;
                 st.info.seconds_load = cli_now() - start;
                 start = cli_now();
@@ -395,7 +395,7 @@ int cli_command_check(const cli_options *o) {
         if (st.summary) {
             fprintf(st.summary, "  %ld frame(s): %ld with interferences, %ld with proximities\n",
                     st.frames_checked, st.frames_intersecting, st.frames_near);
-            print_frame_list(st.summary, &st.intersecting_frames, frame_numbers, frame_count);
+            cli_print_frame_list(st.summary, &st.intersecting_frames, frame_numbers, frame_count);
             if (split_frames)
                 fprintf(st.summary,
                         "  warning: in %zu frame(s) vertices welded in the first frame have "

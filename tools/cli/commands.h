@@ -1,8 +1,9 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// selfcol-cli commands: the parsed options (args.c), the check (check.c) and
-// info (info.c) commands, and the meshes they load into the library (part.c).
+// selfcol-cli commands: the parsed options (args.c), the check (check.c),
+// track (track.c) and info (info.c) commands, and the meshes they load into
+// the library (part.c).
 #ifndef SELFCOL_CLI_COMMANDS_H
 #define SELFCOL_CLI_COMMANDS_H
 
@@ -19,6 +20,10 @@ typedef struct cli_options {
     int quiet, fail_on_proximity, no_weld, frames;
     const char *range; /* "FIRST:LAST[:STEP]" for a pattern */
     cli_view view;
+    /* track */
+    const char *jsonl, *png_worst;
+    uint32_t remnance; /* default SELFCOL_STORE_DEFAULT_REMNANCE */
+    int no_consistency;
     const char *inputs[CLI_MAX_INPUTS];
     int input_count;
 } cli_options;
@@ -32,12 +37,12 @@ extern const char cli_main_help[];
 
 /**
  * Prints "selfcol-cli: " format (with what) and a pointer to command's --help
- * (command: "check ", "info " or NULL) on stderr. Returns CLI_EXIT_ERROR.
+ * (command: "check ", "track ", "info " or NULL) on stderr. Returns CLI_EXIT_ERROR.
  */
 int cli_usage_error(const char *command, const char *format, const char *what);
 
 /**
- * Parses argv[first..] for command ("check" or "info") into o. Returns 0, -1
+ * Parses argv[first..] for command ("check", "track" or "info") into o. Returns 0, -1
  * after --help or --version (exit 0), or CLI_EXIT_ERROR after a usage error.
  */
 int cli_parse_options(int argc, char **argv, int first, const char *command, cli_options *o);
@@ -63,8 +68,26 @@ void cli_part_free(cli_part *part);
 int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *seconds_topology,
                     double *seconds_hierarchy, cli_error *err);
 
+/**
+ * Reads a later frame of a sequence into part: same vertex count and file
+ * triangles as the first frame (else an error naming path), then sets the
+ * library mesh's positions. Counts in *split_groups a frame where vertices
+ * welded in the first frame have moved apart. Returns 0, or -1 with err set.
+ */
+int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress,
+                        size_t *split_groups, cli_error *err);
+
+/**
+ * Prints "  frames with interferences: 3, 5-9, 12" (runs of consecutive
+ * frames of the sequence as FIRST-LAST) and a newline; nothing when frames
+ * (long) is empty.
+ */
+void cli_print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
+                          long sequence_count);
+
 /** The commands: each returns the exit status. */
 int cli_command_check(const cli_options *o);
+int cli_command_track(const cli_options *o);
 int cli_command_info(const cli_options *o);
 
 #endif /* SELFCOL_CLI_COMMANDS_H */

@@ -3,8 +3,8 @@
 
 // selfcol-cli: collisions and self-collisions of triangle meshes from the
 // command line. Commands: check (one mesh, two meshes, or a sequence of
-// frames of one topology) and info. The command table leaves room for the
-// planned `track` command. Uses only the public libselfcol API.
+// frames of one topology), track (a sequence through the contact store) and
+// info. Uses only the public libselfcol API.
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -26,13 +26,16 @@ int main(int argc, char **argv) {
         return CLI_EXIT_CLEAN;
     }
     cli_options o;
-    if (strcmp(command, "check") == 0 || strcmp(command, "info") == 0) {
+    if (strcmp(command, "check") == 0 || strcmp(command, "track") == 0 ||
+        strcmp(command, "info") == 0) {
         int rc = cli_parse_options(argc, argv, 2, command, &o);
         if (rc < 0)
             return CLI_EXIT_CLEAN; // --help
         if (rc > 0)
             return rc;
-        return strcmp(command, "check") == 0 ? cli_command_check(&o) : cli_command_info(&o);
+        return strcmp(command, "check") == 0   ? cli_command_check(&o)
+               : strcmp(command, "track") == 0 ? cli_command_track(&o)
+                                               : cli_command_info(&o);
     }
-    return cli_usage_error(NULL, "unknown command '%s' (check, info)", command);
+    return cli_usage_error(NULL, "unknown command '%s' (check, track, info)", command);
 }
