@@ -166,7 +166,9 @@ def main():
                    0, 0, "0", "0", "0", "0", 0, 0,  # contour and stage columns: selfcol's only
                    found[0], found[1], found[2], sum(found), raw, ref_k[0], ref_k[1], ref_k[2],
                    miss[0], miss[1], miss[2], sum(miss), extra[0], extra[1], extra[2], sum(extra),
-                   0, "0.00", rss, threads, '"%s"' % note]
+                   0, "0.00", rss, threads]
+            row += [0] * 13  # the store_* columns: contact-store rows only
+            row.append('"%s"' % note)
             print(",".join(str(x) for x in row))
             sys.stdout.flush()
     return 0

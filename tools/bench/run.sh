@@ -7,7 +7,10 @@
 # that peak memory is per case), and writes
 #   OUT/SUBSET.csv   one row per case x method x d (the header line first)
 #   OUT/SUBSET.meta  machine, date, commit, compiler, Bullet, command, runtime
-# OUT defaults to tools/bench/results. Called by `make bench` (default),
+# OUT defaults to tools/bench/results (with --only, to BUILD/bench-results:
+# a partial run never replaces the committed results). --only REGEX keeps the
+# cases whose name matches, e.g. --only '^store-' for the contact-store rows
+# alone (selfcol_bench.c, "Contact-store rows"). Called by `make bench` (default),
 # `make bench-full` (full) and `make bench-smoke` (smoke, what CI runs: tiny
 # sizes, no timing assertion: it only fails when the runner fails).
 # bench-full (or --ipctk) adds ipc-toolkit rows through its Python package
@@ -39,8 +42,12 @@ if [ "$subset" = full ]; then ipctk_reps=7; else ipctk_reps=5; fi
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
-[ -n "$out" ] || out=tools/bench/results
 case "$build" in /*) ;; *) build="$root/$build" ;; esac
+if [ -z "$out" ] && [ -n "$only" ]; then
+  out="$build/bench-results"
+  echo "bench: --only: a partial run, written to $out (not tools/bench/results)"
+fi
+[ -n "$out" ] || out=tools/bench/results
 runner="$build/tools/bench/selfcol-bench"
 if [ ! -x "$runner" ]; then
   echo "run.sh: $runner not found; build first (make build, or cmake --build $build)" >&2
@@ -152,7 +159,11 @@ else frames="absent ($data/sample-scalable-ccd-data): real-frame cases skipped";
   echo "bullet=$bullet"
   echo "frames=$frames"
   echo "threads=1 (selfcol and Bullet run single-threaded)"
-  echo "command=make bench$( [ "$subset" = default ] || echo "-$subset")  (sh tools/bench/run.sh --subset $subset)"
+  if [ -n "$only" ]; then
+    echo "command=sh tools/bench/run.sh --subset $subset --only '$only' (partial run)"
+  else
+    echo "command=make bench$( [ "$subset" = default ] || echo "-$subset")  (sh tools/bench/run.sh --subset $subset)"
+  fi
   echo "runtime_s=$elapsed"
 } > "$meta"
 echo "bench: $(( $(wc -l < "$csv") - 1 )) rows in $csv, $elapsed s ($meta)"

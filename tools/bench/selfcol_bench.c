@@ -17,6 +17,12 @@
 // with a reference: EXHAUSTIVE when it ran, else EXACT (which the test suite and the smaller rows
 // hold equal to EXHAUSTIVE); the `reference` column says which.
 //
+// The store-* cases (listed after the others) time the contact store
+// instead: selfcol_store_update fed with EXACT's result of each frame of a
+// crumpled-sheet sequence, or of two real frames (rows STORE-FIRST and
+// STORE; see "Contact-store rows" below). `run.sh --only '^store-'` runs
+// them alone.
+//
 // usage: selfcol-bench --list SUBSET        names of the cases of a subset
 //        selfcol-bench --header             the CSV header line
 //        selfcol-bench --case NAME --subset SUBSET [--data DIR]
@@ -258,14 +264,21 @@ static const bench_case cases[] = {
 typedef struct limits {
     unsigned reps;
     size_t exhaustive, libccd, bullet;
+    unsigned store_runs; // runs of each contact-store sequence (fresh store each)
 } limits;
 
 static limits limits_of(unsigned subset) {
     limits l;
     switch (subset) {
-    case SMOKE: l.reps = 2, l.exhaustive = 2000, l.libccd = 2000, l.bullet = 2000; break;
-    case FULL: l.reps = 7, l.exhaustive = 20500, l.libccd = 20500, l.bullet = 200000; break;
-    default: l.reps = 5, l.exhaustive = 5200, l.libccd = 5200, l.bullet = 20500; break;
+    case SMOKE:
+        l.reps = 2, l.exhaustive = 2000, l.libccd = 2000, l.bullet = 2000, l.store_runs = 2;
+        break;
+    case FULL:
+        l.reps = 7, l.exhaustive = 20500, l.libccd = 20500, l.bullet = 200000, l.store_runs = 5;
+        break;
+    default:
+        l.reps = 5, l.exhaustive = 5200, l.libccd = 5200, l.bullet = 20500, l.store_runs = 3;
+        break;
     }
     return l;
 }
@@ -376,6 +389,12 @@ typedef struct row {
     uint64_t raw_contacts;
     size_t struct_bytes;
     unsigned threads; // selfcol_query_options.threads (Bullet: 1)
+    // Contact-store rows (method STORE, STORE-FIRST; 0 on the other rows):
+    // selfcol_store_update's wall time, per held VF/EE contact, and the
+    // update's counters (means over the updates of the row).
+    timing update;
+    double ns_per_contact, bytes_per_contact;
+    double held, regions, st_new, st_kept, st_remnant, st_dropped, st_flipped, st_corrected;
     char note[256];
 } row;
 
@@ -394,7 +413,10 @@ static const char *header =
     "sort_ms,pairs_separated,primitives_filtered,vf,ee,ef,contacts,"
     "raw_contacts,ref_vf,ref_ee,ref_ef,"
     "miss_vf,miss_ee,miss_ef,misses,extra_vf,extra_ee,extra_ef,extras,struct_bytes,"
-    "bytes_per_tri,peak_rss_kb,threads,note";
+    "bytes_per_tri,peak_rss_kb,threads,"
+    "store_update_ms,store_update_min_ms,store_update_max_ms,store_ns_per_contact,store_contacts,"
+    "store_regions,store_new,store_kept,store_remnant,store_dropped,store_flipped,store_corrected,"
+    "store_bytes_per_contact,note";
 
 static void print_row(const context *cx, const row *r) {
     const selfcol_query_stats *s = &r->st;
@@ -429,9 +451,14 @@ static void print_row(const context *cx, const row *r) {
            (unsigned long long)misses, (unsigned long long)r->extra[0],
            (unsigned long long)r->extra[1], (unsigned long long)r->extra[2],
            (unsigned long long)extras);
-    printf("%zu,%.2f,%ld,%u,\"%s\"\n", r->struct_bytes,
+    printf("%zu,%.2f,%ld,%u,", r->struct_bytes,
            cx->triangles ? (double)r->struct_bytes / (double)cx->triangles : 0.0, cx->peak_rss_kb,
-           r->threads ? r->threads : 1u, r->note);
+           r->threads ? r->threads : 1u);
+    printf("%.4f,%.4f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,", 1e3 * r->update.med,
+           1e3 * r->update.min, 1e3 * r->update.max, r->ns_per_contact, r->held, r->regions,
+           r->st_new, r->st_kept, r->st_remnant, r->st_dropped, r->st_flipped, r->st_corrected,
+           r->bytes_per_contact);
+    printf("\"%s\"\n", r->note);
     fflush(stdout);
 }
 
@@ -833,8 +860,9 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
             fprintf(stderr, "selfcol-bench: %s d=%.1fx Bullet\n", bc->name, cx.d_factor);
             bullet_rows(bb, &cx, &ref, ref_name, 1e3 * bullet_build_s, bullet_bytes, lim.reps);
         }
-        // Future rows (the contact store, the Bullet adapter) go here: same
-        // mesh, same d, compared with the same reference.
+        // Future rows (the Bullet adapter) go here: same mesh, same d,
+        // compared with the same reference. The contact store has cases of
+        // its own (store_cases): it needs a sequence of frames.
         free(ref.k);
     }
 
@@ -931,6 +959,441 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
     return rc == SELFCOL_OK ? 0 : 1;
 }
 
+// ---------------------------------------------------------------------------
+// Contact-store rows: the cost of selfcol_store_update (merge, sides,
+// regions and the vote) per held contact, fed with EXACT's query result of
+// each frame at d = 0.1 x mean edge (all kinds, closed form, one thread: the
+// settings of the EXACT rows), default store options (remnance 4,
+// consistency on). Two kinds of case:
+//   sequence (p = grid n, seed, frames, step): the crumpled n x n sheet
+//     (scene_crumpled, amplitude 5) with its crumple growing frame to frame:
+//     frame f = 0 .. frames - 1 has the positions grid + (1 + step f) x
+//     (crumpled - grid), i.e. the crumpled sheet of amplitude 5 (1 + step f),
+//     one topology. Each run updates a fresh store with every frame in order
+//     (positions set, hierarchy refit, query, update). Row STORE-FIRST:
+//     update 1 (the store's arrays grow); row STORE: updates 3 .. frames of
+//     every run (steady state: update 2 sizes the arrays for the held plus
+//     detected contacts; they double again only when those pass a power of
+//     two, and the note counts the updates where they did).
+//   pair (p = real scene index, frame a, frame b): STORE-FIRST is frame a's
+//     update on a fresh store; STORE is frame b's update on a store holding
+//     frame a's contacts, its arrays already grown (after one untimed a, b
+//     pair the store is cleared, which keeps its memory, before each timed
+//     pair). The b update on a fresh store goes in the note.
+// Times are medians over the samples (updates x runs) with min and max;
+// ns per contact is the median over samples of update time / VF+EE contacts
+// held after the update, bytes per contact likewise with
+// selfcol_store_byte_count; the counters are means over the row's updates.
+// query_ms and refit_ms are the same frames' EXACT query and refit, so that
+// the store's share of a frame shows; struct_bytes is the store's largest
+// byte count; raw_contacts the records the query fed it.
+
+typedef struct store_case {
+    const char *name, *scene;
+    unsigned subsets;
+    int pair;    // 0: crumpled sequence, 1: two real frames
+    double p[4]; // see above
+} store_case;
+
+static const store_case store_cases[] = {
+    {"store-crumpled-2k", "crumpled", SMOKE, 0, {32, 1, 5, 0.01}},
+    {"store-crumpled-200k", "crumpled", BIG, 0, {316, 1, 12, 0.01}},
+    {"store-cloth-ball-93", "cloth-ball", BIG, 1, {0, 92, 93}},
+};
+
+typedef struct store_sample {
+    double refit, query, update; // seconds
+    selfcol_store_update_stats st;
+    uint64_t held[3];  // VF, EE, EF records held after the update
+    uint64_t detected; // records of the query fed to it
+    size_t bytes;      // selfcol_store_byte_count after it
+    int grew;          // the byte count grew in this update
+} store_sample;
+
+// One timed update; the sample's refit and query are the caller's.
+static int store_measure(selfcol_store *store, const selfcol_mesh *mesh,
+                         const selfcol_contacts *detected, store_sample *sm) {
+    const size_t before = selfcol_store_byte_count(store);
+    double t0 = now();
+    int rc = selfcol_store_update(store, mesh, NULL, detected);
+    sm->update = now() - t0;
+    if (rc != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: store update: %s\n", selfcol_status_string(rc));
+        return rc;
+    }
+    sm->st.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    selfcol_store_stats(store, &sm->st);
+    const selfcol_store_contact *e;
+    size_t n;
+    selfcol_store_contacts(store, &e, &n);
+    sm->held[0] = sm->held[1] = sm->held[2] = 0;
+    for (size_t i = 0; i < n; ++i)
+        sm->held[e[i].kind < 3 ? e[i].kind : 2]++;
+    const selfcol_contact *d;
+    size_t m;
+    selfcol_contacts_data(detected, &d, &m);
+    sm->detected = m;
+    sm->bytes = selfcol_store_byte_count(store);
+    sm->grew = sm->bytes > before;
+    return SELFCOL_OK;
+}
+
+static void store_log(const char *name, const char *what, const store_sample *sm) {
+    fprintf(stderr,
+            "selfcol-bench: %s %s: detected %llu, held VF %llu EE %llu EF %llu, new %llu kept "
+            "%llu remnant %llu dropped %llu flipped %llu corrected %llu, regions %llu; update "
+            "%.2f ms, query %.1f ms, store %zu bytes%s\n",
+            name, what, (unsigned long long)sm->detected, (unsigned long long)sm->held[0],
+            (unsigned long long)sm->held[1], (unsigned long long)sm->held[2],
+            (unsigned long long)sm->st.new_contacts, (unsigned long long)sm->st.kept,
+            (unsigned long long)sm->st.remnant, (unsigned long long)sm->st.dropped,
+            (unsigned long long)sm->st.flipped, (unsigned long long)sm->st.corrected,
+            (unsigned long long)sm->st.regions, 1e3 * sm->update, 1e3 * sm->query, sm->bytes,
+            sm->grew ? " (grew)" : "");
+}
+
+enum { S_REFIT, S_QUERY, S_UPDATE, S_NS, S_BYTES };
+
+static double sample_value(const store_sample *sm, int what) {
+    const double held = (double)sm->st.contacts;
+    switch (what) {
+    case S_REFIT: return sm->refit;
+    case S_QUERY: return sm->query;
+    case S_UPDATE: return sm->update;
+    case S_NS: return held > 0 ? 1e9 * sm->update / held : 0.0;
+    default: return held > 0 ? (double)sm->bytes / held : 0.0;
+    }
+}
+
+// One STORE or STORE-FIRST row from n samples.
+static int store_row(context *cx, const char *method, const store_sample *sm, size_t n,
+                     const char *note) {
+    double *t = malloc((n ? n : 1) * sizeof *t);
+    if (t == NULL || n == 0) {
+        free(t);
+        return 1;
+    }
+    row r;
+    memset(&r, 0, sizeof r);
+    r.method = method;
+    r.narrow = "closed-form";
+    r.reference = "none";
+    r.threads = 1;
+    timing *out[3] = {&r.refit, &r.query, &r.update};
+    for (int w = S_REFIT; w <= S_BYTES; ++w) {
+        for (size_t i = 0; i < n; ++i)
+            t[i] = sample_value(&sm[i], w);
+        timing m = summarize(t, (unsigned)n);
+        if (w <= S_UPDATE)
+            *out[w] = m;
+        else if (w == S_NS)
+            r.ns_per_contact = m.med;
+        else
+            r.bytes_per_contact = m.med;
+    }
+    free(t);
+    double held[3] = {0, 0, 0}, detected = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const selfcol_store_update_stats *st = &sm[i].st;
+        for (int k = 0; k < 3; ++k)
+            held[k] += (double)sm[i].held[k];
+        detected += (double)sm[i].detected;
+        r.held += (double)st->contacts;
+        r.regions += (double)st->regions;
+        r.st_new += (double)st->new_contacts;
+        r.st_kept += (double)st->kept;
+        r.st_remnant += (double)st->remnant;
+        r.st_dropped += (double)st->dropped;
+        r.st_flipped += (double)st->flipped;
+        r.st_corrected += (double)st->corrected;
+        if (sm[i].bytes > r.struct_bytes)
+            r.struct_bytes = sm[i].bytes;
+    }
+    const double inv = 1.0 / (double)n;
+    for (int k = 0; k < 3; ++k)
+        r.found[k] = (uint64_t)llround(held[k] * inv);
+    r.raw_contacts = (uint64_t)llround(detected * inv);
+    r.held *= inv, r.regions *= inv, r.st_new *= inv, r.st_kept *= inv, r.st_remnant *= inv;
+    r.st_dropped *= inv, r.st_flipped *= inv, r.st_corrected *= inv;
+    snprintf(r.note, sizeof r.note, "%.255s", note);
+    cx->peak_rss_kb = peak_rss_kb();
+    print_row(cx, &r);
+    return 0;
+}
+
+static void store_options(selfcol_query_options *o, double d) {
+    selfcol_query_options_init(o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o->method = SELFCOL_METHOD_EXACT;
+    o->narrow = SELFCOL_NARROW_CLOSED_FORM;
+    o->kinds = SELFCOL_KIND_ALL;
+    o->distance = d;
+    o->threads = 1;
+}
+
+static void store_context(context *cx, const store_case *sc, const char *subset_name,
+                          const scene *s, const selfcol_mesh *mesh, double scale) {
+    memset(cx, 0, sizeof *cx);
+    cx->subset = subset_name;
+    cx->case_name = sc->name;
+    cx->scene_name = sc->scene;
+    cx->triangles = s->triangle_count;
+    cx->vertices = s->vertex_count;
+    cx->edges = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
+    cx->scale = scale;
+    cx->mean_edge = selfcol_mesh_mean_edge_length(mesh);
+    cx->d_factor = 0.1;
+    cx->d = 0.1 * cx->mean_edge;
+}
+
+static int count_grew(const store_sample *sm, size_t n) {
+    int g = 0;
+    for (size_t i = 0; i < n; ++i)
+        g += sm[i].grew;
+    return g;
+}
+
+static int run_store_sequence(const store_case *sc, unsigned subset, const char *subset_name) {
+    const limits lim = limits_of(subset);
+    const unsigned n = (unsigned)sc->p[0], seed = (unsigned)sc->p[1], frames = (unsigned)sc->p[2];
+    const double step = sc->p[3];
+    const unsigned runs = lim.store_runs;
+    scene s, g;
+    memset(&s, 0, sizeof s);
+    memset(&g, 0, sizeof g);
+    selfcol_mesh *mesh = NULL;
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *c = NULL;
+    selfcol_store *store = NULL;
+    store_sample *first = calloc(runs, sizeof *first);
+    store_sample *steady = calloc((size_t)runs * (frames - 2), sizeof *steady);
+    double *pos = NULL;
+    int rc = frames >= 3 && first && steady ? SELFCOL_OK : SELFCOL_ENOMEM;
+    if (rc == SELFCOL_OK &&
+        (scene_crumpled(&s, n, n, seed, 5.0) != 0 || scene_grid(&g, n, n, 1.0) != 0))
+        rc = SELFCOL_ENOMEM;
+    if (rc == SELFCOL_OK && (pos = malloc(3 * s.vertex_count * sizeof *pos)) == NULL)
+        rc = SELFCOL_ENOMEM;
+    // Frame f: the grid plus (1 + step f) times the amplitude-5 displacement.
+    for (size_t i = 0; rc == SELFCOL_OK && i < 3 * s.vertex_count; ++i)
+        pos[i] = g.positions[i] + (s.positions[i] - g.positions[i]);
+    if (rc == SELFCOL_OK)
+        rc = selfcol_mesh_create(&mesh, s.vertex_count, pos, s.triangle_count, s.triangles, NULL);
+    if (rc == SELFCOL_OK)
+        rc = selfcol_hierarchy_create(&h, mesh, NULL);
+    if (rc == SELFCOL_OK)
+        rc = selfcol_contacts_create(&c, NULL);
+    context cx;
+    selfcol_query_options o;
+    if (rc == SELFCOL_OK) {
+        store_context(&cx, sc, subset_name, &s, mesh, 1.0);
+        store_options(&o, cx.d);
+        rc = selfcol_hierarchy_self_collide(h, c, &o); // warm-up
+    }
+    size_t ns = 0;
+    for (unsigned run = 0; rc == SELFCOL_OK && run < runs; ++run) {
+        rc = selfcol_store_create(&store, NULL);
+        for (unsigned f = 0; rc == SELFCOL_OK && f < frames; ++f) {
+            const double k = 1.0 + step * f;
+            for (size_t i = 0; i < 3 * s.vertex_count; ++i)
+                pos[i] = g.positions[i] + k * (s.positions[i] - g.positions[i]);
+            store_sample sm;
+            memset(&sm, 0, sizeof sm);
+            rc = selfcol_mesh_set_positions(mesh, pos, s.vertex_count);
+            double t0 = now();
+            if (rc == SELFCOL_OK)
+                rc = selfcol_hierarchy_refit(h);
+            double t1 = now();
+            if (rc == SELFCOL_OK)
+                rc = selfcol_hierarchy_self_collide(h, c, &o);
+            sm.refit = t1 - t0;
+            sm.query = now() - t1;
+            if (rc == SELFCOL_OK)
+                rc = store_measure(store, mesh, c, &sm);
+            if (rc != SELFCOL_OK)
+                break;
+            if (run == 0) {
+                char what[64];
+                snprintf(what, sizeof what, "frame %u (amplitude %.4g)", f, 5.0 * k);
+                store_log(sc->name, what, &sm);
+            }
+            if (f == 0)
+                first[run] = sm;
+            else if (f >= 2)
+                steady[ns++] = sm;
+        }
+        selfcol_store_destroy(store);
+        store = NULL;
+    }
+    int status = rc == SELFCOL_OK ? 0 : 1;
+    if (rc != SELFCOL_OK)
+        fprintf(stderr, "selfcol-bench: %s: %s\n", sc->name, selfcol_status_string(rc));
+    if (status == 0) {
+        char note[256];
+        snprintf(note, sizeof note,
+                 "crumpled %ux%u seed %u; update 1 of %u runs (fresh store; arrays grow)", n, n,
+                 seed, runs);
+        status |= store_row(&cx, "STORE-FIRST", first, runs, note);
+        snprintf(note, sizeof note,
+                 "crumpled %ux%u seed %u; amplitude 5(1+%g f) f=0..%u; updates 3..%u x %u runs; "
+                 "counters: means; arrays grew in %d of %zu",
+                 n, n, seed, step, frames - 1, frames, runs, count_grew(steady, ns), ns);
+        status |= store_row(&cx, "STORE", steady, ns, note);
+    }
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(mesh);
+    free(pos);
+    free(first);
+    free(steady);
+    scene_free(&s);
+    scene_free(&g);
+    return status;
+}
+
+static int run_store_pair(const store_case *sc, unsigned subset, const char *subset_name,
+                          const char *data_dir) {
+    const limits lim = limits_of(subset);
+    const unsigned reps = lim.reps;
+    scene a, b;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    char note_a[512] = "", note_b[512] = "";
+    const double pa[6] = {sc->p[0], sc->p[1], 0, 0, 0, 0}, pb[6] = {sc->p[0], sc->p[2], 0, 0, 0, 0};
+    int ga = gen_frame(&a, pa, data_dir, note_a, sizeof note_a);
+    int gb = ga == 0 ? gen_frame(&b, pb, data_dir, note_b, sizeof note_b) : 1;
+    if (ga != 0 || gb != 0 || a.vertex_count != b.vertex_count ||
+        a.triangle_count != b.triangle_count ||
+        memcmp(a.triangles, b.triangles, 3 * a.triangle_count * sizeof *a.triangles) != 0) {
+        fprintf(stderr,
+                "selfcol-bench: %s skipped (%s%s%s: absent, unreadable or not one topology)\n",
+                sc->name, note_a, note_b[0] ? "; " : "", note_b);
+        scene_free(&a);
+        scene_free(&b);
+        return ga < 0 || gb < 0 ? 1 : 0;
+    }
+    selfcol_mesh *mesh = NULL;
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *ca = NULL, *cb = NULL;
+    selfcol_store *store = NULL;
+    store_sample first[MAX_REPS], fresh[MAX_REPS], steady[MAX_REPS];
+    double qa[MAX_REPS], qb[MAX_REPS], refit[MAX_REPS];
+    memset(first, 0, sizeof first);
+    memset(fresh, 0, sizeof fresh);
+    memset(steady, 0, sizeof steady);
+    int rc = selfcol_mesh_create(&mesh, a.vertex_count, a.positions, a.triangle_count, a.triangles,
+                                 NULL);
+    // The scale rule of run_case (mean edge at least 5 cm), so that these rows
+    // run on the mesh of the other cloth-ball rows.
+    double scale = 1.0;
+    const double mean_edge = rc == SELFCOL_OK ? selfcol_mesh_mean_edge_length(mesh) : 0.0;
+    while (rc == SELFCOL_OK && mean_edge * scale < 0.05)
+        scale *= 10.0;
+    for (size_t i = 0; scale != 1.0 && i < 3 * a.vertex_count; ++i)
+        a.positions[i] *= scale, b.positions[i] *= scale;
+    if (rc == SELFCOL_OK)
+        rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
+    if (rc == SELFCOL_OK)
+        rc = selfcol_hierarchy_create(&h, mesh, NULL);
+    if (rc == SELFCOL_OK)
+        rc = selfcol_contacts_create(&ca, NULL);
+    if (rc == SELFCOL_OK)
+        rc = selfcol_contacts_create(&cb, NULL);
+    context cx;
+    selfcol_query_options o;
+    if (rc == SELFCOL_OK) {
+        store_context(&cx, sc, subset_name, &a, mesh, scale);
+        store_options(&o, cx.d);
+        fprintf(stderr, "selfcol-bench: %s: queries of frames %g and %g\n", sc->name, sc->p[1],
+                sc->p[2]);
+    }
+    // Frame a's query (the hierarchy is built on it), then frame b's after a
+    // refit (as cloth-ball-93-refit): one warm-up and reps timed runs each.
+    for (unsigned i = 0; rc == SELFCOL_OK && i <= reps; ++i) {
+        double t0 = now();
+        rc = selfcol_hierarchy_self_collide(h, ca, &o);
+        if (i > 0)
+            qa[i - 1] = now() - t0;
+    }
+    if (rc == SELFCOL_OK)
+        rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
+    for (unsigned i = 0; rc == SELFCOL_OK && i <= reps; ++i) {
+        double t0 = now();
+        rc = selfcol_hierarchy_refit(h);
+        if (i > 0)
+            refit[i - 1] = now() - t0;
+    }
+    for (unsigned i = 0; rc == SELFCOL_OK && i <= reps; ++i) {
+        double t0 = now();
+        rc = selfcol_hierarchy_self_collide(h, cb, &o);
+        if (i > 0)
+            qb[i - 1] = now() - t0;
+    }
+    // a then b on a fresh store, reps times: STORE-FIRST, and b's growth.
+    for (unsigned i = 0; rc == SELFCOL_OK && i < reps; ++i) {
+        rc = selfcol_store_create(&store, NULL);
+        if (rc == SELFCOL_OK)
+            rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
+        if (rc == SELFCOL_OK)
+            rc = store_measure(store, mesh, ca, &first[i]);
+        if (rc == SELFCOL_OK)
+            rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
+        if (rc == SELFCOL_OK)
+            rc = store_measure(store, mesh, cb, &fresh[i]);
+        first[i].query = qa[i], first[i].refit = refit[i];
+        fresh[i].query = qb[i], fresh[i].refit = refit[i];
+        selfcol_store_destroy(store);
+        store = NULL;
+    }
+    // b on a store holding a, its arrays grown: one untimed pair, then clear
+    // (memory kept), a, timed b, reps times.
+    if (rc == SELFCOL_OK)
+        rc = selfcol_store_create(&store, NULL);
+    for (unsigned i = 0; rc == SELFCOL_OK && i <= reps; ++i) {
+        store_sample warm;
+        selfcol_store_clear(store);
+        rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
+        if (rc == SELFCOL_OK)
+            rc = selfcol_store_update(store, mesh, NULL, ca);
+        if (rc == SELFCOL_OK)
+            rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
+        if (rc == SELFCOL_OK)
+            rc = store_measure(store, mesh, cb, i > 0 ? &steady[i - 1] : &warm);
+        if (i > 0)
+            steady[i - 1].query = qb[i - 1], steady[i - 1].refit = refit[i - 1];
+    }
+    selfcol_store_destroy(store);
+    int status = rc == SELFCOL_OK ? 0 : 1;
+    if (rc != SELFCOL_OK)
+        fprintf(stderr, "selfcol-bench: %s: %s\n", sc->name, selfcol_status_string(rc));
+    if (status == 0) {
+        char what[64], note[256];
+        snprintf(what, sizeof what, "frame %g, fresh store", sc->p[1]);
+        store_log(sc->name, what, &first[0]);
+        snprintf(what, sizeof what, "frame %g after %g, fresh store", sc->p[2], sc->p[1]);
+        store_log(sc->name, what, &fresh[0]);
+        snprintf(what, sizeof what, "frame %g after %g, grown store", sc->p[2], sc->p[1]);
+        store_log(sc->name, what, &steady[0]);
+        double t[MAX_REPS];
+        for (unsigned i = 0; i < reps; ++i)
+            t[i] = fresh[i].update;
+        const timing tf = summarize(t, reps);
+        snprintf(note, sizeof note, "frame %g update on a fresh store; %u reps", sc->p[1], reps);
+        status |= store_row(&cx, "STORE-FIRST", first, reps, note);
+        snprintf(note, sizeof note,
+                 "frame %g update after %g (store cleared between reps: arrays grown); on a "
+                 "fresh store %.2f ms",
+                 sc->p[2], sc->p[1], 1e3 * tf.med);
+        status |= store_row(&cx, "STORE", steady, reps, note);
+    }
+    selfcol_contacts_destroy(ca);
+    selfcol_contacts_destroy(cb);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(mesh);
+    scene_free(&a);
+    scene_free(&b);
+    return status;
+}
+
 #ifndef SELFCOL_BENCH_BULLET
 // Without Bullet the runner still links: no Bullet rows.
 bench_bullet *bench_bullet_create(size_t vertex_count, const double *xyz, size_t triangle_count,
@@ -1017,6 +1480,9 @@ int main(int argc, char **argv) {
         for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
             if (cases[i].subsets & sub)
                 printf("%s\n", cases[i].name);
+        for (size_t i = 0; i < sizeof store_cases / sizeof store_cases[0]; ++i)
+            if (store_cases[i].subsets & sub)
+                printf("%s\n", store_cases[i].name);
         return 0;
     }
     if (data_dir == NULL)
@@ -1037,6 +1503,12 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
         if (strcmp(cases[i].name, case_name) == 0)
             return run_case(&cases[i], sub, subset_name, data_dir);
+    for (size_t i = 0; i < sizeof store_cases / sizeof store_cases[0]; ++i) {
+        const store_case *sc = &store_cases[i];
+        if (strcmp(sc->name, case_name) == 0)
+            return sc->pair ? run_store_pair(sc, sub, subset_name, data_dir)
+                            : run_store_sequence(sc, sub, subset_name);
+    }
     fprintf(stderr, "selfcol-bench: unknown case '%s'\n", case_name);
     return 2;
 }

@@ -55,6 +55,8 @@ def method_of(r):
 
 
 def load(results, subset):
+    """The rows of SUBSET.csv, the contact-store rows (method STORE,
+    STORE-FIRST: tools/bench/selfcol_bench.c) apart, and the .meta."""
     path = os.path.join(results, subset + ".csv")
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
@@ -63,7 +65,12 @@ def load(results, subset):
         r["df"] = "%g" % float(r["d_factor"])
         for k in list(r):
             if k not in ("subset", "case", "scene", "method", "narrow", "reference", "note", "m", "df"):
-                r[k] = float(r[k])
+                # A column missing from a row (an older writer) reads as 0.
+                r[k] = float(r[k]) if r[k] not in (None, "") else 0.0
+    # The store rows time selfcol_store_update, not a query: they have a
+    # table of their own and stay out of the charts and the other tables.
+    store = [r for r in rows if r["method"].startswith("STORE")]
+    rows = [r for r in rows if not r["method"].startswith("STORE")]
     meta = {}
     mpath = os.path.join(results, subset + ".meta")
     if os.path.exists(mpath):
@@ -72,7 +79,7 @@ def load(results, subset):
                 if "=" in line:
                     k, v = line.rstrip("\n").split("=", 1)
                     meta[k] = v
-    return rows, meta
+    return rows, meta, store
 
 
 def cases_in_order(rows):
@@ -413,6 +420,32 @@ def table_exact_check(rows):
     return "\n".join(out)
 
 
+def table_store(rows):
+    """Contact-store rows: selfcol_store_update per frame, against the frame's
+    EXACT refit and query (d = 0.1 x mean edge, one thread)."""
+    if not rows:
+        return ("(no contact-store rows in this run's CSV: `make bench` adds them; "
+                "the numbers below the table were measured on their own)")
+    out = ["| case | tri | row | updates | held VF+EE (VF / EE) | EF | regions | update ms (min-max) "
+           "| ns / contact | new / kept / remnant / dropped | flipped | corrected | store MB "
+           "| B / contact | EXACT refit + query ms | update / (refit + query + update) |",
+           "|---" * 16 + "|"]
+    for r in rows:
+        frame = r["refit_ms"] + r["query_ms"] + r["store_update_ms"]
+        out.append("| %s | %s | %s | %d | %.0f (%s / %s) | %s | %.0f | %s (%s-%s) | %.0f | "
+                   "%.0f / %.0f / %.0f / %.0f | %.0f | %.0f | %.1f | %.0f | %s + %s | %.0f%% |" % (
+                       r["case"], kilo(r["triangles"]), r["method"], int(r["reps"]),
+                       r["store_contacts"], fmt_int(r["vf"]), fmt_int(r["ee"]), fmt_int(r["ef"]),
+                       r["store_regions"], fmt_ms(r["store_update_ms"]),
+                       fmt_ms(r["store_update_min_ms"]), fmt_ms(r["store_update_max_ms"]),
+                       r["store_ns_per_contact"], r["store_new"], r["store_kept"],
+                       r["store_remnant"], r["store_dropped"], r["store_flipped"],
+                       r["store_corrected"], r["struct_bytes"] / 1e6,
+                       r["store_bytes_per_contact"], fmt_ms(r["refit_ms"]),
+                       fmt_ms(r["query_ms"]), 100 * r["store_update_ms"] / frame if frame > 0 else 0))
+    return "\n".join(out)
+
+
 def replace_block(text, name, content):
     pat = re.compile(r"(<!-- generated:%s -->\n).*?(<!-- /generated:%s -->)" % (name, name), re.S)
     if not pat.search(text):
@@ -429,7 +462,7 @@ def main():
     a = ap.parse_args()
     results = a.results or os.path.join(a.root, "tools", "bench", "results")
     docs = a.docs or os.path.join(a.root, "docs")
-    rows, meta = load(results, a.subset)
+    rows, meta, store = load(results, a.subset)
     if not rows:
         print("plot: no rows in %s/%s.csv" % (results, a.subset), file=sys.stderr)
         return 1
@@ -450,12 +483,13 @@ def main():
     text = replace_block(text, "machine", table_machine(meta))
     text = replace_block(text, "headlines", table_headlines(rows))
     text = replace_block(text, "exact-check", table_exact_check(rows))
+    text = replace_block(text, "store", table_store(store))
     for df in FACTORS:
         text = replace_block(text, "cases-d%s" % df.replace(".", ""), table_cases(rows, df))
     # The full subset (make bench-full) is long; when its results exist, its
     # headline numbers (1M triangles, Bullet at 200k) are shown too.
     if a.subset != "full" and os.path.exists(os.path.join(results, "full.csv")):
-        frows, fmeta = load(results, "full")
+        frows, fmeta, _ = load(results, "full")
         text = replace_block(text, "full-machine", table_machine(fmeta))
         text = replace_block(text, "full-headlines", table_headlines(frows))
         text = replace_block(text, "full-exact-check", table_exact_check(frows))
