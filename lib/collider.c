@@ -124,9 +124,10 @@ static int by_triangle(const void *x, const void *y) {
     return (a > b) - (a < b);
 }
 
-int selfcol_collider__contacts_of_triangle(const selfcol_collider *col, const double *a, const double *b,
-                            const double *c, double distance, double tolerance,
-                            double (*scratch)[3], selfcol_collider_contact *out) {
+int selfcol_collider__contacts_of_triangle(const selfcol_collider *col, const double *a,
+                                           const double *b, const double *c, double distance,
+                                           double tolerance, double (*scratch)[3],
+                                           selfcol_collider_contact *out) {
     double normal[3], point[3];
     const int closed_form =
         col->shape == SELFCOL_COLLIDER_SPHERE || col->shape == SELFCOL_COLLIDER_CAPSULE;
@@ -191,7 +192,8 @@ int selfcol_collider__contacts(const selfcol_collider *c, uint32_t collider_id,
                 continue;
             ++*candidates;
             selfcol_collider_contact contact;
-            if (!selfcol_collider__contacts_of_triangle(c, p[0], p[1], p[2], distance, tolerance, scratch, &contact))
+            if (!selfcol_collider__contacts_of_triangle(c, p[0], p[1], p[2], distance, tolerance,
+                                                        scratch, &contact))
                 continue;
             if (grow(allocator, out) != SELFCOL_OK) {
                 out->count = start;

@@ -26,8 +26,8 @@
 #include "contacts.h"
 #include "hierarchy.h"
 #include "mesh.h"
-#include "store.h"
 #include "scene.h"
+#include "store.h"
 #include "version.h"
 
 #endif /* SELFCOL_SELFCOL_H */
