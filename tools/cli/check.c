@@ -184,6 +184,40 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
 
 // "frames with interferences: 3, 5-9, 12": runs of consecutive frames of the
 // sequence (in --range steps) as FIRST-LAST.
+int cli_detection_distance(const cli_options *o, double mean_edge, double *distance,
+                           cli_error *err) {
+    *distance = o->distance_given ? o->distance : o->distance_rel * mean_edge;
+    if (*distance <= SELFCOL_MESH_MAX_COORDINATE)
+        return 0;
+    if (o->distance_given)
+        return cli_fail(err, "--distance %g is above the largest the library accepts (%g)",
+                        o->distance, SELFCOL_MESH_MAX_COORDINATE);
+    return cli_fail(err,
+                    "--distance-rel %g x mean edge length %g = %g is above the largest "
+                    "distance the library accepts (%g)",
+                    o->distance_rel, mean_edge, *distance, SELFCOL_MESH_MAX_COORDINATE);
+}
+
+// What went to stdout (summaries, lines): a full disk or a closed pipe there
+// is an error too, not a silent exit status.
+int cli_finish(int exit_code, cli_error *err) {
+    if (exit_code != CLI_EXIT_ERROR && cli_stdout_write_failed()) {
+        cli_fail(err, "cannot write to standard output: %s", strerror(errno ? errno : EIO));
+        exit_code = CLI_EXIT_ERROR;
+    }
+    if (exit_code == CLI_EXIT_ERROR)
+        fprintf(stderr, "selfcol-cli: %s\n", err->message);
+    return exit_code;
+}
+
+void cli_print_weld_warning(FILE *out, size_t split_frames) {
+    if (split_frames)
+        fprintf(out,
+                "  warning: in %zu frame(s) vertices welded in the first frame have "
+                "moved apart (the weld keeps the first frame's topology)\n",
+                split_frames);
+}
+
 void cli_print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
                           long sequence_count) {
     const long *f = frames->data;
@@ -333,20 +367,9 @@ int cli_command_check(const cli_options *o) {
     st.query.narrow = o->narrow;
     st.info.mean_edge = combined_mean_edge(parts, count);
     st.info.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
-    st.info.distance = o->distance_given ? o->distance : o->distance_rel * st.info.mean_edge;
-    st.query.distance = st.info.distance;
-    if (!(st.info.distance <= SELFCOL_MESH_MAX_COORDINATE)) {
-        if (o->distance_given)
-            cli_fail(&err, "--distance %g is above the largest the library accepts (%g)",
-                     o->distance, SELFCOL_MESH_MAX_COORDINATE);
-        else
-            cli_fail(&err,
-                     "--distance-rel %g x mean edge length %g = %g is above the largest "
-                     "distance the library accepts (%g)",
-                     o->distance_rel, st.info.mean_edge, st.info.distance,
-                     SELFCOL_MESH_MAX_COORDINATE);
+    if (cli_detection_distance(o, st.info.mean_edge, &st.info.distance, &err) != 0)
         goto done;
-    }
+    st.query.distance = st.info.distance;
     st.info.method = cli_method_names[o->method];
     st.info.narrow = cli_narrow_names[o->narrow];
     st.info.files = files;
@@ -396,11 +419,7 @@ int cli_command_check(const cli_options *o) {
             fprintf(st.summary, "  %ld frame(s): %ld with interferences, %ld with proximities\n",
                     st.frames_checked, st.frames_intersecting, st.frames_near);
             cli_print_frame_list(st.summary, &st.intersecting_frames, frame_numbers, frame_count);
-            if (split_frames)
-                fprintf(st.summary,
-                        "  warning: in %zu frame(s) vertices welded in the first frame have "
-                        "moved apart (the weld keeps the first frame's topology)\n",
-                        split_frames);
+            cli_print_weld_warning(st.summary, split_frames);
         }
     }
     if (st.summary)
@@ -422,14 +441,7 @@ int cli_command_check(const cli_options *o) {
     exit_code = st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN;
 done:
     cli_progress_end(&progress);
-    // The summary went to stdout: a full disk or closed pipe there is an
-    // error too, not a silent exit status.
-    if (exit_code != CLI_EXIT_ERROR && cli_stdout_write_failed()) {
-        cli_fail(&err, "cannot write to standard output: %s", strerror(errno ? errno : EIO));
-        exit_code = CLI_EXIT_ERROR;
-    }
-    if (exit_code == CLI_EXIT_ERROR)
-        fprintf(stderr, "selfcol-cli: %s\n", err.message);
+    exit_code = cli_finish(exit_code, &err);
     if (st.json && st.json != stdout)
         fclose(st.json);
     if (st.csv && st.csv != stdout)

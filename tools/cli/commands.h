@@ -85,6 +85,24 @@ int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress
 void cli_print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
                           long sequence_count);
 
+/**
+ * The detection distance of --distance, or of --distance-rel times
+ * mean_edge, into *distance. Returns 0, or -1 with err set when it exceeds
+ * what the library accepts.
+ */
+int cli_detection_distance(const cli_options *o, double mean_edge, double *distance,
+                           cli_error *err);
+
+/** Prints the warning about welded vertices that moved apart (nothing when split_frames is 0). */
+void cli_print_weld_warning(FILE *out, size_t split_frames);
+
+/**
+ * A command's last step: an exit status other than CLI_EXIT_ERROR becomes
+ * CLI_EXIT_ERROR when writing to stdout failed; an error's message is
+ * printed on stderr. Returns the exit status.
+ */
+int cli_finish(int exit_code, cli_error *err);
+
 /** The commands: each returns the exit status. */
 int cli_command_check(const cli_options *o);
 int cli_command_track(const cli_options *o);

@@ -9,7 +9,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -232,19 +231,9 @@ int cli_command_track(const cli_options *o) {
     st.query.kinds = SELFCOL_KIND_ALL;
     st.mean_edge = selfcol_mesh_mean_edge_length(part.mesh);
     st.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
-    st.distance = o->distance_given ? o->distance : o->distance_rel * st.mean_edge;
-    st.query.distance = st.distance;
-    if (!(st.distance <= SELFCOL_MESH_MAX_COORDINATE)) {
-        if (o->distance_given)
-            cli_fail(&err, "--distance %g is above the largest the library accepts (%g)",
-                     o->distance, SELFCOL_MESH_MAX_COORDINATE);
-        else
-            cli_fail(&err,
-                     "--distance-rel %g x mean edge length %g = %g is above the largest "
-                     "distance the library accepts (%g)",
-                     o->distance_rel, st.mean_edge, st.distance, SELFCOL_MESH_MAX_COORDINATE);
+    if (cli_detection_distance(o, st.mean_edge, &st.distance, &err) != 0)
         goto done;
-    }
+    st.query.distance = st.distance;
     if (o->png || o->png_worst) {
         st.classes = malloc(part.file.triangle_count + 1);
         if (st.classes == NULL) {
@@ -292,11 +281,7 @@ int cli_command_track(const cli_options *o) {
                     st.worst_frame, frame_names[st.worst],
                     (unsigned long long)st.worst_interferences,
                     (unsigned long long)st.worst_crossed);
-        if (split_frames)
-            fprintf(s,
-                    "  warning: in %zu frame(s) vertices welded in the first frame have "
-                    "moved apart (the weld keeps the first frame's topology)\n",
-                    split_frames);
+        cli_print_weld_warning(s, split_frames);
         fprintf(s, "  result: %s (exit status %d)\n",
                 st.frames_intersecting    ? "INTERSECTS"
                 : st.frames_with_contacts ? "no interference, contacts found"
@@ -311,12 +296,7 @@ int cli_command_track(const cli_options *o) {
     exit_code = st.frames_intersecting ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN;
 done:
     cli_progress_end(&progress);
-    if (exit_code != CLI_EXIT_ERROR && cli_stdout_write_failed()) {
-        cli_fail(&err, "cannot write to standard output: %s", strerror(errno ? errno : EIO));
-        exit_code = CLI_EXIT_ERROR;
-    }
-    if (exit_code == CLI_EXIT_ERROR)
-        fprintf(stderr, "selfcol-cli: %s\n", err.message);
+    exit_code = cli_finish(exit_code, &err);
     if (st.jsonl && st.jsonl != stdout)
         fclose(st.jsonl);
     selfcol_store_destroy(st.store);
