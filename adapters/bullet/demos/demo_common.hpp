@@ -1,0 +1,114 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// What the three demos share: a Bullet 3.24 deformable world, cloth sheets
+// built from a node array (appendLink/appendFace: btSoftBodyHelpers'
+// CreateFromTriMesh and generateBendingConstraints allocate V x V matrices),
+// the self-collision mode (selfcol, Bullet's own, or none), per-step
+// statistics, and frames written as binary PLY that `selfcol-cli check
+// --frames` and `track` read back.
+#ifndef SELFCOL_BULLET_DEMO_COMMON_HPP
+#define SELFCOL_BULLET_DEMO_COMMON_HPP
+
+#include <selfcol/bullet.h>
+
+#include <BulletSoftBody/btDeformableBodySolver.h>
+#include <BulletSoftBody/btDeformableGravityForce.h>
+#include <BulletSoftBody/btDeformableMassSpringForce.h>
+#include <BulletSoftBody/btDeformableMultiBodyConstraintSolver.h>
+#include <BulletSoftBody/btDeformableMultiBodyDynamicsWorld.h>
+#include <BulletSoftBody/btSoftBody.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace demo {
+
+enum class mode { selfcol, bullet, off };
+
+struct options {
+    mode collision = mode::selfcol;
+    int steps = 0;        // 0: the demo's default
+    int resolution = 0;   // 0: the demo's default (vertices along the long side)
+    double scale = 1;     // lengths times this (and masses times its cube)
+    int every = 0;        // write a frame every this many steps (0: only the last)
+    std::string out;      // frame directory ("": no frames)
+    bool quiet = false;   // no per-step lines
+    double distance = 0;  // selfcol thickness (0: the adapter's default)
+    unsigned threads = 1; // selfcol query threads
+};
+
+// Parses --steps N --resolution N --scale S --every K --out DIR --quiet
+// --distance D --threads N --collision selfcol|bullet|off; prints usage and
+// returns false on an error or --help.
+bool parse(int argc, char **argv, const char *name, const char *about, options &o);
+
+// A Bullet deformable world with its parts, torn down in the right order.
+struct world {
+    btSoftBodyRigidBodyCollisionConfiguration configuration;
+    btCollisionDispatcher dispatcher{&configuration};
+    btDbvtBroadphase broadphase;
+    btDeformableBodySolver body_solver;
+    btDeformableMultiBodyConstraintSolver constraint_solver;
+    btDeformableMultiBodyDynamicsWorld *dynamics = nullptr;
+    std::vector<btCollisionShape *> shapes;
+    std::vector<btRigidBody *> rigid;
+    std::vector<btSoftBody *> cloths;
+    std::vector<btDeformableLagrangianForce *> forces;
+    selfcol_bullet *adapter = nullptr;
+    mode collision = mode::selfcol;
+    double gravity = 9.8; // along -y, times the scale
+
+    // gravity: m/s^2 along -y (9.8 for the demos on a floor, 0 for the ribbon)
+    world(const options &o, double gravity_y = 9.8);
+    ~world();
+    world(const world &) = delete;
+    world &operator=(const world &) = delete;
+
+    // A static (mass 0) or dynamic rigid body.
+    btRigidBody *add_rigid(btCollisionShape *shape, const btVector3 &origin, double mass);
+
+    // A rectangular sheet of nx x ny nodes spanning corner, corner + u, corner
+    // + v (u and v along its sides), total mass `mass`, stretch and bending
+    // springs scaled for the edge length so the cloth behaves the same at any
+    // scale. rigid_contacts: soft-rigid collision flags on.
+    btSoftBody *add_sheet(const btVector3 &corner, const btVector3 &u, const btVector3 &v, int nx,
+                          int ny, double mass, bool rigid_contacts);
+
+    // Switches self-collision to the world's mode (after the sheets are in).
+    // Returns false (with a message) if the adapter cannot be set up.
+    bool start(const options &o);
+
+    void step(double dt);
+};
+
+// Kinetic energy of the cloths (sum m v^2 / 2 over nodes with mass).
+double kinetic_energy(const world &w);
+// True when every node position and velocity is finite.
+bool finite(const world &w);
+// Largest |coordinate| of any cloth node.
+double extent(const world &w);
+
+// Writes all cloths as one binary little-endian PLY (float32 positions).
+bool write_ply(const world &w, const std::string &path);
+
+// The per-step line (and the run's final summary line).
+struct report {
+    double started = 0;
+    double worst_energy = 0;
+    double step_seconds_total = 0;
+    double first_step_seconds = 0;
+};
+void print_step(const world &w, const options &o, int step, double step_seconds, report &r);
+// Writes the frame of this step if asked; returns false on an I/O error.
+bool maybe_write(const world &w, const options &o, int step, int last_step);
+int finish(const world &w, const options &o, const report &r, int steps);
+// The internal step length every demo uses (1/240 s, as Bullet's deformable examples).
+double step_length();
+
+} // namespace demo
+
+#endif

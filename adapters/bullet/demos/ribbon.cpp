@@ -1,0 +1,34 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Demo 1: the crumpling ribbon (the seed's Figure 11). A 2 m strip in zero
+// gravity is pushed together from both ends, one end turning, until it folds
+// on itself many times; then it is held and settles.
+#include "ribbon_scene.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+int main(int argc, char **argv) {
+    demo::options o;
+    if (!demo::parse(argc, argv, "selfcol-bullet-ribbon",
+                     "the crumpling ribbon (Volino & Magnenat Thalmann 1995, Figure 11)", o))
+        return 2;
+    int steps = o.steps > 0 ? o.steps : 1440;
+    int along = o.resolution > 0 ? o.resolution : 160;
+    demo::world w(o, 0.0);
+    demo::ribbon r = demo::add_ribbon(w, along, o.scale, steps * 3 / 4);
+    if (!w.start(o))
+        return 1;
+    demo::report rep;
+    for (int i = 0; i < steps; ++i) {
+        demo::drive_ribbon(w, r, i);
+        auto t0 = std::chrono::steady_clock::now();
+        w.step(demo::step_length());
+        double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        demo::print_step(w, o, i, dt, rep);
+        if (!demo::maybe_write(w, o, i, steps - 1))
+            return 1;
+    }
+    return demo::finish(w, o, rep, steps);
+}

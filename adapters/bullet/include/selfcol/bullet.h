@@ -1,0 +1,202 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+/**
+ * @file bullet.h
+ * @defgroup bullet Bullet soft-body adapter (libselfcol_bullet)
+ * selfcol as the cloth self-collision (and soft-soft collision) of Bullet
+ * 3.24's deformable world, `btDeformableMultiBodyDynamicsWorld`.
+ *
+ * An adapter belongs to one world. Soft bodies attached to it get their
+ * self-collision and their collisions with each other from selfcol; Bullet's
+ * own self-collision and vertex-face soft-soft handling are switched off on
+ * them (and restored by selfcol_bullet_destroy()). Rigid bodies, multibodies
+ * and Bullet's soft-rigid collision keep working unchanged.
+ *
+ * Each internal step of the world (the adapter registers a btActionInterface,
+ * which the deformable world runs right after it has moved the nodes,
+ * x_{n+1} = x_n + dt v_{n+1}), the adapter:
+ * 1. reads the node positions (selfcol_mesh_set_positions_float() with the
+ *    stride of btSoftBody::Node, no copy on Bullet's side);
+ * 2. refits, queries (VF, EE and EF, exact) and updates the contact stores
+ *    of a selfcol_scene: remnance, sides tracked through crossings and the
+ *    region vote (Volino & Magnenat Thalmann 1995, section 3);
+ * 3. applies one response per stored contact along its consistent side:
+ *    an inelastic velocity impulse that stops the two elements approaching
+ *    and a repulsion that moves them apart toward the thickness (the
+ *    detection distance d), mass-weighted over the four nodes with the
+ *    contact's barycentric weights, in the spirit of Bridson, Fedkiw and
+ *    Anderson 2002 (section 7). A contact whose elements have crossed
+ *    (negative signed distance) is pushed back through to its right side,
+ *    which is what lets cloth that starts interpenetrating come apart.
+ *
+ * Bullet's soft-rigid world (btSoftRigidDynamicsWorld) is not supported: it
+ * solves its soft bodies after every hook a world offers (actions and tick
+ * callbacks run before solveSoftBodiesConstraints()), so a response there
+ * would be overwritten by its position solver. Bullet built with double
+ * precision is refused when the adapter is built (CMake message, and an
+ * #error in this header when BT_USE_DOUBLE_PRECISION is defined).
+ *
+ * Every function is `extern "C"` and catches every exception: none crosses
+ * this boundary (std::bad_alloc becomes SELFCOL_ENOMEM). Not thread-safe:
+ * one thread drives a world and its adapter.
+ * @{
+ */
+#ifndef SELFCOL_BULLET_H
+#define SELFCOL_BULLET_H
+
+#include <selfcol/selfcol.h>
+
+#if defined(BT_USE_DOUBLE_PRECISION)
+#error "libselfcol_bullet supports single-precision Bullet only (btScalar = float)"
+#endif
+
+#if defined(SELFCOL_BULLET_BUILDING)
+#define SELFCOL_BULLET_API __attribute__((visibility("default")))
+#else
+#define SELFCOL_BULLET_API
+#endif
+
+/* Bullet's classes, opaque here: C code passes the pointers through. */
+#ifdef __cplusplus
+class btSoftBody;
+class btDeformableMultiBodyDynamicsWorld;
+#else
+typedef struct btSoftBody btSoftBody;
+typedef struct btDeformableMultiBodyDynamicsWorld btDeformableMultiBodyDynamicsWorld;
+#endif
+
+SELFCOL_BEGIN_DECLS
+
+/** Opaque adapter: one per world. */
+typedef struct selfcol_bullet selfcol_bullet;
+
+/** Default thickness: this fraction of the attached bodies' mean edge length. */
+#define SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR 0.25
+/** Default fraction of the gap to the thickness that the repulsion closes per step. */
+#define SELFCOL_BULLET_DEFAULT_REPULSION 0.5
+/** Default Gauss-Seidel passes over the contacts per step. */
+#define SELFCOL_BULLET_DEFAULT_ITERATIONS 4u
+
+/** Options for selfcol_bullet_create(). Initialise with selfcol_bullet_options_init(). */
+typedef struct selfcol_bullet_options {
+    unsigned int version; /**< SELFCOL_BULLET_OPTIONS_VERSION */
+    selfcol_allocator
+        allocator; /**< of the adapter and its selfcol handles; all-zero: malloc/free */
+    /**
+     * Detection distance and cloth thickness d, in world units; 0 (default):
+     * distance_factor x the mean edge length of the attached bodies at their
+     * first step, so that any scale works (a 1 m cloth with 1 cm edges
+     * collides at 2.5 mm).
+     */
+    double distance;
+    double distance_factor; /**< default SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR; used when distance
+                               is 0 */
+    /**
+     * Repulsion strength, in (0, 1]: the fraction of the gap between a
+     * contact's signed distance and d that one step closes (at most d per
+     * step). Dimensionless, so it holds at any scale and mass: impulses are
+     * weighted by the nodes' inverse masses. Default SELFCOL_BULLET_DEFAULT_REPULSION.
+     */
+    double repulsion;
+    unsigned int iterations;  /**< Gauss-Seidel passes per step (default 4, at most 64) */
+    uint32_t remnance_frames; /**< of the contact stores (default SELFCOL_STORE_DEFAULT_REMNANCE) */
+    int consistency;          /**< region vote on (default 1) */
+    unsigned int threads;     /**< threads of the queries (default 1: the caller's thread) */
+    /**
+     * 1 (default): the adapter registers an action in the world and runs at
+     * every internal step. 0: nothing is registered; the caller runs
+     * selfcol_bullet_step() itself after each internal step.
+     */
+    int automatic;
+} selfcol_bullet_options;
+
+#define SELFCOL_BULLET_OPTIONS_VERSION 1
+
+/** Counters of the last step. The caller sets version. */
+typedef struct selfcol_bullet_step_stats {
+    unsigned int version; /**< SELFCOL_BULLET_STEP_STATS_VERSION */
+    int status;           /**< the last step's status (0, or the selfcol_status that stopped it) */
+    uint64_t steps;       /**< steps run since creation */
+    double distance;      /**< the thickness in use (0 before the first step) */
+    uint64_t contacts;    /**< VF and EE contacts held (self and soft-soft) */
+    uint64_t interferences; /**< EF interferences (edges crossing triangles) held */
+    uint64_t crossed; /**< of the contacts, those on their wrong side (negative signed distance) */
+    uint64_t flipped; /**< contacts that crossed during the step (store counter) */
+    uint64_t corrected;    /**< contacts whose right side the region vote changed */
+    uint64_t responses;    /**< contacts that received an impulse */
+    double max_push;       /**< largest position correction of a contact, world units */
+    double seconds_detect; /**< positions in, refit, query and stores */
+    double seconds_response;
+} selfcol_bullet_step_stats;
+
+#define SELFCOL_BULLET_STEP_STATS_VERSION 1
+
+/** Writes the defaults into opts. @return SELFCOL_OK; SELFCOL_EINVAL; SELFCOL_EVERSION. */
+SELFCOL_BULLET_API int selfcol_bullet_options_init(selfcol_bullet_options *opts,
+                                                   unsigned int version);
+
+/**
+ * Creates an adapter for a deformable world (and, with automatic on, adds its
+ * action to the world).
+ * @param[out] out the adapter; NULL on failure
+ * @param[in] world the world; it must outlive the adapter
+ * @param[in] opts options, or NULL for defaults
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, distance < 0 or not finite,
+ *         repulsion outside (0, 1], iterations > 64); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ */
+SELFCOL_BULLET_API int selfcol_bullet_create(selfcol_bullet **out,
+                                             btDeformableMultiBodyDynamicsWorld *world,
+                                             const selfcol_bullet_options *opts);
+
+/**
+ * Removes the action, restores the attached bodies' collision flags and
+ * self-collision setting, and frees everything. Accepts NULL.
+ */
+SELFCOL_BULLET_API void selfcol_bullet_destroy(selfcol_bullet *adapter);
+
+/**
+ * Attaches a soft body (already in the world, with its faces). The mesh is
+ * its nodes and faces as they are now; the body's topology must not change
+ * while attached (a changed node or face count makes the next step return
+ * SELFCOL_ESTALE). Switches off the body's own self-collision
+ * (setSelfCollision(false)) and its vertex-face soft-soft flag (VF_DD):
+ * attach every soft body that should collide with it. Nodes of zero mass
+ * (pinned or kinematic) take no impulse.
+ * @param[out] id_out the body's surface id in selfcol_bullet_scene(), or NULL
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, no faces, attached twice, NaN
+ *         positions); SELFCOL_ERANGE; SELFCOL_ENOMEM.
+ */
+SELFCOL_BULLET_API int selfcol_bullet_attach(selfcol_bullet *adapter, btSoftBody *body,
+                                             uint32_t *id_out);
+
+/**
+ * One step: detection, stores, response (what the action runs). Call it
+ * yourself only with automatic off, once after each internal step.
+ * @param[in] dt the internal step's length, > 0
+ * @return SELFCOL_OK; SELFCOL_EINVAL (dt); SELFCOL_ESTALE (a body's topology
+ *         changed); SELFCOL_ENOMEM; an error of the scene (selfcol_status).
+ *         On error no node is changed. The action records the status in the stats.
+ */
+SELFCOL_BULLET_API int selfcol_bullet_step(selfcol_bullet *adapter, double dt);
+
+/** Counters of the last step. @return SELFCOL_OK; SELFCOL_EINVAL; SELFCOL_EVERSION. */
+SELFCOL_BULLET_API int selfcol_bullet_stats(const selfcol_bullet *adapter,
+                                            selfcol_bullet_step_stats *stats);
+
+/**
+ * The scene the adapter runs (NULL before the first step): its stores hold
+ * the contacts with their sides (selfcol_scene_store()), surface ids as
+ * returned by selfcol_bullet_attach(). Borrowed; valid until the next step
+ * or attach.
+ */
+SELFCOL_BULLET_API const selfcol_scene *selfcol_bullet_scene(const selfcol_bullet *adapter);
+
+/** The attached body's mesh (positions of the last step). Borrowed. NULL for a bad id. */
+SELFCOL_BULLET_API const selfcol_mesh *selfcol_bullet_mesh(const selfcol_bullet *adapter,
+                                                           uint32_t id);
+
+SELFCOL_END_DECLS
+/** @} */
+
+#endif /* SELFCOL_BULLET_H */

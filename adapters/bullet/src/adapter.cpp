@@ -1,0 +1,561 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// libselfcol_bullet: the adapter handle, attaching soft bodies, and the step
+// the world's action runs (bullet.h). Uses libselfcol through its public C
+// ABI only.
+//
+// Why an action: btDeformableMultiBodyDynamicsWorld::internalSingleStepSimulation
+// (Bullet 3.24) solves the deformable momentum equation, runs its own
+// soft-soft detection and CCD, moves the nodes (integrateTransforms:
+// x += dt v, then q = x, vn = v) and only then calls updateActions(). An
+// action therefore sees the step's final positions and velocities, and its
+// changes are what the next step starts from. Its solver callback
+// (setSolverCallback) would also work but takes no user pointer, so it would
+// need global state to find the adapter; the internal tick callbacks run
+// before the solve.
+#include <selfcol/bullet.h>
+
+#include "response.hpp"
+
+#include <BulletDynamics/Dynamics/btActionInterface.h>
+#include <BulletSoftBody/btDeformableMultiBodyDynamicsWorld.h>
+#include <BulletSoftBody/btSoftBody.h>
+#include <LinearMath/btScalar.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <vector>
+
+static_assert(sizeof(btScalar) == sizeof(float),
+              "libselfcol_bullet supports single-precision Bullet only (btScalar = float): "
+              "a double build's btSoftBody::Node holds doubles, which the float strided "
+              "position setter cannot read");
+
+using namespace selfcol_bullet_detail;
+
+namespace {
+
+// std::vector storage through the handle's allocator hooks.
+template <class T> struct hook_allocator {
+    using value_type = T;
+    const selfcol_allocator *hooks;
+    explicit hook_allocator(const selfcol_allocator *h) noexcept : hooks(h) {}
+    template <class U> hook_allocator(const hook_allocator<U> &o) noexcept : hooks(o.hooks) {}
+    T *allocate(std::size_t n) {
+        if (n > std::size_t(-1) / sizeof(T))
+            throw std::bad_alloc();
+        void *p = hooks->alloc ? hooks->alloc(hooks->user, n * sizeof(T), alignof(T))
+                               : std::malloc(n * sizeof(T));
+        if (p == nullptr)
+            throw std::bad_alloc();
+        return static_cast<T *>(p);
+    }
+    void deallocate(T *p, std::size_t n) noexcept {
+        if (hooks->free)
+            hooks->free(hooks->user, p, n * sizeof(T));
+        else
+            std::free(p);
+    }
+    template <class U> bool operator==(const hook_allocator<U> &o) const noexcept {
+        return hooks == o.hooks;
+    }
+    template <class U> bool operator!=(const hook_allocator<U> &o) const noexcept {
+        return hooks != o.hooks;
+    }
+};
+template <class T> using hvector = std::vector<T, hook_allocator<T>>;
+
+struct attached_body {
+    btSoftBody *body;
+    selfcol_mesh *mesh;
+    int node_count;
+    int face_count;
+    int saved_collisions;
+    bool saved_self_collision;
+    uint32_t first_node; // this body's node 0 in the adapter's node numbering
+};
+
+double now_seconds() {
+    using clock = std::chrono::steady_clock;
+    return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+}
+
+class step_action;
+
+} // namespace
+
+struct selfcol_bullet {
+    selfcol_allocator hooks;
+    selfcol_bullet_options opts;
+    btDeformableMultiBodyDynamicsWorld *world;
+    step_action *action;
+    selfcol_scene *scene; // NULL until the first step after an attach
+    double distance;
+    uint32_t node_total;
+    hvector<attached_body> bodies;
+    hvector<int32_t> slot_of_node; // node -> response slot, -1 when unused this step
+    hvector<btSoftBody::Node *> node_of_slot;
+    hvector<uint32_t> global_of_slot;
+    hvector<response_node> nodes;
+    hvector<response_row> rows;
+    selfcol_bullet_step_stats stats;
+
+    explicit selfcol_bullet(const selfcol_allocator &h)
+        : hooks(h), opts(), world(nullptr), action(nullptr), scene(nullptr), distance(0),
+          node_total(0), bodies(hook_allocator<attached_body>(&hooks)),
+          slot_of_node(hook_allocator<int32_t>(&hooks)),
+          node_of_slot(hook_allocator<btSoftBody::Node *>(&hooks)),
+          global_of_slot(hook_allocator<uint32_t>(&hooks)),
+          nodes(hook_allocator<response_node>(&hooks)), rows(hook_allocator<response_row>(&hooks)),
+          stats() {}
+};
+
+namespace {
+
+class step_action : public btActionInterface {
+  public:
+    explicit step_action(selfcol_bullet *owner) : owner_(owner) {}
+    void updateAction(btCollisionWorld *, btScalar dt) override {
+        // selfcol_bullet_step catches everything and records its status.
+        (void)selfcol_bullet_step(owner_, double(dt));
+    }
+    void debugDraw(btIDebugDraw *) override {}
+
+  private:
+    selfcol_bullet *owner_;
+};
+
+void *hook_alloc(const selfcol_allocator &h, size_t size, size_t align) {
+    return h.alloc ? h.alloc(h.user, size, align) : std::malloc(size);
+}
+void hook_free(const selfcol_allocator &h, void *p, size_t size) {
+    if (h.free)
+        h.free(h.user, p, size);
+    else
+        std::free(p);
+}
+
+const float *node_positions(btSoftBody *body) {
+    return &body->m_nodes[0].m_x.x();
+}
+
+// Builds the scene from the attached bodies (first step, or after an attach):
+// the thickness defaults from their mean edge length.
+int build_scene(selfcol_bullet *a) {
+    selfcol_scene_destroy(a->scene);
+    a->scene = nullptr;
+    double distance = a->opts.distance;
+    if (distance == 0) {
+        double sum = 0;
+        double edges = 0;
+        for (const attached_body &b : a->bodies) {
+            double e = double(selfcol_mesh_count(b.mesh, SELFCOL_MESH_EDGES));
+            sum += selfcol_mesh_mean_edge_length(b.mesh) * e;
+            edges += e;
+        }
+        distance = edges > 0 ? a->opts.distance_factor * sum / edges : 0;
+    }
+    if (!(distance > 0) || !std::isfinite(distance))
+        return SELFCOL_EINVAL; // every edge of zero length
+    selfcol_scene_options so;
+    int status = selfcol_scene_options_init(&so, SELFCOL_SCENE_OPTIONS_VERSION);
+    if (status != SELFCOL_OK)
+        return status;
+    so.allocator = a->hooks;
+    so.distance = distance;
+    so.threads = a->opts.threads;
+    so.remnance_frames = a->opts.remnance_frames;
+    so.consistency = a->opts.consistency;
+    selfcol_scene *scene = nullptr;
+    status = selfcol_scene_create(&scene, &so);
+    if (status != SELFCOL_OK)
+        return status;
+    for (const attached_body &b : a->bodies) {
+        selfcol_surface_options surface;
+        selfcol_surface_options_init(&surface, SELFCOL_SURFACE_CLOTH,
+                                     SELFCOL_SURFACE_OPTIONS_VERSION);
+        uint32_t id = 0;
+        status = selfcol_scene_add_surface(scene, b.mesh, &surface, &id);
+        if (status != SELFCOL_OK) {
+            selfcol_scene_destroy(scene);
+            return status;
+        }
+    }
+    a->scene = scene;
+    a->distance = distance;
+    return SELFCOL_OK;
+}
+
+uint32_t slot_for(selfcol_bullet *a, const attached_body &b, uint32_t vertex) {
+    uint32_t global = b.first_node + vertex;
+    int32_t slot = a->slot_of_node[global];
+    if (slot >= 0)
+        return uint32_t(slot);
+    btSoftBody::Node *n = &b.body->m_nodes[int(vertex)];
+    response_node r;
+    for (int c = 0; c < 3; ++c) {
+        r.x[c] = double(n->m_x[c]);
+        r.v[c] = double(n->m_v[c]);
+    }
+    r.im = double(n->m_im);
+    a->nodes.push_back(r);
+    a->node_of_slot.push_back(n);
+    a->global_of_slot.push_back(global);
+    slot = int32_t(a->nodes.size() - 1);
+    a->slot_of_node[global] = slot;
+    return uint32_t(slot);
+}
+
+// The unit push direction of a contact whose distance is 0 (no closest-point
+// direction): its reference direction (store.h) on its right side.
+bool reference_direction(const selfcol_store_contact &c, int right, const double *pa,
+                         const double *pb, double n[3]) {
+    double u[3], v[3];
+    const double *a0 = pa + 3 * size_t(c.a[0]);
+    const double *b0 = pb + 3 * size_t(c.b[0]);
+    const double *b1 = pb + 3 * size_t(c.b[1]);
+    if (c.kind == SELFCOL_CONTACT_VF) {
+        const double *b2 = pb + 3 * size_t(c.b[2]);
+        for (int k = 0; k < 3; ++k) {
+            u[k] = b1[k] - b0[k];
+            v[k] = b2[k] - b0[k];
+        }
+    } else {
+        const double *a1 = pa + 3 * size_t(c.a[1]);
+        for (int k = 0; k < 3; ++k) {
+            u[k] = a1[k] - a0[k];
+            v[k] = b1[k] - b0[k];
+        }
+    }
+    double r[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    if (!(len > 0) || !std::isfinite(len))
+        return false;
+    for (int k = 0; k < 3; ++k)
+        n[k] = r[k] / len * double(right);
+    return true;
+}
+
+// One row per VF/EE contact of a store with a decided side and right side.
+void gather_rows(selfcol_bullet *a, const selfcol_store *store, const attached_body &first,
+                 const attached_body &second, uint64_t *crossed) {
+    const selfcol_store_contact *contacts = nullptr;
+    size_t count = 0;
+    const selfcol_store_region *regions = nullptr;
+    size_t region_count = 0;
+    if (selfcol_store_contacts(store, &contacts, &count) != SELFCOL_OK ||
+        selfcol_store_regions(store, &regions, &region_count) != SELFCOL_OK)
+        return;
+    const double *positions[2] = {selfcol_mesh_positions(first.mesh),
+                                  selfcol_mesh_positions(second.mesh)};
+    const attached_body *body_of[2] = {&first, &second};
+    for (size_t i = 0; i < count; ++i) {
+        const selfcol_store_contact &c = contacts[i];
+        if (c.kind != SELFCOL_CONTACT_VF && c.kind != SELFCOL_CONTACT_EE)
+            continue;
+        if (c.side == 0 || c.right_side == 0)
+            continue;
+        const attached_body &fb = *body_of[c.first_mesh];
+        const attached_body &sb = *body_of[c.second_mesh];
+        response_row row;
+        std::memset(&row, 0, sizeof row);
+        // The store's right side is followed where the surfaces cross (its
+        // region holds EF interferences): that is where the seed's
+        // consistency correction is needed and has evidence. In a region
+        // without interferences the surfaces are consistent as they are
+        // (section 3.2.1: "if interferences are detected as well ... we then
+        // know that the situation is inconsistent"), so the contact is pushed
+        // along its current side; a vote there could only act on noise
+        // (measured: two parallel sheets 1 cm apart, 8% of new contacts
+        // corrected by their first vote).
+        bool crossed_region =
+            c.region < region_count && (regions[c.region].flags & SELFCOL_REGION_CROSSED) != 0;
+        int right = crossed_region ? c.right_side : c.side;
+        if (c.distance > 0) {
+            double sign = c.side == right ? 1.0 : -1.0;
+            for (int k = 0; k < 3; ++k)
+                row.n[k] = c.direction[k] * sign;
+        } else if (!reference_direction(c, right, positions[c.first_mesh], positions[c.second_mesh],
+                                        row.n)) {
+            continue;
+        }
+        row.s = c.side == right ? c.distance : -c.distance;
+        int slot = 0;
+        int first_count = c.kind == SELFCOL_CONTACT_VF ? 1 : 2;
+        int second_count = c.kind == SELFCOL_CONTACT_VF ? 3 : 2;
+        for (int k = 0; k < first_count; ++k) {
+            row.node[slot] = slot_for(a, fb, c.a[k]);
+            row.w[slot++] = c.wa[k];
+        }
+        for (int k = 0; k < second_count; ++k) {
+            row.node[slot] = slot_for(a, sb, c.b[k]);
+            row.w[slot++] = -c.wb[k];
+        }
+        if (!response_prepare(row, a->nodes.data()))
+            continue;
+        if (row.s < 0)
+            ++*crossed;
+        a->rows.push_back(row);
+    }
+}
+
+int step_impl(selfcol_bullet *a, double dt) {
+    if (!(dt > 0) || !std::isfinite(dt))
+        return SELFCOL_EINVAL;
+    if (a->bodies.empty())
+        return SELFCOL_OK;
+    for (const attached_body &b : a->bodies)
+        if (b.body->m_nodes.size() != b.node_count || b.body->m_faces.size() != b.face_count)
+            return SELFCOL_ESTALE;
+    double t0 = now_seconds();
+    int status;
+    for (const attached_body &b : a->bodies) {
+        status = selfcol_mesh_set_positions_float(b.mesh, node_positions(b.body),
+                                                  sizeof(btSoftBody::Node), size_t(b.node_count));
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    if (a->scene == nullptr) {
+        status = build_scene(a);
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    status = selfcol_scene_update(a->scene);
+    if (status != SELFCOL_OK)
+        return status;
+    double t1 = now_seconds();
+
+    a->rows.clear();
+    a->nodes.clear();
+    a->node_of_slot.clear();
+    a->global_of_slot.clear();
+    uint64_t crossed = 0;
+    for (size_t i = 0; i < a->bodies.size(); ++i)
+        for (size_t j = i; j < a->bodies.size(); ++j) {
+            const selfcol_store *store = nullptr;
+            if (selfcol_scene_store(a->scene, uint32_t(i), uint32_t(j), &store) == SELFCOL_OK &&
+                store != nullptr)
+                gather_rows(a, store, a->bodies[i], a->bodies[j], &crossed);
+        }
+    response_result r = response_solve(a->rows.data(), a->rows.size(), a->nodes.data(), a->distance,
+                                       a->opts.repulsion, a->opts.iterations);
+    // Write back: positions (and q, which Bullet keeps equal to x between
+    // steps) and velocities (and vn, the step's final velocity).
+    for (size_t s = 0; s < a->nodes.size(); ++s) {
+        btSoftBody::Node *n = a->node_of_slot[s];
+        const response_node &r = a->nodes[s];
+        n->m_x.setValue(btScalar(r.x[0]), btScalar(r.x[1]), btScalar(r.x[2]));
+        n->m_q = n->m_x;
+        n->m_v.setValue(btScalar(r.v[0]), btScalar(r.v[1]), btScalar(r.v[2]));
+        n->m_vn = n->m_v;
+        a->slot_of_node[a->global_of_slot[s]] = -1;
+    }
+    double t2 = now_seconds();
+
+    selfcol_scene_update_stats ss;
+    ss.version = SELFCOL_SCENE_UPDATE_STATS_VERSION;
+    selfcol_scene_stats(a->scene, &ss);
+    selfcol_bullet_step_stats &st = a->stats;
+    st.distance = a->distance;
+    st.contacts = ss.contacts;
+    st.interferences = ss.interferences;
+    st.crossed = crossed;
+    st.flipped = ss.flipped;
+    st.corrected = ss.corrected;
+    st.responses = r.responses;
+    st.max_push = r.max_push;
+    st.seconds_detect = t1 - t0;
+    st.seconds_response = t2 - t1;
+    return SELFCOL_OK;
+}
+
+} // namespace
+
+extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigned int version) {
+    if (opts == nullptr)
+        return SELFCOL_EINVAL;
+    if (version == 0 || version > SELFCOL_BULLET_OPTIONS_VERSION)
+        return SELFCOL_EVERSION;
+    std::memset(opts, 0, sizeof *opts);
+    opts->version = version;
+    opts->distance = 0;
+    opts->distance_factor = SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR;
+    opts->repulsion = SELFCOL_BULLET_DEFAULT_REPULSION;
+    opts->iterations = SELFCOL_BULLET_DEFAULT_ITERATIONS;
+    opts->remnance_frames = SELFCOL_STORE_DEFAULT_REMNANCE;
+    opts->consistency = 1;
+    opts->threads = 1;
+    opts->automatic = 1;
+    return SELFCOL_OK;
+}
+
+extern "C" int selfcol_bullet_create(selfcol_bullet **out,
+                                     btDeformableMultiBodyDynamicsWorld *world,
+                                     const selfcol_bullet_options *opts) {
+    if (out == nullptr)
+        return SELFCOL_EINVAL;
+    *out = nullptr;
+    if (world == nullptr)
+        return SELFCOL_EINVAL;
+    selfcol_bullet_options o;
+    if (opts == nullptr) {
+        selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
+    } else {
+        if (opts->version == 0 || opts->version > SELFCOL_BULLET_OPTIONS_VERSION)
+            return SELFCOL_EVERSION;
+        o = *opts;
+    }
+    if ((o.allocator.alloc == nullptr) != (o.allocator.free == nullptr))
+        return SELFCOL_EINVAL;
+    if (!(o.distance >= 0) || !std::isfinite(o.distance))
+        return SELFCOL_EINVAL;
+    if (o.distance == 0 && (!(o.distance_factor > 0) || !std::isfinite(o.distance_factor)))
+        return SELFCOL_EINVAL;
+    if (!(o.repulsion > 0 && o.repulsion <= 1))
+        return SELFCOL_EINVAL;
+    if (o.iterations == 0 || o.iterations > 64)
+        return SELFCOL_EINVAL;
+    if (o.consistency != 0 && o.consistency != 1)
+        return SELFCOL_EINVAL;
+    void *memory = hook_alloc(o.allocator, sizeof(selfcol_bullet), alignof(selfcol_bullet));
+    if (memory == nullptr)
+        return SELFCOL_ENOMEM;
+    selfcol_bullet *a = new (memory) selfcol_bullet(o.allocator);
+    a->opts = o;
+    a->world = world;
+    a->stats.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    if (o.automatic) {
+        void *am = hook_alloc(o.allocator, sizeof(step_action), alignof(step_action));
+        if (am == nullptr) {
+            a->~selfcol_bullet();
+            hook_free(o.allocator, memory, sizeof(selfcol_bullet));
+            return SELFCOL_ENOMEM;
+        }
+        a->action = new (am) step_action(a);
+        try {
+            world->addAction(a->action);
+        } catch (...) {
+            selfcol_bullet_destroy(a);
+            return SELFCOL_ENOMEM;
+        }
+    }
+    *out = a;
+    return SELFCOL_OK;
+}
+
+extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
+    if (a == nullptr)
+        return;
+    if (a->action != nullptr) {
+        try {
+            a->world->removeAction(a->action);
+        } catch (...) {
+        }
+        a->action->~step_action();
+        hook_free(a->hooks, a->action, sizeof(step_action));
+    }
+    selfcol_scene_destroy(a->scene);
+    for (attached_body &b : a->bodies) {
+        b.body->m_cfg.collisions = b.saved_collisions;
+        b.body->setSelfCollision(b.saved_self_collision);
+        selfcol_mesh_destroy(b.mesh);
+    }
+    selfcol_allocator hooks = a->hooks;
+    a->~selfcol_bullet();
+    hook_free(hooks, a, sizeof(selfcol_bullet));
+}
+
+extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32_t *id_out) {
+    if (a == nullptr || body == nullptr)
+        return SELFCOL_EINVAL;
+    for (const attached_body &b : a->bodies)
+        if (b.body == body)
+            return SELFCOL_EINVAL;
+    int node_count = body->m_nodes.size();
+    int face_count = body->m_faces.size();
+    if (node_count <= 0 || face_count <= 0)
+        return SELFCOL_EINVAL;
+    if (uint64_t(a->node_total) + uint64_t(node_count) >= uint64_t(INT32_MAX))
+        return SELFCOL_ERANGE;
+    selfcol_mesh *mesh = nullptr;
+    try {
+        hvector<uint32_t> triangles{hook_allocator<uint32_t>(&a->hooks)};
+        triangles.reserve(size_t(face_count) * 3);
+        const btSoftBody::Node *node0 = &body->m_nodes[0];
+        for (int f = 0; f < face_count; ++f)
+            for (int k = 0; k < 3; ++k)
+                triangles.push_back(uint32_t(body->m_faces[f].m_n[k] - node0));
+        selfcol_mesh_options mo;
+        selfcol_mesh_options_init(&mo, SELFCOL_MESH_OPTIONS_VERSION);
+        mo.allocator = a->hooks;
+        int status = selfcol_mesh_create_float(&mesh, size_t(node_count), node_positions(body),
+                                               sizeof(btSoftBody::Node), size_t(face_count),
+                                               triangles.data(), &mo);
+        if (status != SELFCOL_OK)
+            return status;
+        attached_body b;
+        b.body = body;
+        b.mesh = mesh;
+        b.node_count = node_count;
+        b.face_count = face_count;
+        b.saved_collisions = body->m_cfg.collisions;
+        b.saved_self_collision = body->useSelfCollision();
+        b.first_node = a->node_total;
+        a->slot_of_node.resize(size_t(a->node_total) + size_t(node_count), -1);
+        a->bodies.push_back(b);
+    } catch (...) {
+        selfcol_mesh_destroy(mesh);
+        return SELFCOL_ENOMEM;
+    }
+    a->node_total += uint32_t(node_count);
+    // Bullet's own self-collision and vertex-face soft-soft handling off:
+    // selfcol is this body's soft-soft collision now.
+    body->setSelfCollision(false);
+    body->m_cfg.collisions &= ~int(btSoftBody::fCollision::VF_DD | btSoftBody::fCollision::VF_SS);
+    selfcol_scene_destroy(a->scene); // rebuilt with the new surface at the next step
+    a->scene = nullptr;
+    if (id_out)
+        *id_out = uint32_t(a->bodies.size() - 1);
+    return SELFCOL_OK;
+}
+
+extern "C" int selfcol_bullet_step(selfcol_bullet *a, double dt) {
+    if (a == nullptr)
+        return SELFCOL_EINVAL;
+    int status;
+    try {
+        status = step_impl(a, dt);
+    } catch (const std::bad_alloc &) {
+        status = SELFCOL_ENOMEM;
+    } catch (...) {
+        status = SELFCOL_ERROR;
+    }
+    a->stats.status = status;
+    ++a->stats.steps;
+    return status;
+}
+
+extern "C" int selfcol_bullet_stats(const selfcol_bullet *a, selfcol_bullet_step_stats *stats) {
+    if (a == nullptr || stats == nullptr)
+        return SELFCOL_EINVAL;
+    if (stats->version == 0 || stats->version > SELFCOL_BULLET_STEP_STATS_VERSION)
+        return SELFCOL_EVERSION;
+    unsigned int version = stats->version;
+    *stats = a->stats;
+    stats->version = version;
+    return SELFCOL_OK;
+}
+
+extern "C" const selfcol_scene *selfcol_bullet_scene(const selfcol_bullet *a) {
+    return a ? a->scene : nullptr;
+}
+
+extern "C" const selfcol_mesh *selfcol_bullet_mesh(const selfcol_bullet *a, uint32_t id) {
+    if (a == nullptr || id >= a->bodies.size())
+        return nullptr;
+    return a->bodies[id].mesh;
+}
