@@ -49,15 +49,33 @@ FUZZ_SECONDS ?= 60
 fuzz:
 	sh tests/fuzz/run.sh $(FUZZ_SECONDS) build-fuzz
 
-# ABI baseline of this version (at a release), and the check against the newest one.
+# ABI baselines of this version (at a release), and the check against the newest
+# ones: libselfcol, and libselfcol_bullet when the build has it (Bullet found).
+# `make abi-dump` refreshes both baselines of $(VERSION). While a version is
+# unreleased (libselfcol_bullet-0.2.0.abi: the adapter is new in 0.2.0), its
+# baselines are re-dumped whenever its API changes before the release.
+BULLET_LIB := $(BUILD)/adapters/bullet/libselfcol_bullet.so
 abi-dump: build
 	@sh tools/deps.sh abigail-tools
 	abidw --headers-dir include/selfcol --out-file tests/abi/libselfcol-$(VERSION).abi \
 	  $(BUILD)/lib/libselfcol.so
+	@if [ -e $(BULLET_LIB) ]; then \
+	  echo "abidw --headers-dir adapters/bullet/include/selfcol --out-file tests/abi/libselfcol_bullet-$(VERSION).abi $(BULLET_LIB)"; \
+	  abidw --headers-dir adapters/bullet/include/selfcol \
+	    --out-file tests/abi/libselfcol_bullet-$(VERSION).abi $(BULLET_LIB); \
+	else \
+	  echo "abi-dump: no $(BULLET_LIB) (libselfcol_bullet not built): its baseline is left alone"; \
+	fi
 
 abi-check: build
 	@sh tools/deps.sh abigail-tools
 	sh tools/abi_check.sh $(BUILD)/lib/libselfcol.so
+	@if [ -e $(BULLET_LIB) ]; then \
+	  echo "sh tools/abi_check.sh $(BULLET_LIB) libselfcol_bullet adapters/bullet/include/selfcol"; \
+	  sh tools/abi_check.sh $(BULLET_LIB) libselfcol_bullet adapters/bullet/include/selfcol; \
+	else \
+	  echo "abi-check: no $(BULLET_LIB) (libselfcol_bullet not built): skipped"; \
+	fi
 
 version:
 	@echo $(VERSION)

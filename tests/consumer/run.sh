@@ -10,6 +10,10 @@
 #   pkg-config         main.c with `pkg-config --cflags --libs selfcol`
 #                      (shared, with an rpath) and `--static` (static)
 #   eigen              tests/consumer/eigen: find_package(selfcol COMPONENTS eigen)
+#   bullet             tests/consumer/bullet: find_package(selfcol COMPONENTS
+#                      bullet), a C program (options) and a C++ one (a world
+#                      with a tiny soft body stepped 3 times); then the C one
+#                      with `pkg-config selfcol_bullet` (`--static` for static)
 # and then
 #   add_subdirectory   tests/consumer/add_subdirectory: the source tree in a
 #                      C parent that sets nothing; it checks that selfcol
@@ -29,7 +33,8 @@ else
   work=$(mktemp -d "${TMPDIR:-/tmp}/selfcol-consumer.XXXXXX")
   trap 'rm -rf "$work"' EXIT
 fi
-sh "$root/tools/deps.sh" cmake make gcc g++ pkg-config binutils libccd-dev libeigen3-dev
+sh "$root/tools/deps.sh" cmake make gcc g++ pkg-config binutils libccd-dev libeigen3-dev \
+  libbullet-dev
 cc=${CC:-cc}
 
 # Runs a command quietly; on failure shows its output and stops.
@@ -41,11 +46,13 @@ run_quiet() {
   fi
 }
 
-# needs BINARY yes|no: whether BINARY loads libselfcol.so at run time.
+# needs BINARY yes|no [LIBRARY]: whether BINARY loads LIBRARY.so (default
+# libselfcol) at run time.
 needs() {
-  if readelf -d "$1" | grep -q 'NEEDED.*libselfcol\.so'; then got=yes; else got=no; fi
+  lib=${3:-libselfcol}
+  if readelf -d "$1" | grep -q "NEEDED.*$lib\\.so"; then got=yes; else got=no; fi
   if [ "$got" != "$2" ]; then
-    echo "consumer: $1: NEEDED libselfcol.so is '$got', expected '$2'" >&2
+    echo "consumer: $1: NEEDED $lib.so is '$got', expected '$2'" >&2
     exit 1
   fi
 }
@@ -96,6 +103,35 @@ for flavour in shared static; do
   run_quiet cmake -S "$here/eigen" -B "$work/eigen-$flavour" -DCMAKE_PREFIX_PATH="$prefix"
   run_quiet cmake --build "$work/eigen-$flavour"
   "$work/eigen-$flavour/consumer_eigen"
+
+  echo "-- find_package(selfcol COMPONENTS bullet)"
+  if [ -z "$(find "$prefix" -name selfcolBulletTargets.cmake)" ]; then
+    echo "consumer: libselfcol_bullet was not installed (is Bullet found? see the configure output)" >&2
+    exit 1
+  fi
+  loads=$([ $flavour = shared ] && echo yes || echo no)
+  run_quiet cmake -S "$here/bullet" -B "$work/bullet-$flavour" -DCMAKE_PREFIX_PATH="$prefix" \
+    -DSELFCOL_EXPECT=$flavour
+  run_quiet cmake --build "$work/bullet-$flavour" -j "$jobs"
+  for exe in consumer_bullet_c consumer_bullet; do
+    needs "$work/bullet-$flavour/$exe" $loads libselfcol_bullet
+    "$work/bullet-$flavour/$exe"
+  done
+
+  echo "-- pkg-config (selfcol_bullet.pc)"
+  export PKG_CONFIG_PATH="$pcdir"
+  if [ $flavour = shared ]; then
+    libs="$(pkg-config --libs selfcol_bullet) -Wl,-rpath,$(pkg-config --variable=libdir selfcol_bullet)"
+  else
+    libs=$(pkg-config --static --libs selfcol_bullet)
+  fi
+  echo "   cflags: $(pkg-config --cflags selfcol_bullet)   libs: $libs"
+  # shellcheck disable=SC2046,SC2086 # flags are words
+  run_quiet $cc -std=c99 -Wall -Wextra -pedantic -Werror $expect \
+    $(pkg-config --cflags selfcol_bullet) "$here/bullet/main.c" -o "$work/pkgconfig-bullet-$flavour" $libs
+  needs "$work/pkgconfig-bullet-$flavour" $loads libselfcol_bullet
+  "$work/pkgconfig-bullet-$flavour"
+  unset PKG_CONFIG_PATH
 done
 
 echo "== add_subdirectory (a C parent that sets nothing)"

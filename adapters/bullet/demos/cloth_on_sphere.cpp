@@ -18,11 +18,11 @@ int main(int argc, char **argv) {
     int n = o.resolution > 0 ? o.resolution : 48;
     double s = o.scale;
     demo::world w(o);
-    w.add_rigid(new btSphereShape(btScalar(0.25 * s)), btVector3(0, btScalar(0.25 * s), 0), 0);
+    w.add_rigid(new btSphereShape(btScalar(0.3 * s)), btVector3(0, btScalar(0.5 * s), 0), 0);
     w.add_rigid(new btBoxShape(btVector3(btScalar(4 * s), btScalar(0.5 * s), btScalar(4 * s))),
                 btVector3(0, btScalar(-0.5 * s), 0), 0);
     // 1.2 m square, slightly tilted so that it does not land symmetric
-    btVector3 corner(btScalar(-0.6 * s), btScalar(0.8 * s), btScalar(-0.6 * s));
+    btVector3 corner(btScalar(-0.6 * s), btScalar(0.9 * s), btScalar(-0.6 * s));
     btVector3 u(btScalar(1.2 * s), btScalar(0.05 * s), 0),
         v(0, btScalar(0.1 * s), btScalar(1.2 * s));
     w.add_sheet(corner, u, v, n, n, 0.3, true);

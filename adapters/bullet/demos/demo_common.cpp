@@ -61,13 +61,16 @@ bool parse(int argc, char **argv, const char *name, const char *about, options &
         } else if (a == "--quiet") {
             o.quiet = true;
             continue;
+        } else if (a == "--check") {
+            o.check = true;
+            continue;
         } else {
             std::fprintf(stderr,
                          "%s: %s\n"
                          "usage: %s [--steps N] [--resolution N] [--scale S] [--out DIR] "
                          "[--every K]\n"
                          "          [--collision selfcol|bullet|off] [--distance D] "
-                         "[--threads N] [--quiet]\n"
+                         "[--threads N] [--quiet] [--check]\n"
                          "  --out DIR     write frames DIR/frame_NNNNN.ply (every K steps with "
                          "--every, and the last)\n"
                          "  --collision   self-collision by selfcol (default), by Bullet's own "
@@ -299,6 +302,8 @@ bool write_ply(const world &w, const std::string &path) {
 void print_step(const world &w, const options &o, int step, double step_seconds, report &r) {
     double energy = kinetic_energy(w);
     r.worst_energy = std::fmax(r.worst_energy, energy);
+    r.worst_extent = std::fmax(r.worst_extent, extent(w));
+    r.ever_nonfinite = r.ever_nonfinite || !finite(w);
     r.step_seconds_total += step_seconds;
     if (step == 0)
         r.first_step_seconds = step_seconds;
@@ -340,7 +345,6 @@ bool maybe_write(const world &w, const options &o, int step, int last_step) {
 }
 
 int finish(const world &w, const options &o, const report &r, int steps) {
-    (void)o;
     selfcol_bullet_step_stats s;
     s.version = SELFCOL_BULLET_STEP_STATS_VERSION;
     int status = SELFCOL_OK;
@@ -353,7 +357,25 @@ int finish(const world &w, const options &o, const report &r, int steps) {
                 status == SELFCOL_OK ? "" : ", adapter error");
     if (status != SELFCOL_OK)
         std::fprintf(stderr, "selfcol adapter: %s\n", selfcol_status_string(status));
-    return finite(w) && status == SELFCOL_OK ? 0 : 1;
+    bool ok = !r.ever_nonfinite && status == SELFCOL_OK;
+    if (o.check) {
+        double mass = 0;
+        for (const btSoftBody *c : w.cloths)
+            for (int i = 0; i < c->m_nodes.size(); ++i)
+                if (c->m_nodes[i].m_im > 0)
+                    mass += 1.0 / double(c->m_nodes[i].m_im);
+        double energy_bound = std::fmax(2 * mass * 9.8 * 2 * o.scale, 1.0 * o.scale);
+        double extent_bound = 5 * o.scale;
+        bool energy_ok = r.worst_energy <= energy_bound;
+        bool extent_ok = r.worst_extent <= extent_bound;
+        std::printf("check: peak KE %.4g J (bound %.4g), farthest node %.4g m (bound %.4g), "
+                    "%s: %s\n",
+                    r.worst_energy, energy_bound, r.worst_extent, extent_bound,
+                    r.ever_nonfinite ? "non-finite nodes" : "finite throughout",
+                    ok && energy_ok && extent_ok ? "PASS" : "FAIL");
+        ok = ok && energy_ok && extent_ok;
+    }
+    return ok ? 0 : 1;
 }
 
 double step_length() {

@@ -39,6 +39,9 @@ struct options {
     bool quiet = false;   // no per-step lines
     double distance = 0;  // selfcol thickness (0: the adapter's default)
     unsigned threads = 1; // selfcol query threads
+    // --check: exit 1 if a node goes non-finite, the kinetic energy passes
+    // its bound or a node leaves the scene box (finish())
+    bool check = false;
 };
 
 // Parses --steps N --resolution N --scale S --every K --out DIR --quiet
@@ -99,12 +102,20 @@ bool write_ply(const world &w, const std::string &path);
 struct report {
     double started = 0;
     double worst_energy = 0;
+    double worst_extent = 0;
+    bool ever_nonfinite = false;
     double step_seconds_total = 0;
     double first_step_seconds = 0;
 };
 void print_step(const world &w, const options &o, int step, double step_seconds, report &r);
 // Writes the frame of this step if asked; returns false on an I/O error.
 bool maybe_write(const world &w, const options &o, int step, int last_step);
+// The stability bounds of --check: kinetic energy at most
+// max(2 m g (2 m x scale), 1 J x scale) for cloth mass m, and every node
+// within 5 m x scale of the origin (the scenes span about 2 m x scale).
+// The stability bounds of --check: kinetic energy at most
+// max(2 m g (2 m x scale), 1 J x scale) for cloth mass m, and every node
+// within 5 m x scale of the origin (the scenes span about 2 m x scale).
 int finish(const world &w, const options &o, const report &r, int steps);
 // The internal step length every demo uses (1/240 s, as Bullet's deformable examples).
 double step_length();
