@@ -1,0 +1,180 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The adapter's API on bad input, what attaching changes and restores, and
+// the response rules on hand-made rows (no timing, plain asserts).
+#include <selfcol/bullet.h>
+
+#include "../src/response.hpp"
+#include "demo_common.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+static int failures = 0;
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            std::fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);          \
+            ++failures;                                                                            \
+        }                                                                                          \
+    } while (0)
+
+using namespace selfcol_bullet_detail;
+
+static void api_rejects_bad_input() {
+    demo::options o;
+    demo::world w(o, 0.0);
+    selfcol_bullet_options opts;
+    CHECK(selfcol_bullet_options_init(nullptr, SELFCOL_BULLET_OPTIONS_VERSION) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_options_init(&opts, 0) == SELFCOL_EVERSION);
+    CHECK(selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION + 1) ==
+          SELFCOL_EVERSION);
+    CHECK(selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION) == SELFCOL_OK);
+    selfcol_bullet *a = reinterpret_cast<selfcol_bullet *>(&opts);
+    CHECK(selfcol_bullet_create(&a, nullptr, &opts) == SELFCOL_EINVAL && a == nullptr);
+    CHECK(selfcol_bullet_create(nullptr, w.dynamics, &opts) == SELFCOL_EINVAL);
+    selfcol_bullet_options bad = opts;
+    bad.distance = NAN;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
+    bad = opts;
+    bad.distance = -1;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
+    bad = opts;
+    bad.repulsion = 1.5;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
+    bad = opts;
+    bad.iterations = 0;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
+    bad = opts;
+    bad.version = 7;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EVERSION);
+
+    btSoftBody *sheet =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    sheet->m_cfg.collisions |= btSoftBody::fCollision::VF_DD;
+    sheet->setSelfCollision(true);
+    int before = sheet->m_cfg.collisions;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK && a != nullptr);
+    CHECK(selfcol_bullet_attach(a, nullptr, nullptr) == SELFCOL_EINVAL);
+    uint32_t id = 99;
+    CHECK(selfcol_bullet_attach(a, sheet, &id) == SELFCOL_OK && id == 0);
+    CHECK(selfcol_bullet_attach(a, sheet, &id) == SELFCOL_EINVAL); // twice
+    // Bullet's own self-collision and VF_DD are off while attached...
+    CHECK(!sheet->useSelfCollision());
+    CHECK((sheet->m_cfg.collisions & btSoftBody::fCollision::VF_DD) == 0);
+    CHECK(selfcol_bullet_step(a, 0) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_step(a, NAN) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    selfcol_bullet_step_stats st;
+    st.version = 0;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_EVERSION);
+    st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.status == SELFCOL_OK);
+    // the default thickness: 0.25 x the mean edge length
+    CHECK(std::fabs(st.distance - 0.25 * selfcol_mesh_mean_edge_length(selfcol_bullet_mesh(a, 0))) <
+          1e-12);
+    CHECK(selfcol_bullet_scene(a) != nullptr);
+    CHECK(selfcol_bullet_mesh(a, 1) == nullptr);
+    // a NaN node: an error, no node changed
+    btVector3 saved = sheet->m_nodes[3].m_x;
+    sheet->m_nodes[3].m_x.setX(btScalar(NAN));
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_EINVAL);
+    sheet->m_nodes[3].m_x = saved;
+    // a changed topology: ESTALE, recorded in the stats by the world's action too
+    sheet->appendNode(btVector3(5, 5, 5), 1);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_ESTALE);
+    w.step(1.0 / 240);
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.status == SELFCOL_ESTALE);
+    // ...and restored by destroy
+    selfcol_bullet_destroy(a);
+    CHECK(sheet->useSelfCollision());
+    CHECK(sheet->m_cfg.collisions == before);
+    selfcol_bullet_destroy(nullptr);
+}
+
+// A vertex (node 0) above a triangle (nodes 1..3) at s < d, approaching.
+static response_row vf_row(double s) {
+    response_row row = {};
+    for (int k = 0; k < 4; ++k)
+        row.node[k] = uint32_t(k);
+    row.w[0] = 1;
+    row.w[1] = row.w[2] = row.w[3] = -1.0 / 3;
+    row.n[2] = 1;
+    row.s = s;
+    return row;
+}
+
+static void vf_nodes(response_node nodes[4], double gap, double vz) {
+    double tri[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+    for (int k = 0; k < 4; ++k) {
+        nodes[k] = response_node();
+        nodes[k].im = 1;
+    }
+    nodes[0].x[0] = nodes[0].x[1] = 0.25;
+    nodes[0].x[2] = gap;
+    nodes[0].v[2] = vz;
+    for (int k = 0; k < 3; ++k) {
+        nodes[k + 1].x[0] = tri[k][0];
+        nodes[k + 1].x[1] = tri[k][1];
+    }
+}
+
+static double separation(const response_node n[4]) {
+    return n[0].x[2] - (n[1].x[2] + n[2].x[2] + n[3].x[2]) / 3;
+}
+static double approach(const response_node n[4]) {
+    return n[0].v[2] - (n[1].v[2] + n[2].v[2] + n[3].v[2]) / 3;
+}
+
+static void response_rules() {
+    const double d = 0.1;
+    response_node nodes[4];
+    // within d and approaching: stops approaching, separation closes half its gap to d
+    vf_nodes(nodes, 0.02, -1.0);
+    response_row row = vf_row(0.02);
+    CHECK(response_prepare(row, nodes));
+    response_result r = response_solve(&row, 1, nodes, d, 0.5, 4);
+    CHECK(r.responses == 1);
+    CHECK(std::fabs(approach(nodes)) < 1e-12);
+    CHECK(std::fabs(separation(nodes) - (0.02 + 0.5 * (d - 0.02))) < 1e-12);
+    // momentum along n is conserved (equal masses)
+    double p = nodes[0].v[2] + nodes[1].v[2] + nodes[2].v[2] + nodes[3].v[2];
+    CHECK(std::fabs(p - (-1.0)) < 1e-12);
+    // separating already and at d: nothing
+    vf_nodes(nodes, d, 1.0);
+    row = vf_row(d);
+    CHECK(response_prepare(row, nodes));
+    r = response_solve(&row, 1, nodes, d, 0.5, 4);
+    CHECK(r.responses == 0 && separation(nodes) == d && approach(nodes) == 1.0);
+    // crossed (s < 0 along the consistent side): pushed back toward its right
+    // side, at most d in one step
+    vf_nodes(nodes, -0.3, 0);
+    row = vf_row(-0.3);
+    CHECK(response_prepare(row, nodes));
+    r = response_solve(&row, 1, nodes, d, 1.0, 4);
+    CHECK(std::fabs(separation(nodes) - (-0.3 + d)) < 1e-12);
+    CHECK(r.max_push <= d + 1e-12);
+    // pinned triangle: only the vertex moves
+    vf_nodes(nodes, 0.02, 0);
+    for (int k = 1; k < 4; ++k)
+        nodes[k].im = 0;
+    row = vf_row(0.02);
+    CHECK(response_prepare(row, nodes));
+    response_solve(&row, 1, nodes, d, 0.5, 4);
+    CHECK(nodes[1].x[2] == 0 && nodes[2].x[2] == 0 && nodes[3].x[2] == 0);
+    CHECK(std::fabs(nodes[0].x[2] - 0.06) < 1e-12);
+    // every node pinned: the row is skipped
+    nodes[0].im = 0;
+    row = vf_row(0.02);
+    CHECK(!response_prepare(row, nodes));
+}
+
+int main() {
+    api_rejects_bad_input();
+    response_rules();
+    if (failures == 0)
+        std::printf("test_bullet_adapter: all checks passed\n");
+    return failures == 0 ? 0 : 1;
+}
