@@ -51,7 +51,9 @@
 #error "libselfcol_bullet supports single-precision Bullet only (btScalar = float)"
 #endif
 
-#if defined(SELFCOL_BULLET_BUILDING)
+/* Exported from the shared library only: a static libselfcol_bullet is built
+   with SELFCOL_BULLET_STATIC, so its symbols stay hidden in what links it. */
+#if defined(SELFCOL_BULLET_BUILDING) && !defined(SELFCOL_BULLET_STATIC)
 #define SELFCOL_BULLET_API __attribute__((visibility("default")))
 #else
 #define SELFCOL_BULLET_API
