@@ -267,7 +267,7 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
     FILE *trace = cfg.trace.empty() ? nullptr : std::fopen(cfg.trace.c_str(), "a");
     int done = 0;
     for (int i = 0; i < steps; ++i) {
-        demo::drive_ribbon(w, rib, i);
+        demo::drive_ribbon(rib, i);
         auto t0 = clock_type::now();
         w.step(demo::step_length());
         double dt = seconds_since(t0);

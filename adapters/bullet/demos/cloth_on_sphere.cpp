@@ -6,7 +6,6 @@
 // cloth-floor contact (soft-rigid, SDF_RD); selfcol the cloth against itself.
 #include "demo_common.hpp"
 
-#include <chrono>
 #include <cstdio>
 
 int main(int argc, char **argv) {
@@ -28,14 +27,5 @@ int main(int argc, char **argv) {
     w.add_sheet(corner, u, v, n, n, 0.3, true);
     if (!w.start(o))
         return 1;
-    demo::report r;
-    for (int i = 0; i < steps; ++i) {
-        auto t0 = std::chrono::steady_clock::now();
-        w.step(demo::step_length());
-        double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        demo::print_step(w, o, i, dt, r);
-        if (!demo::maybe_write(w, o, i, steps - 1))
-            return 1;
-    }
-    return demo::finish(w, o, r, steps);
+    return demo::run(w, o, steps, nullptr);
 }

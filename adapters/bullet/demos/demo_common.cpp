@@ -353,7 +353,7 @@ int finish(const world &w, const options &o, const report &r, int steps) {
     std::printf("done: %d steps, mean step %.2f ms, first step %.2f ms, peak KE %.4g J, %s%s\n",
                 steps, steps > 0 ? 1e3 * r.step_seconds_total / steps : 0.0,
                 1e3 * r.first_step_seconds, r.worst_energy,
-                finite(w) ? "all nodes finite" : "NON-FINITE NODES",
+                r.ever_nonfinite ? "NON-FINITE NODES" : "all nodes finite",
                 status == SELFCOL_OK ? "" : ", adapter error");
     if (status != SELFCOL_OK)
         std::fprintf(stderr, "selfcol adapter: %s\n", selfcol_status_string(status));
@@ -380,6 +380,21 @@ int finish(const world &w, const options &o, const report &r, int steps) {
 
 double step_length() {
     return kStep;
+}
+
+int run(world &w, const options &o, int steps, const std::function<void(int)> &before_step) {
+    report r;
+    for (int i = 0; i < steps; ++i) {
+        if (before_step)
+            before_step(i);
+        auto t0 = std::chrono::steady_clock::now();
+        w.step(kStep);
+        double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        print_step(w, o, i, dt, r);
+        if (!maybe_write(w, o, i, steps - 1))
+            return 1;
+    }
+    return finish(w, o, r, steps);
 }
 
 } // namespace demo

@@ -22,6 +22,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -100,7 +101,6 @@ bool write_ply(const world &w, const std::string &path);
 
 // The per-step line (and the run's final summary line).
 struct report {
-    double started = 0;
     double worst_energy = 0;
     double worst_extent = 0;
     bool ever_nonfinite = false;
@@ -117,6 +117,9 @@ bool maybe_write(const world &w, const options &o, int step, int last_step);
 // max(2 m g (2 m x scale), 1 J x scale) for cloth mass m, and every node
 // within 5 m x scale of the origin (the scenes span about 2 m x scale).
 int finish(const world &w, const options &o, const report &r, int steps);
+// Runs `steps` internal steps: before_step(i) (may be empty), the step, the
+// per-step line, the frame; then finish(). Returns the demo's exit status.
+int run(world &w, const options &o, int steps, const std::function<void(int)> &before_step);
 // The internal step length every demo uses (1/240 s, as Bullet's deformable examples).
 double step_length();
 

@@ -8,7 +8,6 @@
 // the sheets come apart and lie one on the other.
 #include "demo_common.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -36,14 +35,5 @@ int main(int argc, char **argv) {
     w.add_sheet(b_corner, b_u, b_v, n, n, 0.2, true);
     if (!w.start(o))
         return 1;
-    demo::report r;
-    for (int i = 0; i < steps; ++i) {
-        auto t0 = std::chrono::steady_clock::now();
-        w.step(demo::step_length());
-        double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        demo::print_step(w, o, i, dt, r);
-        if (!demo::maybe_write(w, o, i, steps - 1))
-            return 1;
-    }
-    return demo::finish(w, o, r, steps);
+    return demo::run(w, o, steps, nullptr);
 }

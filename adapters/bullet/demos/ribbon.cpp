@@ -6,7 +6,6 @@
 // on itself many times; then it is held and settles.
 #include "ribbon_scene.hpp"
 
-#include <chrono>
 #include <cstdio>
 
 int main(int argc, char **argv) {
@@ -20,15 +19,5 @@ int main(int argc, char **argv) {
     demo::ribbon r = demo::add_ribbon(w, along, o.scale, steps * 3 / 4);
     if (!w.start(o))
         return 1;
-    demo::report rep;
-    for (int i = 0; i < steps; ++i) {
-        demo::drive_ribbon(w, r, i);
-        auto t0 = std::chrono::steady_clock::now();
-        w.step(demo::step_length());
-        double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        demo::print_step(w, o, i, dt, rep);
-        if (!demo::maybe_write(w, o, i, steps - 1))
-            return 1;
-    }
-    return demo::finish(w, o, rep, steps);
+    return demo::run(w, o, steps, [&r](int i) { demo::drive_ribbon(r, i); });
 }

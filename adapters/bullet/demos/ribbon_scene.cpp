@@ -32,8 +32,7 @@ ribbon add_ribbon(world &w, int along, double scale, int steps) {
     return r;
 }
 
-void drive_ribbon(world &w, const ribbon &r, int step) {
-    (void)w;
+void drive_ribbon(const ribbon &r, int step) {
     // Each end moves 42% of the length inward over the drive (the ends end up
     // 16% of the length apart); the +x end also turns half a turn about the
     // strip's axis. Kinematic nodes follow the velocity set here exactly.

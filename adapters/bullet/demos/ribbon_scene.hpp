@@ -25,7 +25,7 @@ struct ribbon {
 ribbon add_ribbon(world &w, int along, double scale, int steps);
 
 // Sets the kinematic end rows' velocities for step `step` (call before it).
-void drive_ribbon(world &w, const ribbon &r, int step);
+void drive_ribbon(const ribbon &r, int step);
 
 } // namespace demo
 

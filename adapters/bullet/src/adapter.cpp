@@ -39,6 +39,16 @@ using namespace selfcol_bullet_detail;
 
 namespace {
 
+void *hook_alloc(const selfcol_allocator &h, size_t size, size_t align) {
+    return h.alloc ? h.alloc(h.user, size, align) : std::malloc(size);
+}
+void hook_free(const selfcol_allocator &h, void *p, size_t size) {
+    if (h.free)
+        h.free(h.user, p, size);
+    else
+        std::free(p);
+}
+
 // std::vector storage through the handle's allocator hooks.
 template <class T> struct hook_allocator {
     using value_type = T;
@@ -48,17 +58,13 @@ template <class T> struct hook_allocator {
     T *allocate(std::size_t n) {
         if (n > std::size_t(-1) / sizeof(T))
             throw std::bad_alloc();
-        void *p = hooks->alloc ? hooks->alloc(hooks->user, n * sizeof(T), alignof(T))
-                               : std::malloc(n * sizeof(T));
+        void *p = hook_alloc(*hooks, n * sizeof(T), alignof(T));
         if (p == nullptr)
             throw std::bad_alloc();
         return static_cast<T *>(p);
     }
     void deallocate(T *p, std::size_t n) noexcept {
-        if (hooks->free)
-            hooks->free(hooks->user, p, n * sizeof(T));
-        else
-            std::free(p);
+        hook_free(*hooks, p, n * sizeof(T));
     }
     template <class U> bool operator==(const hook_allocator<U> &o) const noexcept {
         return hooks == o.hooks;
@@ -128,16 +134,6 @@ class step_action : public btActionInterface {
   private:
     selfcol_bullet *owner_;
 };
-
-void *hook_alloc(const selfcol_allocator &h, size_t size, size_t align) {
-    return h.alloc ? h.alloc(h.user, size, align) : std::malloc(size);
-}
-void hook_free(const selfcol_allocator &h, void *p, size_t size) {
-    if (h.free)
-        h.free(h.user, p, size);
-    else
-        std::free(p);
-}
 
 const float *node_positions(btSoftBody *body) {
     return &body->m_nodes[0].m_x.x();
