@@ -63,6 +63,15 @@ struct selfcol_store {
     pair_slot *pairs;
     size_t pair_capacity;
 
+    // Per mesh slot: the surface normal at each vertex (vertex_normal), kept
+    // for one update: valid where normal_stamp equals stamp. Sized to the
+    // mesh's vertices at its first update (a store's meshes are fixed until
+    // selfcol_store_clear), so no update clears them.
+    float *normals[2];
+    uint32_t *normal_stamp[2];
+    size_t normal_count[2];
+    uint32_t stamp;
+
     selfcol_store_update_stats stats;
 };
 
@@ -123,6 +132,12 @@ void selfcol_store_destroy(selfcol_store *store) {
     selfcol_allocator al = store->allocator;
     free_entry_arrays(store);
     selfcol_alloc__free_array(&al, store->pairs, store->pair_capacity, sizeof *store->pairs);
+    for (int k = 0; k < 2; ++k) {
+        selfcol_alloc__free_array(&al, store->normals[k], 3 * store->normal_count[k],
+                                  sizeof *store->normals[k]);
+        selfcol_alloc__free_array(&al, store->normal_stamp[k], store->normal_count[k],
+                                  sizeof *store->normal_stamp[k]);
+    }
     selfcol_alloc__free(&al, store, sizeof *store);
 }
 
@@ -190,6 +205,32 @@ static int reserve_pairs(selfcol_store *s, size_t keys) {
     selfcol_alloc__free_array(&s->allocator, s->pairs, s->pair_capacity, sizeof *s->pairs);
     s->pairs = p;
     s->pair_capacity = need;
+    return SELFCOL_OK;
+}
+
+// The normal caches for the meshes' vertices (grown only; every stamp 0 =
+// nothing cached).
+static int reserve_normals(selfcol_store *s, const selfcol_mesh *const meshes[2]) {
+    for (int k = 0; k < 2; ++k) {
+        const size_t n = meshes[k] != NULL ? meshes[k]->vertex_count : 0;
+        if (n <= s->normal_count[k])
+            continue;
+        float *normals = selfcol_alloc__array(&s->allocator, 3 * n, sizeof *normals);
+        uint32_t *stamps = selfcol_alloc__array(&s->allocator, n, sizeof *stamps);
+        if (normals == NULL || stamps == NULL) {
+            selfcol_alloc__free_array(&s->allocator, normals, 3 * n, sizeof *normals);
+            selfcol_alloc__free_array(&s->allocator, stamps, n, sizeof *stamps);
+            return SELFCOL_ENOMEM;
+        }
+        memset(stamps, 0, n * sizeof *stamps);
+        selfcol_alloc__free_array(&s->allocator, s->normals[k], 3 * s->normal_count[k],
+                                  sizeof *s->normals[k]);
+        selfcol_alloc__free_array(&s->allocator, s->normal_stamp[k], s->normal_count[k],
+                                  sizeof *s->normal_stamp[k]);
+        s->normals[k] = normals;
+        s->normal_stamp[k] = stamps;
+        s->normal_count[k] = n;
+    }
     return SELFCOL_OK;
 }
 
@@ -461,12 +502,21 @@ static size_t pair_hash(uint32_t lo, uint32_t hi, uint32_t meshes, size_t mask) 
 // area-weighted sum of its triangles' normals. 0 when v has none usable (no
 // triangle, degenerate ones, or a one-ring whose winding cancels, as at a
 // fold's hinge).
-static int vertex_normal(const selfcol_store *s, uint32_t mesh, uint32_t v, double normal[3]) {
-    const selfcol_mesh *m = s->meshes[mesh];
-    double n[3] = {0.0, 0.0, 0.0};
-    for (uint32_t k = m->vertex_tri_offsets[v]; k < m->vertex_tri_offsets[v + 1]; ++k)
-        add_triangle_normal(m, m->vertex_tris[k], n);
-    return vec3_normalize(normal, n);
+static int vertex_normal(selfcol_store *s, uint32_t mesh, uint32_t v, double normal[3]) {
+    float *cached = s->normals[mesh] + 3 * (size_t)v;
+    if (s->normal_stamp[mesh][v] != s->stamp) {
+        const selfcol_mesh *m = s->meshes[mesh];
+        double n[3] = {0.0, 0.0, 0.0}, u[3] = {0.0, 0.0, 0.0};
+        for (uint32_t k = m->vertex_tri_offsets[v]; k < m->vertex_tri_offsets[v + 1]; ++k)
+            add_triangle_normal(m, m->vertex_tris[k], n);
+        vec3_normalize(u, n); // (0, 0, 0) when there is none
+        for (int k = 0; k < 3; ++k)
+            cached[k] = (float)u[k];
+        s->normal_stamp[mesh][v] = s->stamp;
+    }
+    for (int k = 0; k < 3; ++k)
+        normal[k] = cached[k];
+    return normal[0] != 0.0 || normal[1] != 0.0 || normal[2] != 0.0;
 }
 
 // The cosine a link needs, between the surface normals at its two vertices
@@ -508,6 +558,10 @@ static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_role
     if (x->kind == SELFCOL_CONTACT_EF || y->kind == SELFCOL_CONTACT_EF ||
         ((x->flags | y->flags) & SELFCOL_STORE_ORIENTED))
         return; // only voting contacts are linked for the vote
+    int parity_unused;
+    if (vote_find(s->vote_parent, s->vote_parity, i, &parity_unused) ==
+        vote_find(s->vote_parent, s->vote_parity, j, &parity_unused))
+        return; // already in one group: the link would be ignored (vote_unite)
     double nu[3], nw[3];
     if (!vertex_normal(s, u_mesh, u, nu) || !vertex_normal(s, w_mesh, w, nw) ||
         !(fabs(vec3_dot(nu, nw)) >= SELFCOL_STORE_LINK_COS))
@@ -686,6 +740,8 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     }
     if (status == SELFCOL_OK)
         status = reserve_entries(store, store->count + m);
+    if (status == SELFCOL_OK)
+        status = reserve_normals(store, meshes);
     if (status == SELFCOL_OK) {
         size_t keys = 0;
         for (size_t k = 0; k < store->count; ++k)
@@ -698,6 +754,13 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
         return status;
     store->meshes[0] = first;
     store->meshes[1] = second;
+    if (++store->stamp == 0) { // wrapped: forget every cached normal
+        for (int k = 0; k < 2; ++k)
+            if (store->normal_count[k] > 0)
+                memset(store->normal_stamp[k], 0,
+                       store->normal_count[k] * sizeof *store->normal_stamp[k]);
+        store->stamp = 1;
+    }
     memset(&store->stats, 0, sizeof store->stats);
     store->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 
@@ -789,5 +852,7 @@ size_t selfcol_store_byte_count(const selfcol_store *store) {
     const size_t per_entry = 2 * sizeof(selfcol_store_contact) + 3 * sizeof(uint32_t) +
                              sizeof(int8_t) + 4 * sizeof(int32_t) + sizeof(uint32_t) +
                              sizeof(selfcol_store_region);
-    return sizeof *store + store->capacity * per_entry + store->pair_capacity * sizeof(pair_slot);
+    const size_t per_vertex = 3 * sizeof(float) + sizeof(uint32_t);
+    return sizeof *store + store->capacity * per_entry + store->pair_capacity * sizeof(pair_slot) +
+           (store->normal_count[0] + store->normal_count[1]) * per_vertex;
 }
