@@ -5,6 +5,7 @@
 // (demo_common.hpp).
 #include "demo_common.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -307,25 +308,30 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
     r.step_seconds_total += step_seconds;
     if (step == 0)
         r.first_step_seconds = step_seconds;
+    selfcol_bullet_step_stats s;
+    s.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    size_t contacts = 0;
+    if (w.adapter != nullptr) {
+        if (selfcol_bullet_stats(w.adapter, &s) != SELFCOL_OK)
+            std::memset(&s, 0, sizeof s);
+        contacts = size_t(s.contacts);
+    } else {
+        for (const btSoftBody *c : w.cloths)
+            contacts += size_t(c->m_faceNodeContacts.size());
+    }
+    r.peak_contacts = std::max(r.peak_contacts, contacts);
     if (o.quiet)
         return;
-    if (w.adapter != nullptr) {
-        selfcol_bullet_step_stats s;
-        s.version = SELFCOL_BULLET_STEP_STATS_VERSION;
-        selfcol_bullet_stats(w.adapter, &s);
+    if (w.adapter != nullptr)
         std::printf("step %5d  contacts %7llu  interferences %6llu  crossed %5llu  flipped %5llu  "
                     "corrected %5llu  KE %.4g J  step %.2f ms (selfcol %.2f + %.2f ms)\n",
                     step, (unsigned long long)s.contacts, (unsigned long long)s.interferences,
                     (unsigned long long)s.crossed, (unsigned long long)s.flipped,
                     (unsigned long long)s.corrected, energy, 1e3 * step_seconds,
                     1e3 * s.seconds_detect, 1e3 * s.seconds_response);
-    } else {
-        size_t contacts = 0;
-        for (const btSoftBody *c : w.cloths)
-            contacts += size_t(c->m_faceNodeContacts.size());
+    else
         std::printf("step %5d  bullet vertex-face contacts %7zu  KE %.4g J  step %.2f ms\n", step,
                     contacts, energy, 1e3 * step_seconds);
-    }
 }
 
 bool maybe_write(const world &w, const options &o, int step, int last_step) {
@@ -350,9 +356,10 @@ int finish(const world &w, const options &o, const report &r, int steps) {
     int status = SELFCOL_OK;
     if (w.adapter != nullptr && selfcol_bullet_stats(w.adapter, &s) == SELFCOL_OK)
         status = s.status;
-    std::printf("done: %d steps, mean step %.2f ms, first step %.2f ms, peak KE %.4g J, %s%s\n",
+    std::printf("done: %d steps, mean step %.2f ms, first step %.2f ms, peak KE %.4g J, "
+                "peak self-contacts %zu, %s%s\n",
                 steps, steps > 0 ? 1e3 * r.step_seconds_total / steps : 0.0,
-                1e3 * r.first_step_seconds, r.worst_energy,
+                1e3 * r.first_step_seconds, r.worst_energy, r.peak_contacts,
                 r.ever_nonfinite ? "NON-FINITE NODES" : "all nodes finite",
                 status == SELFCOL_OK ? "" : ", adapter error");
     if (status != SELFCOL_OK)

@@ -106,13 +106,13 @@ struct report {
     bool ever_nonfinite = false;
     double step_seconds_total = 0;
     double first_step_seconds = 0;
+    // The most self-collision contacts any step held: selfcol's VF/EE
+    // contacts, or Bullet's own vertex-face contacts.
+    size_t peak_contacts = 0;
 };
 void print_step(const world &w, const options &o, int step, double step_seconds, report &r);
 // Writes the frame of this step if asked; returns false on an I/O error.
 bool maybe_write(const world &w, const options &o, int step, int last_step);
-// The stability bounds of --check: kinetic energy at most
-// max(2 m g (2 m x scale), 1 J x scale) for cloth mass m, and every node
-// within 5 m x scale of the origin (the scenes span about 2 m x scale).
 // The stability bounds of --check: kinetic energy at most
 // max(2 m g (2 m x scale), 1 J x scale) for cloth mass m, and every node
 // within 5 m x scale of the origin (the scenes span about 2 m x scale).
