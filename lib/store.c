@@ -11,8 +11,8 @@
 //     its first element and a vertex w of its second (at most 6); entries
 //     sharing a pair are neighbours. A grouping union-find over all entries
 //     gives the regions; a second one, with parity, over VF/EE links whose
-//     sides read clearly through the surface normals, gives the voting groups (seed 3.2.1's
-//     labelling, without its recursion);
+//     sides read clearly through the surface normals, gives the voting
+//     groups (seed 3.2.1's labelling, without its recursion);
 //  3. the vote per group and the region records.
 // Every array is kept and grown geometrically: a steady state allocates
 // nothing.

@@ -18,8 +18,10 @@
 set -eu
 cli=$1; demo=$2; out=$3; from=$4; expect=$5; shift 5
 rm -rf "$out"; mkdir -p "$out"
-"$demo" --check --quiet --out "$out" "$@" > "$out/demo.txt"
+demo_status=0
+"$demo" --check --quiet --out "$out" "$@" > "$out/demo.txt" || demo_status=$?
 cat "$out/demo.txt"
+[ $demo_status -eq 0 ] || { echo "FAIL: the demo's run failed (status $demo_status)"; exit 1; }
 frames=""
 for f in "$out"/frame_*.ply; do
   step=$(basename "$f" .ply | sed 's/^frame_0*//'); step=${step:-0}
