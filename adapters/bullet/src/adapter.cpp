@@ -23,6 +23,7 @@
 #include <BulletSoftBody/btSoftBody.h>
 #include <LinearMath/btScalar.h>
 
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -189,6 +190,10 @@ int build_scene(selfcol_bullet *a) {
 uint32_t slot_for(selfcol_bullet *a, const attached_body &b, uint32_t vertex) {
     uint32_t global = b.first_node + vertex;
     int32_t slot = a->slot_of_node[global];
+    // A slot is this step's (an ENOMEM in an earlier step must not leave
+    // one behind: the step resets them first).
+    assert(slot < 0 ||
+           (size_t(slot) < a->global_of_slot.size() && a->global_of_slot[size_t(slot)] == global));
     if (slot >= 0)
         return uint32_t(slot);
     btSoftBody::Node *n = &b.body->m_nodes[int(vertex)];
@@ -327,6 +332,10 @@ int step_impl(selfcol_bullet *a, double dt) {
         return status;
     double t1 = now_seconds();
 
+    // Forget the last step's slots. The write-back below resets them too, but
+    // a step that failed (ENOMEM while gathering) left some set.
+    for (uint32_t global : a->global_of_slot)
+        a->slot_of_node[global] = -1;
     a->rows.clear();
     a->nodes.clear();
     a->node_of_slot.clear();

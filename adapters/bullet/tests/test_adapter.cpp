@@ -94,6 +94,90 @@ static void api_rejects_bad_input() {
     selfcol_bullet_destroy(nullptr);
 }
 
+// An allocator that fails at its Nth allocation (0: never) and counts what
+// is live, so every ENOMEM path of the adapter (its own vectors, its meshes,
+// its scene and stores) is driven and checked for leaks.
+struct failing_allocator {
+    long fail_at = 0, calls = 0, live = 0, failed = 0;
+};
+static void *failing_alloc(void *user, size_t size, size_t alignment) {
+    failing_allocator *f = static_cast<failing_allocator *>(user);
+    if (f->fail_at != 0 && ++f->calls == f->fail_at) {
+        ++f->failed;
+        return nullptr;
+    }
+    void *p = nullptr;
+    if (posix_memalign(&p, alignment < sizeof(void *) ? sizeof(void *) : alignment, size) != 0)
+        return nullptr;
+    ++f->live;
+    return p;
+}
+static void failing_free(void *user, void *p, size_t) {
+    --static_cast<failing_allocator *>(user)->live;
+    std::free(p);
+}
+
+// Two sheets 1 cm apart, one falling onto the other (self and soft-soft
+// contacts from the first steps), stepped by hand 6 times with the Nth
+// allocation failing, for every N until a run no longer reaches N. Every
+// call returns OK or ENOMEM; after an ENOMEM the next steps (the allocator
+// working again) succeed with finite nodes; destroy frees everything.
+static void allocation_failure_at_every_call() {
+    long n = 1;
+    for (;; ++n) {
+        demo::options o;
+        demo::world w(o, 0.0);
+        btSoftBody *low = w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 8,
+                                      8, 0.2, false);
+        btSoftBody *high = w.add_sheet(btVector3(0.05f, 0.01f, 0.05f), btVector3(0.9f, 0, 0),
+                                       btVector3(0, 0, 0.9f), 8, 8, 0.2, false);
+        for (int i = 0; i < high->m_nodes.size(); ++i)
+            high->m_nodes[i].m_v = btVector3(0, -1, 0);
+        failing_allocator f;
+        f.fail_at = n;
+        selfcol_bullet_options opts;
+        selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+        opts.allocator.alloc = failing_alloc;
+        opts.allocator.free = failing_free;
+        opts.allocator.user = &f;
+        opts.automatic = 0;
+        selfcol_bullet *a = nullptr;
+        int status = selfcol_bullet_create(&a, w.dynamics, &opts);
+        CHECK(status == SELFCOL_OK || status == SELFCOL_ENOMEM);
+        if (status == SELFCOL_OK) {
+            int failed_steps = 0;
+            status = selfcol_bullet_attach(a, low, nullptr);
+            CHECK(status == SELFCOL_OK || status == SELFCOL_ENOMEM);
+            if (status == SELFCOL_OK) {
+                status = selfcol_bullet_attach(a, high, nullptr);
+                CHECK(status == SELFCOL_OK || status == SELFCOL_ENOMEM);
+            }
+            for (int step = 0; step < 6; ++step) {
+                w.step(1.0 / 240);
+                int st = selfcol_bullet_step(a, 1.0 / 240);
+                CHECK(st == SELFCOL_OK || st == SELFCOL_ENOMEM);
+                failed_steps += st == SELFCOL_ENOMEM;
+                CHECK(failed_steps <= 1); // one failing allocation, one failing step
+            }
+            for (btSoftBody *b : {low, high})
+                for (int i = 0; i < b->m_nodes.size(); ++i)
+                    CHECK(std::isfinite(b->m_nodes[i].m_x.x()) &&
+                          std::isfinite(b->m_nodes[i].m_x.y()) &&
+                          std::isfinite(b->m_nodes[i].m_x.z()));
+            selfcol_bullet_destroy(a);
+        } else {
+            CHECK(a == nullptr);
+        }
+        CHECK(f.live == 0);
+        if (f.failed == 0)
+            break; // the run made fewer than n allocations: every one was failed once
+        if (failures > 0)
+            break; // the first failing n is enough to read
+    }
+    std::printf("allocation failure injected at each of %ld allocations\n", n - 1);
+    CHECK(n > 20);
+}
+
 // A vertex (node 0) above a triangle (nodes 1..3) at s < d, approaching.
 static response_row vf_row(double s) {
     response_row row = {};
@@ -174,6 +258,7 @@ static void response_rules() {
 int main() {
     api_rejects_bad_input();
     response_rules();
+    allocation_failure_at_every_call();
     if (failures == 0)
         std::printf("test_bullet_adapter: all checks passed\n");
     return failures == 0 ? 0 : 1;
