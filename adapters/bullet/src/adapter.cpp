@@ -17,15 +17,18 @@
 #include <selfcol/bullet.h>
 
 #include "response.hpp"
+#include "untangle.hpp"
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
 #include <BulletSoftBody/btDeformableMultiBodyDynamicsWorld.h>
 #include <BulletSoftBody/btSoftBody.h>
 #include <LinearMath/btScalar.h>
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -95,6 +98,20 @@ class step_action;
 
 } // namespace
 
+// An edge of an attached body (its global node numbers, lower first, as
+// lo << 32 | hi) and one of its faces (body index << 32 | face index).
+struct edge_face {
+    uint64_t edge;
+    uint64_t face;
+    bool operator<(const edge_face &o) const {
+        return edge != o.edge ? edge < o.edge : face < o.face;
+    }
+};
+
+inline uint64_t edge_key(uint32_t u, uint32_t w) {
+    return u < w ? uint64_t(u) << 32 | w : uint64_t(w) << 32 | u;
+}
+
 struct selfcol_bullet {
     selfcol_allocator hooks;
     selfcol_bullet_options opts;
@@ -109,6 +126,11 @@ struct selfcol_bullet {
     hvector<uint32_t> global_of_slot;
     hvector<response_node> nodes;
     hvector<response_row> rows;
+    // The untangling (untangle.hpp): every attached edge's faces, sorted by
+    // edge, and the step's contour points and segment keys.
+    hvector<edge_face> edge_faces;
+    hvector<contour_point> contour_points;
+    hvector<contour_key> contour_keys;
     selfcol_bullet_step_stats stats;
 
     explicit selfcol_bullet(const selfcol_allocator &h)
@@ -118,7 +140,9 @@ struct selfcol_bullet {
           node_of_slot(hook_allocator<btSoftBody::Node *>(&hooks)),
           global_of_slot(hook_allocator<uint32_t>(&hooks)),
           nodes(hook_allocator<response_node>(&hooks)), rows(hook_allocator<response_row>(&hooks)),
-          stats() {}
+          edge_faces(hook_allocator<edge_face>(&hooks)),
+          contour_points(hook_allocator<contour_point>(&hooks)),
+          contour_keys(hook_allocator<contour_key>(&hooks)), stats() {}
 };
 
 namespace {
@@ -306,6 +330,55 @@ void gather_rows(selfcol_bullet *a, const selfcol_store *store, const attached_b
     }
 }
 
+// The untangling step (untangle.hpp) over every EF interference held, at the
+// positions of the query; moves the nodes' response slots (after the
+// contact response). Returns the interferences that moved nodes.
+size_t untangle(selfcol_bullet *a) {
+    a->contour_points.clear();
+    a->contour_keys.clear();
+    for (size_t i = 0; i < a->bodies.size(); ++i)
+        for (size_t j = i; j < a->bodies.size(); ++j) {
+            const selfcol_store *store = nullptr;
+            const selfcol_store_contact *c = nullptr;
+            size_t count = 0;
+            if (selfcol_scene_store(a->scene, uint32_t(i), uint32_t(j), &store) != SELFCOL_OK ||
+                store == nullptr || selfcol_store_contacts(store, &c, &count) != SELFCOL_OK)
+                continue;
+            const size_t body_of[2] = {i, j};
+            for (size_t k = 0; k < count; ++k) {
+                if (c[k].kind != SELFCOL_CONTACT_EF)
+                    continue;
+                const attached_body &eb = a->bodies[body_of[c[k].first_mesh]];
+                const attached_body &tb = a->bodies[body_of[c[k].second_mesh]];
+                const double *pe = selfcol_mesh_positions(eb.mesh);
+                const double *pt = selfcol_mesh_positions(tb.mesh);
+                contour_point q;
+                if (!contour_point_make(pe + 3 * size_t(c[k].a[0]), pe + 3 * size_t(c[k].a[1]),
+                                        pt + 3 * size_t(c[k].b[0]), pt + 3 * size_t(c[k].b[1]),
+                                        pt + 3 * size_t(c[k].b[2]), q))
+                    continue;
+                q.node[0] = slot_for(a, eb, c[k].a[0]);
+                q.node[1] = slot_for(a, eb, c[k].a[1]);
+                for (int v = 0; v < 3; ++v)
+                    q.node[2 + v] = slot_for(a, tb, c[k].b[v]);
+                const uint32_t point = uint32_t(a->contour_points.size());
+                a->contour_points.push_back(q);
+                // One segment end per face of the edge: the crossing pair
+                // (that face, the triangle).
+                const uint64_t triangle = uint64_t(body_of[c[k].second_mesh]) << 32 | c[k].second;
+                const edge_face probe = {
+                    edge_key(eb.first_node + c[k].a[0], eb.first_node + c[k].a[1]), 0};
+                for (auto it = std::lower_bound(a->edge_faces.begin(), a->edge_faces.end(), probe);
+                     it != a->edge_faces.end() && it->edge == probe.edge; ++it)
+                    a->contour_keys.push_back(
+                        {std::min(it->face, triangle), std::max(it->face, triangle), point});
+            }
+        }
+    contour_link(a->contour_points.data(), a->contour_keys.data(), a->contour_keys.size());
+    return contour_push(a->contour_points.data(), a->contour_points.size(), a->nodes.data(),
+                        SELFCOL_BULLET_UNTANGLE_STEP * a->distance);
+}
+
 int step_impl(selfcol_bullet *a, double dt) {
     if (!(dt > 0) || !std::isfinite(dt))
         return SELFCOL_EINVAL;
@@ -350,6 +423,7 @@ int step_impl(selfcol_bullet *a, double dt) {
         }
     response_result r = response_solve(a->rows.data(), a->rows.size(), a->nodes.data(), a->distance,
                                        a->opts.repulsion, a->opts.iterations);
+    size_t untangled = a->opts.untangle ? untangle(a) : 0;
     // Write back: positions (and q, which Bullet keeps equal to x between
     // steps) and velocities (and vn, the step's final velocity).
     for (size_t s = 0; s < a->nodes.size(); ++s) {
@@ -374,6 +448,7 @@ int step_impl(selfcol_bullet *a, double dt) {
     st.flipped = ss.flipped;
     st.corrected = ss.corrected;
     st.responses = r.responses;
+    st.untangled = untangled;
     st.max_push = r.max_push;
     st.seconds_detect = t1 - t0;
     st.seconds_response = t2 - t1;
@@ -387,7 +462,8 @@ extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigne
         return SELFCOL_EINVAL;
     if (version == 0 || version > SELFCOL_BULLET_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    std::memset(opts, 0, sizeof *opts);
+    // A version 1 caller's struct ends before `untangle`.
+    std::memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_bullet_options, untangle));
     opts->version = version;
     opts->distance = 0;
     opts->distance_factor = SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR;
@@ -397,6 +473,8 @@ extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigne
     opts->consistency = 1;
     opts->threads = 1;
     opts->automatic = 1;
+    if (version >= 2)
+        opts->untangle = 1;
     return SELFCOL_OK;
 }
 
@@ -409,12 +487,15 @@ extern "C" int selfcol_bullet_create(selfcol_bullet **out,
     if (world == nullptr)
         return SELFCOL_EINVAL;
     selfcol_bullet_options o;
-    if (opts == nullptr) {
-        selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
-    } else {
+    selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
+    if (opts != nullptr) {
         if (opts->version == 0 || opts->version > SELFCOL_BULLET_OPTIONS_VERSION)
             return SELFCOL_EVERSION;
-        o = *opts;
+        // Only the fields of the caller's version; the later ones keep their
+        // defaults.
+        std::memcpy(&o, opts,
+                    opts->version >= 2 ? sizeof o : offsetof(selfcol_bullet_options, untangle));
+        o.version = SELFCOL_BULLET_OPTIONS_VERSION;
     }
     if ((o.allocator.alloc == nullptr) != (o.allocator.free == nullptr))
         return SELFCOL_EINVAL;
@@ -427,6 +508,8 @@ extern "C" int selfcol_bullet_create(selfcol_bullet **out,
     if (o.iterations == 0 || o.iterations > 64)
         return SELFCOL_EINVAL;
     if (o.consistency != 0 && o.consistency != 1)
+        return SELFCOL_EINVAL;
+    if (o.untangle != 0 && o.untangle != 1)
         return SELFCOL_EINVAL;
     void *memory = hook_alloc(o.allocator, sizeof(selfcol_bullet), alignof(selfcol_bullet));
     if (memory == nullptr)
@@ -513,7 +596,19 @@ extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32
         b.saved_self_collision = body->useSelfCollision();
         b.first_node = a->node_total;
         a->slot_of_node.resize(size_t(a->node_total) + size_t(node_count), -1);
+        // Everything that can fail first, so that a failure changes nothing
+        // that a later attach would read.
+        a->bodies.reserve(a->bodies.size() + 1);
+        a->edge_faces.reserve(a->edge_faces.size() + 3 * size_t(face_count));
+        const uint64_t body_index = a->bodies.size();
         a->bodies.push_back(b);
+        for (int f = 0; f < face_count; ++f)
+            for (int k = 0; k < 3; ++k)
+                a->edge_faces.push_back(
+                    {edge_key(b.first_node + triangles[3 * size_t(f) + size_t(k)],
+                              b.first_node + triangles[3 * size_t(f) + size_t(k + 1) % 3]),
+                     body_index << 32 | uint64_t(f)});
+        std::sort(a->edge_faces.begin(), a->edge_faces.end());
     } catch (...) {
         selfcol_mesh_destroy(mesh);
         return SELFCOL_ENOMEM;
@@ -552,7 +647,9 @@ extern "C" int selfcol_bullet_stats(const selfcol_bullet *a, selfcol_bullet_step
     if (stats->version == 0 || stats->version > SELFCOL_BULLET_STEP_STATS_VERSION)
         return SELFCOL_EVERSION;
     unsigned int version = stats->version;
-    *stats = a->stats;
+    // Only the fields of the caller's version.
+    std::memcpy(stats, &a->stats,
+                version >= 2 ? sizeof *stats : offsetof(selfcol_bullet_step_stats, untangled));
     stats->version = version;
     return SELFCOL_OK;
 }

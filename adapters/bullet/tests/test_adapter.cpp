@@ -6,6 +6,7 @@
 #include <selfcol/bullet.h>
 
 #include "../src/response.hpp"
+#include "../src/untangle.hpp"
 #include "demo_common.hpp"
 
 #include <cmath>
@@ -92,6 +93,125 @@ static void api_rejects_bad_input() {
     CHECK(sheet->useSelfCollision());
     CHECK(sheet->m_cfg.collisions == before);
     selfcol_bullet_destroy(nullptr);
+}
+
+// Versioned structs: a version 1 caller's options and stats end before the
+// version 2 fields, which the library must neither write nor read.
+static void versioned_structs() {
+    selfcol_bullet_options opts;
+    opts.untangle = 12345;
+    CHECK(selfcol_bullet_options_init(&opts, 1) == SELFCOL_OK);
+    CHECK(opts.untangle == 12345); // not written for a version 1 caller
+    CHECK(selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION) == SELFCOL_OK);
+    CHECK(opts.untangle == 1);
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *sheet =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    selfcol_bullet_options v1;
+    selfcol_bullet_options_init(&v1, 1);
+    v1.automatic = 0;
+    v1.untangle = 7; // beyond a version 1 struct: must not be read (7 is invalid)
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &v1) == SELFCOL_OK);
+    selfcol_bullet_options bad;
+    selfcol_bullet_options_init(&bad, SELFCOL_BULLET_OPTIONS_VERSION);
+    bad.untangle = 7;
+    selfcol_bullet *b = nullptr;
+    CHECK(selfcol_bullet_create(&b, w.dynamics, &bad) == SELFCOL_EINVAL && b == nullptr);
+    CHECK(selfcol_bullet_attach(a, sheet, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    selfcol_bullet_step_stats st;
+    st.version = 1;
+    st.untangled = 12345;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.version == 1 && st.steps == 1);
+    CHECK(st.untangled == 12345); // not written for a version 1 caller
+    st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.untangled == 0);
+    selfcol_bullet_destroy(a);
+}
+
+// The untangling on hand-made points (untangle.hpp). A pyramid pokes
+// through a flat triangle: apex 0 at z = +0.1 above, base corners 1..3 at
+// z = -0.1 below, faces (0 1 2), (0 2 3), (0 3 1); the flat triangle is
+// nodes 4..6 in z = 0. The three slanted edges pierce it: three contour
+// points, joined into a closed loop by the three face pairs. One push must
+// move the apex down and the flat triangle up (the loop shrinks); pinned
+// nodes stay; an isolated point (no segment) moves nothing.
+static double loop_length(const response_node n[7]) {
+    contour_point p[3];
+    for (int e = 0; e < 3; ++e)
+        CHECK(contour_point_make(n[0].x, n[1 + e].x, n[4].x, n[5].x, n[6].x, p[e]));
+    double length = 0;
+    for (int e = 0; e < 3; ++e) {
+        double d2 = 0;
+        for (int c = 0; c < 3; ++c)
+            d2 += (p[e].p[c] - p[(e + 1) % 3].p[c]) * (p[e].p[c] - p[(e + 1) % 3].p[c]);
+        length += std::sqrt(d2);
+    }
+    return length;
+}
+
+static void untangle_rules() {
+    const double start[7][3] = {
+        {0, 0, 0.1}, {0.3, 0, -0.1}, {-0.15, 0.26, -0.1}, {-0.15, -0.26, -0.1},
+        {-2, -2, 0}, {3, -2, 0},     {-2, 3, 0}};
+    for (int pinned = 0; pinned < 2; ++pinned) {
+        response_node n[7];
+        for (int i = 0; i < 7; ++i) {
+            for (int c = 0; c < 3; ++c) {
+                n[i].x[c] = start[i][c];
+                n[i].v[c] = 0;
+            }
+            n[i].im = pinned ? 0.0 : 1.0;
+        }
+        contour_point pts[3];
+        contour_key keys[6];
+        size_t key_count = 0;
+        for (uint32_t e = 0; e < 3; ++e) {
+            CHECK(contour_point_make(n[0].x, n[1 + e].x, n[4].x, n[5].x, n[6].x, pts[e]));
+            const uint32_t nodes[5] = {0, 1 + e, 4, 5, 6};
+            for (int k = 0; k < 5; ++k)
+                pts[e].node[k] = nodes[k];
+            // weights: p = (1 - t) x0 + t x1 = sum of -w_tri b
+            CHECK(std::fabs(pts[e].w[0] + pts[e].w[1] - 1) < 1e-12);
+            CHECK(std::fabs(pts[e].w[2] + pts[e].w[3] + pts[e].w[4] + 1) < 1e-12);
+            CHECK(std::fabs(pts[e].p[2]) < 1e-12);
+            // edge (0, 1 + e) belongs to faces e and e - 1 (mod 3); the flat triangle is id 9
+            const uint64_t faces[2] = {e, (e + 2) % 3};
+            for (uint64_t f : faces)
+                keys[key_count++] = {f, 9, e};
+        }
+        CHECK(contour_link(pts, keys, key_count) == 3);
+        const double before = loop_length(n);
+        CHECK(contour_push(pts, 3, n, 0.01) == (pinned ? 0u : 3u));
+        if (pinned) {
+            for (int i = 0; i < 7; ++i)
+                for (int c = 0; c < 3; ++c)
+                    CHECK(n[i].x[c] == start[i][c]);
+            continue;
+        }
+        CHECK(n[0].x[2] < start[0][2]); // the apex goes down
+        for (int i = 4; i < 7; ++i)
+            CHECK(n[i].x[2] > start[i][2]); // the flat triangle up
+        CHECK(loop_length(n) < before);
+    }
+    // a point that is no segment's end has no gradient: nothing moves
+    response_node m[5];
+    const double q[5][3] = {{0, 0, 1}, {0, 0, -1}, {-1, -1, 0}, {2, -1, 0}, {-1, 2, 0}};
+    for (int i = 0; i < 5; ++i) {
+        for (int c = 0; c < 3; ++c)
+            m[i].x[c] = q[i][c];
+        m[i].im = 1;
+    }
+    contour_point alone;
+    CHECK(contour_point_make(m[0].x, m[1].x, m[2].x, m[3].x, m[4].x, alone));
+    for (uint32_t k = 0; k < 5; ++k)
+        alone.node[k] = k;
+    CHECK(contour_push(&alone, 1, m, 0.01) == 0);
+    // an edge that does not reach the plane is no point
+    const double far0[3] = {0, 0, 1}, far1[3] = {0, 0, 0.5};
+    CHECK(!contour_point_make(far0, far1, m[2].x, m[3].x, m[4].x, alone));
 }
 
 // An allocator that fails at its Nth allocation (0: never) and counts what
@@ -258,6 +378,8 @@ static void response_rules() {
 int main() {
     api_rejects_bad_input();
     response_rules();
+    versioned_structs();
+    untangle_rules();
     allocation_failure_at_every_call();
     if (failures == 0)
         std::printf("test_bullet_adapter: all checks passed\n");

@@ -111,9 +111,24 @@ typedef struct selfcol_bullet_options {
      * selfcol_bullet_step() itself after each internal step.
      */
     int automatic;
+    /* Version 2. */
+    /**
+     * 1 (default): where surfaces cross, shorten their intersection contours
+     * each step (Volino and Magnenat-Thalmann 2006, intersection contour
+     * minimisation, local form): every EF interference moves its edge's and
+     * triangle's nodes apart along the direction that shortens the contour,
+     * by SELFCOL_BULLET_UNTANGLE_STEP x d of relative displacement. This
+     * undoes crossings that no proximity reaches (a vertex pushed through
+     * the other layer, whose contacts took the crossed side as right), with
+     * no side to decide. 0: off.
+     */
+    int untangle;
 } selfcol_bullet_options;
 
-#define SELFCOL_BULLET_OPTIONS_VERSION 1
+#define SELFCOL_BULLET_OPTIONS_VERSION 2
+/** Relative displacement per step of each EF interference's nodes when untangling, in units of d.
+ */
+#define SELFCOL_BULLET_UNTANGLE_STEP 0.25
 
 /** Counters of the last step. The caller sets version. */
 typedef struct selfcol_bullet_step_stats {
@@ -130,9 +145,11 @@ typedef struct selfcol_bullet_step_stats {
     double max_push;       /**< largest position correction of a contact, world units */
     double seconds_detect; /**< positions in, refit, query and stores */
     double seconds_response;
+    /* Version 2. */
+    uint64_t untangled; /**< EF interferences whose nodes the untangling moved */
 } selfcol_bullet_step_stats;
 
-#define SELFCOL_BULLET_STEP_STATS_VERSION 1
+#define SELFCOL_BULLET_STEP_STATS_VERSION 2
 
 /** Writes the defaults into opts. @return SELFCOL_OK; SELFCOL_EINVAL; SELFCOL_EVERSION. */
 SELFCOL_BULLET_API int selfcol_bullet_options_init(selfcol_bullet_options *opts,
