@@ -131,6 +131,7 @@ struct selfcol_bullet {
     hvector<edge_face> edge_faces;
     hvector<contour_point> contour_points;
     hvector<contour_key> contour_keys;
+    hvector<double> contour_delta; // 3 per response slot
     selfcol_bullet_step_stats stats;
 
     explicit selfcol_bullet(const selfcol_allocator &h)
@@ -142,7 +143,8 @@ struct selfcol_bullet {
           nodes(hook_allocator<response_node>(&hooks)), rows(hook_allocator<response_row>(&hooks)),
           edge_faces(hook_allocator<edge_face>(&hooks)),
           contour_points(hook_allocator<contour_point>(&hooks)),
-          contour_keys(hook_allocator<contour_key>(&hooks)), stats() {}
+          contour_keys(hook_allocator<contour_key>(&hooks)),
+          contour_delta(hook_allocator<double>(&hooks)), stats() {}
 };
 
 namespace {
@@ -375,7 +377,9 @@ size_t untangle(selfcol_bullet *a) {
             }
         }
     contour_link(a->contour_points.data(), a->contour_keys.data(), a->contour_keys.size());
+    a->contour_delta.resize(3 * a->nodes.size());
     return contour_push(a->contour_points.data(), a->contour_points.size(), a->nodes.data(),
+                        a->nodes.size(), a->contour_delta.data(),
                         SELFCOL_BULLET_UNTANGLE_STEP * a->distance);
 }
 

@@ -83,7 +83,10 @@ size_t contour_link(contour_point *points, contour_key *keys, size_t key_count) 
     return segments;
 }
 
-size_t contour_push(const contour_point *points, size_t count, response_node *nodes, double step) {
+size_t contour_push(const contour_point *points, size_t count, response_node *nodes,
+                    size_t node_count, double *delta, double step) {
+    for (size_t i = 0; i < 3 * node_count; ++i)
+        delta[i] = 0;
     size_t pushed = 0;
     for (size_t i = 0; i < count; ++i) {
         const contour_point &q = points[i];
@@ -102,12 +105,18 @@ size_t contour_push(const contour_point *points, size_t count, response_node *no
         // sum_k w_k dx_k = -step G / |G|: the edge side against the triangle's.
         const double lambda = -step / (w_norm * length);
         for (int k = 0; k < 5; ++k) {
-            response_node &node = nodes[q.node[k]];
-            const double scale = q.w[k] * node.im * lambda;
+            const double scale = q.w[k] * nodes[q.node[k]].im * lambda;
             for (int c = 0; c < 3; ++c)
-                node.x[c] += scale * G[c];
+                delta[3 * size_t(q.node[k]) + size_t(c)] += scale * G[c];
         }
         ++pushed;
+    }
+    for (size_t n = 0; n < node_count; ++n) {
+        double *d = delta + 3 * n;
+        const double length = std::sqrt(dot(d, d));
+        const double scale = length > step ? step / length : 1.0;
+        for (int c = 0; c < 3; ++c)
+            nodes[n].x[c] += scale * d[c];
     }
     return pushed;
 }

@@ -62,9 +62,14 @@ size_t contour_link(contour_point *points, contour_key *keys, size_t key_count);
 
 // Moves the nodes of every point with a usable gradient by `step` of
 // relative displacement along -G (edge side) and +G (triangle side);
-// pinned nodes (im = 0) stay. Returns the number of points that moved
-// nodes.
-size_t contour_push(const contour_point *points, size_t count, response_node *nodes, double step);
+// pinned nodes (im = 0) stay. The points' moves are summed per node in
+// `delta` (3 per node, node_count nodes, zeroed here) and a node's sum is
+// scaled down to at most `step` long before it is applied: where many
+// crossings share nodes (a surface collapsing on itself) their pushes add
+// up, and uncapped they made the collapse run away. Returns the number of
+// points that moved nodes.
+size_t contour_push(const contour_point *points, size_t count, response_node *nodes,
+                    size_t node_count, double *delta, double step);
 
 } // namespace selfcol_bullet_detail
 

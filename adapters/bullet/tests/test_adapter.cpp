@@ -136,8 +136,9 @@ static void versioned_structs() {
 // z = -0.1 below, faces (0 1 2), (0 2 3), (0 3 1); the flat triangle is
 // nodes 4..6 in z = 0. The three slanted edges pierce it: three contour
 // points, joined into a closed loop by the three face pairs. One push must
-// move the apex down and the flat triangle up (the loop shrinks); pinned
-// nodes stay; an isolated point (no segment) moves nothing.
+// move the apex down and the flat triangle up (the loop shrinks), no node
+// further than the step (the apex is in all three points); pinned nodes
+// stay; an isolated point (no segment) moves nothing.
 static double loop_length(const response_node n[7]) {
     contour_point p[3];
     for (int e = 0; e < 3; ++e)
@@ -184,12 +185,19 @@ static void untangle_rules() {
         }
         CHECK(contour_link(pts, keys, key_count) == 3);
         const double before = loop_length(n);
-        CHECK(contour_push(pts, 3, n, 0.01) == (pinned ? 0u : 3u));
+        double delta[3 * 7];
+        CHECK(contour_push(pts, 3, n, 7, delta, 0.01) == (pinned ? 0u : 3u));
         if (pinned) {
             for (int i = 0; i < 7; ++i)
                 for (int c = 0; c < 3; ++c)
                     CHECK(n[i].x[c] == start[i][c]);
             continue;
+        }
+        for (int i = 0; i < 7; ++i) { // each node moves at most the step
+            double d2 = 0;
+            for (int c = 0; c < 3; ++c)
+                d2 += (n[i].x[c] - start[i][c]) * (n[i].x[c] - start[i][c]);
+            CHECK(std::sqrt(d2) <= 0.01 * (1 + 1e-12));
         }
         CHECK(n[0].x[2] < start[0][2]); // the apex goes down
         for (int i = 4; i < 7; ++i)
@@ -208,7 +216,11 @@ static void untangle_rules() {
     CHECK(contour_point_make(m[0].x, m[1].x, m[2].x, m[3].x, m[4].x, alone));
     for (uint32_t k = 0; k < 5; ++k)
         alone.node[k] = k;
-    CHECK(contour_push(&alone, 1, m, 0.01) == 0);
+    double delta[3 * 5];
+    CHECK(contour_push(&alone, 1, m, 5, delta, 0.01) == 0);
+    for (int i = 0; i < 5; ++i)
+        for (int c = 0; c < 3; ++c)
+            CHECK(m[i].x[c] == q[i][c]);
     // an edge that does not reach the plane is no point
     const double far0[3] = {0, 0, 1}, far1[3] = {0, 0, 0.5};
     CHECK(!contour_point_make(far0, far1, m[2].x, m[3].x, m[4].x, alone));
