@@ -10,13 +10,15 @@
 #include "hierarchy.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
     if (version == 0 || version > SELFCOL_QUERY_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    memset(opts, 0, sizeof *opts);
+    // A version 1 caller's struct ends before `threads`: write no further.
+    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_query_options, threads));
     opts->version = version;
     opts->method = SELFCOL_METHOD_EXACT;
     opts->narrow = SELFCOL_NARROW_CLOSED_FORM;

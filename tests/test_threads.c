@@ -273,8 +273,9 @@ static void test_threads_option_bounds_and_old_structs(void **state) {
         selfcol_query_options v1;
     } old;
     memset(&old, 0, sizeof old);
+    old.v1.threads = 77; // past a version-1 struct: init of version 1 must not write it
     assert_int_equal(selfcol_query_options_init(&old.v1, 1), SELFCOL_OK);
-    assert_int_equal(old.v1.threads, 0); // init of version 1 leaves it alone
+    assert_int_equal(old.v1.threads, 77);
     old.v1.distance = 0.02;
     assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &old.v1), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_count(c), n);
