@@ -117,7 +117,9 @@ typedef struct selfcol_bullet_options {
      * each step (Volino and Magnenat-Thalmann 2006, intersection contour
      * minimisation, local form): every EF interference moves its edge's and
      * triangle's nodes apart along the direction that shortens the contour,
-     * by SELFCOL_BULLET_UNTANGLE_STEP x d of relative displacement. This
+     * by SELFCOL_BULLET_UNTANGLE_STEP x d of relative displacement (no node
+     * moves further than that in one step, however many crossings share
+     * it). This
      * undoes crossings that no proximity reaches (a vertex pushed through
      * the other layer, whose contacts took the crossed side as right), with
      * no side to decide. 0: off.
