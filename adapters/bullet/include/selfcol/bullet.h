@@ -119,9 +119,9 @@ typedef struct selfcol_bullet_options {
      * triangle's nodes apart along the direction that shortens the contour,
      * by SELFCOL_BULLET_UNTANGLE_STEP x d of relative displacement (no node
      * moves further than that in one step, however many crossings share
-     * it). This
-     * undoes crossings that no proximity reaches (a vertex pushed through
-     * the other layer, whose contacts took the crossed side as right), with
+     * it). This undoes crossings that no proximity reaches (a vertex pushed
+     * through the other layer, whose contacts took the crossed side as
+     * right), with
      * no side to decide. 0: off.
      */
     int untangle;
