@@ -121,8 +121,7 @@ typedef struct selfcol_bullet_options {
      * moves further than that in one step, however many crossings share
      * it). This undoes crossings that no proximity reaches (a vertex pushed
      * through the other layer, whose contacts took the crossed side as
-     * right), with
-     * no side to decide. 0: off.
+     * right), with no side to decide. 0: off.
      */
     int untangle;
 } selfcol_bullet_options;
