@@ -324,11 +324,12 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
         return;
     if (w.adapter != nullptr)
         std::printf("step %5d  contacts %7llu  interferences %6llu  crossed %5llu  flipped %5llu  "
-                    "corrected %5llu  KE %.4g J  step %.2f ms (selfcol %.2f + %.2f ms)\n",
+                    "corrected %5llu  untangled %5llu  KE %.4g J  step %.2f ms (selfcol %.2f + "
+                    "%.2f ms)\n",
                     step, (unsigned long long)s.contacts, (unsigned long long)s.interferences,
                     (unsigned long long)s.crossed, (unsigned long long)s.flipped,
-                    (unsigned long long)s.corrected, energy, 1e3 * step_seconds,
-                    1e3 * s.seconds_detect, 1e3 * s.seconds_response);
+                    (unsigned long long)s.corrected, (unsigned long long)s.untangled, energy,
+                    1e3 * step_seconds, 1e3 * s.seconds_detect, 1e3 * s.seconds_response);
     else
         std::printf("step %5d  bullet vertex-face contacts %7zu  KE %.4g J  step %.2f ms\n", step,
                     contacts, energy, 1e3 * step_seconds);
