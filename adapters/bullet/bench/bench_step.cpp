@@ -232,13 +232,6 @@ void final_frame(const btSoftBody *body, double distance, run_result &r) {
     selfcol_mesh_destroy(mesh);
 }
 
-size_t bullet_contacts(const demo::world &w) {
-    size_t n = 0;
-    for (const btSoftBody *c : w.cloths)
-        n += size_t(c->m_faceNodeContacts.size());
-    return n;
-}
-
 // One run, in the child process.
 run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int rep) {
     run_result r;
@@ -258,7 +251,10 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
     const int steps = size.steps;
     const int window_first = std::max(1, steps - size.measure);
     std::vector<double> step_s, detect_s, response_s, store_s, contacts, bcontacts;
-    step_s.reserve(size_t(steps));
+    // Sized before the loop: no allocation between the timed steps.
+    for (std::vector<double> *v :
+         {&step_s, &detect_s, &response_s, &store_s, &contacts, &bcontacts})
+        v->reserve(size_t(steps));
     selfcol_bullet_step_stats s;
     std::memset(&s, 0, sizeof s);
     s.version = SELFCOL_BULLET_STEP_STATS_VERSION;
@@ -289,6 +285,7 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
                 store = us.seconds;
         }
         store_s.push_back(store);
+        const size_t bullet_now = demo::bullet_contacts(w);
         if (trace != nullptr)
             std::fprintf(
                 trace,
@@ -297,11 +294,11 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
                 1e3 * resp, 1e3 * store, (unsigned long long)s.contacts,
                 (unsigned long long)s.interferences, (unsigned long long)s.crossed,
                 (unsigned long long)s.flipped, (unsigned long long)s.corrected,
-                (unsigned long long)s.responses, s.max_push, bullet_contacts(w));
+                (unsigned long long)s.responses, s.max_push, bullet_now);
         detect_s.push_back(det);
         response_s.push_back(resp);
         contacts.push_back(w.adapter != nullptr ? double(s.contacts) : 0.0);
-        bcontacts.push_back(double(bullet_contacts(w)));
+        bcontacts.push_back(double(bullet_now));
         if (i == 0) {
             r.first_ms = 1e3 * dt;
             r.first_detect_ms = 1e3 * det;
@@ -361,7 +358,7 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
         r.interferences_end = s.interferences;
         r.crossed_end = s.crossed;
     }
-    r.bullet_contacts_end = bullet_contacts(w);
+    r.bullet_contacts_end = demo::bullet_contacts(w);
     r.ke_end = demo::kinetic_energy(w);
     r.finite = demo::finite(w) ? 1 : 0;
     final_frame(rib.body, w.adapter != nullptr ? s.distance : 0.0, r);

@@ -246,6 +246,13 @@ double kinetic_energy(const world &w) {
     return e;
 }
 
+size_t bullet_contacts(const world &w) {
+    size_t n = 0;
+    for (const btSoftBody *c : w.cloths)
+        n += size_t(c->m_faceNodeContacts.size());
+    return n;
+}
+
 bool finite(const world &w) {
     for (const btSoftBody *c : w.cloths)
         for (int i = 0; i < c->m_nodes.size(); ++i)
@@ -316,8 +323,7 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
             std::memset(&s, 0, sizeof s);
         contacts = size_t(s.contacts);
     } else {
-        for (const btSoftBody *c : w.cloths)
-            contacts += size_t(c->m_faceNodeContacts.size());
+        contacts = bullet_contacts(w);
     }
     r.peak_contacts = std::max(r.peak_contacts, contacts);
     if (o.quiet)

@@ -93,6 +93,8 @@ struct world {
 double kinetic_energy(const world &w);
 // True when every node position and velocity is finite.
 bool finite(const world &w);
+// Bullet's own vertex-face self-collision contacts of the cloths (m_faceNodeContacts).
+size_t bullet_contacts(const world &w);
 // Largest |coordinate| of any cloth node.
 double extent(const world &w);
 

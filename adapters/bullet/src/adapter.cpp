@@ -332,50 +332,49 @@ void gather_rows(selfcol_bullet *a, const selfcol_store *store, const attached_b
     }
 }
 
-// The untangling step (untangle.hpp) over every EF interference held, at the
-// positions of the query; moves the nodes' response slots (after the
-// contact response). Returns the interferences that moved nodes.
+// The contour points (untangle.hpp) of a store's EF interferences, at the
+// positions of the query, with their segment keys; first and second are
+// the store's bodies, by index.
+void gather_contour_points(selfcol_bullet *a, const selfcol_store *store, size_t first,
+                           size_t second) {
+    const selfcol_store_contact *c = nullptr;
+    size_t count = 0;
+    if (selfcol_store_contacts(store, &c, &count) != SELFCOL_OK)
+        return;
+    const size_t body_of[2] = {first, second};
+    for (size_t k = 0; k < count; ++k) {
+        if (c[k].kind != SELFCOL_CONTACT_EF)
+            continue;
+        const attached_body &eb = a->bodies[body_of[c[k].first_mesh]];
+        const attached_body &tb = a->bodies[body_of[c[k].second_mesh]];
+        const double *pe = selfcol_mesh_positions(eb.mesh);
+        const double *pt = selfcol_mesh_positions(tb.mesh);
+        contour_point q;
+        if (!contour_point_make(pe + 3 * size_t(c[k].a[0]), pe + 3 * size_t(c[k].a[1]),
+                                pt + 3 * size_t(c[k].b[0]), pt + 3 * size_t(c[k].b[1]),
+                                pt + 3 * size_t(c[k].b[2]), q))
+            continue;
+        q.node[0] = slot_for(a, eb, c[k].a[0]);
+        q.node[1] = slot_for(a, eb, c[k].a[1]);
+        for (int v = 0; v < 3; ++v)
+            q.node[2 + v] = slot_for(a, tb, c[k].b[v]);
+        const uint32_t point = uint32_t(a->contour_points.size());
+        a->contour_points.push_back(q);
+        // One segment end per face of the edge: the crossing pair (that
+        // face, the triangle).
+        const uint64_t triangle = uint64_t(body_of[c[k].second_mesh]) << 32 | c[k].second;
+        const edge_face probe = {edge_key(eb.first_node + c[k].a[0], eb.first_node + c[k].a[1]), 0};
+        for (auto it = std::lower_bound(a->edge_faces.begin(), a->edge_faces.end(), probe);
+             it != a->edge_faces.end() && it->edge == probe.edge; ++it)
+            a->contour_keys.push_back(
+                {std::min(it->face, triangle), std::max(it->face, triangle), point});
+    }
+}
+
+// The untangling step over the gathered points: moves the nodes' response
+// slots (after the contact response). Returns the interferences that moved
+// nodes.
 size_t untangle(selfcol_bullet *a) {
-    a->contour_points.clear();
-    a->contour_keys.clear();
-    for (size_t i = 0; i < a->bodies.size(); ++i)
-        for (size_t j = i; j < a->bodies.size(); ++j) {
-            const selfcol_store *store = nullptr;
-            const selfcol_store_contact *c = nullptr;
-            size_t count = 0;
-            if (selfcol_scene_store(a->scene, uint32_t(i), uint32_t(j), &store) != SELFCOL_OK ||
-                store == nullptr || selfcol_store_contacts(store, &c, &count) != SELFCOL_OK)
-                continue;
-            const size_t body_of[2] = {i, j};
-            for (size_t k = 0; k < count; ++k) {
-                if (c[k].kind != SELFCOL_CONTACT_EF)
-                    continue;
-                const attached_body &eb = a->bodies[body_of[c[k].first_mesh]];
-                const attached_body &tb = a->bodies[body_of[c[k].second_mesh]];
-                const double *pe = selfcol_mesh_positions(eb.mesh);
-                const double *pt = selfcol_mesh_positions(tb.mesh);
-                contour_point q;
-                if (!contour_point_make(pe + 3 * size_t(c[k].a[0]), pe + 3 * size_t(c[k].a[1]),
-                                        pt + 3 * size_t(c[k].b[0]), pt + 3 * size_t(c[k].b[1]),
-                                        pt + 3 * size_t(c[k].b[2]), q))
-                    continue;
-                q.node[0] = slot_for(a, eb, c[k].a[0]);
-                q.node[1] = slot_for(a, eb, c[k].a[1]);
-                for (int v = 0; v < 3; ++v)
-                    q.node[2 + v] = slot_for(a, tb, c[k].b[v]);
-                const uint32_t point = uint32_t(a->contour_points.size());
-                a->contour_points.push_back(q);
-                // One segment end per face of the edge: the crossing pair
-                // (that face, the triangle).
-                const uint64_t triangle = uint64_t(body_of[c[k].second_mesh]) << 32 | c[k].second;
-                const edge_face probe = {
-                    edge_key(eb.first_node + c[k].a[0], eb.first_node + c[k].a[1]), 0};
-                for (auto it = std::lower_bound(a->edge_faces.begin(), a->edge_faces.end(), probe);
-                     it != a->edge_faces.end() && it->edge == probe.edge; ++it)
-                    a->contour_keys.push_back(
-                        {std::min(it->face, triangle), std::max(it->face, triangle), point});
-            }
-        }
     contour_link(a->contour_points.data(), a->contour_keys.data(), a->contour_keys.size());
     a->contour_delta.resize(3 * a->nodes.size());
     return contour_push(a->contour_points.data(), a->contour_points.size(), a->nodes.data(),
@@ -417,13 +416,18 @@ int step_impl(selfcol_bullet *a, double dt) {
     a->nodes.clear();
     a->node_of_slot.clear();
     a->global_of_slot.clear();
+    a->contour_points.clear();
+    a->contour_keys.clear();
     uint64_t crossed = 0;
     for (size_t i = 0; i < a->bodies.size(); ++i)
         for (size_t j = i; j < a->bodies.size(); ++j) {
             const selfcol_store *store = nullptr;
-            if (selfcol_scene_store(a->scene, uint32_t(i), uint32_t(j), &store) == SELFCOL_OK &&
-                store != nullptr)
-                gather_rows(a, store, a->bodies[i], a->bodies[j], &crossed);
+            if (selfcol_scene_store(a->scene, uint32_t(i), uint32_t(j), &store) != SELFCOL_OK ||
+                store == nullptr)
+                continue;
+            gather_rows(a, store, a->bodies[i], a->bodies[j], &crossed);
+            if (a->opts.untangle)
+                gather_contour_points(a, store, i, j);
         }
     response_result r = response_solve(a->rows.data(), a->rows.size(), a->nodes.data(), a->distance,
                                        a->opts.repulsion, a->opts.iterations);
