@@ -67,13 +67,14 @@
 // EF crossing: none exists.
 //
 // Costs: (2) and (4) share one pass over the b boundary edges: candidate
-// pairs come from a hashed uniform grid (O(b) expected, no sorting), and the
-// exact predicate runs only where a floating-point filter on the projected
-// coordinates cannot decide. That the boundary is one loop is known without
-// a pass: Self(P) is tried only on disks (SELFCOL_NODE_DISK), Pair(A, B)
-// only on two disks whose shared edges form one path. Measured on a
-// 1.3M-triangle icosphere at d = 0.1 x mean edge: ~140 ns per boundary
-// edge, 62 tests and ~217k edges per query (stats: contour_seconds).
+// pairs come from a hashed uniform grid (O(b) expected, no sorting), or for
+// short boundaries from all b^2 / 2 pairs (cheaper there; the same pairs
+// pass the box test either way), and the exact predicate runs only where a
+// floating-point filter on the projected coordinates cannot decide. That the boundary is one loop
+// is known without a pass: Self(P) is tried only on disks (SELFCOL_NODE_DISK), Pair(A, B) only on
+// two disks whose shared edges form one path. Measured on a 1.3M-triangle icosphere at d = 0.1 x
+// mean edge: ~140 ns per boundary edge, 62 tests and ~217k edges per query (stats:
+// contour_seconds).
 #include "query.h"
 
 #include "cone.h"
@@ -84,6 +85,14 @@
 
 #include <math.h>
 #include <stdlib.h>
+
+// Boundaries of at most this many edges look at every pair of edges instead
+// of filling a grid. A folded 20k ribbon (the Bullet bench's last frame,
+// d = 0.25 x mean edge) makes 1,754 tests of 25 edges on average; their time
+// went from 6.7 ms (grid only) to 4.4 ms with all pairs up to 48 edges and
+// about 3.8 ms up to 96 to 192 (beyond, the b^2 pairs cost more than the
+// grid's hashing).
+#define CONTOUR_ALL_PAIRS_MAX 96
 
 // One boundary half-edge in the projection plane.
 typedef struct projected_edge {
@@ -214,21 +223,18 @@ static uint32_t cell_hash(int32_t ix, int32_t iy, uint32_t mask) {
     return ((uint32_t)ix * 0x9E3779B1u ^ (uint32_t)iy * 0x85EBCA77u) & mask;
 }
 
-// Conditions (2) and (4) for the boundary chain he[0..b) projected along
-// the unit vector v; the caller has shown that the chain is one loop (a
-// disk's boundary, or two disks' boundaries joined along one path). A pinch
-// (a vertex visited twice) shows up here as two edges into one vertex.
-//
-// Candidate edge pairs come from a hashed uniform grid whose cells are at
-// least half as wide as every projected edge plus twice the margin: each
-// edge's grown box covers at most 3 x 3 cells, and two edges whose grown
-// boxes meet share a cell (cell indices are a monotone function of the
-// coordinates); a pair is examined in one cell only (the lowest cell of the
-// overlap of their cell ranges). O(b) expected, no sorting.
-static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, const double v[3],
-                         double d, void *work) {
-    if (b < 3)
-        return 0;
+// The boundary projected into the plane, with what both candidate searches
+// below need: the margin (d plus the rounding of the projected coordinates),
+// the filter bound of `side` and the grid cell size.
+typedef struct projection {
+    double margin, bound, cell;
+    int proximity;
+} projection;
+
+// Projects the boundary chain he[0..b) along the unit vector v into `pe`.
+// 0 when the projection cannot be used (degenerate or non-finite).
+static int project_boundary(const selfcol_mesh *m, const uint32_t *he, size_t b, const double v[3],
+                            double d, projected_edge *pe, projection *out) {
     // An orthonormal basis (e1, e2) of the projection plane.
     double helper[3] = {fabs(v[0]) < 0.6 ? 1.0 : 0.0, fabs(v[0]) < 0.6 ? 0.0 : 1.0, 0.0};
     double e1[3] = {helper[1] * v[2] - helper[2] * v[1], helper[2] * v[0] - helper[0] * v[2],
@@ -239,7 +245,6 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
     double e2[3] = {v[1] * e1[2] - v[2] * e1[1], v[2] * e1[0] - v[0] * e1[2],
                     v[0] * e1[1] - v[1] * e1[0]};
 
-    projected_edge *pe = work;
     double scale = 0.0, longest = 0.0;
     double min_x = INFINITY, min_y = INFINITY;
     for (size_t i = 0; i < b; ++i) {
@@ -260,20 +265,20 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
         min_y = e->y0 < min_y ? e->y0 : min_y;
     }
     // The margin covers d and the rounding of the projected coordinates.
-    const int proximity = d > 0.0;
-    const double margin = (proximity ? d * (1.0 + 1e-9) : 0.0) + 1e-12 * scale;
-    const double cell = 0.5 * (longest + 2.0 * margin) * (1.0 + 1e-9);
-    if (!(cell > 0.0) || !isfinite(cell))
+    out->proximity = d > 0.0;
+    out->margin = (out->proximity ? d * (1.0 + 1e-9) : 0.0) + 1e-12 * scale;
+    out->cell = 0.5 * (longest + 2.0 * out->margin) * (1.0 + 1e-9);
+    if (!(out->cell > 0.0) || !isfinite(out->cell))
         return 0;
-    const double inverse = 1.0 / cell;
     // Filter bound of `side`: the projected coordinates (dot products with
     // a unit basis) carry an error of at most ~6e-16 scale each, coordinate
     // differences are at most 3.5 scale, and e1 x e2 differs from v by
     // ~5e-16; together under 4e-14 scale^2 on a 2D orientation. 1e-13 keeps
     // a factor 2.5 of safety.
-    const double bound = 1e-13 * scale * scale;
-    // Grown boxes, relative to the lowest corner (so cell indices are >= 0).
-    const double ox = min_x - margin, oy = min_y - margin;
+    out->bound = 1e-13 * scale * scale;
+    // Grown boxes, relative to the lowest corner (so grid cell indices are
+    // >= 0).
+    const double margin = out->margin, ox = min_x - margin, oy = min_y - margin;
     for (size_t i = 0; i < b; ++i) {
         projected_edge *e = &pe[i];
         e->lo_x = (e->x0 < e->x1 ? e->x0 : e->x1) - margin - ox;
@@ -281,11 +286,45 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
         e->lo_y = (e->y0 < e->y1 ? e->y0 : e->y1) - margin - oy;
         e->hi_y = (e->y0 < e->y1 ? e->y1 : e->y0) + margin - oy;
     }
+    return 1;
+}
+
+static int boxes_apart(const projected_edge *e, const projected_edge *f) {
+    return e->hi_x < f->lo_x || f->hi_x < e->lo_x || e->hi_y < f->lo_y || f->hi_y < e->lo_y;
+}
+
+// Every pair of edges whose grown boxes meet, by looking at all b (b - 1) / 2
+// pairs: for the short boundaries most tests see (a crumpled 20k ribbon:
+// 25 edges on average), cheaper than filling a grid.
+static int clear_all_pairs(const selfcol_mesh *m, const projected_edge *pe, size_t b,
+                           const double v[3], const projection *p) {
+    for (size_t i = 0; i < b; ++i) {
+        const projected_edge *e = &pe[i];
+        for (size_t j = i + 1; j < b; ++j) {
+            const projected_edge *f = &pe[j];
+            if (boxes_apart(e, f))
+                continue;
+            if (!edges_clear(m, e, f, v, p->margin, p->proximity, p->bound))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+// The same pairs from a hashed uniform grid whose cells are at least half as
+// wide as every projected edge plus twice the margin: each edge's grown box
+// covers at most 3 x 3 cells, and two edges whose grown boxes meet share a
+// cell (cell indices are a monotone function of the coordinates); a pair is
+// examined in one cell only (the lowest cell of the overlap of their cell
+// ranges). O(b) expected, no sorting.
+static int clear_by_grid(const selfcol_mesh *m, const projected_edge *pe, size_t b,
+                         const double v[3], const projection *p, void *grid_work) {
+    const double inverse = 1.0 / p->cell;
     uint32_t buckets = 1;
     while (buckets < 2 * b)
         buckets *= 2;
     const uint32_t mask = buckets - 1;
-    cell_entry *entries = (cell_entry *)(pe + b);
+    cell_entry *entries = grid_work;
     uint32_t *offset = (uint32_t *)(entries + 9 * b);
     for (uint32_t k = 0; k <= buckets; ++k)
         offset[k] = 0;
@@ -321,24 +360,22 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
     uint32_t begin = 0;
     for (uint32_t k = 0; k < buckets; ++k) {
         uint32_t end = offset[k];
-        for (uint32_t p = begin; p < end; ++p) {
-            const cell_entry *ep = &entries[p];
+        for (uint32_t a = begin; a < end; ++a) {
+            const cell_entry *ep = &entries[a];
             const projected_edge *e = &pe[ep->edge];
-            for (uint32_t q = p + 1; q < end; ++q) {
+            for (uint32_t q = a + 1; q < end; ++q) {
                 const cell_entry *eq = &entries[q];
                 if (eq->ix != ep->ix || eq->iy != ep->iy)
                     continue; // another cell in the same bucket
                 const projected_edge *f = &pe[eq->edge];
-                // Grown boxes apart: no test needed.
-                if (e->hi_x < f->lo_x || f->hi_x < e->lo_x || e->hi_y < f->lo_y ||
-                    f->hi_y < e->lo_y)
+                if (boxes_apart(e, f))
                     continue;
                 // Examine the pair in the lowest cell both cover only.
                 int32_t cx = (int32_t)((e->lo_x > f->lo_x ? e->lo_x : f->lo_x) * inverse);
                 int32_t cy = (int32_t)((e->lo_y > f->lo_y ? e->lo_y : f->lo_y) * inverse);
                 if (cx != ep->ix || cy != ep->iy)
                     continue;
-                if (!edges_clear(m, e, f, v, margin, proximity, bound))
+                if (!edges_clear(m, e, f, v, p->margin, p->proximity, p->bound))
                     return 0;
             }
         }
@@ -347,11 +384,31 @@ static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, co
     return 1;
 }
 
+// Conditions (2) and (4) for the boundary chain he[0..b) projected along
+// the unit vector v; the caller has shown that the chain is one loop (a
+// disk's boundary, or two disks' boundaries joined along one path). A pinch
+// (a vertex visited twice) shows up here as two edges into one vertex. Both
+// candidate searches examine the same edge pairs (those whose grown boxes
+// meet), so the strategy changes the time, never the answer.
+static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, const double v[3],
+                         double d, void *work, int strategy) {
+    if (b < 3)
+        return 0;
+    projected_edge *pe = work;
+    projection p;
+    if (!project_boundary(m, he, b, v, d, pe, &p))
+        return 0;
+    if (strategy == SELFCOL_CONTOUR_ALL_PAIRS ||
+        (strategy == SELFCOL_CONTOUR_AUTO && b <= CONTOUR_ALL_PAIRS_MAX))
+        return clear_all_pairs(m, pe, b, v, &p);
+    return clear_by_grid(m, pe, b, v, &p, pe + b);
+}
+
 // contour_clear, counted and timed in the query's statistics.
 static int counted_contour(selfcol_contacts *owner, const selfcol_mesh *m, const uint32_t *he,
-                           size_t b, const double v[3], double d, void *work) {
+                           size_t b, const double v[3], double d, void *work, int strategy) {
     double start = selfcol_core__seconds();
-    int clear = contour_clear(m, he, b, v, d, work);
+    int clear = contour_clear(m, he, b, v, d, work, strategy);
     owner->stats.contour_tests++;
     owner->stats.contour_refused += !clear;
     owner->stats.contour_seconds += selfcol_core__seconds() - start;
@@ -366,11 +423,12 @@ static void *work_area(selfcol_contacts *owner, size_t b, size_t extra) {
 }
 
 int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edges, size_t count,
-                                const double v[3], double d, selfcol_contacts *scratch_owner) {
+                                const double v[3], double d, int strategy,
+                                selfcol_contacts *scratch_owner) {
     void *work = work_area(scratch_owner, count, 0);
     if (work == NULL)
         return 0;
-    return counted_contour(scratch_owner, m, half_edges, count, v, d, work);
+    return counted_contour(scratch_owner, m, half_edges, count, v, d, work, strategy);
 }
 
 int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, double d,
@@ -393,7 +451,8 @@ int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, dou
     double v[3];
     selfcol_cone__unit_axis(n->cone_axis, v);
     // A disk's boundary is one loop.
-    return counted_contour(scratch_owner, h->mesh, h->bedge + n->boundary_begin, b, v, d, work);
+    return counted_contour(scratch_owner, h->mesh, h->bedge + n->boundary_begin, b, v, d, work,
+                           SELFCOL_CONTOUR_AUTO);
 }
 
 int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib, double d,
@@ -478,7 +537,18 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     // the whole loop as many).
     if (shared == 0)
         return 0; // not adjacent: two loops can never be one
-    qsort(path, 2 * shared, sizeof *path, by_vertex);
+    if (2 * shared <= 32) {
+        // Insertion sort: the shared path is short between most patches.
+        for (size_t k = 1; k < 2 * shared; ++k) {
+            uint32_t x = path[k];
+            size_t j = k;
+            for (; j > 0 && path[j - 1] > x; --j)
+                path[j] = path[j - 1];
+            path[j] = x;
+        }
+    } else {
+        qsort(path, 2 * shared, sizeof *path, by_vertex);
+    }
     size_t distinct = 1;
     for (size_t k = 1; k < 2 * shared; ++k)
         distinct += path[k] != path[k - 1];
@@ -487,5 +557,5 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
         scratch_owner->stats.contour_refused++;
         return 0;
     }
-    return counted_contour(scratch_owner, h->mesh, joint, b, v, d, work);
+    return counted_contour(scratch_owner, h->mesh, joint, b, v, d, work, SELFCOL_CONTOUR_AUTO);
 }

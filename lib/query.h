@@ -91,8 +91,17 @@ int selfcol_traverse__run(selfcol_query *q, const struct selfcol_hierarchy *h0,
 // is a simple polygon whose vertices are at least d from every edge not
 // incident to them (conservatively: a clearance within about 1e-9 d refuses).
 // 0 also without memory. Uses scratch slot SELFCOL_SCRATCH_CONTOUR.
+// `strategy` picks how the candidate edge pairs are found; every strategy
+// examines the same pairs, so the answer never depends on it (the tests
+// compare them).
+enum {
+    SELFCOL_CONTOUR_AUTO = 0,      // all pairs for short boundaries, else the grid
+    SELFCOL_CONTOUR_GRID = 1,      // a hashed uniform grid, O(b) expected
+    SELFCOL_CONTOUR_ALL_PAIRS = 2, // every pair of edges, O(b^2)
+};
 int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edges, size_t count,
-                                const double v[3], double d, selfcol_contacts *scratch_owner);
+                                const double v[3], double d, int strategy,
+                                selfcol_contacts *scratch_owner);
 
 // EXACT's criterion (contour.c): 1 when Self(node id) provably holds no
 // contact at distance d. Uses scratch slot SELFCOL_SCRATCH_CONTOUR of `scratch_owner`.

@@ -10,6 +10,7 @@
 // criterion (self_skippable) on a flat disk: sound at every d of a sweep
 // (never skips a patch in which EXHAUSTIVE finds a contact) and complete
 // where the proof applies.
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -57,6 +58,18 @@ static uint32_t half_edge(const selfcol_mesh *m, uint32_t u, uint32_t w) {
     return 0;
 }
 
+// The loop's half-edges, decided by both candidate searches, which must
+// agree.
+static int half_edges_clear(const patch *p, const uint32_t *he, size_t n, const double v[3],
+                            double d) {
+    int grid = selfcol_contour__loop_clear(p->mesh, he, n, v, d, SELFCOL_CONTOUR_GRID, p->scratch);
+    int all =
+        selfcol_contour__loop_clear(p->mesh, he, n, v, d, SELFCOL_CONTOUR_ALL_PAIRS, p->scratch);
+    if (grid != all)
+        fail_msg("%zu edges, d = %g: the grid says %d, all pairs %d", n, d, grid, all);
+    return grid;
+}
+
 // 1 when the loop through vertices loop[0..n) (closing back to loop[0]) is
 // clear along v at distance d.
 static int loop_clear(const patch *p, const uint32_t *loop, size_t n, const double v[3], double d) {
@@ -64,7 +77,7 @@ static int loop_clear(const patch *p, const uint32_t *loop, size_t n, const doub
     assert_true(n <= 16);
     for (size_t i = 0; i < n; ++i)
         he[i] = half_edge(p->mesh, loop[i], loop[(i + 1) % n]);
-    return selfcol_contour__loop_clear(p->mesh, he, n, v, d, p->scratch);
+    return half_edges_clear(p, he, n, v, d);
 }
 
 static const double along_z[3] = {0.0, 0.0, 1.0};
@@ -225,12 +238,75 @@ static void test_no_memory_refuses(void **state) {
     selfcol_contacts_options_init(&o, SELFCOL_CONTACTS_OPTIONS_VERSION);
     o.allocator = test_allocator(&alloc);
     assert_int_equal(selfcol_contacts_create(&p.scratch, &o), SELFCOL_OK);
+    uint32_t he[4];
+    for (size_t i = 0; i < 4; ++i)
+        he[i] = half_edge(p.mesh, loop[i], loop[(i + 1) % 4]);
     alloc.fail_at = alloc.calls + 1;
-    assert_int_equal(loop_clear(&p, loop, 4, along_z, 0.0), 0);
+    assert_int_equal(
+        selfcol_contour__loop_clear(p.mesh, he, 4, along_z, 0.0, SELFCOL_CONTOUR_AUTO, p.scratch),
+        0);
     alloc.fail_at = 0;
-    assert_int_equal(loop_clear(&p, loop, 4, along_z, 0.0), 1);
+    assert_int_equal(
+        selfcol_contour__loop_clear(p.mesh, he, 4, along_z, 0.0, SELFCOL_CONTOUR_AUTO, p.scratch),
+        1);
     free_patch(&p);
     assert_int_equal(alloc.live, 0);
+}
+
+// Deterministic pseudo-random numbers in [0, 1).
+static double next_uniform(uint64_t *state) {
+    *state = *state * 6364136223846793005u + 1442695040888963407u;
+    return (double)(*state >> 11) * 0x1p-53;
+}
+
+// The grid and the all-pairs search decide the same on random loops: the
+// boundaries of fans around a centre whose rim wanders in angle (enough to
+// cross itself now and then), radius and height, from 3 to 300 edges (both
+// sides of the size at which AUTO switches), at d from 0 to a few edge
+// lengths, along tilted directions. Both answers occur, so the comparison
+// covers refusals as well as proofs.
+static void test_grid_and_all_pairs_agree_on_random_loops(void **state) {
+    (void)state;
+    enum { MAX_RIM = 300 };
+    static double pos[3 * (MAX_RIM + 1)];
+    static uint32_t tri[3 * MAX_RIM], he[MAX_RIM];
+    uint64_t rng = 12345;
+    size_t clear = 0, refused = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const size_t n = 3 + (size_t)(next_uniform(&rng) * (trial % 4 == 0 ? MAX_RIM - 3 : 60));
+        const double step = 2.0 * 3.141592653589793 / (double)n;
+        const double wander = next_uniform(&rng) * 1.6, bumps = next_uniform(&rng) * 0.6,
+                     height = next_uniform(&rng) * 0.5;
+        pos[0] = pos[1] = pos[2] = 0.0; // the centre
+        for (size_t i = 0; i < n; ++i) {
+            double angle = step * ((double)i + wander * (next_uniform(&rng) - 0.5));
+            double radius = 1.0 + bumps * (next_uniform(&rng) - 0.5);
+            double *x = &pos[3 * (i + 1)];
+            x[0] = radius * cos(angle);
+            x[1] = radius * sin(angle);
+            x[2] = height * (next_uniform(&rng) - 0.5);
+            tri[3 * i] = 0;
+            tri[3 * i + 1] = (uint32_t)(i + 1);
+            tri[3 * i + 2] = (uint32_t)((i + 1) % n + 1);
+        }
+        patch p = make_patch(pos, n + 1, tri, n);
+        for (size_t i = 0; i < n; ++i)
+            he[i] = half_edge(p.mesh, (uint32_t)(i + 1), (uint32_t)((i + 1) % n + 1));
+        const double v[3] = {0.3 * (next_uniform(&rng) - 0.5), 0.3 * (next_uniform(&rng) - 0.5),
+                             1.0};
+        const double length = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        const double unit[3] = {v[0] / length, v[1] / length, v[2] / length};
+        const double distances[] = {0.0, 0.05 * step, 0.3 * step, 2.0 * step};
+        for (size_t k = 0; k < sizeof distances / sizeof *distances; ++k) {
+            if (half_edges_clear(&p, he, n, unit, distances[k]))
+                ++clear;
+            else
+                ++refused;
+        }
+        free_patch(&p);
+    }
+    assert_true(clear > 100);
+    assert_true(refused > 100);
 }
 
 // The whole criterion on a flat U: a 9 x 6 unit grid without the cells of
@@ -295,6 +371,7 @@ int main(void) {
         cmocka_unit_test(test_collinear_overlap),
         cmocka_unit_test(test_collinear_apart_and_clearance_at_d),
         cmocka_unit_test(test_no_memory_refuses),
+        cmocka_unit_test(test_grid_and_all_pairs_agree_on_random_loops),
         cmocka_unit_test(test_self_skippable_is_sound_on_a_flat_u),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
