@@ -47,9 +47,16 @@ static void store_cone(selfcol_node *n, const selfcol_cone *c) {
     n->cone_angle = c->angle >= SELFCOL_NO_CONE ? SELFCOL_NO_CONE : (float)(c->angle + 1e-6);
 }
 
+// A node's cone in double, with its float axis made unit again (the merge's
+// rotation assumes unit axes).
 static void load_cone(selfcol_cone *c, const selfcol_node *n) {
-    for (int k = 0; k < 3; ++k)
-        c->axis[k] = n->cone_axis[k];
+    if (!(n->cone_angle < SELFCOL_HALF_PI)) {
+        c->axis[0] = c->axis[1] = 0.0;
+        c->axis[2] = 1.0;
+        c->angle = SELFCOL_NO_CONE;
+        return;
+    }
+    selfcol_cone__unit_axis(n->cone_axis, c->axis);
     c->angle = n->cone_angle;
 }
 

@@ -4,12 +4,15 @@
 // The hierarchy's invariants, checked in full: what the traversal, the
 // ownership rule and the contour proof take for granted. Run after every build
 // and refit in SELFCOL_VALIDATE builds (the sanitizer job of CI), and by the
-// tests directly. O(n) time; one byte per triangle of scratch.
+// tests directly. O(n) time for the structure and boxes, O(n x depth) for
+// the normal cones; one byte per triangle of scratch.
 #include "hierarchy.h"
 
 #include "alloc.h"
+#include "cone.h"
 #include "core.h"
 
+#include <math.h>
 #include <string.h>
 
 // Checks of the structure alone (valid after the build, before any refit).
@@ -98,6 +101,49 @@ static int boxes_valid(const selfcol_hierarchy *h) {
     return 1;
 }
 
+// Every node's normal cone holds the unit normal of each of its triangles
+// (oriented as the build flipped them), and a node with a triangle of zero
+// area has no cone. O(n x depth): this recomputes each normal once per node
+// above it, independently of the refit's bounds.
+static int cones_valid(const selfcol_hierarchy *h) {
+    const selfcol_mesh *m = h->mesh;
+    for (size_t id = 0; id < h->node_count; ++id) {
+        const selfcol_node *n = &h->nodes[id];
+        if (!(n->cone_angle < SELFCOL_HALF_PI))
+            continue;
+        double axis[3];
+        selfcol_cone__unit_axis(n->cone_axis, axis);
+        // The stored angle already holds the refit's 1e-6 rad of slack;
+        // 1e-12 in the cosine only absorbs this check's own rounding.
+        const double lowest = cos((double)n->cone_angle) - 1e-12;
+        for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
+            const uint32_t t = h->tri_order[s];
+            const uint32_t *tri = m->triangles + 3 * (size_t)t;
+            const double *a = selfcol_mesh__position(m, tri[0]),
+                         *b = selfcol_mesh__position(m, tri[1]),
+                         *c = selfcol_mesh__position(m, tri[2]);
+            double u[3], v[3], normal[3];
+            for (int k = 0; k < 3; ++k) {
+                u[k] = b[k] - a[k];
+                v[k] = c[k] - a[k];
+            }
+            normal[0] = u[1] * v[2] - u[2] * v[1];
+            normal[1] = u[2] * v[0] - u[0] * v[2];
+            normal[2] = u[0] * v[1] - u[1] * v[0];
+            double len =
+                sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+            if (!(len > 0.0))
+                return 0; // a zero-area triangle under a cone
+            const double sign = (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED) ? -1.0 : 1.0;
+            double dot =
+                sign * (axis[0] * normal[0] + axis[1] * normal[1] + axis[2] * normal[2]) / len;
+            if (!(dot >= lowest))
+                return 0;
+        }
+    }
+    return 1;
+}
+
 int selfcol_hierarchy__validate(const selfcol_hierarchy *h, int refit) {
     // The scratch comes from the system allocator, not the handle's: a
     // validation build must make the same calls to the caller's allocator
@@ -107,7 +153,7 @@ int selfcol_hierarchy__validate(const selfcol_hierarchy *h, int refit) {
     uint8_t *seen = selfcol_alloc__array(&system, n, sizeof(uint8_t));
     if (seen == NULL)
         return -1; // cannot tell
-    int valid = structure_valid(h, seen) && (!refit || boxes_valid(h));
+    int valid = structure_valid(h, seen) && (!refit || (boxes_valid(h) && cones_valid(h)));
     selfcol_alloc__free_array(&system, seen, n, sizeof(uint8_t));
     return valid;
 }

@@ -47,6 +47,24 @@ static void test_validate_accepts_what_the_build_makes(void **state) {
                          SELFCOL_OK);
         assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
         assert_int_equal(selfcol_hierarchy__validate(h, 1), 1);
+        // Frames of random jitter: every normal stays inside its nodes'
+        // cones (the refit's leaf cones and merges), and cones exist.
+        uint64_t rng = 2024u + (uint64_t)i;
+        for (int frame = 0; frame < 5; ++frame) {
+            for (size_t k = 0; k < 3 * scenes[i].vertex_count; ++k) {
+                rng = rng * 6364136223846793005u + 1442695040888963407u;
+                scenes[i].positions[k] += 0.05 * ((double)(rng >> 11) * 0x1p-53 - 0.5);
+            }
+            assert_int_equal(
+                selfcol_mesh_set_positions(m, scenes[i].positions, scenes[i].vertex_count),
+                SELFCOL_OK);
+            assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
+            assert_int_equal(selfcol_hierarchy__validate(h, 1), 1);
+            size_t coned = 0;
+            for (size_t id = 0; id < h->node_count; ++id)
+                coned += h->nodes[id].cone_angle < 1.5707963267948966;
+            assert_true(coned > 0);
+        }
         selfcol_hierarchy_destroy(h);
         selfcol_mesh_destroy(m);
         scene_free(&scenes[i]);
@@ -81,6 +99,27 @@ static void test_validate_rejects_each_corruption(void **state) {
     assert_int_equal(selfcol_hierarchy__validate(h, 1), 0);
     assert_int_equal(selfcol_hierarchy__validate(h, 0), 1); // structure alone is fine
     h->nodes[0].hi[2] = hi;
+    // A leaf cone turned away from its triangles' normals.
+    size_t leaf = 0;
+    while (leaf < h->node_count &&
+           (h->nodes[leaf].child_count != 0 || !(h->nodes[leaf].cone_angle < 1.0f)))
+        ++leaf;
+    assert_true(leaf < h->node_count);
+    float axis[3] = {h->nodes[leaf].cone_axis[0], h->nodes[leaf].cone_axis[1],
+                     h->nodes[leaf].cone_axis[2]};
+    float angle = h->nodes[leaf].cone_angle;
+    for (int k = 0; k < 3; ++k)
+        h->nodes[leaf].cone_axis[k] = -axis[k];
+    assert_int_equal(selfcol_hierarchy__validate(h, 1), 0);
+    for (int k = 0; k < 3; ++k)
+        h->nodes[leaf].cone_axis[k] = axis[k];
+    // Too narrow (a leaf of one flat triangle can have angle ~0: skip those).
+    h->nodes[leaf].cone_angle = 0.0f;
+    int narrowed = selfcol_hierarchy__validate(h, 1);
+    h->nodes[leaf].cone_angle = angle;
+    if (angle > 1e-3f)
+        assert_int_equal(narrowed, 0);
+    assert_int_equal(selfcol_hierarchy__validate(h, 1), 1);
     // A leaf box that does not hold its triangle: the mesh moved, no refit.
     for (size_t k = 0; k < 3 * s.vertex_count; ++k)
         s.positions[k] += 100.0;
