@@ -28,6 +28,23 @@ const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3] = {
     {1, 1, 1},    {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1},
     {-1, -1, -1}, {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1}};
 
+// |selfcol_hierarchy__directions[j]|: sqrt(3) for the 8 diagonals, 1 for the
+// 6 axes.
+static const double direction_length[SELFCOL_DIRECTIONS] = {1.7320508075688772,
+                                                            1.7320508075688772,
+                                                            1.7320508075688772,
+                                                            1.7320508075688772,
+                                                            1.7320508075688772,
+                                                            1.7320508075688772,
+                                                            1.7320508075688772,
+                                                            1.7320508075688772,
+                                                            1.0,
+                                                            1.0,
+                                                            1.0,
+                                                            1.0,
+                                                            1.0,
+                                                            1.0};
+
 // Outward rounding of a double bound to float, so float boxes stay
 // conservative.
 static float round_down(double x) {
@@ -60,12 +77,88 @@ static void load_cone(selfcol_cone *c, const selfcol_node *n) {
     c->angle = n->cone_angle;
 }
 
+// Leaves with at most this many triangles get their cone in one pass (see
+// leaf_cone); larger ones merge triangle by triangle.
+#define LEAF_CONE_BATCH 32
+
+// The index of the vector of n[0..count) with the smallest dot product with
+// the unit vector `axis` (the one farthest from it in angle), and that dot
+// product in *lowest.
+static size_t farthest_from(const double axis[3], const double (*n)[3], size_t count,
+                            double *lowest) {
+    size_t far = 0;
+    *lowest = 2.0;
+    for (size_t i = 0; i < count; ++i) {
+        double dot = axis[0] * n[i][0] + axis[1] * n[i][1] + axis[2] * n[i][2];
+        if (dot < *lowest)
+            *lowest = dot, far = i;
+    }
+    return far;
+}
+
+// A cone around the leaf's unit normals n[0..count) (each known to within
+// the angle slack): of two axes -- the normalised sum, and the bisector of
+// the two normals farthest apart (the smallest cone when the others lie
+// within it) -- the one whose farthest normal is nearer, and as half-angle
+// that normal's angle plus the slack. Dot products choose, one atan2 per
+// leaf measures (dots that tie to rounding differ in angle by ~1e-8 rad, far
+// inside the 1e-6 rad store_cone adds). Merging triangle by triangle cost an
+// acos and three sines per triangle: a quarter of a refit of a folded 20k
+// ribbon.
+static selfcol_cone leaf_cone(const double (*n)[3], size_t count, double slack) {
+    selfcol_cone c = {{0, 0, 1}, SELFCOL_NO_CONE};
+    double axes[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    size_t far_i = 0, far_j = 0;
+    double closest = 2.0;
+    for (size_t i = 0; i < count; ++i) {
+        for (int k = 0; k < 3; ++k)
+            axes[0][k] += n[i][k];
+        for (size_t j = i + 1; j < count; ++j) {
+            double dot = n[i][0] * n[j][0] + n[i][1] * n[j][1] + n[i][2] * n[j][2];
+            if (dot < closest)
+                closest = dot, far_i = i, far_j = j;
+        }
+    }
+    for (int k = 0; k < 3; ++k)
+        axes[1][k] = n[far_i][k] + n[far_j][k];
+    double best = -2.0;
+    size_t worst = 0;
+    for (int a = 0; a < 2; ++a) {
+        double len =
+            sqrt(axes[a][0] * axes[a][0] + axes[a][1] * axes[a][1] + axes[a][2] * axes[a][2]);
+        if (!(len > 1e-6))
+            continue; // (nearly) opposite normals: no axis here
+        for (int k = 0; k < 3; ++k)
+            axes[a][k] /= len;
+        double lowest;
+        size_t far = farthest_from(axes[a], n, count, &lowest);
+        if (lowest > best) {
+            best = lowest;
+            worst = far;
+            for (int k = 0; k < 3; ++k)
+                c.axis[k] = axes[a][k];
+        }
+    }
+    if (!(best > 0.0))
+        return c; // no open half-space around either axis holds them
+    c.angle = selfcol_cone__angle_between(c.axis, n[worst]) + slack;
+    if (!(c.angle < SELFCOL_HALF_PI))
+        c.angle = SELFCOL_NO_CONE;
+    return c;
+}
+
 static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altitude_out) {
     const selfcol_mesh *m = h->mesh;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     uint16_t mask = (1u << SELFCOL_DIRECTIONS) - 1u;
     selfcol_cone acc = {{0, 0, 1}, SELFCOL_NO_CONE};
     double min_altitude = INFINITY;
+    // Unit normals for leaf_cone (small leaves), and whether every triangle
+    // has a usable cone.
+    double unit[LEAF_CONE_BATCH][3];
+    double slack = 0.0;
+    const int batch = n->tri_count <= LEAF_CONE_BATCH;
+    int coned = 1;
     for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
         const uint32_t *tri = m->triangles + 3 * (size_t)h->tri_order[s];
         const double *p[3] = {selfcol_mesh__position(m, tri[0]), selfcol_mesh__position(m, tri[1]),
@@ -93,8 +186,8 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
         if (len > 0.0) {
             for (int j = 0; j < SELFCOL_DIRECTIONS; ++j) {
                 const double *d = selfcol_hierarchy__directions[j];
-                double dn = sqrt(fabs(d[0]) + fabs(d[1]) + fabs(d[2])); // |d|
-                if (nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 1e-9 * len * dn)
+                if (nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] >
+                    1e-9 * len * direction_length[j])
                     bits |= (uint16_t)(1u << j);
             }
             // The exact normal is within err of the computed one: inside the
@@ -113,18 +206,27 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
             }
             double altitude = (len - err) / (sqrt(l2) * (1.0 + 1e-12)) * (1.0 - 1e-12);
             min_altitude = altitude < min_altitude ? altitude : min_altitude;
-            if (s == n->tri_begin)
+            if (one.angle >= SELFCOL_NO_CONE)
+                coned = 0;
+            if (batch) {
+                for (int k = 0; k < 3; ++k)
+                    unit[s - n->tri_begin][k] = one.axis[k];
+                slack = one.angle > slack ? one.angle : slack;
+            } else if (s == n->tri_begin) {
                 acc = one;
-            else
+            } else {
                 selfcol_cone__merge(&acc, &one);
+            }
         } else {
-            acc.angle = SELFCOL_NO_CONE;
+            coned = 0;
             min_altitude = 0.0;
         }
         mask &= bits;
-        if (len == 0.0)
-            acc.angle = SELFCOL_NO_CONE;
     }
+    if (!coned)
+        acc.angle = SELFCOL_NO_CONE;
+    else if (batch)
+        acc = leaf_cone((const double(*)[3])unit, n->tri_count, slack);
     for (int k = 0; k < 3; ++k) {
         n->lo[k] = round_down(lo[k]);
         n->hi[k] = round_up(hi[k]);
