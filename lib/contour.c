@@ -70,11 +70,12 @@
 // pairs come from a hashed uniform grid (O(b) expected, no sorting), or for
 // short boundaries from all b^2 / 2 pairs (cheaper there; the same pairs
 // pass the box test either way), and the exact predicate runs only where a
-// floating-point filter on the projected coordinates cannot decide. That the boundary is one loop
-// is known without a pass: Self(P) is tried only on disks (SELFCOL_NODE_DISK), Pair(A, B) only on
-// two disks whose shared edges form one path. Measured on a 1.3M-triangle icosphere at d = 0.1 x
-// mean edge: ~140 ns per boundary edge, 62 tests and ~217k edges per query (stats:
-// contour_seconds).
+// floating-point filter on the projected coordinates cannot decide. That
+// the boundary is one loop is known without a pass: Self(P) is tried only
+// on disks (SELFCOL_NODE_DISK), Pair(A, B) only on two disks whose shared
+// edges form one path. Measured on a 1.3M-triangle icosphere at d = 0.1 x
+// mean edge: ~140 ns per boundary edge, 62 tests and ~217k edges per query
+// (stats: contour_seconds).
 #include "query.h"
 
 #include "cone.h"

@@ -30,20 +30,9 @@ const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3] = {
 
 // |selfcol_hierarchy__directions[j]|: sqrt(3) for the 8 diagonals, 1 for the
 // 6 axes.
-static const double direction_length[SELFCOL_DIRECTIONS] = {1.7320508075688772,
-                                                            1.7320508075688772,
-                                                            1.7320508075688772,
-                                                            1.7320508075688772,
-                                                            1.7320508075688772,
-                                                            1.7320508075688772,
-                                                            1.7320508075688772,
-                                                            1.7320508075688772,
-                                                            1.0,
-                                                            1.0,
-                                                            1.0,
-                                                            1.0,
-                                                            1.0,
-                                                            1.0};
+#define SQRT3 1.7320508075688772
+static const double direction_length[SELFCOL_DIRECTIONS] = {
+    SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
 
 // Outward rounding of a double bound to float, so float boxes stay
 // conservative.
