@@ -29,6 +29,11 @@
 // The 14 sample directions: the 8 cube corners and the 6 face centres.
 #define SELFCOL_DIRECTIONS 14
 
+// The most triangles a leaf holds: the build's two leaf rounds each merge
+// groups of at most four patches (hierarchy_build.c checks this at compile
+// time; the validator on every hierarchy).
+#define SELFCOL_LEAF_MAX_TRIANGLES 16
+
 // One node: 64 bytes, so a node is one cache line. Children of a node are
 // contiguous (nodes are stored breadth-first); the triangles of a node's
 // patch are a contiguous range of the hierarchy's triangle order (assigned

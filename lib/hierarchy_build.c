@@ -35,6 +35,11 @@
 
 enum { LEAF_ROUNDS = 2, MAX_GROUP = 4 };
 
+// A leaf holds at most MAX_GROUP^LEAF_ROUNDS triangles: the bound the refit's
+// per-leaf buffers are sized by.
+typedef char leaf_size_matches_bound
+    [MAX_GROUP * MAX_GROUP == SELFCOL_LEAF_MAX_TRIANGLES && LEAF_ROUNDS == 2 ? 1 : -1];
+
 // The patch graph of one round.
 typedef struct patch_graph {
     size_t count;

@@ -66,10 +66,6 @@ static void load_cone(selfcol_cone *c, const selfcol_node *n) {
     c->angle = n->cone_angle;
 }
 
-// Leaves with at most this many triangles get their cone in one pass (see
-// leaf_cone); larger ones merge triangle by triangle.
-#define LEAF_CONE_BATCH 32
-
 // The index of the vector of n[0..count) with the smallest dot product with
 // the unit vector `axis` (the one farthest from it in angle), and that dot
 // product in *lowest.
@@ -140,14 +136,12 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
     const selfcol_mesh *m = h->mesh;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     uint16_t mask = (1u << SELFCOL_DIRECTIONS) - 1u;
-    selfcol_cone acc = {{0, 0, 1}, SELFCOL_NO_CONE};
     double min_altitude = INFINITY;
-    // Unit normals for leaf_cone (small leaves), and whether every triangle
-    // has a usable cone.
-    double unit[LEAF_CONE_BATCH][3];
+    // Unit normals for leaf_cone, and whether every triangle has a usable
+    // cone (the build bounds a leaf's size; the validator checks it).
+    double unit[SELFCOL_LEAF_MAX_TRIANGLES][3];
     double slack = 0.0;
-    const int batch = n->tri_count <= LEAF_CONE_BATCH;
-    int coned = 1;
+    int coned = n->tri_count <= SELFCOL_LEAF_MAX_TRIANGLES;
     for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
         const uint32_t *tri = m->triangles + 3 * (size_t)h->tri_order[s];
         const double *p[3] = {selfcol_mesh__position(m, tri[0]), selfcol_mesh__position(m, tri[1]),
@@ -197,14 +191,10 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
             min_altitude = altitude < min_altitude ? altitude : min_altitude;
             if (one.angle >= SELFCOL_NO_CONE)
                 coned = 0;
-            if (batch) {
+            if (coned) {
                 for (int k = 0; k < 3; ++k)
                     unit[s - n->tri_begin][k] = one.axis[k];
                 slack = one.angle > slack ? one.angle : slack;
-            } else if (s == n->tri_begin) {
-                acc = one;
-            } else {
-                selfcol_cone__merge(&acc, &one);
             }
         } else {
             coned = 0;
@@ -212,10 +202,9 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
         }
         mask &= bits;
     }
-    if (!coned)
-        acc.angle = SELFCOL_NO_CONE;
-    else if (batch)
-        acc = leaf_cone((const double(*)[3])unit, n->tri_count, slack);
+    const selfcol_cone none = {{0, 0, 1}, SELFCOL_NO_CONE};
+    const selfcol_cone acc =
+        coned ? leaf_cone((const double(*)[3])unit, n->tri_count, slack) : none;
     for (int k = 0; k < 3; ++k) {
         n->lo[k] = round_down(lo[k]);
         n->hi[k] = round_up(hi[k]);

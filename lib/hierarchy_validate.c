@@ -11,6 +11,7 @@
 #include "alloc.h"
 #include "cone.h"
 #include "core.h"
+#include "vec3.h"
 
 #include <math.h>
 #include <string.h>
@@ -43,7 +44,7 @@ static int structure_valid(const selfcol_hierarchy *h, uint8_t *seen) {
             return 0;
         if (n->child_count == 0) {
             leaves++;
-            if (n->boundary_count != 0)
+            if (n->boundary_count != 0 || n->tri_count > SELFCOL_LEAF_MAX_TRIANGLES)
                 return 0;
             continue;
         }
@@ -119,24 +120,15 @@ static int cones_valid(const selfcol_hierarchy *h) {
         for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
             const uint32_t t = h->tri_order[s];
             const uint32_t *tri = m->triangles + 3 * (size_t)t;
-            const double *a = selfcol_mesh__position(m, tri[0]),
-                         *b = selfcol_mesh__position(m, tri[1]),
-                         *c = selfcol_mesh__position(m, tri[2]);
-            double u[3], v[3], normal[3];
-            for (int k = 0; k < 3; ++k) {
-                u[k] = b[k] - a[k];
-                v[k] = c[k] - a[k];
-            }
-            normal[0] = u[1] * v[2] - u[2] * v[1];
-            normal[1] = u[2] * v[0] - u[0] * v[2];
-            normal[2] = u[0] * v[1] - u[1] * v[0];
-            double len =
-                sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+            double normal[3];
+            vec3_triangle_normal(normal, selfcol_mesh__position(m, tri[0]),
+                                 selfcol_mesh__position(m, tri[1]),
+                                 selfcol_mesh__position(m, tri[2]));
+            double len = sqrt(vec3_dot(normal, normal));
             if (!(len > 0.0))
                 return 0; // a zero-area triangle under a cone
             const double sign = (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED) ? -1.0 : 1.0;
-            double dot =
-                sign * (axis[0] * normal[0] + axis[1] * normal[1] + axis[2] * normal[2]) / len;
+            double dot = sign * vec3_dot(axis, normal) / len;
             if (!(dot >= lowest))
                 return 0;
         }
