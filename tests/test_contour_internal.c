@@ -253,10 +253,73 @@ static void test_no_memory_refuses(void **state) {
     assert_int_equal(alloc.live, 0);
 }
 
+// Condition (4) between edges that are neither consecutive nor collinear:
+// a notch from the top whose tip (vertex 4, at (1.6, 0.5)) comes within 0.5
+// of the bottom edge 0 -> 1. Every other vertex is at least 0.79 from the
+// edges not incident to it, so the loop is clear below 0.5 and refused above.
+static void test_vertex_near_a_far_edge(void **state) {
+    (void)state;
+    const double pos[] = {0, 0, 0, 3, 0, 0, 3, 3, 0, 2, 3, 0, 1.6, 0.5, 0, 1.2, 3, 0, 0, 3, 0};
+    const uint32_t tri[] = {0, 1, 4, 1, 2, 3, 1, 3, 4, 0, 4, 5, 0, 5, 6};
+    const uint32_t loop[] = {0, 1, 2, 3, 4, 5, 6};
+    patch p = make_patch(pos, 7, tri, 5);
+    assert_int_equal(loop_clear(&p, loop, 7, along_z, 0.0), 1);
+    assert_int_equal(loop_clear(&p, loop, 7, along_z, 0.45), 1);
+    assert_int_equal(loop_clear(&p, loop, 7, along_z, 0.55), 0);
+    free_patch(&p);
+}
+
 // Deterministic pseudo-random numbers in [0, 1).
 static double next_uniform(uint64_t *state) {
     *state = *state * 6364136223846793005u + 1442695040888963407u;
     return (double)(*state >> 11) * 0x1p-53;
+}
+
+// The fan's whole criterion where the loop is clear: every normal within
+// theta < pi/2 of v (1) and d <= (smallest altitude) cos(theta) (3). Then
+// the exhaustive reference must find no contact in the fan. 1 when it was
+// checked.
+static int fan_proof_is_sound(const patch *p, const double *pos, const uint32_t *tri, size_t n,
+                              const double v[3], double d) {
+    double lowest_cos = 1.0, lowest_altitude = INFINITY;
+    for (size_t t = 0; t < n; ++t) {
+        const double *a = &pos[3 * tri[3 * t]], *b = &pos[3 * tri[3 * t + 1]],
+                     *c = &pos[3 * tri[3 * t + 2]];
+        double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+               w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        double nrm[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                         u[0] * w[1] - u[1] * w[0]};
+        double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        double cosine = (nrm[0] * v[0] + nrm[1] * v[1] + nrm[2] * v[2]) / len;
+        lowest_cos = cosine < lowest_cos ? cosine : lowest_cos;
+        const double *corner[3] = {a, b, c};
+        for (int i = 0; i < 3; ++i) {
+            const double *e0 = corner[(i + 1) % 3], *e1 = corner[(i + 2) % 3];
+            double side =
+                sqrt((e1[0] - e0[0]) * (e1[0] - e0[0]) + (e1[1] - e0[1]) * (e1[1] - e0[1]) +
+                     (e1[2] - e0[2]) * (e1[2] - e0[2]));
+            lowest_altitude = len / side < lowest_altitude ? len / side : lowest_altitude;
+        }
+    }
+    // A margin of 1e-6 keeps this check away from the criterion's own
+    // rounding bounds.
+    if (!(lowest_cos > 1e-6) || !(d <= lowest_altitude * lowest_cos * (1.0 - 1e-6)))
+        return 0;
+    selfcol_hierarchy *h = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, p->mesh, NULL), SELFCOL_OK);
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.method = SELFCOL_METHOD_EXHAUSTIVE;
+    o.distance = d;
+    assert_int_equal(selfcol_hierarchy_self_collide(h, c, &o), SELFCOL_OK);
+    if (selfcol_contacts_count(c) != 0)
+        fail_msg("%zu-edge fan proven clear at d = %g, but the reference finds %zu contacts", n, d,
+                 selfcol_contacts_count(c));
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(h);
+    return 1;
 }
 
 // The grid and the all-pairs search decide the same on random loops: the
@@ -264,14 +327,15 @@ static double next_uniform(uint64_t *state) {
 // cross itself now and then), radius and height, from 3 to 300 edges (both
 // sides of the size at which AUTO switches), at d from 0 to a few edge
 // lengths, along tilted directions. Both answers occur, so the comparison
-// covers refusals as well as proofs.
+// covers refusals as well as proofs. Where the loop is clear and the rest of
+// the criterion holds too, the exhaustive reference confirms the proof.
 static void test_grid_and_all_pairs_agree_on_random_loops(void **state) {
     (void)state;
     enum { MAX_RIM = 300 };
     static double pos[3 * (MAX_RIM + 1)];
     static uint32_t tri[3 * MAX_RIM], he[MAX_RIM];
     uint64_t rng = 12345;
-    size_t clear = 0, refused = 0;
+    size_t clear = 0, refused = 0, confirmed = 0;
     for (int trial = 0; trial < 400; ++trial) {
         const size_t n = 3 + (size_t)(next_uniform(&rng) * (trial % 4 == 0 ? MAX_RIM - 3 : 60));
         const double step = 2.0 * 3.141592653589793 / (double)n;
@@ -298,15 +362,17 @@ static void test_grid_and_all_pairs_agree_on_random_loops(void **state) {
         const double unit[3] = {v[0] / length, v[1] / length, v[2] / length};
         const double distances[] = {0.0, 0.05 * step, 0.3 * step, 2.0 * step};
         for (size_t k = 0; k < sizeof distances / sizeof *distances; ++k) {
-            if (half_edges_clear(&p, he, n, unit, distances[k]))
+            if (half_edges_clear(&p, he, n, unit, distances[k])) {
                 ++clear;
-            else
+                confirmed += fan_proof_is_sound(&p, pos, tri, n, unit, distances[k]);
+            } else
                 ++refused;
         }
         free_patch(&p);
     }
     assert_true(clear > 100);
     assert_true(refused > 100);
+    assert_true(confirmed > 50);
 }
 
 // The whole criterion on a flat U: a 9 x 6 unit grid without the cells of
@@ -371,6 +437,7 @@ int main(void) {
         cmocka_unit_test(test_collinear_overlap),
         cmocka_unit_test(test_collinear_apart_and_clearance_at_d),
         cmocka_unit_test(test_no_memory_refuses),
+        cmocka_unit_test(test_vertex_near_a_far_edge),
         cmocka_unit_test(test_grid_and_all_pairs_agree_on_random_loops),
         cmocka_unit_test(test_self_skippable_is_sound_on_a_flat_u),
     };
