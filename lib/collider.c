@@ -32,7 +32,7 @@ static int size_ok(double x) {
     return isfinite(x) && x >= 0.0 && x <= SELFCOL_MESH_MAX_COORDINATE;
 }
 
-int selfcol_collider__check(const selfcol_collider_desc *desc) {
+int selfcol_collider__check(const selfcol_scene_collider_desc *desc) {
     if (!size_ok(desc->radius))
         return SELFCOL_EINVAL;
     switch (desc->shape) {
@@ -56,7 +56,7 @@ int selfcol_collider__check(const selfcol_collider_desc *desc) {
     }
 }
 
-size_t selfcol_collider__point_count(const selfcol_collider_desc *desc) {
+size_t selfcol_collider__point_count(const selfcol_scene_collider_desc *desc) {
     switch (desc->shape) {
     case SELFCOL_COLLIDER_SPHERE: return 1;
     case SELFCOL_COLLIDER_CAPSULE: return 2;
@@ -65,7 +65,7 @@ size_t selfcol_collider__point_count(const selfcol_collider_desc *desc) {
     }
 }
 
-void selfcol_collider__local_points(const selfcol_collider_desc *desc, double (*local)[3]) {
+void selfcol_collider__local_points(const selfcol_scene_collider_desc *desc, double (*local)[3]) {
     switch (desc->shape) {
     case SELFCOL_COLLIDER_SPHERE: local[0][0] = local[0][1] = local[0][2] = 0.0; break;
     case SELFCOL_COLLIDER_CAPSULE:

@@ -23,10 +23,10 @@ typedef struct selfcol_collider {
 
 // The hull's local points of a valid description (point_count of them,
 // written into `local`, which holds selfcol_collider__point_count(desc)).
-size_t selfcol_collider__point_count(const selfcol_collider_desc *desc);
+size_t selfcol_collider__point_count(const selfcol_scene_collider_desc *desc);
 // SELFCOL_OK or SELFCOL_EINVAL (the checks of selfcol_scene_add_collider()).
-int selfcol_collider__check(const selfcol_collider_desc *desc);
-void selfcol_collider__local_points(const selfcol_collider_desc *desc, double (*local)[3]);
+int selfcol_collider__check(const selfcol_scene_collider_desc *desc);
+void selfcol_collider__local_points(const selfcol_scene_collider_desc *desc, double (*local)[3]);
 
 // Places the collider (rotation row-major, NULL: identity); the caller has
 // checked the pose.

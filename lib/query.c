@@ -29,26 +29,39 @@ int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version
     return SELFCOL_OK;
 }
 
-static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
-                     selfcol_contacts *contacts, const selfcol_query_options *opts) {
-    SELFCOL_CHECK(first != NULL && second != NULL && contacts != NULL);
+int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts) {
     SELFCOL_CHECK_VERSION(opts, SELFCOL_QUERY_OPTIONS_VERSION);
-    selfcol_query_options defaults;
-    if (opts == NULL) {
-        selfcol_query_options_init(&defaults, SELFCOL_QUERY_OPTIONS_VERSION);
-        opts = &defaults;
+    selfcol_query_options_init(out, SELFCOL_QUERY_OPTIONS_VERSION);
+    if (opts != NULL) {
+        out->method = opts->method;
+        out->narrow = opts->narrow;
+        out->kinds = opts->kinds;
+        out->distance = opts->distance;
+        // Version 1 callers' structs end before `threads`.
+        if (opts->version >= 2)
+            out->threads = opts->threads;
     }
-    SELFCOL_CHECK(opts->method <= SELFCOL_METHOD_EXACT);
-    SELFCOL_CHECK(opts->narrow == SELFCOL_NARROW_CLOSED_FORM ||
-                  opts->narrow == SELFCOL_NARROW_LIBCCD);
-    SELFCOL_CHECK((opts->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);
+    SELFCOL_CHECK(out->method <= SELFCOL_METHOD_EXACT);
+    SELFCOL_CHECK(out->narrow == SELFCOL_NARROW_CLOSED_FORM ||
+                  out->narrow == SELFCOL_NARROW_LIBCCD);
+    SELFCOL_CHECK((out->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);
     // The distance obeys the coordinates' contract (mesh.h): its square must
     // not overflow in the closed forms.
-    SELFCOL_CHECK(isfinite(opts->distance) && opts->distance >= 0.0 &&
-                  opts->distance <= SELFCOL_MESH_MAX_COORDINATE);
-    // Version 1 callers' structs end before `threads`.
-    const unsigned threads = opts->version >= 2 ? opts->threads : 1u;
-    SELFCOL_CHECK(threads >= 1 && threads <= SELFCOL_MAX_THREADS);
+    SELFCOL_CHECK(isfinite(out->distance) && out->distance >= 0.0 &&
+                  out->distance <= SELFCOL_MESH_MAX_COORDINATE);
+    SELFCOL_CHECK(out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS);
+    return SELFCOL_OK;
+}
+
+static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
+                     selfcol_contacts *contacts, const selfcol_query_options *given) {
+    SELFCOL_CHECK(first != NULL && second != NULL && contacts != NULL);
+    selfcol_query_options checked;
+    int status = selfcol_query__options(&checked, given);
+    if (status != SELFCOL_OK)
+        return status;
+    const selfcol_query_options *opts = &checked;
+    const unsigned threads = opts->threads;
 
     if (opts->method != SELFCOL_METHOD_EXHAUSTIVE &&
         (first->refit_version != first->mesh->positions_version ||
@@ -69,9 +82,9 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     q.ccd_tolerance = 1e-7 * q.distance;
     q.out = contacts;
 
-    int status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
-                     ? selfcol_exhaustive__run(&q)
-                     : selfcol_traverse__run(&q, first, second, opts->method, threads);
+    status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
+                 ? selfcol_exhaustive__run(&q)
+                 : selfcol_traverse__run(&q, first, second, opts->method, threads);
     double sort_start = selfcol_core__seconds();
     if (status == SELFCOL_OK)
         status = selfcol_contacts__sort(contacts);

@@ -9,6 +9,8 @@
 #ifndef SELFCOL_QUERY_H
 #define SELFCOL_QUERY_H
 
+#include <selfcol/hierarchy.h>
+
 #include "contacts.h"
 #include "mesh.h"
 
@@ -21,6 +23,12 @@ typedef struct selfcol_query {
     double ccd_tolerance; // absolute tolerance for libccd (relative to the distance)
     selfcol_contacts *out;
 } selfcol_query;
+
+// Reads a caller's query options (NULL: the defaults) as their version says
+// into a copy of the current version, and checks every field: SELFCOL_OK,
+// SELFCOL_EVERSION or SELFCOL_EINVAL. Every user of query options (queries,
+// scenes, adapters through scenes) goes through it.
+int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts);
 
 // Primitive-pair tests (pairs.c). Vertex v of mesh[mv] against triangle t of
 // mesh[mt]; the caller guarantees (for self queries) that v is not a corner

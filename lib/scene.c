@@ -18,6 +18,8 @@
 #include "core.h"
 #include "hierarchy.h"
 #include "mesh.h"
+#include "query.h"
+#include "store.h"
 #include "vec3.h"
 
 #include <math.h>
@@ -44,8 +46,10 @@ typedef struct scene_pair {
 
 struct selfcol_scene {
     selfcol_allocator allocator;
-    selfcol_scene_options options;
-    selfcol_query_options query;
+    selfcol_query_options query; // checked, current version
+    selfcol_store_options store; // checked; the allocator is the scene's
+    double distance;             // query.distance
+    double collider_tolerance;   // absolute (the default resolved)
 
     scene_surface *surfaces;
     size_t surface_count, surface_capacity;
@@ -67,22 +71,20 @@ struct selfcol_scene {
 
 int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
-    if (version == 0 || version > SELFCOL_SCENE_OPTIONS_VERSION)
+    if (version < SELFCOL_SCENE_OPTIONS_VERSION || version > SELFCOL_SCENE_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
     memset(opts, 0, sizeof *opts);
     opts->version = version;
-    opts->kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF;
-    opts->method = SELFCOL_METHOD_EXACT;
-    opts->threads = 1;
-    opts->remnance_frames = SELFCOL_STORE_DEFAULT_REMNANCE;
-    opts->consistency = 1;
+    selfcol_query_options_init(&opts->query, SELFCOL_QUERY_OPTIONS_VERSION);
+    opts->query.kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF;
+    selfcol_store_options_init(&opts->store, SELFCOL_STORE_OPTIONS_VERSION);
     return SELFCOL_OK;
 }
 
-int selfcol_surface_options_init(selfcol_surface_options *opts, uint32_t kind,
-                                 unsigned int version) {
+int selfcol_scene_surface_options_init(selfcol_scene_surface_options *opts, uint32_t kind,
+                                       unsigned int version) {
     SELFCOL_CHECK(opts != NULL && kind <= SELFCOL_SURFACE_STATIC);
-    if (version == 0 || version > SELFCOL_SURFACE_OPTIONS_VERSION)
+    if (version == 0 || version > SELFCOL_SCENE_SURFACE_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
     memset(opts, 0, sizeof *opts);
     opts->version = version;
@@ -91,9 +93,10 @@ int selfcol_surface_options_init(selfcol_surface_options *opts, uint32_t kind,
     return SELFCOL_OK;
 }
 
-int selfcol_collider_desc_init(selfcol_collider_desc *desc, uint32_t shape, unsigned int version) {
+int selfcol_scene_collider_desc_init(selfcol_scene_collider_desc *desc, uint32_t shape,
+                                     unsigned int version) {
     SELFCOL_CHECK(desc != NULL && shape <= SELFCOL_COLLIDER_CONVEX);
-    if (version == 0 || version > SELFCOL_COLLIDER_DESC_VERSION)
+    if (version == 0 || version > SELFCOL_SCENE_COLLIDER_DESC_VERSION)
         return SELFCOL_EVERSION;
     memset(desc, 0, sizeof *desc);
     desc->version = version;
@@ -105,15 +108,24 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
     SELFCOL_CHECK(opts != NULL);
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_SCENE_OPTIONS_VERSION);
+    // Version 1 was 0.2's layout (fields copied from the query and store
+    // options): its fields are not where this layout reads them.
+    if (opts->version != SELFCOL_SCENE_OPTIONS_VERSION)
+        return SELFCOL_EVERSION;
     const selfcol_scene_options o = *opts;
     SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
-    SELFCOL_CHECK(o.distance > 0.0 && o.distance <= SELFCOL_MESH_MAX_COORDINATE);
-    SELFCOL_CHECK(o.consistency == 0 || o.consistency == 1);
+    selfcol_query_options query;
+    selfcol_store_options store;
+    int status = selfcol_query__options(&query, &o.query);
+    if (status == SELFCOL_OK)
+        status = selfcol_store__options(&store, &o.store);
+    if (status != SELFCOL_OK)
+        return status;
+    SELFCOL_CHECK(query.distance > 0.0 && query.kinds != 0);
+    SELFCOL_CHECK(store.allocator.alloc == NULL && store.allocator.free == NULL &&
+                  store.allocator.user == NULL);
+    SELFCOL_CHECK(store.first_orientation == 0 && store.second_orientation == 0);
     SELFCOL_CHECK(isfinite(o.collider_tolerance) && o.collider_tolerance >= 0.0);
-    SELFCOL_CHECK(o.kinds != 0 && (o.kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);
-    SELFCOL_CHECK(o.method <= SELFCOL_METHOD_EXACT);
-    SELFCOL_CHECK(o.threads >= 1 && o.threads <= SELFCOL_MAX_THREADS);
     selfcol_contacts_options copts;
     selfcol_contacts_options_init(&copts, SELFCOL_CONTACTS_OPTIONS_VERSION);
     copts.allocator = o.allocator;
@@ -122,15 +134,12 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
         return SELFCOL_ENOMEM;
     memset(s, 0, sizeof *s);
     s->allocator = o.allocator;
-    s->options = o;
-    if (s->options.collider_tolerance == 0.0)
-        s->options.collider_tolerance = 1e-6 * o.distance;
-    selfcol_query_options_init(&s->query, SELFCOL_QUERY_OPTIONS_VERSION);
-    s->query.distance = o.distance;
-    s->query.kinds = o.kinds;
-    s->query.method = o.method;
-    s->query.threads = o.threads;
-    const int status = selfcol_contacts_create(&s->detected, &copts);
+    s->query = query;
+    s->store = store;
+    s->distance = query.distance;
+    s->collider_tolerance =
+        o.collider_tolerance == 0.0 ? 1e-6 * query.distance : o.collider_tolerance;
+    status = selfcol_contacts_create(&s->detected, &copts);
     if (status != SELFCOL_OK) {
         selfcol_alloc__free(&o.allocator, s, sizeof *s);
         return status;
@@ -212,10 +221,10 @@ static int pair_tested(const scene_surface *a, const scene_surface *b, int self)
 }
 
 int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
-                              const selfcol_surface_options *opts, uint32_t *id_out) {
+                              const selfcol_scene_surface_options *opts, uint32_t *id_out) {
     SELFCOL_CHECK(scene != NULL && mesh != NULL && opts != NULL);
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_SURFACE_OPTIONS_VERSION);
-    const selfcol_surface_options o = *opts;
+    SELFCOL_CHECK_VERSION(opts, SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
+    const selfcol_scene_surface_options o = *opts;
     SELFCOL_CHECK(o.kind <= SELFCOL_SURFACE_STATIC);
     SELFCOL_CHECK(o.self_collision == 0 || o.self_collision == 1);
     SELFCOL_CHECK(!(o.kind == SELFCOL_SURFACE_STATIC && o.self_collision));
@@ -261,11 +270,8 @@ int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
         const scene_surface *first = i < id ? &scene->surfaces[i] : &add;
         if (!pair_tested(first, &add, i == id))
             continue;
-        selfcol_store_options sopts;
-        selfcol_store_options_init(&sopts, SELFCOL_STORE_OPTIONS_VERSION);
+        selfcol_store_options sopts = scene->store;
         sopts.allocator = scene->allocator;
-        sopts.remnance_frames = scene->options.remnance_frames;
-        sopts.consistency = scene->options.consistency;
         sopts.first_orientation = first->orientation;
         sopts.second_orientation = add.orientation;
         made[made_count] = (scene_pair){(uint32_t)i, (uint32_t)id, NULL};
@@ -287,10 +293,10 @@ int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
     return SELFCOL_OK;
 }
 
-int selfcol_scene_add_collider(selfcol_scene *scene, const selfcol_collider_desc *desc,
+int selfcol_scene_add_collider(selfcol_scene *scene, const selfcol_scene_collider_desc *desc,
                                uint32_t *id_out) {
     SELFCOL_CHECK(scene != NULL && desc != NULL);
-    SELFCOL_CHECK_VERSION(desc, SELFCOL_COLLIDER_DESC_VERSION);
+    SELFCOL_CHECK_VERSION(desc, SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     SELFCOL_CHECK(selfcol_collider__check(desc) == SELFCOL_OK);
     if (scene->collider_count >= SCENE_MAX_COLLIDERS)
         return SELFCOL_ERANGE;
@@ -392,7 +398,7 @@ int selfcol_scene_update(selfcol_scene *scene) {
         if (pair->first == pair->second) {
             status = selfcol_hierarchy_self_collide(a->hierarchy, scene->detected, &scene->query);
             st.pairs_queried++;
-        } else if (roots_apart(a->hierarchy, b->hierarchy, scene->options.distance)) {
+        } else if (roots_apart(a->hierarchy, b->hierarchy, scene->distance)) {
             selfcol_contacts_clear(scene->detected);
             st.pairs_apart++;
         } else {
@@ -422,9 +428,9 @@ int selfcol_scene_update(selfcol_scene *scene) {
             if (s->kind == SELFCOL_SURFACE_STATIC)
                 continue; // rigid against rigid: the rigid solver's job
             status = selfcol_collider__contacts(
-                &scene->colliders[c], (uint32_t)c, s->hierarchy, (uint32_t)i,
-                scene->options.distance, scene->options.collider_tolerance, scene->stack,
-                scene->scratch, &scene->allocator, &scene->found, &st.collider_candidates);
+                &scene->colliders[c], (uint32_t)c, s->hierarchy, (uint32_t)i, scene->distance,
+                scene->collider_tolerance, scene->stack, scene->scratch, &scene->allocator,
+                &scene->found, &st.collider_candidates);
         }
     if (status != SELFCOL_OK) {
         scene->found.count = 0;

@@ -24,6 +24,7 @@
 #include "mesh.h"
 #include "narrow.h"
 #include "predicates.h"
+#include "store.h"
 #include "vec3.h"
 
 #include <math.h>
@@ -86,18 +87,26 @@ int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version
     return SELFCOL_OK;
 }
 
+int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts) {
+    SELFCOL_CHECK_VERSION(opts, SELFCOL_STORE_OPTIONS_VERSION);
+    selfcol_store_options_init(out, SELFCOL_STORE_OPTIONS_VERSION);
+    if (opts != NULL)
+        *out = *opts; // version 1 is the only layout so far
+    out->version = SELFCOL_STORE_OPTIONS_VERSION;
+    SELFCOL_CHECK(selfcol_alloc__valid(&out->allocator));
+    SELFCOL_CHECK(out->consistency == 0 || out->consistency == 1);
+    SELFCOL_CHECK(out->first_orientation >= -1 && out->first_orientation <= 1);
+    SELFCOL_CHECK(out->second_orientation >= -1 && out->second_orientation <= 1);
+    return SELFCOL_OK;
+}
+
 int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_STORE_OPTIONS_VERSION);
     selfcol_store_options o;
-    selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
-    if (opts != NULL)
-        o = *opts;
-    SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
-    SELFCOL_CHECK(o.consistency == 0 || o.consistency == 1);
-    SELFCOL_CHECK(o.first_orientation >= -1 && o.first_orientation <= 1);
-    SELFCOL_CHECK(o.second_orientation >= -1 && o.second_orientation <= 1);
+    const int checked = selfcol_store__options(&o, opts);
+    if (checked != SELFCOL_OK)
+        return checked;
     selfcol_store *s = selfcol_alloc__raw(&o.allocator, sizeof *s);
     if (s == NULL)
         return SELFCOL_ENOMEM;

@@ -42,7 +42,7 @@ static void random_triangle(double t[3][3], const double c[3], double spread, do
             t[i][k] = centre[k] + uniform(-size, size);
 }
 
-static selfcol_collider make(const selfcol_collider_desc *desc, double (*local)[3],
+static selfcol_collider make(const selfcol_scene_collider_desc *desc, double (*local)[3],
                              double (*world)[3], const double position[3], const double rot[9]) {
     selfcol_collider c;
     memset(&c, 0, sizeof c);
@@ -74,8 +74,8 @@ static double core_distance_to_point(const selfcol_collider *c, const double p[3
 }
 
 static void check_rounded(uint32_t shape) {
-    selfcol_collider_desc desc;
-    selfcol_collider_desc_init(&desc, shape, SELFCOL_COLLIDER_DESC_VERSION);
+    selfcol_scene_collider_desc desc;
+    selfcol_scene_collider_desc_init(&desc, shape, SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     desc.radius = 0.5;
     desc.half_height = 0.7;
     double local[2][3], world[2][3], scratch[2][3];
@@ -175,8 +175,9 @@ static double box_distance(double corners[8][3], double t[3][3], double normal[3
 
 static void test_box_libccd_matches_closed_form(void **state) {
     (void)state;
-    selfcol_collider_desc desc;
-    selfcol_collider_desc_init(&desc, SELFCOL_COLLIDER_BOX, SELFCOL_COLLIDER_DESC_VERSION);
+    selfcol_scene_collider_desc desc;
+    selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_BOX,
+                                     SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     desc.half_extents[0] = 0.6;
     desc.half_extents[1] = 0.3;
     desc.half_extents[2] = 0.45;

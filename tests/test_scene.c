@@ -36,7 +36,7 @@ static selfcol_mesh *mesh_of(const scene *s) {
 static selfcol_scene *make_scene(double d, const selfcol_allocator *al) {
     selfcol_scene_options o;
     assert_int_equal(selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION), SELFCOL_OK);
-    o.distance = d;
+    o.query.distance = d;
     if (al != NULL)
         o.allocator = *al;
     selfcol_scene *sc = NULL;
@@ -46,9 +46,10 @@ static selfcol_scene *make_scene(double d, const selfcol_allocator *al) {
 
 static uint32_t add(selfcol_scene *sc, const selfcol_mesh *m, uint32_t kind, int self,
                     int orientation) {
-    selfcol_surface_options so;
-    assert_int_equal(selfcol_surface_options_init(&so, kind, SELFCOL_SURFACE_OPTIONS_VERSION),
-                     SELFCOL_OK);
+    selfcol_scene_surface_options so;
+    assert_int_equal(
+        selfcol_scene_surface_options_init(&so, kind, SELFCOL_SCENE_SURFACE_OPTIONS_VERSION),
+        SELFCOL_OK);
     if (self >= 0)
         so.self_collision = self;
     so.orientation = orientation;
@@ -395,10 +396,10 @@ static void test_capsule_collider_matches_triangulated_capsule(void **state) {
     // Cloth against the collider.
     selfcol_scene *sc = make_scene(d, NULL);
     add(sc, cloth_m, SELFCOL_SURFACE_CLOTH, 0, 0);
-    selfcol_collider_desc desc;
-    assert_int_equal(
-        selfcol_collider_desc_init(&desc, SELFCOL_COLLIDER_CAPSULE, SELFCOL_COLLIDER_DESC_VERSION),
-        SELFCOL_OK);
+    selfcol_scene_collider_desc desc;
+    assert_int_equal(selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_CAPSULE,
+                                                      SELFCOL_SCENE_COLLIDER_DESC_VERSION),
+                     SELFCOL_OK);
     desc.radius = r;
     desc.half_height = h;
     uint32_t cid;
@@ -499,15 +500,41 @@ static void test_errors(void **state) {
     selfcol_scene *sc = (selfcol_scene *)1;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL); // no distance
     assert_null(sc);
-    o.distance = 0.1;
-    o.kinds = 0;
+    o.query.distance = 0.1;
+    o.query.kinds = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.kinds = SELFCOL_KIND_ALL;
-    o.threads = 0;
+    o.query.kinds = SELFCOL_KIND_ALL;
+    o.query.threads = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.threads = 1;
+    o.query.threads = 1;
     o.version = 99;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
+    // 0.3: version 1 (0.2's copied fields) is another layout, refused; the
+    // nested options are checked as their own versions say.
+    o.version = 1;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
+    assert_int_equal(selfcol_scene_options_init(&o, 1), SELFCOL_EVERSION);
+    selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
+    o.query.distance = 0.1;
+    o.query.version = 0;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
+    o.query.version = SELFCOL_QUERY_OPTIONS_VERSION;
+    o.store.version = 99;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
+    o.store.version = SELFCOL_STORE_OPTIONS_VERSION;
+    o.query.narrow = 7;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
+    o.query.narrow = SELFCOL_NARROW_CLOSED_FORM;
+    o.store.consistency = 2;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
+    o.store.consistency = 1;
+    o.store.first_orientation = 1; // a surface's orientation comes from its kind
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
+    o.store.first_orientation = 0;
+    o.store.allocator.user = &o; // the scene's allocator serves its stores
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
+    o.store.allocator.user = NULL;
+    assert_null(sc);
     assert_int_equal(selfcol_scene_create(&sc, NULL), SELFCOL_EINVAL);
     sc = make_scene(0.1, NULL);
 
@@ -516,41 +543,51 @@ static void test_errors(void **state) {
     assert_int_equal(scene_grid(&grid, 3, 3, 1.0), 0);
     assert_int_equal(scene_icosphere(&ball, 1, 1.0), 0);
     selfcol_mesh *mg = mesh_of(&grid), *mb = mesh_of(&ball);
-    selfcol_surface_options so;
-    selfcol_surface_options_init(&so, SELFCOL_SURFACE_BODY, SELFCOL_SURFACE_OPTIONS_VERSION);
+    selfcol_scene_surface_options so;
+    selfcol_scene_surface_options_init(&so, SELFCOL_SURFACE_BODY,
+                                       SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
     assert_int_equal(selfcol_scene_add_surface(sc, mg, &so, NULL), SELFCOL_EINVAL); // open body
-    selfcol_surface_options_init(&so, SELFCOL_SURFACE_STATIC, SELFCOL_SURFACE_OPTIONS_VERSION);
+    selfcol_scene_surface_options_init(&so, SELFCOL_SURFACE_STATIC,
+                                       SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
     so.self_collision = 1;
     assert_int_equal(selfcol_scene_add_surface(sc, mg, &so, NULL), SELFCOL_EINVAL);
-    selfcol_surface_options_init(&so, SELFCOL_SURFACE_CLOTH, SELFCOL_SURFACE_OPTIONS_VERSION);
+    selfcol_scene_surface_options_init(&so, SELFCOL_SURFACE_CLOTH,
+                                       SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
     so.orientation = 1; // only a static surface declares one
     assert_int_equal(selfcol_scene_add_surface(sc, mg, &so, NULL), SELFCOL_EINVAL);
     so.orientation = 0;
     so.kind = 7;
     assert_int_equal(selfcol_scene_add_surface(sc, mg, &so, NULL), SELFCOL_EINVAL);
-    assert_int_equal(selfcol_surface_options_init(&so, 7, SELFCOL_SURFACE_OPTIONS_VERSION),
-                     SELFCOL_EINVAL);
+    assert_int_equal(
+        selfcol_scene_surface_options_init(&so, 7, SELFCOL_SCENE_SURFACE_OPTIONS_VERSION),
+        SELFCOL_EINVAL);
     add(sc, mg, SELFCOL_SURFACE_CLOTH, -1, 0);
-    selfcol_surface_options_init(&so, SELFCOL_SURFACE_CLOTH, SELFCOL_SURFACE_OPTIONS_VERSION);
+    selfcol_scene_surface_options_init(&so, SELFCOL_SURFACE_CLOTH,
+                                       SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
     assert_int_equal(selfcol_scene_add_surface(sc, mg, &so, NULL), SELFCOL_EINVAL); // twice
     add(sc, mb, SELFCOL_SURFACE_BODY, -1, 0);
 
     // Colliders.
-    selfcol_collider_desc desc;
-    assert_int_equal(selfcol_collider_desc_init(&desc, 9, SELFCOL_COLLIDER_DESC_VERSION),
-                     SELFCOL_EINVAL);
-    selfcol_collider_desc_init(&desc, SELFCOL_COLLIDER_SPHERE, SELFCOL_COLLIDER_DESC_VERSION);
+    selfcol_scene_collider_desc desc;
+    assert_int_equal(
+        selfcol_scene_collider_desc_init(&desc, 9, SELFCOL_SCENE_COLLIDER_DESC_VERSION),
+        SELFCOL_EINVAL);
+    selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_SPHERE,
+                                     SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     assert_int_equal(selfcol_scene_add_collider(sc, &desc, NULL), SELFCOL_EINVAL); // radius 0
     desc.radius = NAN;
     assert_int_equal(selfcol_scene_add_collider(sc, &desc, NULL), SELFCOL_EINVAL);
-    selfcol_collider_desc_init(&desc, SELFCOL_COLLIDER_CAPSULE, SELFCOL_COLLIDER_DESC_VERSION);
+    selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_CAPSULE,
+                                     SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     desc.radius = 0.2;
     desc.half_height = -1.0;
     assert_int_equal(selfcol_scene_add_collider(sc, &desc, NULL), SELFCOL_EINVAL);
-    selfcol_collider_desc_init(&desc, SELFCOL_COLLIDER_BOX, SELFCOL_COLLIDER_DESC_VERSION);
+    selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_BOX,
+                                     SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     desc.half_extents[1] = INFINITY;
     assert_int_equal(selfcol_scene_add_collider(sc, &desc, NULL), SELFCOL_EINVAL);
-    selfcol_collider_desc_init(&desc, SELFCOL_COLLIDER_CONVEX, SELFCOL_COLLIDER_DESC_VERSION);
+    selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_CONVEX,
+                                     SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     assert_int_equal(selfcol_scene_add_collider(sc, &desc, NULL), SELFCOL_EINVAL); // no points
     const double pts[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
     desc.points = pts;
@@ -617,19 +654,22 @@ static int run_scene(const selfcol_allocator *al, int frames, long *calls_after_
     selfcol_mesh *mc = mesh_of(&cloth_s), *mb = mesh_of(&ball);
     selfcol_scene_options o;
     selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
-    o.distance = 0.02;
+    o.query.distance = 0.02;
     o.allocator = *al;
     selfcol_scene *sc = NULL;
     int status = selfcol_scene_create(&sc, &o);
-    selfcol_surface_options so;
-    selfcol_surface_options_init(&so, SELFCOL_SURFACE_CLOTH, SELFCOL_SURFACE_OPTIONS_VERSION);
+    selfcol_scene_surface_options so;
+    selfcol_scene_surface_options_init(&so, SELFCOL_SURFACE_CLOTH,
+                                       SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
     if (status == SELFCOL_OK)
         status = selfcol_scene_add_surface(sc, mc, &so, NULL);
-    selfcol_surface_options_init(&so, SELFCOL_SURFACE_BODY, SELFCOL_SURFACE_OPTIONS_VERSION);
+    selfcol_scene_surface_options_init(&so, SELFCOL_SURFACE_BODY,
+                                       SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
     if (status == SELFCOL_OK)
         status = selfcol_scene_add_surface(sc, mb, &so, NULL);
-    selfcol_collider_desc desc;
-    selfcol_collider_desc_init(&desc, SELFCOL_COLLIDER_CAPSULE, SELFCOL_COLLIDER_DESC_VERSION);
+    selfcol_scene_collider_desc desc;
+    selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_CAPSULE,
+                                     SELFCOL_SCENE_COLLIDER_DESC_VERSION);
     desc.radius = 0.2;
     desc.half_height = 0.5;
     uint32_t cid = 0;

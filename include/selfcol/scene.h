@@ -64,9 +64,10 @@ typedef enum selfcol_surface_kind {
     SELFCOL_SURFACE_STATIC = 2, /**< a surface that never moves */
 } selfcol_surface_kind;
 
-/** Options for selfcol_scene_add_surface(). Initialise with selfcol_surface_options_init(). */
-typedef struct selfcol_surface_options {
-    unsigned int version; /**< SELFCOL_SURFACE_OPTIONS_VERSION */
+/** Options for selfcol_scene_add_surface(). Initialise with selfcol_scene_surface_options_init().
+ */
+typedef struct selfcol_scene_surface_options {
+    unsigned int version; /**< SELFCOL_SCENE_SURFACE_OPTIONS_VERSION */
     uint32_t kind;        /**< selfcol_surface_kind */
     /** 1: query the surface against itself (cloth default 1, body 0; static must be 0). */
     int self_collision;
@@ -77,9 +78,9 @@ typedef struct selfcol_surface_options {
      * always taken from its signed volume.
      */
     int orientation;
-} selfcol_surface_options;
+} selfcol_scene_surface_options;
 
-#define SELFCOL_SURFACE_OPTIONS_VERSION 1
+#define SELFCOL_SCENE_SURFACE_OPTIONS_VERSION 1
 
 /** Shapes of convex colliders. */
 typedef enum selfcol_collider_shape {
@@ -90,36 +91,51 @@ typedef enum selfcol_collider_shape {
     SELFCOL_COLLIDER_CONVEX = 3 /**< the convex hull of points, rounded by radius */
 } selfcol_collider_shape;
 
-/** A convex collider, in its local frame. Initialise with selfcol_collider_desc_init(). */
-typedef struct selfcol_collider_desc {
-    unsigned int version;   /**< SELFCOL_COLLIDER_DESC_VERSION */
+/** A convex collider, in its local frame. Initialise with selfcol_scene_collider_desc_init(). */
+typedef struct selfcol_scene_collider_desc {
+    unsigned int version;   /**< SELFCOL_SCENE_COLLIDER_DESC_VERSION */
     uint32_t shape;         /**< selfcol_collider_shape */
     double radius;          /**< sphere and capsule: > 0; box and convex: >= 0 (rounding) */
     double half_height;     /**< capsule: >= 0 */
     double half_extents[3]; /**< box: each >= 0 */
     const double *points;   /**< convex: point_count x 3 coordinates, copied */
     size_t point_count;     /**< convex: 1 .. SELFCOL_COLLIDER_MAX_POINTS */
-} selfcol_collider_desc;
+} selfcol_scene_collider_desc;
 
-#define SELFCOL_COLLIDER_DESC_VERSION 1
+#define SELFCOL_SCENE_COLLIDER_DESC_VERSION 1
 /** The most points of a convex collider (libccd's support search is linear in them). */
 #define SELFCOL_COLLIDER_MAX_POINTS 4096u
 
-/** Options for selfcol_scene_create(). Initialise with selfcol_scene_options_init(). */
+/**
+ * Options for selfcol_scene_create(). Initialise with selfcol_scene_options_init().
+ * The scene's queries and stores take their settings from the query and
+ * store options inside (composed, not copied: a field added to either is
+ * reachable here without a new scene field).
+ */
 typedef struct selfcol_scene_options {
-    unsigned int version;        /**< SELFCOL_SCENE_OPTIONS_VERSION */
-    selfcol_allocator allocator; /**< all-zero: malloc/free */
-    double distance;          /**< detection distance, > 0 (no default: it depends on the scale) */
-    uint32_t kinds;           /**< contact kinds of the surface queries (default VF|EE|EF) */
-    uint32_t method;          /**< selfcol_method of the surface queries (default EXACT) */
-    unsigned int threads;     /**< threads of the surface queries (default 1) */
-    uint32_t remnance_frames; /**< of every store (default SELFCOL_STORE_DEFAULT_REMNANCE) */
-    int consistency;          /**< of every store (default 1) */
+    unsigned int version; /**< SELFCOL_SCENE_OPTIONS_VERSION */
+    selfcol_allocator
+        allocator; /**< of the scene, its hierarchies and stores; all-zero: malloc/free */
+    /**
+     * The surface queries: distance (> 0, no default: it depends on the
+     * scale), kinds (default VF|EE|EF), method (default EXACT), narrow
+     * phase, threads. Initialised by selfcol_scene_options_init() with
+     * SELFCOL_QUERY_OPTIONS_VERSION; read as its own version says.
+     */
+    selfcol_query_options query;
+    /**
+     * Every store's remnance_frames and consistency (defaults as
+     * selfcol_store_options_init()). Its allocator must be all-zero and its
+     * orientations 0: the scene's allocator serves every store, and a
+     * surface's orientation comes from its kind (selfcol_scene_surface_options).
+     */
+    selfcol_store_options store;
     /** Absolute accuracy of collider distances (default 0: 1e-6 x distance). */
     double collider_tolerance;
 } selfcol_scene_options;
 
-#define SELFCOL_SCENE_OPTIONS_VERSION 1
+/** 2 since 0.3 (query and store options composed); version 1 (0.2's layout) is refused. */
+#define SELFCOL_SCENE_OPTIONS_VERSION 2
 
 /** Bits of selfcol_collider_contact.flags. */
 typedef enum selfcol_collider_contact_flag {
@@ -175,22 +191,26 @@ SELFCOL_API int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned
  * only; orientation 0).
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, unknown kind); SELFCOL_EVERSION.
  */
-SELFCOL_API int selfcol_surface_options_init(selfcol_surface_options *opts, uint32_t kind,
-                                             unsigned int version);
+SELFCOL_API int selfcol_scene_surface_options_init(selfcol_scene_surface_options *opts,
+                                                   uint32_t kind, unsigned int version);
 
 /**
  * Writes the defaults of a shape into desc (radius 0, half-height 0, half
  * extents 0, no points: the caller sets the shape's sizes).
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, unknown shape); SELFCOL_EVERSION.
  */
-SELFCOL_API int selfcol_collider_desc_init(selfcol_collider_desc *desc, uint32_t shape,
-                                           unsigned int version);
+SELFCOL_API int selfcol_scene_collider_desc_init(selfcol_scene_collider_desc *desc, uint32_t shape,
+                                                 unsigned int version);
 
 /**
  * Creates an empty scene.
- * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, distance not in (0, 2^200],
- *         bad kinds, method, threads, consistency, negative or non-finite
- *         tolerance, half-set allocator); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, query.distance not in
+ *         (0, 2^200], no kinds or unknown kinds, method, narrow phase or
+ *         threads as selfcol_hierarchy_self_collide() refuses them,
+ *         consistency not 0 or 1, a store allocator or orientation set,
+ *         negative or non-finite tolerance, half-set allocator);
+ *         SELFCOL_EVERSION (the scene's, the query's or the store's version
+ *         0 or unknown, or scene version 1); SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts);
 
@@ -213,7 +233,8 @@ SELFCOL_API void selfcol_scene_destroy(selfcol_scene *scene);
  *         scene is unchanged.
  */
 SELFCOL_API int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
-                                          const selfcol_surface_options *opts, uint32_t *id_out);
+                                          const selfcol_scene_surface_options *opts,
+                                          uint32_t *id_out);
 
 /**
  * Adds a convex collider, placed at the origin with no rotation until
@@ -224,7 +245,8 @@ SELFCOL_API int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_me
  *         SELFCOL_COLLIDER_MAX_POINTS); SELFCOL_EVERSION; SELFCOL_ERANGE
  *         (more than 2^16 colliders); SELFCOL_ENOMEM.
  */
-SELFCOL_API int selfcol_scene_add_collider(selfcol_scene *scene, const selfcol_collider_desc *desc,
+SELFCOL_API int selfcol_scene_add_collider(selfcol_scene *scene,
+                                           const selfcol_scene_collider_desc *desc,
                                            uint32_t *id_out);
 
 /**

@@ -189,18 +189,18 @@ int build_scene(selfcol_bullet *a) {
     if (status != SELFCOL_OK)
         return status;
     so.allocator = a->hooks;
-    so.distance = distance;
-    so.threads = a->opts.threads;
-    so.remnance_frames = a->opts.remnance_frames;
-    so.consistency = a->opts.consistency;
+    so.query.distance = distance;
+    so.query.threads = a->opts.threads;
+    so.store.remnance_frames = a->opts.remnance_frames;
+    so.store.consistency = a->opts.consistency;
     selfcol_scene *scene = nullptr;
     status = selfcol_scene_create(&scene, &so);
     if (status != SELFCOL_OK)
         return status;
     for (const attached_body &b : a->bodies) {
-        selfcol_surface_options surface;
-        selfcol_surface_options_init(&surface, SELFCOL_SURFACE_CLOTH,
-                                     SELFCOL_SURFACE_OPTIONS_VERSION);
+        selfcol_scene_surface_options surface;
+        selfcol_scene_surface_options_init(&surface, SELFCOL_SURFACE_CLOTH,
+                                           SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
         uint32_t id = 0;
         status = selfcol_scene_add_surface(scene, b.mesh, &surface, &id);
         if (status != SELFCOL_OK) {
