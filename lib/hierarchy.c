@@ -33,6 +33,7 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
     memset(h, 0, sizeof *h);
     h->allocator = allocator;
     h->mesh = mesh;
+    h->mesh_identity = mesh->identity;
     h->triangle_count = mesh->triangle_count;
     int status = selfcol_hierarchy__build(h);
     if (status != SELFCOL_OK) {
@@ -67,6 +68,8 @@ const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *hierarchy) {
 
 int selfcol_hierarchy_refit(selfcol_hierarchy *hierarchy) {
     SELFCOL_CHECK(hierarchy != NULL);
+    if (!selfcol_mesh__is(hierarchy->mesh, &hierarchy->mesh_identity))
+        return SELFCOL_EMISMATCH;
     selfcol_hierarchy__refit(hierarchy);
     SELFCOL_ASSERT(selfcol_hierarchy__validate(hierarchy, 1) != 0);
     return SELFCOL_OK;

@@ -64,6 +64,10 @@ typedef struct selfcol_node {
 struct selfcol_hierarchy {
     selfcol_allocator allocator;
     const selfcol_mesh *mesh;
+    // The mesh's identity at creation: refits and queries refuse a mesh that
+    // is not this one (SELFCOL_EMISMATCH), e.g. another mesh allocated at the
+    // address of a destroyed one.
+    selfcol_mesh_identity mesh_identity;
     // The mesh's triangle count, kept so that destroy and byte_count never
     // read the borrowed mesh (it may already be gone).
     size_t triangle_count;

@@ -80,6 +80,24 @@ static int valid_stride(size_t stride_bytes) {
     return stride_bytes >= 3 * sizeof(float) && stride_bytes % sizeof(float) == 0;
 }
 
+// A 64-bit fingerprint of the topology as given (splitmix64's finaliser
+// folded over the counts and the indices): O(F), once per mesh.
+static uint64_t mix64(uint64_t h, uint64_t x) {
+    h ^= x + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h ^= h >> 30;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 27;
+    h *= 0x94D049BB133111EBull;
+    return h ^ (h >> 31);
+}
+
+static void set_identity(selfcol_mesh *m) {
+    uint64_t h = mix64(mix64(0, m->vertex_count), m->triangle_count);
+    for (size_t i = 0; i < 3 * m->triangle_count; ++i)
+        h = mix64(h, m->triangles[i]);
+    m->identity = (selfcol_mesh_identity){m->vertex_count, m->triangle_count, m->edge_count, h};
+}
+
 static int create_mesh(selfcol_mesh **out, size_t vertex_count, const position_source *src,
                        size_t triangle_count, const uint32_t *triangles,
                        const selfcol_mesh_options *opts) {
@@ -116,6 +134,8 @@ static int create_mesh(selfcol_mesh **out, size_t vertex_count, const position_s
         memcpy(m->triangles, triangles, 3 * triangle_count * sizeof(uint32_t));
         status = selfcol_mesh__build_topology(m);
     }
+    if (status == SELFCOL_OK)
+        set_identity(m);
     if (status != SELFCOL_OK) {
         selfcol_mesh_destroy(m);
         return status;
@@ -159,8 +179,20 @@ static int set_positions(selfcol_mesh *mesh, const position_source *src) {
     int checked = positions_check(src, mesh->vertex_count);
     if (checked != SELFCOL_OK)
         return checked;
-    copy_positions(mesh->positions, src, mesh->vertex_count);
-    mesh->positions_version++;
+    // Positions equal to the current ones are not a move: the version (which
+    // hierarchies, queries and static scene surfaces compare) stays, so
+    // setting a static surface's own positions again is harmless.
+    int moved = 0;
+    for (size_t v = 0; v < mesh->vertex_count; ++v) {
+        double p[3];
+        read_position(src, v, p);
+        double *q = mesh->positions + 3 * v;
+        moved |= p[0] != q[0] || p[1] != q[1] || p[2] != q[2];
+        q[0] = p[0];
+        q[1] = p[1];
+        q[2] = p[2];
+    }
+    mesh->positions_version += moved;
     return SELFCOL_OK;
 }
 

@@ -11,8 +11,22 @@
 #define SELFCOL_MESH_MAX_TRIANGLES ((size_t)(UINT32_MAX - 1) / 3)
 #define SELFCOL_MESH_MAX_VERTICES ((size_t)UINT32_MAX - 1)
 
+// What tells one mesh from another where an address cannot: a freed mesh's
+// address may be handed to the next mesh created. Handles that remember a
+// mesh between calls (a store, a hierarchy) keep its identity and compare it
+// at every call: a different vertex, triangle or edge count means another
+// mesh (and indices that would be out of range), and the fingerprint of the
+// triangle indices tells apart meshes with the same counts.
+typedef struct selfcol_mesh_identity {
+    size_t vertex_count;
+    size_t triangle_count;
+    size_t edge_count;
+    uint64_t fingerprint; // of the counts and the triangle indices (mesh.c)
+} selfcol_mesh_identity;
+
 struct selfcol_mesh {
     selfcol_allocator allocator;
+    selfcol_mesh_identity identity;
     size_t vertex_count;
     size_t triangle_count;
     size_t edge_count;
@@ -49,6 +63,13 @@ int selfcol_mesh__build_topology(selfcol_mesh *mesh);
 
 // Frees the topology arrays (used by destroy).
 void selfcol_mesh__free_topology(selfcol_mesh *mesh);
+
+// 1 when mesh is the one whose identity was kept (same counts and fingerprint).
+static inline int selfcol_mesh__is(const selfcol_mesh *mesh, const selfcol_mesh_identity *id) {
+    const selfcol_mesh_identity *m = &mesh->identity;
+    return m->vertex_count == id->vertex_count && m->triangle_count == id->triangle_count &&
+           m->edge_count == id->edge_count && m->fingerprint == id->fingerprint;
+}
 
 // Position of vertex v.
 static inline const double *selfcol_mesh__position(const selfcol_mesh *mesh, uint32_t v) {

@@ -63,6 +63,9 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     const selfcol_query_options *opts = &checked;
     const unsigned threads = opts->threads;
 
+    if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||
+        !selfcol_mesh__is(second->mesh, &second->mesh_identity))
+        return SELFCOL_EMISMATCH;
     if (opts->method != SELFCOL_METHOD_EXHAUSTIVE &&
         (first->refit_version != first->mesh->positions_version ||
          second->refit_version != second->mesh->positions_version))

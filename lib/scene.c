@@ -31,7 +31,7 @@
 #define SCENE_MAX_COLLIDERS 65536u
 
 typedef struct scene_surface {
-    const selfcol_mesh *mesh;
+    const selfcol_mesh *mesh; // NULL once removed (the id is never reused)
     selfcol_hierarchy *hierarchy;
     uint32_t kind;
     int self_collision;
@@ -52,7 +52,8 @@ struct selfcol_scene {
     double collider_tolerance;   // absolute (the default resolved)
 
     scene_surface *surfaces;
-    size_t surface_count, surface_capacity;
+    size_t surface_count, surface_capacity; // ids handed out (removed ones included)
+    size_t live_surfaces;                   // not removed
     scene_pair *pairs;
     size_t pair_count, pair_capacity;
     selfcol_collider *colliders;
@@ -215,6 +216,8 @@ static double signed_volume6(const selfcol_mesh *m) {
 
 // Is the pair (i, j), i <= j, ever tested (scene.h)?
 static int pair_tested(const scene_surface *a, const scene_surface *b, int self) {
+    if (a->mesh == NULL || b->mesh == NULL)
+        return 0; // removed
     if (self)
         return a->self_collision;
     return !(a->kind == SELFCOL_SURFACE_STATIC && b->kind == SELFCOL_SURFACE_STATIC);
@@ -286,10 +289,54 @@ int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
     }
     scene->surfaces[id] = add;
     scene->surface_count++;
+    scene->live_surfaces++;
     scene->pair_count += made_count;
     scene->builds++;
     if (id_out != NULL)
         *id_out = (uint32_t)id;
+    return SELFCOL_OK;
+}
+
+int selfcol_scene_remove_surface(selfcol_scene *scene, uint32_t id) {
+    SELFCOL_CHECK(scene != NULL && id < scene->surface_count && scene->surfaces[id].mesh != NULL);
+    size_t kept = 0;
+    for (size_t p = 0; p < scene->pair_count; ++p) {
+        scene_pair pair = scene->pairs[p];
+        if (pair.first == id || pair.second == id)
+            selfcol_store_destroy(pair.store);
+        else
+            scene->pairs[kept++] = pair; // order kept: updates stay deterministic
+    }
+    scene->pair_count = kept;
+    scene_surface *s = &scene->surfaces[id];
+    selfcol_hierarchy_destroy(s->hierarchy);
+    s->hierarchy = NULL;
+    s->mesh = NULL;
+    scene->live_surfaces--;
+    return SELFCOL_OK;
+}
+
+int selfcol_scene_rebuild_surface(selfcol_scene *scene, uint32_t id) {
+    SELFCOL_CHECK(scene != NULL && id < scene->surface_count && scene->surfaces[id].mesh != NULL);
+    scene_surface *s = &scene->surfaces[id];
+    if (!selfcol_mesh__is(s->mesh, &s->hierarchy->mesh_identity))
+        return SELFCOL_EMISMATCH;
+    selfcol_hierarchy_options hopts;
+    selfcol_hierarchy_options_init(&hopts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+    hopts.allocator = scene->allocator;
+    selfcol_hierarchy *rebuilt = NULL;
+    int status = selfcol_hierarchy_create(&rebuilt, s->mesh, &hopts);
+    if (status == SELFCOL_OK)
+        status = reserve(&scene->allocator, (void **)&scene->stack, &scene->stack_capacity, 0,
+                         rebuilt->node_count, sizeof *scene->stack);
+    if (status != SELFCOL_OK) {
+        selfcol_hierarchy_destroy(rebuilt);
+        return status;
+    }
+    selfcol_hierarchy_destroy(s->hierarchy);
+    s->hierarchy = rebuilt;
+    s->positions_version = s->mesh->positions_version;
+    scene->builds++;
     return SELFCOL_OK;
 }
 
@@ -374,21 +421,22 @@ int selfcol_scene_update(selfcol_scene *scene) {
     const double start = selfcol_core__seconds();
     for (size_t i = 0; i < scene->surface_count; ++i) {
         const scene_surface *s = &scene->surfaces[i];
-        if (s->kind == SELFCOL_SURFACE_STATIC && s->mesh->positions_version != s->positions_version)
+        if (s->mesh != NULL && s->kind == SELFCOL_SURFACE_STATIC &&
+            s->mesh->positions_version != s->positions_version)
             return SELFCOL_ESTALE;
     }
     selfcol_scene_update_stats st;
     memset(&st, 0, sizeof st);
     st.version = SELFCOL_SCENE_UPDATE_STATS_VERSION;
-    st.surfaces = scene->surface_count;
+    st.surfaces = scene->live_surfaces;
     st.colliders = scene->collider_count;
     scene->found.count = 0;
     scene->stats = st;
     int status = SELFCOL_OK;
     for (size_t i = 0; i < scene->surface_count && status == SELFCOL_OK; ++i) {
         scene_surface *s = &scene->surfaces[i];
-        if (s->kind == SELFCOL_SURFACE_STATIC)
-            continue; // built once, never refit
+        if (s->mesh == NULL || s->kind == SELFCOL_SURFACE_STATIC)
+            continue; // removed; or built once, never refit
         status = selfcol_hierarchy_refit(s->hierarchy);
         st.refits++;
     }
@@ -425,8 +473,8 @@ int selfcol_scene_update(selfcol_scene *scene) {
     for (size_t c = 0; c < scene->collider_count && status == SELFCOL_OK; ++c)
         for (size_t i = 0; i < scene->surface_count && status == SELFCOL_OK; ++i) {
             const scene_surface *s = &scene->surfaces[i];
-            if (s->kind == SELFCOL_SURFACE_STATIC)
-                continue; // rigid against rigid: the rigid solver's job
+            if (s->mesh == NULL || s->kind == SELFCOL_SURFACE_STATIC)
+                continue; // removed; or rigid against rigid: the rigid solver's job
             status = selfcol_collider__contacts(
                 &scene->colliders[c], (uint32_t)c, s->hierarchy, (uint32_t)i, scene->distance,
                 scene->collider_tolerance, scene->stack, scene->scratch, &scene->allocator,
@@ -474,7 +522,7 @@ int selfcol_scene_stats(const selfcol_scene *scene, selfcol_scene_update_stats *
     const unsigned version = stats->version;
     *stats = scene->stats;
     stats->builds = scene->builds;
-    stats->surfaces = scene->surface_count;
+    stats->surfaces = scene->live_surfaces;
     stats->colliders = scene->collider_count;
     stats->version = version;
     return SELFCOL_OK;

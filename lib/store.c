@@ -46,6 +46,7 @@ struct selfcol_store {
     int consistency;
     int orientation[2];            // per mesh slot: 0 none, +1 / -1 (store.h)
     const selfcol_mesh *meshes[2]; // meshes[0] NULL until the first update after create or clear
+    selfcol_mesh_identity identity[2]; // of meshes[], from the same update
 
     selfcol_store_contact *entries, *spare; // held entries; the merge's destination
     size_t count, capacity;                 // capacity of both arrays
@@ -734,7 +735,13 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                          const selfcol_mesh *second, const selfcol_contacts *detected) {
     SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL);
     const double start = selfcol_core__seconds();
-    if (store->meshes[0] != NULL && (store->meshes[0] != first || store->meshes[1] != second))
+    // Its meshes by address and identity: an address alone is reused by the
+    // allocator once a mesh is destroyed, and the held contacts' indices
+    // would then be read against another mesh's arrays.
+    if (store->meshes[0] != NULL &&
+        (store->meshes[0] != first || store->meshes[1] != second ||
+         !selfcol_mesh__is(first, &store->identity[0]) ||
+         (second != NULL && !selfcol_mesh__is(second, &store->identity[1]))))
         return SELFCOL_EMISMATCH;
     const selfcol_mesh *const meshes[2] = {first, second};
     const selfcol_contact *rec = detected->items;
@@ -763,6 +770,9 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
         return status;
     store->meshes[0] = first;
     store->meshes[1] = second;
+    store->identity[0] = first->identity;
+    if (second != NULL)
+        store->identity[1] = second->identity;
     if (++store->stamp == 0) { // wrapped: forget every cached normal
         for (int k = 0; k < 2; ++k)
             if (store->normal_count[k] > 0)

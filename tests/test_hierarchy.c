@@ -899,8 +899,9 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
             free(bvh);
         }
         if (f == 0) {
-            // Unchanged positions, or a rejected update, leave it fresh; an
-            // accepted update with the same positions still asks for a refit.
+            // Unchanged positions, or a rejected update, leave it fresh; so
+            // does an accepted update with the same positions (not a move);
+            // a moved vertex asks for a refit.
             double *bad = malloc(3 * frame.vertex_count * sizeof(double));
             assert_non_null(bad);
             memcpy(bad, frame.positions, 3 * frame.vertex_count * sizeof(double));
@@ -915,7 +916,17 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
                 selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count),
                 SELFCOL_OK);
             assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),
+                             SELFCOL_OK);
+            frame.positions[5] += 1e-3;
+            assert_int_equal(
+                selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count),
+                SELFCOL_OK);
+            frame.positions[5] -= 1e-3;
+            assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),
                              SELFCOL_ESTALE);
+            assert_int_equal(
+                selfcol_mesh_set_positions(w.mesh, frame.positions, frame.vertex_count),
+                SELFCOL_OK);
             assert_int_equal(selfcol_hierarchy_refit(w.hierarchy), SELFCOL_OK);
             assert_int_equal(selfcol_hierarchy_refit(w.hierarchy), SELFCOL_OK); // idempotent
             assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q),

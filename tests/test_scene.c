@@ -176,18 +176,107 @@ static void test_static_never_refit(void **state) {
         assert_true(c[i].flags & SELFCOL_STORE_ORIENTED);
         assert_true(c[i].signed_distance >= 0.0);
     }
+    // Issue "hardening 0.3", item 7: the floor given the very positions it
+    // has is not a move (every later update was ESTALE for good before).
+    assert_int_equal(selfcol_mesh_set_positions(floor_m, floor_s.positions, floor_s.vertex_count),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
     // The floor moves: refused, nothing updated.
     const double lift[3] = {0.0, 0.0, 0.01};
     scene_translate(&floor_s, lift);
     assert_int_equal(selfcol_mesh_set_positions(floor_m, floor_s.positions, floor_s.vertex_count),
                      SELFCOL_OK);
     assert_int_equal(selfcol_scene_update(sc), SELFCOL_ESTALE);
+    // Moved on purpose: set the positions, then rebuild the surface. The
+    // floor drops below the cloth's reach: the pair's contacts age out by
+    // remnance, the store is the same one.
+    const double drop[3] = {0.0, 0.0, -1.0};
+    scene_translate(&floor_s, drop);
+    assert_int_equal(selfcol_mesh_set_positions(floor_m, floor_s.positions, floor_s.vertex_count),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_ESTALE);
+    assert_int_equal(selfcol_scene_rebuild_surface(sc, fl), SELFCOL_OK);
+    assert_int_equal(stats_of(sc).builds, 3);
+    assert_ptr_equal(store_of(sc, cloth, fl), store);
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    assert_int_equal(selfcol_store_stats(store, &ss), SELFCOL_OK);
+    assert_int_equal(ss.new_contacts + ss.kept, 0); // the floor is 1 below: nothing detected
+    assert_true(ss.remnant > 0);                    // held by remnance: the memory kept
+    assert_int_equal(selfcol_scene_rebuild_surface(sc, 7), SELFCOL_EINVAL);
 
     selfcol_scene_destroy(sc);
     selfcol_mesh_destroy(cloth_m);
     selfcol_mesh_destroy(floor_m);
     scene_free(&cloth_s);
     scene_free(&floor_s);
+}
+
+// Removing a surface destroys its pairs' stores only: the others keep their
+// contacts and their memory, ids stay, and a later surface gets a new id
+// (the Bullet adapter's attach and detach rely on this).
+static void test_remove_surface_keeps_the_other_stores(void **state) {
+    (void)state;
+    scene low = {0}, high = {0}, far_s = {0};
+    assert_int_equal(scene_grid(&low, 6, 6, 1.0), 0);
+    assert_int_equal(scene_grid(&high, 6, 6, 1.0), 0);
+    assert_int_equal(scene_grid(&far_s, 4, 4, 1.0), 0);
+    const double lift[3] = {0.13, 0.07, 0.05}, away[3] = {10.0, 0.0, 0.0};
+    scene_translate(&high, lift);
+    scene_translate(&far_s, away);
+    selfcol_mesh *ml = mesh_of(&low), *mh = mesh_of(&high), *mf = mesh_of(&far_s);
+    selfcol_scene *sc = make_scene(0.1, NULL);
+    const uint32_t l = add(sc, ml, SELFCOL_SURFACE_CLOTH, -1, 0);
+    const uint32_t f = add(sc, mf, SELFCOL_SURFACE_CLOTH, -1, 0);
+    const uint32_t h = add(sc, mh, SELFCOL_SURFACE_CLOTH, -1, 0);
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    const selfcol_store *pair = store_of(sc, l, h);
+    assert_non_null(pair);
+    const selfcol_store_contact *c;
+    size_t before = 0, after = 0;
+    assert_int_equal(selfcol_store_contacts(pair, &c, &before), SELFCOL_OK);
+    assert_true(before > 0);
+
+    assert_int_equal(selfcol_scene_remove_surface(sc, f), SELFCOL_OK);
+    assert_int_equal(selfcol_scene_remove_surface(sc, f), SELFCOL_EINVAL); // already removed
+    selfcol_mesh_destroy(mf); // the scene no longer reads it
+    assert_null(store_of(sc, l, f));
+    assert_null(store_of(sc, f, h));
+    assert_ptr_equal(store_of(sc, l, h), pair); // the same store, contacts held
+    assert_int_equal(selfcol_store_contacts(pair, &c, &after), SELFCOL_OK);
+    assert_int_equal(after, before);
+    assert_int_equal(stats_of(sc).surfaces, 2);
+
+    // The upper sheet pushed through the lower one between two updates: the
+    // store remembers the sides, so the contacts flip (a rebuilt scene would
+    // have forgotten them).
+    const double through[3] = {0.0, 0.0, -0.1};
+    scene_translate(&high, through);
+    assert_int_equal(selfcol_mesh_set_positions(mh, high.positions, high.vertex_count), SELFCOL_OK);
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    selfcol_store_update_stats ss;
+    ss.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    assert_int_equal(selfcol_store_stats(pair, &ss), SELFCOL_OK);
+    assert_true(ss.flipped > 0);
+    assert_true(ss.kept > 0);
+
+    scene again = {0};
+    assert_int_equal(scene_grid(&again, 3, 3, 1.0), 0);
+    scene_translate(&again, away);
+    selfcol_mesh *ma = mesh_of(&again);
+    assert_int_equal(add(sc, ma, SELFCOL_SURFACE_CLOTH, -1, 0), 3); // ids are never reused
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    assert_int_equal(stats_of(sc).surfaces, 3);
+    assert_ptr_equal(store_of(sc, l, h), pair);
+
+    selfcol_scene_destroy(sc);
+    selfcol_mesh_destroy(ml);
+    selfcol_mesh_destroy(mh);
+    selfcol_mesh_destroy(ma);
+    scene_free(&low);
+    scene_free(&high);
+    scene_free(&far_s);
+    scene_free(&again);
 }
 
 // 1 when p lies strictly inside the convex closed mesh (below every face
@@ -743,6 +832,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pairs_by_kind),
         cmocka_unit_test(test_static_never_refit),
+        cmocka_unit_test(test_remove_surface_keeps_the_other_stores),
         cmocka_unit_test(test_body_never_voted),
         cmocka_unit_test(test_capsule_collider_matches_triangulated_capsule),
         cmocka_unit_test(test_errors),

@@ -20,6 +20,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <selfcol/selfcol.h>
@@ -636,6 +637,97 @@ static void test_errors_leave_the_store_unchanged(void **state) {
 // Steady state: from the third update on the same contact count, an update
 // allocates nothing. Allocation failure
 // at every allocation of an update: ENOMEM, the store unchanged, no leak.
+// A pooling allocator that hands a freed block of the same size straight
+// back, as pooling allocators (and often glibc) do: the next mesh created
+// after one is destroyed lives at the destroyed mesh's address.
+typedef struct reuse_pool {
+    void *block[8];
+    size_t size[8];
+} reuse_pool;
+
+static void *pool_alloc(void *user, size_t size, size_t alignment) {
+    reuse_pool *p = user;
+    for (int i = 0; i < 8; ++i)
+        if (p->block[i] != NULL && p->size[i] == size) {
+            void *b = p->block[i];
+            p->block[i] = NULL;
+            return b;
+        }
+    (void)alignment; // malloc's alignment covers every request of the library
+    return malloc(size);
+}
+
+static void pool_free(void *user, void *ptr, size_t size) {
+    reuse_pool *p = user;
+    for (int i = 0; i < 8; ++i)
+        if (p->block[i] == NULL) {
+            p->block[i] = ptr;
+            p->size[i] = size;
+            return;
+        }
+    free(ptr);
+}
+
+// Issue "hardening 0.3", item 1: a store (and a hierarchy) that remembered
+// mesh A by address took a smaller mesh B created at A's address for A, and
+// recomputed its remnants with A's indices (a segfault, or a heap overflow
+// in the narrow phase). Now B is another mesh, whatever the allocator does.
+static void test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh(void **state) {
+    (void)state;
+    reuse_pool pool;
+    memset(&pool, 0, sizeof pool);
+    selfcol_mesh_options mo;
+    selfcol_mesh_options_init(&mo, SELFCOL_MESH_OPTIONS_VERSION);
+    mo.allocator = (selfcol_allocator){pool_alloc, pool_free, &pool};
+    scene big = {0}, small = {0};
+    sheet_pair(&big, 10, 0.02);
+    sheet_pair(&small, 3, 0.02);
+    selfcol_mesh *a = NULL, *b = NULL;
+    assert_int_equal(selfcol_mesh_create(&a, big.vertex_count, big.positions, big.triangle_count,
+                                         big.triangles, &mo),
+                     SELFCOL_OK);
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *detected = NULL;
+    selfcol_store *store = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, a, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&detected, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_store_create(&store, NULL), SELFCOL_OK);
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.distance = 0.05;
+    assert_int_equal(selfcol_hierarchy_self_collide(h, detected, &o), SELFCOL_OK);
+    assert_true(selfcol_contacts_count(detected) > 0);
+    assert_int_equal(selfcol_store_update(store, a, NULL, detected), SELFCOL_OK);
+    selfcol_store_update_stats st;
+    st.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    selfcol_store_stats(store, &st);
+    assert_true(st.contacts > 0);
+
+    selfcol_mesh_destroy(a);
+    assert_int_equal(selfcol_mesh_create(&b, small.vertex_count, small.positions,
+                                         small.triangle_count, small.triangles, &mo),
+                     SELFCOL_OK);
+    assert_ptr_equal(b, a);           // the pool handed A's block back: same address
+    selfcol_contacts_clear(detected); // nothing detected: the remnants are recomputed
+    assert_int_equal(selfcol_store_update(store, b, NULL, detected), SELFCOL_EMISMATCH);
+    assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_EMISMATCH);
+    assert_int_equal(selfcol_hierarchy_self_collide(h, detected, &o), SELFCOL_EMISMATCH);
+    // The store is unchanged, and takes B once cleared.
+    selfcol_store_stats(store, &st);
+    assert_true(st.contacts > 0);
+    selfcol_store_clear(store);
+    assert_int_equal(selfcol_store_update(store, b, NULL, detected), SELFCOL_OK);
+
+    selfcol_store_destroy(store);
+    selfcol_contacts_destroy(detected);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(b);
+    for (int i = 0; i < 8; ++i)
+        free(pool.block[i]);
+    scene_free(&big);
+    scene_free(&small);
+}
+
 static void test_memory(void **state) {
     (void)state;
     scene s;
@@ -706,6 +798,7 @@ int main(void) {
         cmocka_unit_test(test_tie_among_held_contacts_keeps_the_first),
         cmocka_unit_test(test_regions),
         cmocka_unit_test(test_errors_leave_the_store_unchanged),
+        cmocka_unit_test(test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh),
         cmocka_unit_test(test_memory),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

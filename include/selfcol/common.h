@@ -61,7 +61,8 @@ typedef enum selfcol_status {
      *  exactly (mesh sizes, the coordinate range of mesh.h). */
     SELFCOL_ERANGE = -7,
     /** Handles or data that must belong together do not (selfcol_store_update()
-     *  with other meshes than the store follows, or records of another mesh). */
+     *  with other meshes than the store follows, or records of another mesh;
+     *  a hierarchy refit or queried on a mesh other than its own). */
     SELFCOL_EMISMATCH = -8,
     SELFCOL_ESTALE = -9 /**< a hierarchy was not refit after its mesh moved */
 } selfcol_status;

@@ -49,7 +49,12 @@ SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
  *             it must outlive every use of the hierarchy except its
  *             destruction and byte count, which never read the mesh (either
  *             handle may be destroyed first).
- * @param[in] mesh the mesh; borrowed for the hierarchy's lifetime
+ * @param[in] mesh the mesh; borrowed for the hierarchy's lifetime. The
+ *            hierarchy keeps the mesh's identity (its vertex, triangle and
+ *            edge counts and a fingerprint of its triangles): a refit or query
+ *            on a mesh that is not that one (e.g. another mesh created at the
+ *            address of the destroyed one) returns SELFCOL_EMISMATCH instead
+ *            of reading out of its arrays.
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out or mesh, a half-set
  *         allocator); SELFCOL_EVERSION; SELFCOL_ENOMEM; SELFCOL_ERANGE (more
@@ -75,7 +80,8 @@ SELFCOL_API const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *
  * allocation. Queries with a hierarchy method (BVH, SEED, CONE) on a
  * hierarchy whose mesh moved since the last refit return SELFCOL_ESTALE.
  * @param[in,out] hierarchy the hierarchy
- * @return SELFCOL_OK; SELFCOL_EINVAL for NULL.
+ * @return SELFCOL_OK; SELFCOL_EINVAL for NULL; SELFCOL_EMISMATCH (the mesh
+ *         is not the one the hierarchy was built on: selfcol_hierarchy_create()).
  */
 SELFCOL_API int selfcol_hierarchy_refit(selfcol_hierarchy *hierarchy);
 
@@ -184,7 +190,8 @@ SELFCOL_API int selfcol_query_options_init(selfcol_query_options *opts, unsigned
  *         kinds bits, negative or non-finite distance or one above
  *         SELFCOL_MESH_MAX_COORDINATE, threads outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION;
  *         SELFCOL_ESTALE (a hierarchy method on a hierarchy not refit since
- *         its mesh moved); SELFCOL_ENOMEM (contacts is then left empty).
+ *         its mesh moved); SELFCOL_EMISMATCH (a mesh that is not the one the
+ *         hierarchy was built on); SELFCOL_ENOMEM (contacts is then left empty).
  */
 SELFCOL_API int selfcol_hierarchy_self_collide(const selfcol_hierarchy *hierarchy,
                                                selfcol_contacts *contacts,

@@ -115,7 +115,8 @@ SELFCOL_API void selfcol_mesh_destroy(selfcol_mesh *mesh);
 /**
  * Replaces all positions (a new frame). Allocates nothing. The input is
  * validated before anything is written: on error the mesh keeps its previous
- * positions.
+ * positions. Positions equal (==) to the current ones are not a move: the
+ * hierarchies stay refit, and a static scene surface stays valid.
  * @param[in,out] mesh the mesh
  * @param[in] positions vertex_count * 3 doubles. Copied.
  * @param[in] vertex_count the vertices the buffer holds: must equal the

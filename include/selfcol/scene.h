@@ -28,7 +28,14 @@
  * Surfaces reference caller-owned meshes: the caller moves a cloth or body
  * by selfcol_mesh_set_positions() between updates. A static surface's mesh
  * must not move after it was added (selfcol_scene_update() returns
- * SELFCOL_ESTALE if it did).
+ * SELFCOL_ESTALE if it did; setting the positions it already has is not a
+ * move); to move it on purpose, set its positions and call
+ * selfcol_scene_rebuild_surface(). A mesh must outlive its surface: remove
+ * the surface (selfcol_scene_remove_surface()) or destroy the scene before
+ * destroying the mesh. The scene checks each mesh's identity (counts and a
+ * fingerprint of its triangles) at every update, so a destroyed mesh
+ * replaced by another at the same address gives SELFCOL_EMISMATCH rather
+ * than out-of-range reads (when its counts or triangles differ).
  *
  * Colliders are convex: the convex hull of points (one for a sphere, two for
  * a capsule, eight for a box, any for a convex point set) swept by a ball of
@@ -237,6 +244,30 @@ SELFCOL_API int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_me
                                           uint32_t *id_out);
 
 /**
+ * Removes a surface: destroys its hierarchy and the stores of the pairs it
+ * belongs to. Every other pair keeps its store, with its contacts' memory
+ * (remnance, sides through crossings). The id is never reused: the other
+ * surfaces keep theirs, and a later selfcol_scene_add_surface() gets a new
+ * one. After this the scene no longer reads the mesh, which the caller may
+ * destroy.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL scene, unknown or removed id).
+ */
+SELFCOL_API int selfcol_scene_remove_surface(selfcol_scene *scene, uint32_t id);
+
+/**
+ * Rebuilds a surface's hierarchy from its mesh's current positions, keeping
+ * its stores. This is how a static surface is moved on purpose: set its
+ * mesh's positions, then rebuild it (updates would otherwise return
+ * SELFCOL_ESTALE). For a cloth or body it is optional: a refit follows any
+ * motion, and a rebuild only regroups the tree after large deformation.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL scene, unknown or removed id);
+ *         SELFCOL_EMISMATCH (the mesh is not the one added: counts or
+ *         topology changed); SELFCOL_ENOMEM (the surface keeps its old
+ *         hierarchy).
+ */
+SELFCOL_API int selfcol_scene_rebuild_surface(selfcol_scene *scene, uint32_t id);
+
+/**
  * Adds a convex collider, placed at the origin with no rotation until
  * selfcol_scene_set_collider_pose(). Colliders are numbered from 0.
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, unknown shape, sizes negative or
@@ -266,7 +297,8 @@ SELFCOL_API int selfcol_scene_set_collider_pose(selfcol_scene *scene, uint32_t c
  * queries every pair that can matter and updates its store, then finds the
  * collider contacts.
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL); SELFCOL_ESTALE (a static
- *         surface's mesh moved); the first error of a query or a store
+ *         surface's mesh moved); SELFCOL_EMISMATCH (a surface's mesh is not
+ *         the one added: see above); the first error of a query or a store
  *         update (SELFCOL_ENOMEM, SELFCOL_ERANGE), after which the stores
  *         not yet updated keep the previous frame and the collider contacts
  *         are empty.
