@@ -59,6 +59,8 @@ static int run_vf(selfcol_query *q, int mv, int mt, const mesh_boxes *boxes) {
             continue; // not part of the surface
         const double *p = selfcol_mesh__position(meshv, v);
         for (uint32_t t = 0; t < mesht->triangle_count; ++t) {
+            if (mesht->triangle_flags[t] & SELFCOL_TRIANGLE_DUPLICATE)
+                continue; // its first occurrence stands for it (contacts.h)
             if (q->self && is_corner(v, mesht->triangles + 3 * (size_t)t))
                 continue;
             q->out->stats.candidate_pairs++;
@@ -101,6 +103,8 @@ static int run_ef(selfcol_query *q, int me, int mt, const mesh_boxes *boxes) {
     for (uint32_t e = 0; e < meshe->edge_count; ++e) {
         const uint32_t *ev = meshe->edges + 2 * (size_t)e;
         for (uint32_t t = 0; t < mesht->triangle_count; ++t) {
+            if (mesht->triangle_flags[t] & SELFCOL_TRIANGLE_DUPLICATE)
+                continue;
             const uint32_t *tri = mesht->triangles + 3 * (size_t)t;
             if (q->self && (is_corner(ev[0], tri) || is_corner(ev[1], tri)))
                 continue;

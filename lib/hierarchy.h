@@ -25,6 +25,12 @@
 // vertices, Euler characteristic 1 (so one boundary loop). EXACT's contour
 // criterion applies only to disks.
 #define SELFCOL_NODE_DISK 8u
+// Every triangle of the patch repeats an earlier triangle's vertex set
+// (SELFCOL_TRIANGLE_DUPLICATE): a duplicate owns no vertex or edge (its
+// first occurrence has the lower index and is their owner) and is no
+// contact's triangle (contacts.h), so the node takes part in nothing and
+// the traversal skips it. k copies of one triangle cost O(k), not O(k^2).
+#define SELFCOL_NODE_DUPLICATES 16u
 
 // The 14 sample directions: the 8 cube corners and the 6 face centres.
 #define SELFCOL_DIRECTIONS 14

@@ -107,6 +107,25 @@ static int add_children(builder *b, const uint32_t *ids, size_t count) {
     return SELFCOL_OK;
 }
 
+// SELFCOL_NODE_DUPLICATES, bottom-up: nodes are laid out breadth-first, so
+// every child comes after its parent.
+static void mark_duplicate_nodes(selfcol_hierarchy *h) {
+    const selfcol_mesh *m = h->mesh;
+    for (size_t id = h->node_count; id-- > 0;) {
+        selfcol_node *n = &h->nodes[id];
+        int all = 1;
+        if (n->child_count == 0) {
+            for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count && all; ++s)
+                all = (m->triangle_flags[h->tri_order[s]] & SELFCOL_TRIANGLE_DUPLICATE) != 0;
+        } else {
+            for (uint32_t c = 0; c < n->child_count && all; ++c)
+                all = (h->nodes[n->first_child + c].flags & SELFCOL_NODE_DUPLICATES) != 0;
+        }
+        if (all)
+            n->flags |= SELFCOL_NODE_DUPLICATES;
+    }
+}
+
 // The dual graph: triangles sharing an edge are neighbours. On a manifold
 // edge that is its two triangles; on a non-manifold edge of k triangles
 // (a "book" of pages, or k copies of one triangle) each is joined to the
@@ -472,6 +491,7 @@ int selfcol_hierarchy__build(selfcol_hierarchy *h) {
     // group is free now: reuse it as leaf_of_tri.
     if ((status = layout(h, &b, node_of[0], tri_patch, parent, depth, group)) != SELFCOL_OK)
         goto done;
+    mark_duplicate_nodes(h);
     selfcol_hierarchy__assign_owners(h);
     // partner and stamp are free now: a BFS queue and the seen flags of the
     // orientation walk.

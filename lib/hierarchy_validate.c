@@ -38,7 +38,7 @@ static int structure_valid(const selfcol_hierarchy *h, uint8_t *seen) {
         // A disk is connected and oriented; the build never sets a flag
         // outside the four it knows.
         if ((f & ~(SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_BAD_BOUNDARY |
-                   SELFCOL_NODE_DISK)) ||
+                   SELFCOL_NODE_DISK | SELFCOL_NODE_DUPLICATES)) ||
             ((f & SELFCOL_NODE_DISK) && (f & (SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED)) !=
                                             (SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED)))
             return 0;

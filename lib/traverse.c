@@ -272,9 +272,14 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
     ensure_frames(t, 1, b_id);
     const selfcol_tri_frame *fa = s->frames[0], *fb = s->frames[1];
     selfcol_query_stats *st = &t->q.out->stats;
+    const uint8_t *dup_a = s->h[0]->mesh->triangle_flags, *dup_b = s->h[1]->mesh->triangle_flags;
     for (uint32_t sa = a->tri_begin; sa < a->tri_begin + a->tri_count; ++sa) {
+        if (dup_a[fa[sa].id] & SELFCOL_TRIANGLE_DUPLICATE)
+            continue; // owns nothing and is no contact's triangle
         const double *alo = fa[sa].lo, *ahi = fa[sa].hi;
         for (uint32_t sb = same ? sa + 1 : b->tri_begin; sb < b->tri_begin + b->tri_count; ++sb) {
+            if (dup_b[fb[sb].id] & SELFCOL_TRIANGLE_DUPLICATE)
+                continue;
             if (!selfcol_box__near(alo, ahi, fb[sb].lo, fb[sb].hi, d))
                 continue;
             st->triangle_pairs++;
@@ -308,6 +313,8 @@ static int visit(traversal *t, node_pair p) {
     const selfcol_node *a = &s->h[0]->nodes[p.a], *b = &s->h[1]->nodes[p.b];
     int status = SELFCOL_OK;
     st->nodes_visited++;
+    if ((a->flags | b->flags) & SELFCOL_NODE_DUPLICATES)
+        return SELFCOL_OK; // repeated triangles only: no contact can come of them
     if (self && p.a == p.b) {
         if (method == SELFCOL_METHOD_EXACT
                 ? a->tri_count >= CONTOUR_MIN_TRIANGLES &&

@@ -533,6 +533,75 @@ static void test_hierarchy_book_of_pages_builds_in_linear_memory(void **state) {
     check_and_free("12 copies of one triangle", &s);
 }
 
+// Issue "hardening 0.3", item 6: k copies of one triangle cost O(k^2)
+// triangle pairs (20,000 copies: 90 s for zero contacts). Copies are now
+// collapsed into their first occurrence (contacts.h): no triangle pair is
+// tested among them, an edge crossing the copies gives one interference, on
+// the first occurrence, exactly as the exhaustive reference, and every
+// method agrees with it.
+static void test_hierarchy_duplicate_triangles_collapse_into_the_first(void **state) {
+    (void)state;
+    const unsigned k = 2000;
+    scene s;
+    make_book(&s, k, 1); // triangle (0, 1, 2) k times
+    // A free edge (3, 4) through the copies' plane, and a triangle of it.
+    const double extra[9] = {0.3, -1.0, 0.5, 0.3, 1.0, 0.5, 0.3, 0.0, -1.0};
+    double *p = realloc(s.positions, 3 * (s.vertex_count + 3) * sizeof(double));
+    assert_non_null(p);
+    memcpy(p + 3 * s.vertex_count, extra, sizeof extra);
+    s.positions = p;
+    s.vertex_count += 3;
+    const uint32_t piercing[3] = {3, 4, 5};
+    add_triangles(&s, piercing, 1);
+    selfcol_mesh *mesh = NULL;
+    assert_int_equal(selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
+                                         s.triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_count(mesh, SELFCOL_MESH_DUPLICATE_TRIANGLES), k - 1);
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *ref = NULL, *got = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, mesh, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&ref, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
+    selfcol_query_options o = query(SELFCOL_METHOD_EXHAUSTIVE, 0.05);
+    assert_int_equal(selfcol_hierarchy_self_collide(h, ref, &o), SELFCOL_OK);
+    const selfcol_contact *r = NULL, *g = NULL;
+    size_t nr = 0, ng = 0, ef = 0;
+    assert_int_equal(selfcol_contacts_data(ref, &r, &nr), SELFCOL_OK);
+    for (size_t i = 0; i < nr; ++i) {
+        assert_true(r[i].kind != SELFCOL_CONTACT_VF || r[i].second == 0 || r[i].second == k);
+        if (r[i].kind == SELFCOL_CONTACT_EF) {
+            ++ef;
+            assert_true(r[i].second == 0 || r[i].second == k); // never a copy
+        }
+    }
+    assert_true(ef >= 1); // the free edge crosses the first occurrence
+    for (uint32_t method = SELFCOL_METHOD_BVH; method <= SELFCOL_METHOD_EXACT; ++method) {
+        o.method = method;
+        assert_int_equal(selfcol_hierarchy_self_collide(h, got, &o), SELFCOL_OK);
+        selfcol_query_stats st;
+        st.version = SELFCOL_QUERY_STATS_VERSION;
+        assert_int_equal(selfcol_contacts_stats(got, &st), SELFCOL_OK);
+        // Pairs among the copies were k (k - 1) / 2 = 2.0M before; now only
+        // the piercing triangle meets the first occurrence (and its leaf's).
+        assert_true(st.triangle_pairs <= 16);
+        if (method == SELFCOL_METHOD_BVH || method == SELFCOL_METHOD_EXACT) {
+            assert_int_equal(selfcol_contacts_data(got, &g, &ng), SELFCOL_OK);
+            assert_int_equal(ng, nr);
+            for (size_t i = 0; i < nr; ++i) {
+                assert_int_equal(g[i].kind, r[i].kind);
+                assert_int_equal(g[i].first, r[i].first);
+                assert_int_equal(g[i].second, r[i].second);
+            }
+        }
+    }
+    selfcol_contacts_destroy(got);
+    selfcol_contacts_destroy(ref);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(mesh);
+    scene_free(&s);
+}
+
 static void test_hierarchy_bvh_exact_on_hairpins(void **state) {
     (void)state;
     const struct {
@@ -1175,6 +1244,7 @@ int main(void) {
         cmocka_unit_test(test_hierarchy_bvh_exact_on_degenerate_input),
         cmocka_unit_test(test_hierarchy_book_of_pages_builds_in_linear_memory),
         cmocka_unit_test(test_hierarchy_destroy_after_its_mesh),
+        cmocka_unit_test(test_hierarchy_duplicate_triangles_collapse_into_the_first),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_hairpins),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_z_folds),
         cmocka_unit_test(test_hierarchy_bvh_exact_on_rolled_sheets),

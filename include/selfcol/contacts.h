@@ -11,7 +11,15 @@
  * - EE proximity: edges e and f with no common vertex, dist(e, f) < d;
  * - EF interference: edge e crosses triangle t, no common vertex.
  * Between two different meshes the "no common vertex" condition is dropped.
- * Only vertices used by at least one triangle take part.
+ * Only vertices used by at least one triangle take part. A duplicate triangle
+ * (the same three vertices as an earlier one, in any order:
+ * SELFCOL_TRIANGLE_DUPLICATE) is collapsed into its first occurrence, which
+ * stands for every copy: t above ranges over the triangles that are not
+ * duplicates, and records name the first occurrence's index (the caller's
+ * own index; nothing is renumbered). The copies' edges and vertices are the
+ * first occurrence's, so no contact is lost; k copies of one triangle cost
+ * the query O(k), not the O(k^2) of testing every copy against the others
+ * (they share all their vertices, so they never collide with each other).
  *
  * "Crosses" is decided with exact orientation predicates: the two endpoints
  * of e lie strictly on opposite sides of the plane of t, and the line of e

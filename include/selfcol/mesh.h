@@ -16,9 +16,11 @@
  *   edge-edge proximities (the distance to a zero-area triangle is the distance
  *   to the segment or point it collapses to), but an edge never "crosses" a
  *   zero-area triangle (see contacts.h);
- * - duplicate triangles (the same three vertices, in any order): both are
- *   kept and flagged. They share their vertices, so they never collide with
- *   each other.
+ * - duplicate triangles (the same three vertices, in any order): every copy
+ *   is kept, with its index, and flagged SELFCOL_TRIANGLE_DUPLICATE after the
+ *   first; queries collapse the copies into the first occurrence, which is
+ *   the triangle their contacts name (contacts.h). They share their
+ *   vertices, so they never collide with each other.
  *
  * What is rejected, with SELFCOL_EINVAL unless stated:
  * - a NULL pointer where data is required;
