@@ -14,6 +14,7 @@ import glob
 import json
 import os
 import re
+import shutil
 import struct
 import subprocess
 import sys
@@ -913,6 +914,243 @@ def test_track_errors():
         check(option in out, 'track --help does not mention %s' % option)
     _, out, _ = run('--help', expect=0)
     check('track' in out, 'the main help does not list track')
+
+
+# ---------------------------------------------------------------------------
+# Hardening 0.3, item 12: the arguments and outputs of track (and check,
+# which shares their parsing), each defect as it was reported.
+
+def test_track_unknown_last():
+    """1. An unknown option given last was reported as needing a value."""
+    paths, _ = write_sequence('unknown', [[3]])
+    for cmd in ('track', 'check'):
+        status, out, err = run(cmd, paths[0], '--bogus')
+        check(status == 2 and "unknown option '--bogus'" in err and 'needs a value' not in err,
+              '%s MESH --bogus: exit %d, %r' % (cmd, status, err))
+        check('--help' in err, '%s: no pointer to --help: %r' % (cmd, err))
+        status, out, err = run(cmd, paths[0], '--bogus=1')
+        check(status == 2 and "unknown option '--bogus'" in err, '--bogus=1: %r' % err)
+    # An option of another command, last: named as such, not "needs a value".
+    for cmd, option, owner in (('track', '--csv', 'check'), ('check', '--jsonl', 'track'),
+                               ('track', '--fail-on', 'check')):
+        status, out, err = run(cmd, paths[0], option)
+        check(status == 2 and 'belongs to the %s command' % owner in err,
+              '%s MESH %s: exit %d, %r' % (cmd, option, status, err))
+    # A known option without its value still needs one.
+    status, out, err = run('track', paths[0], '--jsonl')
+    check(status == 2 and "'--jsonl' needs a value" in err, 'track MESH --jsonl: %r' % err)
+
+
+def test_track_range_limits():
+    """2. --range values beyond +-1e9 were reported as "FIRST <= LAST"; the
+    limits (+-1e9, at most 1e6 frames) were not documented."""
+    _, pattern = write_sequence('limits', [[3], [3]])
+    for cmd in ('track', 'check'):
+        for value in ('0:99999999999', '-2000000000:0', '0:1000000001', '-1000000001:5',
+                      '0:99999999999999999999999', '-99999999999999999999999:0'):
+            status, out, err = run(cmd, '--range', value, pattern)
+            check(status == 2 and 'out of range' in err and 'FIRST <= LAST' not in err,
+                  '%s --range %s: exit %d, %r' % (cmd, value, status, err))
+            check('1000000000' in err, '%s --range %s: the limit is not named: %r'
+                  % (cmd, value, err))
+        status, out, err = run(cmd, '--range', '0:1:99999999999999999999999', pattern)
+        check(status == 2 and 'STEP' in err and 'out of range' in err, 'huge STEP: %r' % err)
+        # Too many frames names the limit.
+        status, out, err = run(cmd, '--range', '0:1000000', pattern)
+        check(status == 2 and 'too many frames' in err and '1000000' in err,
+              '%s --range 0:1000000: %r' % (cmd, err))
+        # What the limits allow passes the range checks (the files are missing).
+        for value in ('-1000000000:-1000000000', '1000000000:1000000000', '5:1000004',
+                      '-1000000000:1000000000:2000000000'):
+            status, out, err = run(cmd, '--range', value, pattern)
+            check(status == 2 and '--range' not in err and 'cannot open' in err,
+                  '%s --range %s: refused as a range: %r' % (cmd, value, err))
+        # The other errors keep their words.
+        status, out, err = run(cmd, '--range', '3:1', pattern)
+        check(status == 2 and 'FIRST <= LAST' in err, '--range 3:1: %r' % err)
+        status, out, err = run(cmd, '--range', '1:3:0', pattern)
+        check(status == 2 and 'STEP > 0' in err, '--range 1:3:0: %r' % err)
+        run(cmd, '--distance', '0.1', '--range', '0:1', pattern, '--quiet', expect=0)
+        # Documented in --help.
+        _, out, _ = run(cmd, '--help', expect=0)
+        check('1000000000' in out and '1000000 frames' in out,
+              '%s --help does not give the --range limits' % cmd)
+    doc = open(os.path.join(ARGS.source, 'docs', 'cli.md')).read()
+    check('±1000000000' in doc and '1000000 (1e6) frames' in doc,
+          'docs/cli.md does not give the --range limits')
+
+
+def test_numeric_whitespace():
+    """3. A trailing space in a number was refused where a leading one was
+    accepted: now both are refused, for every numeric option of every command."""
+    paths, pattern = write_sequence('spaces', [[3], [0.5]])
+    mesh = paths[0]
+    picture = work('track/spaces.png')
+    cases = [('--distance', '0.1'), ('--distance-rel', '0.2'), ('--view', '10,20'),
+             ('--size', '64x48'), ('--range', '0:1')]
+    for cmd in ('check', 'track'):
+        for option, value in cases + ([('--remnance', '2')] if cmd == 'track' else []):
+            inputs = [pattern] if option == '--range' else [mesh]
+            extra = ['--png', picture] if option in ('--view', '--size') else []
+            # Without spaces: accepted (as --opt VALUE and --opt=VALUE).
+            for args in ([option, value], ['%s=%s' % (option, value)]):
+                status, out, err = run(cmd, '--quiet', *(args + extra + inputs))
+                check(status in (0, 1), '%s %s: exit %d, %r' % (cmd, args, status, err))
+            # With a space before, after or inside: refused alike.
+            spaced = [' ' + value, value + ' ', '\t' + value, value + '\n']
+            if ',' in value or 'x' in value or ':' in value:
+                sep = ',' if ',' in value else 'x' if 'x' in value else ':'
+                spaced.append(value.replace(sep, sep + ' '))
+            for bad in spaced:
+                for args in ([option, bad], ['%s=%s' % (option, bad)]):
+                    status, out, err = run(cmd, '--quiet', *(args + extra + inputs))
+                    check(status == 2 and option in err and 'spaces' in err,
+                          '%s %r: exit %d, %r' % (cmd, args, status, err))
+    for cmd in ('check', 'track'):
+        _, out, _ = run(cmd, '--help', expect=0)
+        check('without spaces' in out, '%s --help does not say numbers take no spaces' % cmd)
+    doc = open(os.path.join(ARGS.source, 'docs', 'cli.md')).read()
+    check('without white space' in doc, 'docs/cli.md does not say numbers take no spaces')
+
+
+def test_track_same_output():
+    """4. --jsonl out.txt --png-worst out.txt wrote one over the other and
+    exited 0: outputs naming one file (or an input) are a usage error, before
+    any frame is read and before anything is written."""
+    paths, pattern = write_sequence('same', [[3], [-0.5], [3]])
+    base = work('track/same_out')
+    os.makedirs(base, exist_ok=True)
+    for name in os.listdir(base):
+        os.remove(os.path.join(base, name))
+    out_txt = os.path.join(base, 'out.txt')
+    dotted = os.path.join(base, '.', 'out.txt')
+    existing = os.path.join(base, 'existing.txt')
+    with open(existing, 'w') as f:
+        f.write('keep\n')
+    linked = os.path.join(base, 'linked.txt')
+    os.link(existing, linked)
+    symlinked = os.path.join(base, 'symlinked.txt')
+    os.symlink(existing, symlinked)
+    frames = ['--distance', '0.1', '--range', '0:2', pattern]
+    clashes = [
+        ('track', ['--jsonl', out_txt, '--png-worst', out_txt]),
+        ('track', ['--jsonl', out_txt, '--png-worst', dotted]),
+        ('track', ['--jsonl', out_txt, '--png', out_txt]),
+        ('track', ['--png', out_txt, '--png-worst', out_txt]),
+        ('track', ['--png', os.path.join(base, 'f_%d.png'),
+                   '--png-worst', os.path.join(base, 'f_2.png')]),
+        ('track', ['--png', os.path.join(base, 'g_%d.png'),
+                   '--png-worst', os.path.join(base, 'g_%d.png')]),
+        ('track', ['--jsonl', existing, '--png-worst', linked]),
+        ('track', ['--jsonl', existing, '--png-worst', symlinked]),
+        ('check', ['--json', out_txt, '--csv', out_txt]),
+        ('check', ['--json', out_txt, '--png', dotted]),
+        ('check', ['--mark', out_txt, '--png', out_txt]),
+        ('check', ['--csv', existing, '--mark', linked]),
+        ('check', ['--png', os.path.join(base, 'f_%d.png'),
+                   '--mark', os.path.join(base, 'f_1.png')]),
+    ]
+    for cmd, outputs in clashes:
+        status, out, err = run(cmd, *(outputs + frames))
+        check(status == 2 and 'same file' in err and '--help' in err,
+              '%s %s: exit %d, %r' % (cmd, outputs, status, err))
+        check('frame 0' not in out + err, '%s %s: frames were processed: %r' % (cmd, outputs, out))
+        check(not os.path.exists(out_txt) and open(existing).read() == 'keep\n' and
+              not any(n.endswith('.png') for n in os.listdir(base)),
+              '%s %s: something was written: %s' % (cmd, outputs, os.listdir(base)))
+    # An output naming an input (a frame) would destroy it.
+    saved = open(paths[1], 'rb').read()
+    for cmd, outputs in (('track', ['--png-worst', paths[1]]),
+                         ('track', ['--png', work('track/same_%03d.obj')]),
+                         ('track', ['--jsonl', paths[2]]), ('check', ['--json', paths[1]]),
+                         ('check', ['--mark', work('track/same_%03d.obj')])):
+        status, out, err = run(cmd, *(outputs + frames))
+        check(status == 2 and 'input' in err, '%s %s: exit %d, %r' % (cmd, outputs, status, err))
+        check(open(paths[1], 'rb').read() == saved, '%s %s: a frame was overwritten'
+              % (cmd, outputs))
+    status, out, err = run('check', paths[0], '--png', paths[0])
+    check(status == 2 and 'input' in err, 'check MESH --png MESH: exit %d, %r' % (status, err))
+    status, out, err = run('info', '--json', paths[0], paths[0])
+    check(status == 2 and 'input' in err, 'info --json MESH MESH: exit %d, %r' % (status, err))
+    # --jsonl - and a file standard output is redirected to.
+    with open(out_txt, 'w') as f:
+        proc = subprocess.run([ARGS.cli, 'track', '--jsonl', '-', '--png-worst', out_txt] + frames,
+                              stdout=f, stderr=subprocess.PIPE, timeout=600)
+    err = proc.stderr.decode()
+    check(proc.returncode == 2 and 'standard output' in err, 'track --jsonl - > FILE '
+          '--png-worst FILE: exit %d, %r' % (proc.returncode, err))
+    os.remove(out_txt)
+    # Different files, and devices, are fine.
+    run('track', '--jsonl', out_txt, '--png-worst', os.path.join(base, 'w.png'), '--png',
+        os.path.join(base, 'f_%d.png'), '--size', '32x32', *frames, expect=1)
+    run('track', '--jsonl', os.devnull, '--png-worst', os.devnull, '--size', '32x32', *frames,
+        expect=1)
+    run('check', '--json', os.devnull, '--csv', os.devnull, *frames, expect=1)
+
+
+def test_track_unwritable_early():
+    """5. An unwritable --png-worst was found only after every frame: every
+    output is checked before the first frame."""
+    paths, pattern = write_sequence('early', [[3], [-0.5]])
+    # The second frame has another topology: a run that reads frames stops
+    # there; the output check must come first.
+    pos, tris = fx.grid_sheet(3, 3, fx.flat)
+    other = work('track/early_other.obj')
+    fx.write_obj(other, pos, tris)
+    missing = os.path.join(ARGS.work, 'track', 'no_such_dir', 'sub', 'worst.png')
+    shutil.rmtree(os.path.dirname(os.path.dirname(missing)), ignore_errors=True)
+    for cmd, option, extra in (('track', '--png-worst', []), ('track', '--png', []),
+                               ('track', '--jsonl', []), ('check', '--png', ['--frames']),
+                               ('check', '--mark', ['--frames']), ('check', '--json', ['--frames']),
+                               ('check', '--csv', ['--frames'])):
+        status, out, err = run(cmd, *(extra + [option, missing, paths[0], other]))
+        check(status == 2 and option in err and 'no_such_dir' in err and 'topology' not in err,
+              '%s %s MISSING/x: exit %d, %r' % (cmd, option, status, err))
+        check('frame 0' not in out and out == '', '%s %s: frames were processed first: %r'
+              % (cmd, option, out))
+    # A directory, and a path through a regular file, are found early too.
+    for target in (work('track'), os.path.join(paths[0], 'x.png')):
+        status, out, err = run('track', '--png-worst', target, paths[0], other)
+        check(status == 2 and 'cannot write' in err and 'topology' not in err,
+              '--png-worst %s: exit %d, %r' % (target, status, err))
+    # Nothing was started: --jsonl is not created when --png-worst fails.
+    jsonl = work('track/early.jsonl')
+    if os.path.exists(jsonl):
+        os.remove(jsonl)
+    status, out, err = run('track', '--jsonl', jsonl, '--png-worst', missing, *paths)
+    check(status == 2 and not os.path.exists(jsonl), '--jsonl written before the check: %r' % err)
+
+
+def test_track_png_stdout():
+    """6. --png - wrote a file named '-': refused for pictures and marked
+    meshes ('-' is standard output for JSON and CSV only)."""
+    paths, pattern = write_sequence('dash', [[3], [-0.5]])
+    cwd = work('track/dash_cwd')
+    os.makedirs(cwd, exist_ok=True)
+    dash = os.path.join(cwd, '-')
+    for cmd, option in (('track', '--png'), ('track', '--png-worst'), ('check', '--png'),
+                        ('check', '--mark')):
+        for args in ([option, '-'], ['%s=-' % option]):
+            if os.path.exists(dash):
+                os.remove(dash)
+            proc = subprocess.run([ARGS.cli, cmd, '--distance', '0.1'] + args + paths[:1],
+                                  cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                  timeout=600)
+            err = proc.stderr.decode()
+            check(proc.returncode == 2 and option in err and 'standard output' in err and
+                  '--help' in err, '%s %s: exit %d, %r' % (cmd, args, proc.returncode, err))
+            check(not os.path.exists(dash), '%s %s wrote a file named -' % (cmd, args))
+            check(proc.stdout == b'', '%s %s wrote to standard output' % (cmd, args))
+    # ./- is a file named '-', on purpose.
+    proc = subprocess.run([ARGS.cli, 'track', '--distance', '0.1', '--size', '32x32',
+                           '--png-worst', './-'] + paths, cwd=cwd, stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, timeout=600)
+    check(proc.returncode == 1 and open(dash, 'rb').read()[:8] == b'\x89PNG\r\n\x1a\n',
+          '--png-worst ./-: exit %d, %r' % (proc.returncode, proc.stderr))
+    os.remove(dash)
+    for cmd in ('check', 'track'):
+        _, out, _ = run(cmd, '--help', expect=0)
+        check("'-' is refused" in out, '%s --help does not say --png - is refused' % cmd)
 
 
 def test_track_cloth_ball():

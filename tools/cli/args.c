@@ -7,7 +7,9 @@
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
+#include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,9 +49,17 @@ static const char check_help[] =
     "  --fail-on WHAT      interference (default) or proximity: what makes exit status 1\n"
     "  --no-weld           keep vertices as the file has them (no welding)\n"
     "  --quiet             no summary (errors only)\n"
+    "  --frames            the arguments are frames of one mesh\n"
+    "  --range FIRST:LAST[:STEP]  frames FIRST, FIRST+STEP, ... <= LAST of PATTERN\n"
+    "                      (FIRST, LAST within -1000000000..1000000000, STEP > 0,\n"
+    "                      at most 1000000 frames)\n"
     "  -h, --help          this help\n"
     "For sequences, --mark and --png write every frame when OUT contains %d (as in\n"
     "out_%04d.png), otherwise the last frame.\n"
+    "Numbers are written without spaces (' 0.1' and '0.1 ' are both refused).\n"
+    "Outputs must name different files, none of them an input; they are checked\n"
+    "before the first frame is read (a missing directory fails at once). --mark\n"
+    "and --png write files only: '-' is refused (./- names a file '-').\n"
     "There is no --threads: libselfcol runs on the calling thread and starts none.\n"
     "\n"
     "exit status: 0 no interference, 1 interferences found (or proximities, with\n"
@@ -99,6 +109,11 @@ static const char track_help[] =
     "  --quiet             no per-frame lines or summary (errors only)\n"
     "  -h, --help          this help\n"
     "Pictures: intersecting triangles red, proximities orange (as check).\n"
+    "--range: FIRST and LAST within -1000000000..1000000000, STEP > 0, at most\n"
+    "1000000 frames. Numbers are written without spaces (' 4' and '4 ' are both\n"
+    "refused). Outputs must name different files, none of them a frame; they are\n"
+    "checked before the first frame is read (a missing directory fails at once).\n"
+    "--png and --png-worst write files only: '-' is refused (./- names a file '-').\n"
     "\n"
     "exit status: 0 no interference in any frame, 1 interferences in some frame,\n"
     "2 usage or input error.\n";
@@ -235,6 +250,11 @@ int cli_output_name(const char *name, long frame, char *out, size_t out_size) {
     return n >= 0 && (size_t)n < out_size ? 0 : -1;
 }
 
+int cli_output_is_pattern(const char *name) {
+    pattern p;
+    return parse_pattern(name, &p) == 1;
+}
+
 // Builds the list of frame files for --frames / --range.
 int cli_frame_list(const cli_options *o, char ***names_out, long **numbers_out, long *count_out,
                    cli_error *err) {
@@ -244,20 +264,10 @@ int cli_frame_list(const cli_options *o, char ***names_out, long **numbers_out, 
     long first = 0, last = -1, step = 1;
     pattern pat;
     if (o->range != NULL) {
-        char tail;
-        int n = sscanf(o->range, "%ld:%ld%c", &first, &last, &tail);
-        if (n == 3 && tail == ':') {
-            const char *third = strchr(strchr(o->range, ':') + 1, ':') + 1;
-            char *end;
-            step = strtol(third, &end, 10);
-            if (*end != '\0' || end == third)
-                n = 0;
-        }
-        if (n < 2 || step <= 0 || last < first || (n == 3 && tail != ':') || first < -1000000000L ||
-            last > 1000000000L)
-            return cli_fail(err, "--range needs FIRST:LAST[:STEP] with FIRST <= LAST, STEP > 0");
-        if ((last - first) / step >= 1000000)
-            return cli_fail(err, "--range gives too many frames");
+        // cli_parse_options has checked the syntax and the limits.
+        first = o->range_first;
+        last = o->range_last;
+        step = o->range_step;
         if (o->input_count != 1 || parse_pattern(o->inputs[0], &pat) != 1)
             return cli_fail(err, "--range needs one file name pattern with one %%d conversion "
                                  "(e.g. frame_%%04d.ply)");
@@ -321,6 +331,117 @@ static int parse_remnance(const char *text, uint32_t *out) {
     return 0;
 }
 
+// Numbers are written without white space: strtod and sscanf skip it before
+// a number but not after one, so ' 0.1' would pass where '0.1 ' does not.
+// Every numeric value refuses it anywhere (leading, trailing or inside).
+static int has_space(const char *text) {
+    for (; *text; ++text)
+        if (isspace((unsigned char)*text))
+            return 1;
+    return 0;
+}
+
+// A whole number in [min, max]: an optional sign and digits, nothing else.
+// Returns 0, -1 when it is not a whole number, 1 when it is out of range.
+static int parse_long(const char *text, size_t length, long min, long max, long *out) {
+    char buffer[64];
+    if (length == 0 || length >= sizeof buffer)
+        return length == 0 ? -1 : 1;
+    memcpy(buffer, text, length);
+    buffer[length] = '\0';
+    const char *digits = buffer + (buffer[0] == '-' || buffer[0] == '+');
+    if (*digits < '0' || *digits > '9')
+        return -1;
+    for (const char *s = digits; *s; ++s)
+        if (*s < '0' || *s > '9')
+            return -1;
+    char *end;
+    errno = 0;
+    long x = strtol(buffer, &end, 10);
+    if (errno == ERANGE || x < min || x > max)
+        return 1;
+    *out = x;
+    return 0;
+}
+
+// --range FIRST:LAST[:STEP]: FIRST and LAST within +-CLI_RANGE_LIMIT, STEP >
+// 0, at most CLI_RANGE_MAX_FRAMES frames. Returns 0, or a usage error.
+static int parse_range(const char *cmd, const char *text, cli_options *o) {
+    const char *colon = strchr(text, ':');
+    const char *colon2 = colon ? strchr(colon + 1, ':') : NULL;
+    long v[3] = {0, 0, 1};
+    const char *start[3] = {text, colon ? colon + 1 : NULL, colon2 ? colon2 + 1 : NULL};
+    size_t length[3] = {colon ? (size_t)(colon - text) : 0,
+                        colon ? (colon2 ? (size_t)(colon2 - colon - 1) : strlen(colon + 1)) : 0,
+                        colon2 ? strlen(colon2 + 1) : 0};
+    int out_of_range = -1; // which number is out of range
+    if (colon == NULL)
+        goto syntax;
+    for (int k = 0; k < (colon2 ? 3 : 2); ++k) {
+        long limit = k < 2 ? CLI_RANGE_LIMIT : LONG_MAX;
+        int rc = parse_long(start[k], length[k], k < 2 ? -limit : LONG_MIN, limit, &v[k]);
+        if (rc < 0)
+            goto syntax;
+        if (rc > 0 && out_of_range < 0)
+            out_of_range = k;
+    }
+    if (out_of_range == 2)
+        return cli_usage_error(cmd, "--range '%s': STEP is out of range", text);
+    if (out_of_range >= 0)
+        return cli_usage_error(cmd,
+                               "--range '%s': FIRST and LAST must lie within -1000000000 and "
+                               "1000000000 (out of range)",
+                               text);
+    if (v[1] < v[0])
+        return cli_usage_error(cmd, "--range '%s' needs FIRST <= LAST", text);
+    if (v[2] <= 0)
+        return cli_usage_error(cmd, "--range '%s' needs STEP > 0", text);
+    if ((v[1] - v[0]) / v[2] >= CLI_RANGE_MAX_FRAMES)
+        return cli_usage_error(cmd, "--range '%s' gives too many frames (at most 1000000)", text);
+    o->range = text;
+    o->range_first = v[0];
+    o->range_last = v[1];
+    o->range_step = v[2];
+    return 0;
+syntax:
+    return cli_usage_error(cmd, "--range needs FIRST:LAST[:STEP] (whole numbers), not '%s'", text);
+}
+
+// The options: which take a value, and the commands they belong to (bits).
+typedef struct known_option {
+    const char *name;
+    int takes_value, belongs;
+} known_option;
+
+static const known_option known_options[] = {
+    {"--quiet", 0, FOR_CHECK | FOR_INFO | FOR_TRACK},
+    {"--no-weld", 0, FOR_CHECK | FOR_INFO | FOR_TRACK},
+    {"--frames", 0, FOR_CHECK | FOR_TRACK},
+    {"--no-consistency", 0, FOR_TRACK},
+    {"--json", 1, FOR_CHECK | FOR_INFO},
+    {"--range", 1, FOR_CHECK | FOR_TRACK},
+    {"--jsonl", 1, FOR_TRACK},
+    {"--png-worst", 1, FOR_TRACK},
+    {"--remnance", 1, FOR_TRACK},
+    {"--distance", 1, FOR_CHECK | FOR_TRACK},
+    {"--distance-rel", 1, FOR_CHECK | FOR_TRACK},
+    {"--method", 1, FOR_CHECK | FOR_TRACK},
+    {"--narrow", 1, FOR_CHECK | FOR_TRACK},
+    {"--csv", 1, FOR_CHECK},
+    {"--mark", 1, FOR_CHECK},
+    {"--png", 1, FOR_CHECK | FOR_TRACK},
+    {"--view", 1, FOR_CHECK | FOR_TRACK},
+    {"--size", 1, FOR_CHECK | FOR_TRACK},
+    {"--fail-on", 1, FOR_CHECK},
+};
+
+static const known_option *find_option(const char *name) {
+    for (size_t i = 0; i < sizeof known_options / sizeof known_options[0]; ++i)
+        if (strcmp(name, known_options[i].name) == 0)
+            return &known_options[i];
+    return NULL;
+}
+
 // Parses argv[first..]; `--opt value` and `--opt=value` both work.
 int cli_parse_options(int argc, char **argv, int first, const char *command, cli_options *o) {
     memset(o, 0, sizeof *o);
@@ -371,11 +492,24 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             return cli_usage_error(cmd, "unknown option '%s'", arg);
         memcpy(name, arg, name_length);
         name[name_length] = '\0';
-        static const char *const flags[] = {"--quiet", "--no-weld", "--frames", "--no-consistency"};
-        int is_flag = lookup(name, flags, 4) >= 0;
-        if (is_flag && eq)
+        // The name first: an unknown option, or one of another command, is
+        // reported as such even when it is the last argument.
+        const known_option *known = find_option(name);
+        if (known == NULL)
+            return cli_usage_error(cmd, "unknown option '%s'", name);
+        if (!(known->belongs & this_command)) {
+            char message[160];
+            snprintf(message, sizeof message, "option '%s' belongs to the %s command%s", name,
+                     known->belongs == FOR_TRACK                ? "track"
+                     : known->belongs == FOR_CHECK              ? "check"
+                     : known->belongs == (FOR_CHECK | FOR_INFO) ? "check and info"
+                                                                : "check and track",
+                     known->belongs == FOR_CHECK || known->belongs == FOR_TRACK ? "" : "s");
+            return cli_usage_error(cmd, "%s", message);
+        }
+        if (!known->takes_value && eq)
             return cli_usage_error(cmd, "option '%s' takes no value", name);
-        if (!is_flag) {
+        if (known->takes_value) {
             if (eq)
                 value = eq + 1;
             else if (i + 1 < argc)
@@ -383,34 +517,42 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             else
                 return cli_usage_error(cmd, "option '%s' needs a value", name);
         }
-        int belongs = FOR_CHECK | FOR_TRACK; // the commands this option belongs to
+        static const char *const numeric[] = {"--distance", "--distance-rel", "--remnance",
+                                              "--view",     "--size",         "--range"};
+        if (value != NULL && lookup(name, numeric, 6) >= 0 && has_space(value)) {
+            char message[128];
+            snprintf(message, sizeof message, "%s takes numbers without spaces, not '%%s'", name);
+            return cli_usage_error(cmd, message, value);
+        }
+        // Pictures and marked meshes go to files only ('-' would be a file
+        // named '-' beside JSON or a summary on standard output).
+        static const char *const files_only[] = {"--png", "--png-worst", "--mark"};
+        if (value != NULL && lookup(name, files_only, 3) >= 0 && strcmp(value, "-") == 0)
+            return cli_usage_error(cmd,
+                                   "%s writes a file, not standard output: give a file name "
+                                   "(./- for a file named '-')",
+                                   name);
         if (strcmp(name, "--quiet") == 0) {
             o->quiet = 1;
-            belongs = FOR_CHECK | FOR_INFO | FOR_TRACK;
         } else if (strcmp(name, "--no-weld") == 0) {
             o->no_weld = 1;
-            belongs = FOR_CHECK | FOR_INFO | FOR_TRACK;
         } else if (strcmp(name, "--json") == 0) {
             o->json = value;
-            belongs = FOR_CHECK | FOR_INFO;
         } else if (strcmp(name, "--frames") == 0) {
             o->frames = 1;
         } else if (strcmp(name, "--range") == 0) {
-            o->range = value;
+            if (parse_range(cmd, value, o) != 0)
+                return CLI_EXIT_ERROR;
         } else if (strcmp(name, "--jsonl") == 0) {
             o->jsonl = value;
-            belongs = FOR_TRACK;
         } else if (strcmp(name, "--png-worst") == 0) {
             o->png_worst = value;
-            belongs = FOR_TRACK;
         } else if (strcmp(name, "--remnance") == 0) {
             if (parse_remnance(value, &o->remnance))
                 return cli_usage_error(
                     cmd, "--remnance needs a whole number of updates >= 0, not '%s'", value);
-            belongs = FOR_TRACK;
         } else if (strcmp(name, "--no-consistency") == 0) {
             o->no_consistency = 1;
-            belongs = FOR_TRACK;
         } else if (strcmp(name, "--distance") == 0) {
             if (parse_double(value, &o->distance) || o->distance < 0)
                 return cli_usage_error(cmd, "--distance needs a number >= 0, not '%s'", value);
@@ -432,10 +574,8 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             o->narrow = (uint32_t)m;
         } else if (strcmp(name, "--csv") == 0) {
             o->csv = value;
-            belongs = FOR_CHECK;
         } else if (strcmp(name, "--mark") == 0) {
             o->mark = value;
-            belongs = FOR_CHECK;
         } else if (strcmp(name, "--png") == 0) {
             o->png = value;
         } else if (strcmp(name, "--view") == 0) {
@@ -467,19 +607,8 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             else
                 return cli_usage_error(
                     cmd, "--fail-on takes 'interference' or 'proximity', not '%s'", value);
-            belongs = FOR_CHECK;
         } else {
             return cli_usage_error(cmd, "unknown option '%s'", name);
-        }
-        if (!(belongs & this_command)) {
-            char message[160];
-            snprintf(message, sizeof message, "option '%s' belongs to the %s command%s", name,
-                     belongs == FOR_TRACK                ? "track"
-                     : belongs == FOR_CHECK              ? "check"
-                     : belongs == (FOR_CHECK | FOR_INFO) ? "check and info"
-                                                         : "check and track",
-                     belongs == FOR_CHECK || belongs == FOR_TRACK ? "" : "s");
-            return cli_usage_error(cmd, "%s", message);
         }
     }
     if (o->distance_given && o->distance_rel_given)

@@ -326,7 +326,16 @@ int cli_command_check(const cli_options *o) {
 
     if (sequence && cli_frame_list(o, &frame_names, &frame_numbers, &frame_count, &err) != 0)
         goto done;
-    // Outputs first, so a bad output path fails before a long run.
+    // Outputs first, so a bad output path fails before a long run: no two
+    // outputs (nor an output and an input) name one file, each can be written.
+    const cli_output_file outputs[4] = {
+        {"--json", o->json, 0}, {"--csv", o->csv, 0}, {"--mark", o->mark, 1}, {"--png", o->png, 1}};
+    const long single_frame = 0;
+    if (cli_check_outputs(
+            "check ", outputs, 4, sequence ? (const char *const *)frame_names : o->inputs,
+            sequence ? frame_count : o->input_count, sequence ? frame_numbers : &single_frame,
+            sequence ? frame_count : 1, &err) != 0)
+        goto done;
     int stdout_taken =
         (o->json && strcmp(o->json, "-") == 0) || (o->csv && strcmp(o->csv, "-") == 0);
     st.summary = o->quiet ? NULL : stdout_taken ? stderr : stdout;

@@ -11,6 +11,9 @@
 
 enum { CLI_EXIT_CLEAN = 0, CLI_EXIT_FOUND = 1, CLI_EXIT_ERROR = 2 };
 enum { CLI_MAX_INPUTS = 4096 };
+/** --range limits: FIRST and LAST within +-CLI_RANGE_LIMIT, at most CLI_RANGE_MAX_FRAMES frames. */
+#define CLI_RANGE_LIMIT 1000000000L
+#define CLI_RANGE_MAX_FRAMES 1000000L
 
 typedef struct cli_options {
     double distance, distance_rel;
@@ -18,7 +21,8 @@ typedef struct cli_options {
     uint32_t method, narrow;
     const char *json, *csv, *mark, *png;
     int quiet, fail_on_proximity, no_weld, frames;
-    const char *range; /* "FIRST:LAST[:STEP]" for a pattern */
+    const char *range;                        /* "FIRST:LAST[:STEP]" for a pattern */
+    long range_first, range_last, range_step; /* --range, checked by cli_parse_options */
     cli_view view;
     /* track */
     const char *jsonl, *png_worst;
@@ -49,6 +53,31 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
 
 /** An output name (--mark, --png) for a frame. Returns 0, or -1 when it does not fit. */
 int cli_output_name(const char *name, long frame, char *out, size_t out_size);
+
+/** 1 when an output name has a %d for the frame number, 0 when it is used as is. */
+int cli_output_is_pattern(const char *name);
+
+/** An output file of a command, for cli_check_outputs. */
+typedef struct cli_output_file {
+    const char *option; /* "--png" */
+    const char *name;   /* as given; NULL: not given */
+    int numbered;       /* a %d in name is the frame number (cli_output_name) */
+} cli_output_file;
+
+/**
+ * Checks a command's outputs before anything is read or written: every name
+ * an output will write (numbered ones for each of the frame numbers) is
+ * resolved, by device and inode when the file exists, otherwise as its
+ * directory's real path and its name ("-" is standard output). Two outputs,
+ * or an output and an input, naming one file are a usage error (command:
+ * "track " etc., for the pointer to --help); an output that cannot be
+ * written (its directory missing or not writable, a directory, a read-only
+ * file) is an error. Devices such as /dev/null are not compared. Returns 0,
+ * or -1 with err set.
+ */
+int cli_check_outputs(const char *command, const cli_output_file *outputs, int output_count,
+                      const char *const *inputs, long input_count, const long *frames,
+                      long frame_count, cli_error *err);
 
 /**
  * The frame files of --frames or --range and their frame numbers. Returns 0,

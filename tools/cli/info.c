@@ -48,7 +48,9 @@ int cli_command_info(const cli_options *o) {
     cli_progress_init(&progress, !o->quiet);
     FILE *json = NULL;
     int exit_code = CLI_EXIT_CLEAN;
-    if (o->json && (json = cli_open_output(o->json, &err)) == NULL) {
+    const cli_output_file output = {"--json", o->json, 0};
+    if (cli_check_outputs("info ", &output, 1, o->inputs, o->input_count, NULL, 0, &err) != 0 ||
+        (o->json && (json = cli_open_output(o->json, &err)) == NULL)) {
         fprintf(stderr, "selfcol-cli: %s\n", err.message);
         return CLI_EXIT_ERROR;
     }

@@ -200,6 +200,13 @@ int cli_command_track(const cli_options *o) {
 
     if (cli_frame_list(o, &frame_names, &frame_numbers, &frame_count, &err) != 0)
         goto done;
+    // Before any file is opened or any frame read: no two outputs (nor an
+    // output and a frame) name one file, and every output can be written.
+    const cli_output_file outputs[3] = {
+        {"--jsonl", o->jsonl, 0}, {"--png", o->png, 1}, {"--png-worst", o->png_worst, 1}};
+    if (cli_check_outputs("track ", outputs, 3, (const char *const *)frame_names, frame_count,
+                          frame_numbers, frame_count, &err) != 0)
+        goto done;
     // The JSON lines take standard output when asked to; the human lines
     // then go to standard error (as check's summary does).
     if (o->jsonl && (st.jsonl = cli_open_output(o->jsonl, &err)) == NULL)
