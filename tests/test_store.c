@@ -641,16 +641,23 @@ static void test_errors_leave_the_store_unchanged(void **state) {
 // back, as pooling allocators (and often glibc) do: the next mesh created
 // after one is destroyed lives at the destroyed mesh's address.
 typedef struct reuse_pool {
-    void *block[8];
-    size_t size[8];
+    void *block[64];
+    size_t size[64];
+    int count;
 } reuse_pool;
 
+// Last freed, first reused (a stack, as size-class free lists behave): the
+// mesh's own block, freed after its arrays, is the first block of that size
+// handed out again. 64 slots hold every block one mesh frees, so none of
+// them falls through to free() and the reuse does not depend on the build.
 static void *pool_alloc(void *user, size_t size, size_t alignment) {
     reuse_pool *p = user;
-    for (int i = 0; i < 8; ++i)
-        if (p->block[i] != NULL && p->size[i] == size) {
+    for (int i = p->count - 1; i >= 0; --i)
+        if (p->size[i] == size) {
             void *b = p->block[i];
-            p->block[i] = NULL;
+            memmove(&p->block[i], &p->block[i + 1], (size_t)(p->count - i - 1) * sizeof(void *));
+            memmove(&p->size[i], &p->size[i + 1], (size_t)(p->count - i - 1) * sizeof(size_t));
+            p->count--;
             return b;
         }
     (void)alignment; // malloc's alignment covers every request of the library
@@ -659,13 +666,13 @@ static void *pool_alloc(void *user, size_t size, size_t alignment) {
 
 static void pool_free(void *user, void *ptr, size_t size) {
     reuse_pool *p = user;
-    for (int i = 0; i < 8; ++i)
-        if (p->block[i] == NULL) {
-            p->block[i] = ptr;
-            p->size[i] = size;
-            return;
-        }
-    free(ptr);
+    if (p->count == 64) {
+        free(ptr);
+        return;
+    }
+    p->block[p->count] = ptr;
+    p->size[p->count] = size;
+    p->count++;
 }
 
 // Issue "hardening 0.3", item 1: a store (and a hierarchy) that remembered
@@ -722,7 +729,7 @@ static void test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh(void **state
     selfcol_contacts_destroy(detected);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(b);
-    for (int i = 0; i < 8; ++i)
+    for (int i = 0; i < pool.count; ++i)
         free(pool.block[i]);
     scene_free(&big);
     scene_free(&small);
