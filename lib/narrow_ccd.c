@@ -430,32 +430,70 @@ int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double 
 
 // ---------------------------------------------------------------------------
 // A convex hull of many points against a triangle (the scene's colliders).
+//
+// The frame is the triangle's: translated to a and scaled by a power of two
+// that brings the query's size S (the largest |coordinate| there of the
+// hull's points and the triangle's corners, or the radius if larger) to
+// [512, 1024). The caller passes the points already relative to the
+// triangle (collider.c takes them there exactly), so S is the size of the
+// hull, the triangle and the gap between them, not their position. MPR's
+// yes/no answers are good to about 2^-26 S on thin configurations (see
+// "Accuracy floor" above), so the query is refused (NAN) when tolerance <
+// NARROW_CCD_HULL_MIN_RELATIVE_TOLERANCE x S; within it the bisection stops
+// at width tolerance / 2 and MPR's tolerance is 1/16 of that, so the answer
+// is within tolerance / 4 + tolerance / 32 + 0.6 x 2^-26 S < 0.6 tolerance.
+
+// tolerance / S below this: NAN (collider.h's COLLIDER_HULL_LIMIT agrees).
+#define NARROW_CCD_HULL_MIN_RELATIVE_TOLERANCE 0x1p-25
 
 double selfcol_narrow_ccd__hull_triangle(const double (*points)[3], size_t n, const double a[3],
                                          const double b[3], const double c[3], double radius,
                                          double tolerance, double (*scratch)[3], double normal[3],
                                          double point[3]) {
-    if (n == 0 || n > INT_MAX)
+    const double *tri[3] = {a, b, c};
+    if (n == 0 || n > INT_MAX || !(radius > 0.0) || !isfinite(radius) || !all_finite(3, tri))
         return HUGE_VAL;
-    // The frame of the primitive queries (proximity_setup), set up on the
-    // triangle and the hull's first point, then the hull's points copied in.
-    const double *first[1] = {points[0]}, *second[3] = {a, b, c};
-    proximity q;
-    if (!proximity_setup(&q, 1, first, 3, second, radius, tolerance))
-        return HUGE_VAL;
-    double limit = 0.0;
+    double size = radius;
     for (size_t i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) {
             if (!isfinite(points[i][k]))
                 return HUGE_VAL;
-            scratch[i][k] = ldexp(points[i][k] - a[k], q.exponent);
-            limit = fmax(limit, fabs(scratch[i][k]));
+            size = fmax(size, fabs(points[i][k] - a[k]));
         }
-    if (!(limit <= NARROW_CCD_FRAME_LIMIT))
+    for (int i = 1; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+            size = fmax(size, fabs(tri[i][k] - a[k]));
+    if (!isfinite(size))
         return HUGE_VAL;
+    if (!(tolerance >= NARROW_CCD_HULL_MIN_RELATIVE_TOLERANCE * size))
+        return NAN;
+    proximity q;
+    int e;
+    (void)frexp(size, &e);
+    q.exponent = NARROW_CCD_FRAME_EXPONENT - e;
+    q.radius = ldexp(radius, q.exponent);
+    q.tolerance = ldexp(0.5 * tolerance, q.exponent);
+    // (points may be scratch: each coordinate is read before it is written;
+    // a product by a normal power of two is ldexp, to the rounding of
+    // subnormal results, far below S)
+    const double scale = ldexp(1.0, q.exponent);
+    const int by_product = q.exponent >= -1000 && q.exponent <= 1000;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k)
+            scratch[i][k] =
+                by_product ? (points[i][k] - a[k]) * scale : ldexp(points[i][k] - a[k], q.exponent);
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+            q.second.v[i][k] = ldexp(tri[i][k] - a[k], q.exponent);
     q.first.many = (const double(*)[3])scratch;
     q.first.n = (int)n;
-    q.first.escape = q.second.escape = fmax(q.first.escape, 4.0 * (limit + q.radius));
+    q.second.many = NULL;
+    q.second.n = 3;
+    q.first.radius = q.second.radius = 0.0;
+    q.first.escape = q.second.escape = 8.0 * 1024.0 + 4.0 * q.radius;
+    q.first.supports = q.second.supports = &q.supports;
+    ccd_setup(&q.ccd, q.tolerance);
+    q.ccd.mpr_tolerance = q.tolerance / NARROW_CCD_MPR_SHARE;
     double dist = proximity_distance(&q);
     if (dist < HUGE_VAL && normal != NULL) {
         // MPR's penetration of the triangle into the hull swept just past

@@ -579,6 +579,53 @@ static void test_capsule_collider_matches_triangulated_capsule(void **state) {
     scene_free(&caps);
 }
 
+// Duplicate triangles (hardening 0.3, item 6) are no contact's triangle,
+// collider contacts included: a sheet whose every triangle is repeated
+// (reversed, and then once more) under a sphere gives exactly the contacts
+// of the sheet alone, all naming first occurrences.
+static void test_collider_contacts_name_no_duplicate(void **state) {
+    (void)state;
+    scene s = {0};
+    assert_int_equal(scene_grid(&s, 12, 12, 0.05), 0);
+    const size_t n = s.triangle_count;
+    uint32_t *tris = malloc(3 * 3 * n * sizeof *tris);
+    memcpy(tris, s.triangles, 3 * n * sizeof *tris);
+    for (size_t t = 0; t < n; ++t)
+        for (int k = 0; k < 3; ++k) {
+            tris[3 * (n + t) + k] = s.triangles[3 * t + 2 - k];
+            tris[3 * (2 * n + t) + k] = s.triangles[3 * t + k];
+        }
+    selfcol_mesh *alone = mesh_of(&s), *copied = NULL;
+    assert_int_equal(selfcol_mesh_create(&copied, s.vertex_count, s.positions, 3 * n, tris, NULL),
+                     SELFCOL_OK);
+    selfcol_scene_collider_desc desc;
+    assert_int_equal(selfcol_scene_collider_desc_init(&desc, SELFCOL_COLLIDER_SPHERE,
+                                                      SELFCOL_SCENE_COLLIDER_DESC_VERSION),
+                     SELFCOL_OK);
+    desc.radius = 0.2;
+    const double centre[3] = {0.3, 0.3, -0.19}; // the sheet crosses its top
+    size_t counts[2] = {0, 0};
+    for (int pass = 0; pass < 2; ++pass) {
+        selfcol_scene *sc = make_scene(0.02, NULL);
+        add(sc, pass ? copied : alone, SELFCOL_SURFACE_CLOTH, 0, 0);
+        uint32_t cid;
+        assert_int_equal(selfcol_scene_add_collider(sc, &desc, &cid), SELFCOL_OK);
+        assert_int_equal(selfcol_scene_set_collider_pose(sc, cid, centre, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+        const selfcol_collider_contact *cc;
+        assert_int_equal(selfcol_scene_collider_contacts(sc, &cc, &counts[pass]), SELFCOL_OK);
+        for (size_t i = 0; i < counts[pass]; ++i)
+            assert_true(cc[i].triangle < n);
+        selfcol_scene_destroy(sc);
+    }
+    assert_true(counts[0] > 10);
+    assert_int_equal(counts[1], counts[0]);
+    selfcol_mesh_destroy(alone);
+    selfcol_mesh_destroy(copied);
+    free(tris);
+    scene_free(&s);
+}
+
 // ---------------------------------------------------------------------------
 // Errors
 
@@ -835,6 +882,7 @@ int main(void) {
         cmocka_unit_test(test_remove_surface_keeps_the_other_stores),
         cmocka_unit_test(test_body_never_voted),
         cmocka_unit_test(test_capsule_collider_matches_triangulated_capsule),
+        cmocka_unit_test(test_collider_contacts_name_no_duplicate),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_memory),
     };

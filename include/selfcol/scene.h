@@ -37,15 +37,31 @@
  * replaced by another at the same address gives SELFCOL_EMISMATCH rather
  * than out-of-range reads (when its counts or triangles differ).
  *
- * Colliders are convex: the convex hull of points (one for a sphere, two for
- * a capsule, eight for a box, any for a convex point set) swept by a ball of
- * `radius`. Their contacts with triangles come from libccd's MPR test by
- * inflation and bisection (the narrow phase of narrow_ccd.c): the distance
- * is within `collider_tolerance` of the truth. The contact's normal and the
- * closest point on the triangle are the closed form's for spheres and
- * capsules; for boxes and convex point sets they come from libccd's MPR
- * penetration just past the contact (approximate: the README gives the
- * measured error).
+ * Colliders are convex: a point (sphere), a segment (capsule), a box or the
+ * convex hull of points, swept by a ball of `radius`, placed by their pose
+ * (the rotation taken as orthonormal). A contact's distance is within
+ * `collider_tolerance` of the exact distance of the triangle (as its double
+ * coordinates say) to the collider (as its description and pose say),
+ * whatever their sizes and positions, within these limits:
+ * - every shape: radius + distance <= 2^95 x collider_tolerance (2e21 at
+ *   the default tolerance for d = 0.05; a box's half-extents are not
+ *   limited), distance <= 2^45 x collider_tolerance, and triangles whose
+ *   longest edge is <= 2^47 x collider_tolerance (7e6 at that tolerance);
+ * - convex point sets (libccd, whose answers are good to about 2^-26 of the
+ *   coordinates it sees): the hull, the triangle and the gap between them
+ *   within 2^25 x collider_tolerance of the triangle's first corner (1.7 at
+ *   the default tolerance for d = 0.05: raise `collider_tolerance` for
+ *   larger hulls).
+ * Beyond a limit selfcol_scene_update() returns SELFCOL_ERANGE (its
+ * collider contacts empty) rather than a wrong distance. Spheres, capsules
+ * and boxes are solved in closed form in the collider's frame with
+ * error-free arithmetic, and their normal (from the collider toward the
+ * triangle's closest point) and closest point on the triangle are exact to
+ * rounding; when the triangle meets the core (the point, segment or box),
+ * the normal is the triangle's, turned away from the collider's centre.
+ * Convex point sets use libccd's MPR test by inflation and bisection
+ * (narrow_ccd.c); their normal and point come from MPR's penetration just
+ * past the contact (SELFCOL_COLLIDER_APPROXIMATE).
  *
  * Memory is linear in the triangles plus the contacts held; once every
  * array has grown, an update allocates nothing.
