@@ -244,7 +244,7 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
     o.quiet = true;
     demo::world w(o, 0.0);
     demo::ribbon rib = demo::add_ribbon(w, size.along, cfg.scale, size.steps);
-    if (!w.start(o))
+    if (w.start(o) != 0)
         return r;
     r.setup_ms = 1e3 * seconds_since(started);
 

@@ -25,7 +25,7 @@ int main(int argc, char **argv) {
     btVector3 u(btScalar(1.2 * s), btScalar(0.05 * s), 0),
         v(0, btScalar(0.1 * s), btScalar(1.2 * s));
     w.add_sheet(corner, u, v, n, n, 0.3, true);
-    if (!w.start(o))
-        return 1;
+    if (int status = w.start(o))
+        return status;
     return demo::run(w, o, steps, nullptr);
 }

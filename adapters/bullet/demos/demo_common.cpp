@@ -6,6 +6,7 @@
 #include "demo_common.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,51 @@ namespace demo {
 // The internal step of every demo: Bullet's deformable examples use 1/240 s.
 static const double kStep = 1.0 / 240.0;
 
+static void usage(const char *name, const char *about) {
+    std::fprintf(stderr,
+                 "%s: %s\n"
+                 "usage: %s [--steps N] [--resolution N] [--scale S] [--out DIR] [--every K]\n"
+                 "          [--collision selfcol|bullet|off] [--distance D] [--threads N] "
+                 "[--quiet] [--check]\n"
+                 "  --steps N       1..%lld internal steps of 1/240 s (default: the demo's)\n"
+                 "  --resolution N  %lld..%lld nodes along the long side (default: the demo's)\n"
+                 "  --scale S       %g..%g: every length times S (Bullet's own path misses "
+                 "cloth with edges under ~1.8 cm)\n"
+                 "  --out DIR       write frames DIR/frame_NNNNN.ply (every K steps with "
+                 "--every, and the last)\n"
+                 "  --every K       0..%lld (0: the last frame only)\n"
+                 "  --collision     self-collision by selfcol (default), by Bullet's own "
+                 "deformable path, or none\n"
+                 "  --distance D    selfcol's thickness, 0 (default: 0.25 x the mean edge) up "
+                 "to the mean edge\n"
+                 "  --threads N     selfcol's query threads, 1..%d\n",
+                 name, about, name, max_steps, min_resolution, max_resolution, min_scale, max_scale,
+                 max_steps, SELFCOL_MAX_THREADS);
+}
+
+// A whole decimal integer in [lo, hi]: no sign games, no truncation (a
+// value that does not fit is refused, not wrapped).
+static bool parse_integer(const char *text, long long lo, long long hi, long long &out) {
+    char *end = nullptr;
+    errno = 0;
+    long long v = std::strtoll(text, &end, 10);
+    if (end == text || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+        return false;
+    out = v;
+    return true;
+}
+
+// A finite real in [lo, hi].
+static bool parse_real(const char *text, double lo, double hi, double &out) {
+    char *end = nullptr;
+    errno = 0;
+    double v = std::strtod(text, &end);
+    if (end == text || *end != '\0' || !std::isfinite(v) || !(v >= lo && v <= hi))
+        return false;
+    out = v;
+    return true;
+}
+
 bool parse(int argc, char **argv, const char *name, const char *about, options &o) {
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
@@ -26,25 +72,29 @@ bool parse(int argc, char **argv, const char *name, const char *about, options &
                      a == "--out" || a == "--distance" || a == "--threads" || a == "--collision";
         if (takes && value == nullptr) {
             std::fprintf(stderr, "%s: %s needs a value\n", name, a.c_str());
+            usage(name, about);
             return false;
         }
-        char *end = nullptr;
-        if (a == "--steps")
-            o.steps = int(std::strtol(value, &end, 10));
-        else if (a == "--resolution")
-            o.resolution = int(std::strtol(value, &end, 10));
-        else if (a == "--scale")
-            o.scale = std::strtod(value, &end);
-        else if (a == "--every")
-            o.every = int(std::strtol(value, &end, 10));
-        else if (a == "--distance")
-            o.distance = std::strtod(value, &end);
-        else if (a == "--threads")
-            o.threads = unsigned(std::strtoul(value, &end, 10));
-        else if (a == "--out") {
+        long long n = 0;
+        bool ok = true;
+        if (a == "--steps") {
+            ok = parse_integer(value, 1, max_steps, n);
+            o.steps = int(n);
+        } else if (a == "--resolution") {
+            ok = parse_integer(value, min_resolution, max_resolution, n);
+            o.resolution = int(n);
+        } else if (a == "--scale") {
+            ok = parse_real(value, min_scale, max_scale, o.scale);
+        } else if (a == "--every") {
+            ok = parse_integer(value, 0, max_steps, n);
+            o.every = int(n);
+        } else if (a == "--distance") {
+            ok = parse_real(value, 0, SELFCOL_MESH_MAX_COORDINATE, o.distance);
+        } else if (a == "--threads") {
+            ok = parse_integer(value, 1, SELFCOL_MAX_THREADS, n);
+            o.threads = unsigned(n);
+        } else if (a == "--out") {
             o.out = value;
-            ++i;
-            continue;
         } else if (a == "--collision") {
             std::string m = value;
             if (m == "selfcol")
@@ -53,12 +103,8 @@ bool parse(int argc, char **argv, const char *name, const char *about, options &
                 o.collision = mode::bullet;
             else if (m == "off")
                 o.collision = mode::off;
-            else {
-                std::fprintf(stderr, "%s: --collision takes selfcol, bullet or off\n", name);
-                return false;
-            }
-            ++i;
-            continue;
+            else
+                ok = false;
         } else if (a == "--quiet") {
             o.quiet = true;
             continue;
@@ -66,30 +112,17 @@ bool parse(int argc, char **argv, const char *name, const char *about, options &
             o.check = true;
             continue;
         } else {
-            std::fprintf(stderr,
-                         "%s: %s\n"
-                         "usage: %s [--steps N] [--resolution N] [--scale S] [--out DIR] "
-                         "[--every K]\n"
-                         "          [--collision selfcol|bullet|off] [--distance D] "
-                         "[--threads N] [--quiet] [--check]\n"
-                         "  --out DIR     write frames DIR/frame_NNNNN.ply (every K steps with "
-                         "--every, and the last)\n"
-                         "  --collision   self-collision by selfcol (default), by Bullet's own "
-                         "deformable path, or none\n"
-                         "  --scale S     every length times S (Bullet's own path misses cloth "
-                         "with edges under ~1.8 cm)\n",
-                         name, about, name);
+            if (a != "--help" && a != "-h")
+                std::fprintf(stderr, "%s: unknown argument %s\n", name, a.c_str());
+            usage(name, about);
             return false;
         }
-        if (end == nullptr || *end != '\0' || end == value) {
+        if (!ok) {
             std::fprintf(stderr, "%s: bad value for %s: %s\n", name, a.c_str(), value);
+            usage(name, about);
             return false;
         }
         ++i;
-    }
-    if (o.steps < 0 || o.resolution < 0 || !(o.scale > 0) || o.every < 0 || !(o.distance >= 0)) {
-        std::fprintf(stderr, "%s: values must be positive\n", name);
-        return false;
     }
     return true;
 }
@@ -205,7 +238,20 @@ btSoftBody *world::add_sheet(const btVector3 &corner, const btVector3 &u, const 
     return body;
 }
 
-bool world::start(const options &o) {
+double mean_face_edge(const world &w) {
+    double sum = 0;
+    size_t count = 0;
+    for (const btSoftBody *c : w.cloths)
+        for (int f = 0; f < c->m_faces.size(); ++f)
+            for (int k = 0; k < 3; ++k) {
+                sum += double(
+                    (c->m_faces[f].m_n[k]->m_x - c->m_faces[f].m_n[(k + 1) % 3]->m_x).length());
+                ++count;
+            }
+    return count > 0 ? sum / double(count) : 0;
+}
+
+int world::start(const options &o) {
     if (collision == mode::bullet) {
         for (btSoftBody *c : cloths) {
             c->m_cfg.collisions |= btSoftBody::fCollision::VF_DD;
@@ -213,22 +259,33 @@ bool world::start(const options &o) {
             c->m_cfg.collisions |= btSoftBody::fCollision::SDF_RD;
             c->setSelfCollision(true);
         }
-        return true;
+        return 0;
     }
     if (collision == mode::off)
-        return true;
+        return 0;
+    // The thickness is a cloth's: beyond an edge length the repulsion (up
+    // to d per step) throws nodes apart faster than the springs hold them
+    // (--distance 1e30 made the ribbon's nodes non-finite).
+    const double edge = mean_face_edge(*this);
+    if (o.distance > edge) {
+        std::fprintf(stderr,
+                     "--distance %g is above the cloth's mean edge length (%g at this "
+                     "resolution and scale)\n",
+                     o.distance, edge);
+        return 2;
+    }
     selfcol_bullet_options so;
     selfcol_bullet_options_init(&so, SELFCOL_BULLET_OPTIONS_VERSION);
-    so.distance = o.distance;
-    so.threads = o.threads;
+    so.query.distance = o.distance;
+    so.query.threads = o.threads;
     int status = selfcol_bullet_create(&adapter, dynamics, &so);
     for (size_t i = 0; status == SELFCOL_OK && i < cloths.size(); ++i)
         status = selfcol_bullet_attach(adapter, cloths[i], nullptr);
     if (status != SELFCOL_OK) {
         std::fprintf(stderr, "selfcol adapter: %s\n", selfcol_status_string(status));
-        return false;
+        return 1;
     }
-    return true;
+    return 0;
 }
 
 void world::step(double dt) {
@@ -407,6 +464,15 @@ int run(world &w, const options &o, int steps, const std::function<void(int)> &b
         print_step(w, o, i, dt, r);
         if (!maybe_write(w, o, i, steps - 1))
             return 1;
+        // A failed step changed no node, and the next ones would fail the
+        // same way: stop here, with the reason (finish() prints it).
+        selfcol_bullet_step_stats s;
+        s.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+        if (w.adapter != nullptr && selfcol_bullet_stats(w.adapter, &s) == SELFCOL_OK &&
+            s.status != SELFCOL_OK) {
+            std::fprintf(stderr, "stopped at step %d\n", i);
+            return finish(w, o, r, i + 1);
+        }
     }
     return finish(w, o, r, steps);
 }

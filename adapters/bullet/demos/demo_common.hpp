@@ -45,9 +45,19 @@ struct options {
     bool check = false;
 };
 
+// The ranges parse() accepts: a value outside them is a usage error (exit
+// 2), never truncated (--steps 4294967298 ran 2 steps) nor passed on to
+// fail later (--scale inf, --resolution 1: a sheet needs 2 nodes a side).
+const long long max_steps = 10000000;
+const long long min_resolution = 2;
+const long long max_resolution = 2048;
+const double min_scale = 1e-3;
+const double max_scale = 1e3;
+
 // Parses --steps N --resolution N --scale S --every K --out DIR --quiet
 // --distance D --threads N --collision selfcol|bullet|off; prints usage and
-// returns false on an error or --help.
+// returns false on an error or --help. --distance is bounded by the scene
+// in world::start().
 bool parse(int argc, char **argv, const char *name, const char *about, options &o);
 
 // A Bullet deformable world with its parts, torn down in the right order.
@@ -83,8 +93,10 @@ struct world {
                           int ny, double mass, bool rigid_contacts);
 
     // Switches self-collision to the world's mode (after the sheets are in).
-    // Returns false (with a message) if the adapter cannot be set up.
-    bool start(const options &o);
+    // Returns 0, 2 (with a message) for a --distance above the cloths' mean
+    // edge length, or 1 (with the reason) if the adapter cannot be set up:
+    // the demo's exit status.
+    int start(const options &o);
 
     void step(double dt);
 };
@@ -95,6 +107,8 @@ double kinetic_energy(const world &w);
 bool finite(const world &w);
 // Bullet's own vertex-face self-collision contacts of the cloths (m_faceNodeContacts).
 size_t bullet_contacts(const world &w);
+// Mean length of the cloths' face edges (shared edges counted per face).
+double mean_face_edge(const world &w);
 // Largest |coordinate| of any cloth node.
 double extent(const world &w);
 
@@ -120,7 +134,8 @@ bool maybe_write(const world &w, const options &o, int step, int last_step);
 // within 5 m x scale of the origin (the scenes span about 2 m x scale).
 int finish(const world &w, const options &o, const report &r, int steps);
 // Runs `steps` internal steps: before_step(i) (may be empty), the step, the
-// per-step line, the frame; then finish(). Returns the demo's exit status.
+// per-step line, the frame; then finish(). Stops after the first step the
+// adapter failed (finish() prints the reason). Returns the demo's exit status.
 int run(world &w, const options &o, int steps, const std::function<void(int)> &before_step);
 // The internal step length every demo uses (1/240 s, as Bullet's deformable examples).
 double step_length();

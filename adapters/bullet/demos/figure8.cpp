@@ -33,7 +33,7 @@ int main(int argc, char **argv) {
     btVector3 b_u(btScalar(side), btScalar(-2 * tilt), 0), b_v(0, 0, btScalar(0.9 * side));
     w.add_sheet(a_corner, a_u, a_v, n, n, 0.2, true);
     w.add_sheet(b_corner, b_u, b_v, n, n, 0.2, true);
-    if (!w.start(o))
-        return 1;
+    if (int status = w.start(o))
+        return status;
     return demo::run(w, o, steps, nullptr);
 }

@@ -17,7 +17,7 @@ int main(int argc, char **argv) {
     int along = o.resolution > 0 ? o.resolution : 160;
     demo::world w(o, 0.0);
     demo::ribbon r = demo::add_ribbon(w, along, o.scale, steps * 3 / 4);
-    if (!w.start(o))
-        return 1;
+    if (int status = w.start(o))
+        return status;
     return demo::run(w, o, steps, [&r](int i) { demo::drive_ribbon(r, i); });
 }

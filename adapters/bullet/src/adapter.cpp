@@ -82,12 +82,28 @@ template <class T> using hvector = std::vector<T, hook_allocator<T>>;
 struct attached_body {
     btSoftBody *body;
     selfcol_mesh *mesh;
+    // Its surface id: in the scene once there is one, and the public id
+    // (attach order, never reused).
+    uint32_t surface;
     int node_count;
     int face_count;
-    int saved_collisions;
     bool saved_self_collision;
     uint32_t first_node; // this body's node 0 in the adapter's node numbering
 };
+
+// The mark of an attached body. Bullet 3.24's btSoftBody::defaultCollisionHandler
+// switches on the two bodies' common soft-soft bits (collisions & SVSmask)
+// and handles VF_DD only when they are exactly VF_DD; CL_SELF is read
+// nowhere else (cluster self-collision, under CL_SS). Two marked VF_DD
+// bodies thus share VF_DD | CL_SELF and Bullet skips their pair (selfcol's),
+// while a marked body and an unmarked VF_DD body share VF_DD alone and
+// Bullet keeps their contact. The mark also tells another adapter that the
+// body is taken.
+const int attached_mark = int(btSoftBody::fCollision::CL_SELF);
+
+// The scene's limit on surfaces ever added (scene.h: more than 2^16 is
+// SELFCOL_ERANGE); ids are never reused, so attaches count against it.
+const uint32_t max_surfaces = 1u << 16;
 
 double now_seconds() {
     using clock = std::chrono::steady_clock;
@@ -117,9 +133,10 @@ struct selfcol_bullet {
     selfcol_bullet_options opts;
     btDeformableMultiBodyDynamicsWorld *world;
     step_action *action;
-    selfcol_scene *scene; // NULL until the first step after an attach
+    selfcol_scene *scene; // NULL until the first step with a body attached
     double distance;
     uint32_t node_total;
+    uint32_t next_surface; // the id the next attach gets
     hvector<attached_body> bodies;
     hvector<int32_t> slot_of_node; // node -> response slot, -1 when unused this step
     hvector<btSoftBody::Node *> node_of_slot;
@@ -136,7 +153,7 @@ struct selfcol_bullet {
 
     explicit selfcol_bullet(const selfcol_allocator &h)
         : hooks(h), opts(), world(nullptr), action(nullptr), scene(nullptr), distance(0),
-          node_total(0), bodies(hook_allocator<attached_body>(&hooks)),
+          node_total(0), next_surface(0), bodies(hook_allocator<attached_body>(&hooks)),
           slot_of_node(hook_allocator<int32_t>(&hooks)),
           node_of_slot(hook_allocator<btSoftBody::Node *>(&hooks)),
           global_of_slot(hook_allocator<uint32_t>(&hooks)),
@@ -166,12 +183,49 @@ const float *node_positions(btSoftBody *body) {
     return &body->m_nodes[0].m_x.x();
 }
 
-// Builds the scene from the attached bodies (first step, or after an attach):
-// the thickness defaults from their mean edge length.
+bool in_world(const selfcol_bullet *a, const btSoftBody *body) {
+    // By address only: a body no longer in the world may have been deleted.
+    const btSoftBodyArray &bodies = a->world->getSoftBodyArray();
+    for (int i = 0; i < bodies.size(); ++i)
+        if (bodies[i] == body)
+            return true;
+    return false;
+}
+
+bool finite_velocities(const btSoftBody *body) {
+    for (int i = 0; i < body->m_nodes.size(); ++i) {
+        const btVector3 &v = body->m_nodes[i].m_v;
+        if (!std::isfinite(v.x()) || !std::isfinite(v.y()) || !std::isfinite(v.z()))
+            return false;
+    }
+    return true;
+}
+
+int add_surface(selfcol_scene *scene, const selfcol_mesh *mesh, uint32_t *id) {
+    selfcol_scene_surface_options surface;
+    selfcol_scene_surface_options_init(&surface, SELFCOL_SURFACE_CLOTH,
+                                       SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
+    return selfcol_scene_add_surface(scene, mesh, &surface, id);
+}
+
+// The scene options of the adapter's options at a distance.
+selfcol_scene_options scene_options(const selfcol_bullet_options &o, double distance) {
+    selfcol_scene_options so;
+    selfcol_scene_options_init(&so, SELFCOL_SCENE_OPTIONS_VERSION);
+    so.allocator = o.allocator;
+    so.query = o.query;
+    so.query.distance = distance;
+    so.store = o.store;
+    return so;
+}
+
+// Builds the scene from the attached bodies (the first step with a body):
+// the thickness defaults from their mean edge length and stays for the
+// scene's life. Surface ids are the bodies' (attach order): an id whose
+// body was detached before the scene existed is used up by adding a body's
+// mesh and removing it again, since the scene numbers surfaces itself.
 int build_scene(selfcol_bullet *a) {
-    selfcol_scene_destroy(a->scene);
-    a->scene = nullptr;
-    double distance = a->opts.distance;
+    double distance = a->opts.query.distance;
     if (distance == 0) {
         double sum = 0;
         double edges = 0;
@@ -184,33 +238,82 @@ int build_scene(selfcol_bullet *a) {
     }
     if (!(distance > 0) || !std::isfinite(distance))
         return SELFCOL_EINVAL; // every edge of zero length
-    selfcol_scene_options so;
-    int status = selfcol_scene_options_init(&so, SELFCOL_SCENE_OPTIONS_VERSION);
-    if (status != SELFCOL_OK)
-        return status;
-    so.allocator = a->hooks;
-    so.query.distance = distance;
-    so.query.threads = a->opts.threads;
-    so.store.remnance_frames = a->opts.remnance_frames;
-    so.store.consistency = a->opts.consistency;
+    selfcol_scene_options so = scene_options(a->opts, distance);
     selfcol_scene *scene = nullptr;
-    status = selfcol_scene_create(&scene, &so);
-    if (status != SELFCOL_OK)
-        return status;
-    for (const attached_body &b : a->bodies) {
-        selfcol_scene_surface_options surface;
-        selfcol_scene_surface_options_init(&surface, SELFCOL_SURFACE_CLOTH,
-                                           SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
+    int status = selfcol_scene_create(&scene, &so);
+    for (size_t i = 0; status == SELFCOL_OK && i < a->bodies.size(); ++i) {
+        const attached_body &b = a->bodies[i];
         uint32_t id = 0;
-        status = selfcol_scene_add_surface(scene, b.mesh, &surface, &id);
-        if (status != SELFCOL_OK) {
-            selfcol_scene_destroy(scene);
-            return status;
+        status = add_surface(scene, b.mesh, &id);
+        while (status == SELFCOL_OK && id < b.surface) {
+            status = selfcol_scene_remove_surface(scene, id);
+            if (status == SELFCOL_OK)
+                status = add_surface(scene, b.mesh, &id);
         }
+        assert(status != SELFCOL_OK || id == b.surface);
+    }
+    if (status != SELFCOL_OK) {
+        selfcol_scene_destroy(scene);
+        return status;
     }
     a->scene = scene;
     a->distance = distance;
     return SELFCOL_OK;
+}
+
+// Forgets the slots of the last step (a failed step can leave some set).
+void forget_slots(selfcol_bullet *a) {
+    for (uint32_t global : a->global_of_slot)
+        if (global < a->slot_of_node.size())
+            a->slot_of_node[global] = -1;
+    a->rows.clear();
+    a->nodes.clear();
+    a->node_of_slot.clear();
+    a->global_of_slot.clear();
+    a->contour_points.clear();
+    a->contour_keys.clear();
+}
+
+// Forgets bodies[index]: its surface and its pairs' stores (the others keep
+// theirs), its mesh, and its nodes in the adapter's numbering, which the
+// later bodies' numbers close up. Never reads the body (it may be gone) and
+// never allocates.
+void drop_body(selfcol_bullet *a, size_t index) {
+    forget_slots(a);
+    const attached_body gone = a->bodies[index];
+    if (a->scene != nullptr)
+        selfcol_scene_remove_surface(a->scene, gone.surface);
+    selfcol_mesh_destroy(gone.mesh);
+    a->bodies.erase(a->bodies.begin() + std::ptrdiff_t(index));
+    const uint32_t count = uint32_t(gone.node_count);
+    for (size_t i = index; i < a->bodies.size(); ++i)
+        a->bodies[i].first_node -= count;
+    a->node_total -= count;
+    a->slot_of_node.resize(a->node_total); // shrinks: no allocation
+    // Its edges' entries go; the later bodies' edges and body indices shift
+    // down. Bodies own contiguous node ranges in order, so the entries stay
+    // sorted.
+    size_t kept = 0;
+    for (const edge_face &ef : a->edge_faces) {
+        const uint64_t body = ef.face >> 32;
+        if (body == index)
+            continue;
+        edge_face moved = ef;
+        if (body > index) {
+            const uint64_t shift = uint64_t(count) << 32 | count;
+            moved.edge -= shift;
+            moved.face -= uint64_t(1) << 32;
+        }
+        a->edge_faces[kept++] = moved;
+    }
+    a->edge_faces.resize(kept);
+    assert(std::is_sorted(a->edge_faces.begin(), a->edge_faces.end()));
+}
+
+// Restores what attach changed on a body that is still in the world.
+void restore_body(const attached_body &b) {
+    b.body->m_cfg.collisions &= ~attached_mark;
+    b.body->setSelfCollision(b.saved_self_collision);
 }
 
 uint32_t slot_for(selfcol_bullet *a, const attached_body &b, uint32_t vertex) {
@@ -385,11 +488,21 @@ size_t untangle(selfcol_bullet *a) {
 int step_impl(selfcol_bullet *a, double dt) {
     if (!(dt > 0) || !std::isfinite(dt))
         return SELFCOL_EINVAL;
+    // A body removed from the world is dropped before anything reads it.
+    for (size_t i = a->bodies.size(); i-- > 0;)
+        if (!in_world(a, a->bodies[i].body))
+            drop_body(a, i);
     if (a->bodies.empty())
         return SELFCOL_OK;
     for (const attached_body &b : a->bodies)
         if (b.body->m_nodes.size() != b.node_count || b.body->m_faces.size() != b.face_count)
             return SELFCOL_ESTALE;
+    // Velocities are checked like positions (those by the mesh setter):
+    // the response mixes the velocities of every node a contact joins, so
+    // one NaN would spread to other nodes and other bodies.
+    for (const attached_body &b : a->bodies)
+        if (!finite_velocities(b.body))
+            return SELFCOL_EINVAL;
     double t0 = now_seconds();
     int status;
     for (const attached_body &b : a->bodies) {
@@ -410,19 +523,13 @@ int step_impl(selfcol_bullet *a, double dt) {
 
     // Forget the last step's slots. The write-back below resets them too, but
     // a step that failed (ENOMEM while gathering) left some set.
-    for (uint32_t global : a->global_of_slot)
-        a->slot_of_node[global] = -1;
-    a->rows.clear();
-    a->nodes.clear();
-    a->node_of_slot.clear();
-    a->global_of_slot.clear();
-    a->contour_points.clear();
-    a->contour_keys.clear();
+    forget_slots(a);
     uint64_t crossed = 0;
     for (size_t i = 0; i < a->bodies.size(); ++i)
         for (size_t j = i; j < a->bodies.size(); ++j) {
             const selfcol_store *store = nullptr;
-            if (selfcol_scene_store(a->scene, uint32_t(i), uint32_t(j), &store) != SELFCOL_OK ||
+            if (selfcol_scene_store(a->scene, a->bodies[i].surface, a->bodies[j].surface, &store) !=
+                    SELFCOL_OK ||
                 store == nullptr)
                 continue;
             gather_rows(a, store, a->bodies[i], a->bodies[j], &crossed);
@@ -468,23 +575,54 @@ int step_impl(selfcol_bullet *a, double dt) {
 extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigned int version) {
     if (opts == nullptr)
         return SELFCOL_EINVAL;
-    if (version == 0 || version > SELFCOL_BULLET_OPTIONS_VERSION)
+    // 0.2's versions 1 and 2 held the query and store fields flat: their
+    // layouts differ from version 3 after the allocator.
+    if (version != SELFCOL_BULLET_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    // A version 1 caller's struct ends before `untangle`.
-    std::memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_bullet_options, untangle));
+    std::memset(opts, 0, sizeof *opts);
     opts->version = version;
-    opts->distance = 0;
+    int status = selfcol_query_options_init(&opts->query, SELFCOL_QUERY_OPTIONS_VERSION);
+    if (status == SELFCOL_OK)
+        status = selfcol_store_options_init(&opts->store, SELFCOL_STORE_OPTIONS_VERSION);
+    if (status != SELFCOL_OK)
+        return status;
+    opts->query.distance = 0; // from distance_factor
     opts->distance_factor = SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR;
     opts->repulsion = SELFCOL_BULLET_DEFAULT_REPULSION;
     opts->iterations = SELFCOL_BULLET_DEFAULT_ITERATIONS;
-    opts->remnance_frames = SELFCOL_STORE_DEFAULT_REMNANCE;
-    opts->consistency = 1;
-    opts->threads = 1;
     opts->automatic = 1;
-    if (version >= 2)
-        opts->untangle = 1;
+    opts->untangle = 1;
     return SELFCOL_OK;
 }
+
+namespace {
+
+// The adapter's own fields; the nested query and store options by the
+// core's rules, which a scene made and destroyed here applies (at the
+// given distance, or 1 when it will come from the bodies): an adapter that
+// is created can make its scene, rather than fail at every step.
+int check_options(const selfcol_bullet_options &o) {
+    if ((o.allocator.alloc == nullptr) != (o.allocator.free == nullptr))
+        return SELFCOL_EINVAL;
+    const double distance = o.query.distance;
+    if (!(distance >= 0) || !(distance <= SELFCOL_MESH_MAX_COORDINATE))
+        return SELFCOL_EINVAL; // NaN fails both
+    if (distance == 0 && (!(o.distance_factor > 0) || !std::isfinite(o.distance_factor)))
+        return SELFCOL_EINVAL;
+    if (!(o.repulsion > 0 && o.repulsion <= 1))
+        return SELFCOL_EINVAL;
+    if (o.iterations == 0 || o.iterations > 64)
+        return SELFCOL_EINVAL;
+    if ((o.automatic != 0 && o.automatic != 1) || (o.untangle != 0 && o.untangle != 1))
+        return SELFCOL_EINVAL;
+    selfcol_scene_options so = scene_options(o, distance > 0 ? distance : 1.0);
+    selfcol_scene *trial = nullptr;
+    int status = selfcol_scene_create(&trial, &so);
+    selfcol_scene_destroy(trial);
+    return status;
+}
+
+} // namespace
 
 extern "C" int selfcol_bullet_create(selfcol_bullet **out,
                                      btDeformableMultiBodyDynamicsWorld *world,
@@ -497,28 +635,13 @@ extern "C" int selfcol_bullet_create(selfcol_bullet **out,
     selfcol_bullet_options o;
     selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
     if (opts != nullptr) {
-        if (opts->version == 0 || opts->version > SELFCOL_BULLET_OPTIONS_VERSION)
+        if (opts->version != SELFCOL_BULLET_OPTIONS_VERSION)
             return SELFCOL_EVERSION;
-        // Only the fields of the caller's version; the later ones keep their
-        // defaults.
-        std::memcpy(&o, opts,
-                    opts->version >= 2 ? sizeof o : offsetof(selfcol_bullet_options, untangle));
-        o.version = SELFCOL_BULLET_OPTIONS_VERSION;
+        o = *opts;
     }
-    if ((o.allocator.alloc == nullptr) != (o.allocator.free == nullptr))
-        return SELFCOL_EINVAL;
-    if (!(o.distance >= 0) || !std::isfinite(o.distance))
-        return SELFCOL_EINVAL;
-    if (o.distance == 0 && (!(o.distance_factor > 0) || !std::isfinite(o.distance_factor)))
-        return SELFCOL_EINVAL;
-    if (!(o.repulsion > 0 && o.repulsion <= 1))
-        return SELFCOL_EINVAL;
-    if (o.iterations == 0 || o.iterations > 64)
-        return SELFCOL_EINVAL;
-    if (o.consistency != 0 && o.consistency != 1)
-        return SELFCOL_EINVAL;
-    if (o.untangle != 0 && o.untangle != 1)
-        return SELFCOL_EINVAL;
+    int status = check_options(o);
+    if (status != SELFCOL_OK)
+        return status;
     void *memory = hook_alloc(o.allocator, sizeof(selfcol_bullet), alignof(selfcol_bullet));
     if (memory == nullptr)
         return SELFCOL_ENOMEM;
@@ -558,8 +681,8 @@ extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
     }
     selfcol_scene_destroy(a->scene);
     for (attached_body &b : a->bodies) {
-        b.body->m_cfg.collisions = b.saved_collisions;
-        b.body->setSelfCollision(b.saved_self_collision);
+        if (in_world(a, b.body)) // one that left the world may be deleted
+            restore_body(b);
         selfcol_mesh_destroy(b.mesh);
     }
     selfcol_allocator hooks = a->hooks;
@@ -570,6 +693,14 @@ extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
 extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32_t *id_out) {
     if (a == nullptr || body == nullptr)
         return SELFCOL_EINVAL;
+    // Only a body of this world: a step reads nothing else (lifetimes, bullet.h).
+    if (!in_world(a, body))
+        return SELFCOL_EINVAL;
+    // Attached here already, or to another adapter (or using Bullet's
+    // cluster self-collision, whose bit is the mark): two adapters would
+    // each save and restore the other's settings.
+    if ((body->m_cfg.collisions & attached_mark) != 0)
+        return SELFCOL_EINVAL;
     for (const attached_body &b : a->bodies)
         if (b.body == body)
             return SELFCOL_EINVAL;
@@ -577,9 +708,14 @@ extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32
     int face_count = body->m_faces.size();
     if (node_count <= 0 || face_count <= 0)
         return SELFCOL_EINVAL;
-    if (uint64_t(a->node_total) + uint64_t(node_count) >= uint64_t(INT32_MAX))
+    if (!finite_velocities(body))
+        return SELFCOL_EINVAL;
+    if (uint64_t(a->node_total) + uint64_t(node_count) >= uint64_t(INT32_MAX) ||
+        a->next_surface >= max_surfaces)
         return SELFCOL_ERANGE;
     selfcol_mesh *mesh = nullptr;
+    bool in_scene = false;
+    const uint32_t surface = a->next_surface;
     try {
         hvector<uint32_t> triangles{hook_allocator<uint32_t>(&a->hooks)};
         triangles.reserve(size_t(face_count) * 3);
@@ -598,16 +734,28 @@ extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32
         attached_body b;
         b.body = body;
         b.mesh = mesh;
+        b.surface = surface;
         b.node_count = node_count;
         b.face_count = face_count;
-        b.saved_collisions = body->m_cfg.collisions;
         b.saved_self_collision = body->useSelfCollision();
         b.first_node = a->node_total;
-        a->slot_of_node.resize(size_t(a->node_total) + size_t(node_count), -1);
         // Everything that can fail first, so that a failure changes nothing
         // that a later attach would read.
+        a->slot_of_node.resize(size_t(a->node_total) + size_t(node_count), -1);
         a->bodies.reserve(a->bodies.size() + 1);
         a->edge_faces.reserve(a->edge_faces.size() + 3 * size_t(face_count));
+        // A live scene takes the surface now, its other pairs keeping their
+        // stores (the scene is unchanged if this fails).
+        if (a->scene != nullptr) {
+            uint32_t id = 0;
+            status = add_surface(a->scene, mesh, &id);
+            if (status != SELFCOL_OK) {
+                selfcol_mesh_destroy(mesh);
+                return status;
+            }
+            assert(id == surface);
+            in_scene = true;
+        }
         const uint64_t body_index = a->bodies.size();
         a->bodies.push_back(b);
         for (int f = 0; f < face_count; ++f)
@@ -618,19 +766,33 @@ extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32
                      body_index << 32 | uint64_t(f)});
         std::sort(a->edge_faces.begin(), a->edge_faces.end());
     } catch (...) {
+        if (in_scene)
+            selfcol_scene_remove_surface(a->scene, surface); // the id stays used
         selfcol_mesh_destroy(mesh);
         return SELFCOL_ENOMEM;
     }
     a->node_total += uint32_t(node_count);
-    // Bullet's own self-collision and vertex-face soft-soft handling off:
-    // selfcol is this body's soft-soft collision now.
+    a->next_surface = surface + 1;
+    // Bullet's own self-collision off, and the mark that makes Bullet's
+    // soft-soft handling skip this body's pairs with other attached bodies
+    // (attached_mark): selfcol is their collision now.
     body->setSelfCollision(false);
-    body->m_cfg.collisions &= ~int(btSoftBody::fCollision::VF_DD | btSoftBody::fCollision::VF_SS);
-    selfcol_scene_destroy(a->scene); // rebuilt with the new surface at the next step
-    a->scene = nullptr;
+    body->m_cfg.collisions |= attached_mark;
     if (id_out)
-        *id_out = uint32_t(a->bodies.size() - 1);
+        *id_out = surface;
     return SELFCOL_OK;
+}
+
+extern "C" int selfcol_bullet_detach(selfcol_bullet *a, btSoftBody *body) {
+    if (a == nullptr || body == nullptr)
+        return SELFCOL_EINVAL;
+    for (size_t i = 0; i < a->bodies.size(); ++i)
+        if (a->bodies[i].body == body) {
+            restore_body(a->bodies[i]);
+            drop_body(a, i);
+            return SELFCOL_OK;
+        }
+    return SELFCOL_EINVAL;
 }
 
 extern "C" int selfcol_bullet_step(selfcol_bullet *a, double dt) {
@@ -667,7 +829,10 @@ extern "C" const selfcol_scene *selfcol_bullet_scene(const selfcol_bullet *a) {
 }
 
 extern "C" const selfcol_mesh *selfcol_bullet_mesh(const selfcol_bullet *a, uint32_t id) {
-    if (a == nullptr || id >= a->bodies.size())
+    if (a == nullptr)
         return nullptr;
-    return a->bodies[id].mesh;
+    for (const attached_body &b : a->bodies)
+        if (b.surface == id)
+            return b.mesh;
+    return nullptr;
 }

@@ -9,9 +9,11 @@
 #include "../src/untangle.hpp"
 #include "demo_common.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 static int failures = 0;
 #define CHECK(cond)                                                                                \
@@ -37,10 +39,10 @@ static void api_rejects_bad_input() {
     CHECK(selfcol_bullet_create(&a, nullptr, &opts) == SELFCOL_EINVAL && a == nullptr);
     CHECK(selfcol_bullet_create(nullptr, w.dynamics, &opts) == SELFCOL_EINVAL);
     selfcol_bullet_options bad = opts;
-    bad.distance = NAN;
+    bad.query.distance = NAN;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
     bad = opts;
-    bad.distance = -1;
+    bad.query.distance = -1;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
     bad = opts;
     bad.repulsion = 1.5;
@@ -62,9 +64,10 @@ static void api_rejects_bad_input() {
     uint32_t id = 99;
     CHECK(selfcol_bullet_attach(a, sheet, &id) == SELFCOL_OK && id == 0);
     CHECK(selfcol_bullet_attach(a, sheet, &id) == SELFCOL_EINVAL); // twice
-    // Bullet's own self-collision and VF_DD are off while attached...
+    // Bullet's own self-collision is off while attached, VF_DD kept (for
+    // unattached bodies) and the mark on...
     CHECK(!sheet->useSelfCollision());
-    CHECK((sheet->m_cfg.collisions & btSoftBody::fCollision::VF_DD) == 0);
+    CHECK(sheet->m_cfg.collisions == (before | btSoftBody::fCollision::CL_SELF));
     CHECK(selfcol_bullet_step(a, 0) == SELFCOL_EINVAL);
     CHECK(selfcol_bullet_step(a, NAN) == SELFCOL_EINVAL);
     CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
@@ -95,30 +98,42 @@ static void api_rejects_bad_input() {
     selfcol_bullet_destroy(nullptr);
 }
 
-// Versioned structs: a version 1 caller's options and stats end before the
-// version 2 fields, which the library must neither write nor read.
-static void versioned_structs() {
+// Item A: the options compose the core's query and store options (version
+// 3); 0.2's layouts (versions 1 and 2) are refused. The stats struct keeps
+// its versions: a version 1 caller's stats end before `untangled`.
+static void options_composed_and_versions() {
     selfcol_bullet_options opts;
-    opts.untangle = 12345;
-    CHECK(selfcol_bullet_options_init(&opts, 1) == SELFCOL_OK);
-    CHECK(opts.untangle == 12345); // not written for a version 1 caller
+    CHECK(selfcol_bullet_options_init(&opts, 1) == SELFCOL_EVERSION);
+    CHECK(selfcol_bullet_options_init(&opts, 2) == SELFCOL_EVERSION);
     CHECK(selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION) == SELFCOL_OK);
-    CHECK(opts.untangle == 1);
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    selfcol_store_options st0;
+    selfcol_store_options_init(&st0, SELFCOL_STORE_OPTIONS_VERSION);
+    CHECK(opts.query.version == SELFCOL_QUERY_OPTIONS_VERSION);
+    CHECK(opts.query.kinds == (SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF));
+    CHECK(opts.query.method == SELFCOL_METHOD_EXACT && opts.query.narrow == q.narrow);
+    CHECK(opts.query.threads == 1 && opts.query.distance == 0);
+    CHECK(opts.store.version == SELFCOL_STORE_OPTIONS_VERSION);
+    CHECK(opts.store.remnance_frames == SELFCOL_STORE_DEFAULT_REMNANCE);
+    CHECK(opts.store.consistency == 1 && st0.consistency == 1);
+    CHECK(opts.store.first_orientation == 0 && opts.store.second_orientation == 0);
+    CHECK(opts.store.allocator.alloc == nullptr && opts.store.allocator.free == nullptr);
+    CHECK(opts.distance_factor == SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR && opts.untangle == 1 &&
+          opts.automatic == 1);
     demo::options o;
     demo::world w(o, 0.0);
     btSoftBody *sheet =
         w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
-    selfcol_bullet_options v1;
-    selfcol_bullet_options_init(&v1, 1);
-    v1.automatic = 0;
-    v1.untangle = 7; // beyond a version 1 struct: must not be read (7 is invalid)
     selfcol_bullet *a = nullptr;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &v1) == SELFCOL_OK);
-    selfcol_bullet_options bad;
-    selfcol_bullet_options_init(&bad, SELFCOL_BULLET_OPTIONS_VERSION);
-    bad.untangle = 7;
-    selfcol_bullet *b = nullptr;
-    CHECK(selfcol_bullet_create(&b, w.dynamics, &bad) == SELFCOL_EINVAL && b == nullptr);
+    selfcol_bullet_options old = opts;
+    old.version = 2;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &old) == SELFCOL_EVERSION && a == nullptr);
+    // the nested options reach the scene: remnance 0 and an explicit distance
+    opts.automatic = 0;
+    opts.query.distance = 0.03;
+    opts.store.remnance_frames = 0;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, sheet, nullptr) == SELFCOL_OK);
     CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
     selfcol_bullet_step_stats st;
@@ -126,9 +141,419 @@ static void versioned_structs() {
     st.untangled = 12345;
     CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.version == 1 && st.steps == 1);
     CHECK(st.untangled == 12345); // not written for a version 1 caller
+    CHECK(st.distance == 0.03);
     st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
     CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.untangled == 0);
     selfcol_bullet_destroy(a);
+}
+
+// Item D: what the core would refuse at the first step is refused at
+// creation (0.2 accepted threads 0, 65 or 1000 and a distance of 1e300,
+// then failed every step with EINVAL).
+static void create_validates_nested_options() {
+    demo::options o;
+    demo::world w(o, 0.0);
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.automatic = 0;
+    struct bad_case {
+        const char *what;
+        void (*spoil)(selfcol_bullet_options &);
+        int expect;
+    };
+    const bad_case cases[] = {
+        {"threads 0", [](selfcol_bullet_options &b) { b.query.threads = 0; }, SELFCOL_EINVAL},
+        {"threads 65", [](selfcol_bullet_options &b) { b.query.threads = SELFCOL_MAX_THREADS + 1; },
+         SELFCOL_EINVAL},
+        {"threads 1000", [](selfcol_bullet_options &b) { b.query.threads = 1000; }, SELFCOL_EINVAL},
+        {"distance 1e300", [](selfcol_bullet_options &b) { b.query.distance = 1e300; },
+         SELFCOL_EINVAL},
+        {"distance inf", [](selfcol_bullet_options &b) { b.query.distance = INFINITY; },
+         SELFCOL_EINVAL},
+        {"factor 0", [](selfcol_bullet_options &b) { b.distance_factor = 0; }, SELFCOL_EINVAL},
+        {"no kinds", [](selfcol_bullet_options &b) { b.query.kinds = 0; }, SELFCOL_EINVAL},
+        {"unknown kind", [](selfcol_bullet_options &b) { b.query.kinds |= 1u << 20; },
+         SELFCOL_EINVAL},
+        {"method", [](selfcol_bullet_options &b) { b.query.method = 99; }, SELFCOL_EINVAL},
+        {"narrow", [](selfcol_bullet_options &b) { b.query.narrow = 99; }, SELFCOL_EINVAL},
+        {"query version", [](selfcol_bullet_options &b) { b.query.version = 0; }, SELFCOL_EVERSION},
+        {"consistency 2", [](selfcol_bullet_options &b) { b.store.consistency = 2; },
+         SELFCOL_EINVAL},
+        {"orientation", [](selfcol_bullet_options &b) { b.store.first_orientation = 1; },
+         SELFCOL_EINVAL},
+        {"store allocator",
+         [](selfcol_bullet_options &b) {
+             b.store.allocator.alloc = [](void *, size_t, size_t) -> void * { return nullptr; };
+             b.store.allocator.free = [](void *, void *, size_t) {};
+         },
+         SELFCOL_EINVAL},
+        {"store version", [](selfcol_bullet_options &b) { b.store.version = 99; },
+         SELFCOL_EVERSION},
+        {"automatic 2", [](selfcol_bullet_options &b) { b.automatic = 2; }, SELFCOL_EINVAL},
+        {"untangle 7", [](selfcol_bullet_options &b) { b.untangle = 7; }, SELFCOL_EINVAL},
+    };
+    for (const bad_case &c : cases) {
+        selfcol_bullet_options bad = opts;
+        c.spoil(bad);
+        selfcol_bullet *a = reinterpret_cast<selfcol_bullet *>(&bad);
+        int status = selfcol_bullet_create(&a, w.dynamics, &bad);
+        if (status != c.expect || a != nullptr)
+            std::fprintf(stderr, "create with %s: %s\n", c.what, selfcol_status_string(status));
+        CHECK(status == c.expect && a == nullptr);
+        selfcol_bullet_destroy(status == SELFCOL_OK ? a : nullptr);
+    }
+    // the bounds themselves are accepted, and the first step then works
+    btSoftBody *sheet =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    selfcol_bullet_options edge = opts;
+    edge.query.threads = SELFCOL_MAX_THREADS;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &edge) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, sheet, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    selfcol_bullet_destroy(a);
+}
+
+// Item B: a body removed from the world (and deleted) while attached is
+// dropped at the next step, with the stores of its pairs, without being
+// read (0.2: heap-use-after-free in the step); the other body keeps its
+// surface. The ASan job runs this under the sanitizer.
+static void removed_body_is_dropped() {
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *keep =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    btSoftBody *gone = w.add_sheet(btVector3(0, 0.01f, 0), btVector3(1, 0, 0), btVector3(0, 0, 1),
+                                   6, 6, 0.1, false);
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, nullptr) == SELFCOL_OK);
+    uint32_t keep_id = 99, gone_id = 99;
+    CHECK(selfcol_bullet_attach(a, keep, &keep_id) == SELFCOL_OK && keep_id == 0);
+    CHECK(selfcol_bullet_attach(a, gone, &gone_id) == SELFCOL_OK && gone_id == 1);
+    for (int i = 0; i < 3; ++i)
+        w.step(1.0 / 240);
+    selfcol_scene_update_stats ss;
+    ss.version = SELFCOL_SCENE_UPDATE_STATS_VERSION;
+    CHECK(selfcol_scene_stats(selfcol_bullet_scene(a), &ss) == SELFCOL_OK && ss.surfaces == 2);
+    CHECK(ss.contacts > 0); // the pair held contacts
+    w.dynamics->removeSoftBody(gone);
+    w.cloths.pop_back();
+    delete gone;
+    w.step(1.0 / 240);
+    selfcol_bullet_step_stats st;
+    st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.status == SELFCOL_OK && st.steps == 4);
+    CHECK(selfcol_bullet_mesh(a, gone_id) == nullptr);
+    CHECK(selfcol_bullet_mesh(a, keep_id) != nullptr);
+    CHECK(selfcol_scene_stats(selfcol_bullet_scene(a), &ss) == SELFCOL_OK && ss.surfaces == 1);
+    const selfcol_store *self = nullptr;
+    CHECK(selfcol_scene_store(selfcol_bullet_scene(a), keep_id, keep_id, &self) == SELFCOL_OK &&
+          self != nullptr);
+    // dropped: not attached any more (the pointer is compared, never read)
+    CHECK(selfcol_bullet_detach(a, gone) == SELFCOL_EINVAL);
+    for (int i = 0; i < 2; ++i)
+        w.step(1.0 / 240);
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.status == SELFCOL_OK);
+    selfcol_bullet_destroy(a);
+    CHECK((keep->m_cfg.collisions & btSoftBody::fCollision::CL_SELF) == 0); // restored
+}
+
+// Item B/C: detach restores the body's settings and removes its surface;
+// the other pairs keep their stores (the same store, the same contacts);
+// a re-attached body gets a new id.
+static void detach_restores_and_keeps_other_stores() {
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *low =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    btSoftBody *high = w.add_sheet(btVector3(0, 0.01f, 0), btVector3(1, 0, 0), btVector3(0, 0, 1),
+                                   6, 6, 0.1, false);
+    btSoftBody *far =
+        w.add_sheet(btVector3(5, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    far->m_cfg.collisions |= btSoftBody::fCollision::VF_DD;
+    far->setSelfCollision(true);
+    const int far_before = far->m_cfg.collisions;
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.automatic = 0;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    uint32_t far_id = 0;
+    CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, high, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, far, &far_id) == SELFCOL_OK && far_id == 2);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    const selfcol_store *pair = nullptr;
+    CHECK(selfcol_scene_store(selfcol_bullet_scene(a), 0, 1, &pair) == SELFCOL_OK && pair);
+    const selfcol_store_contact *contacts = nullptr;
+    size_t before = 0, after = 0;
+    CHECK(selfcol_store_contacts(pair, &contacts, &before) == SELFCOL_OK && before > 0);
+    CHECK(selfcol_bullet_detach(a, far) == SELFCOL_OK);
+    CHECK(far->useSelfCollision() && far->m_cfg.collisions == far_before);
+    CHECK(selfcol_bullet_mesh(a, far_id) == nullptr);
+    const selfcol_store *same = nullptr;
+    CHECK(selfcol_scene_store(selfcol_bullet_scene(a), 0, 1, &same) == SELFCOL_OK && same == pair);
+    CHECK(selfcol_store_contacts(pair, &contacts, &after) == SELFCOL_OK && after == before);
+    CHECK(selfcol_bullet_detach(a, far) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_detach(a, nullptr) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_detach(nullptr, far) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, far, &far_id) == SELFCOL_OK && far_id == 3); // never reused
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    CHECK(selfcol_bullet_mesh(a, 3) != nullptr);
+    // a detach before the first step: ids stay those attach gave
+    selfcol_bullet_destroy(a);
+    selfcol_bullet *b = nullptr;
+    CHECK(selfcol_bullet_create(&b, w.dynamics, &opts) == SELFCOL_OK);
+    uint32_t id = 0;
+    CHECK(selfcol_bullet_attach(b, low, &id) == SELFCOL_OK && id == 0);
+    CHECK(selfcol_bullet_attach(b, high, &id) == SELFCOL_OK && id == 1);
+    CHECK(selfcol_bullet_detach(b, low) == SELFCOL_OK);
+    CHECK(selfcol_bullet_step(b, 1.0 / 240) == SELFCOL_OK);
+    CHECK(selfcol_bullet_mesh(b, 0) == nullptr && selfcol_bullet_mesh(b, 1) != nullptr);
+    const selfcol_store *self = nullptr;
+    CHECK(selfcol_scene_store(selfcol_bullet_scene(b), 1, 1, &self) == SELFCOL_OK && self);
+    selfcol_bullet_destroy(b);
+}
+
+// Item C: two sheets 4 mm apart (d = 1 cm), the upper pushed through the
+// lower between two steps. The stores remember the crossing (contacts
+// flip, their right side stays the old one) -- and must do so the same when
+// an unrelated body is attached or detached between the steps (0.2 rebuilt
+// the scene at every attach: 0 flips, 0 contacts on their wrong side).
+struct crossing_memory {
+    uint64_t flipped = 0;
+    size_t wrong_side = 0;
+    size_t contacts = 0;
+};
+
+static crossing_memory push_through(int change) { // 0 none, 1 attach between, 2 detach between
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *lower = w.add_sheet(btVector3(0, 0, 0), btVector3(0.3f, 0, 0),
+                                    btVector3(0, 0, 0.3f), 16, 16, 0.1, false);
+    btSoftBody *upper = w.add_sheet(btVector3(0.005f, 0.004f, 0.005f), btVector3(0.3f, 0, 0),
+                                    btVector3(0, 0, 0.3f), 16, 16, 0.1, false);
+    btSoftBody *other = w.add_sheet(btVector3(5, 0, 0), btVector3(0.3f, 0, 0),
+                                    btVector3(0, 0, 0.3f), 8, 8, 0.1, false);
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.automatic = 0;
+    opts.query.distance = 0.01;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, lower, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, upper, nullptr) == SELFCOL_OK);
+    if (change == 2)
+        CHECK(selfcol_bullet_attach(a, other, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    for (int i = 0; i < upper->m_nodes.size(); ++i) {
+        upper->m_nodes[i].m_x.setY(-0.004f);
+        upper->m_nodes[i].m_q = upper->m_nodes[i].m_x;
+        upper->m_nodes[i].m_v.setZero();
+    }
+    if (change == 1)
+        CHECK(selfcol_bullet_attach(a, other, nullptr) == SELFCOL_OK);
+    if (change == 2)
+        CHECK(selfcol_bullet_detach(a, other) == SELFCOL_OK);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    crossing_memory m;
+    selfcol_bullet_step_stats st;
+    st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK);
+    m.flipped = st.flipped;
+    const selfcol_store *pair = nullptr;
+    CHECK(selfcol_scene_store(selfcol_bullet_scene(a), 0, 1, &pair) == SELFCOL_OK && pair);
+    const selfcol_store_contact *c = nullptr;
+    if (pair != nullptr && selfcol_store_contacts(pair, &c, &m.contacts) == SELFCOL_OK)
+        for (size_t k = 0; k < m.contacts; ++k)
+            m.wrong_side += c[k].side != 0 && c[k].right_side != 0 && c[k].side != c[k].right_side;
+    selfcol_bullet_destroy(a);
+    return m;
+}
+
+static void crossing_remembered_across_attach_and_detach() {
+    const crossing_memory plain = push_through(0);
+    std::printf("push through: %llu flipped, %zu of %zu contacts on their wrong side\n",
+                (unsigned long long)plain.flipped, plain.wrong_side, plain.contacts);
+    CHECK(plain.flipped > 100 && plain.wrong_side > 100);
+    for (int change = 1; change <= 2; ++change) {
+        const crossing_memory m = push_through(change);
+        if (m.flipped != plain.flipped || m.wrong_side != plain.wrong_side)
+            std::printf("  with an %s between: %llu flipped, %zu wrong side\n",
+                        change == 1 ? "attach" : "detach", (unsigned long long)m.flipped,
+                        m.wrong_side);
+        CHECK(m.flipped == plain.flipped && m.wrong_side == plain.wrong_side &&
+              m.contacts == plain.contacts);
+    }
+}
+
+// Item E: a cloth attached to the adapter falls on a soft sheet that is not
+// (both with VF_DD, lying over a floor). Bullet keeps handling their
+// contact (0.2 cleared VF_DD on the cloth, which fell through the sheet to
+// the floor). Returns the lowest cloth node's height above the sheet's
+// highest node after landing.
+static double landing_gap(bool attach, double *bullet_contacts_out) {
+    demo::options o;
+    demo::world w(o);
+    w.add_rigid(new btBoxShape(btVector3(2, 0.5f, 2)), btVector3(0, -0.5f, 0), 0);
+    btSoftBody *base = w.add_sheet(btVector3(-0.3f, 0.01f, -0.3f), btVector3(0.6f, 0, 0),
+                                   btVector3(0, 0, 0.6f), 12, 12, 0.2, true);
+    btSoftBody *cloth = w.add_sheet(btVector3(-0.2f, 0.1f, -0.2f), btVector3(0.4f, 0, 0),
+                                    btVector3(0, 0, 0.4f), 10, 10, 0.1, true);
+    for (btSoftBody *b : {base, cloth})
+        b->m_cfg.collisions |= btSoftBody::fCollision::VF_DD;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, nullptr) == SELFCOL_OK);
+    if (attach)
+        CHECK(selfcol_bullet_attach(a, cloth, nullptr) == SELFCOL_OK);
+    w.adapter = a;
+    size_t peak = 0;
+    for (int i = 0; i < 120; ++i) {
+        w.step(1.0 / 240);
+        peak = std::max(peak, demo::bullet_contacts(w));
+    }
+    *bullet_contacts_out = double(peak);
+    double cloth_low = 1e30, base_high = -1e30;
+    for (int i = 0; i < cloth->m_nodes.size(); ++i)
+        cloth_low = std::fmin(cloth_low, double(cloth->m_nodes[i].m_x.y()));
+    for (int i = 0; i < base->m_nodes.size(); ++i)
+        base_high = std::fmax(base_high, double(base->m_nodes[i].m_x.y()));
+    selfcol_bullet_step_stats st;
+    st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.status == SELFCOL_OK);
+    return cloth_low - base_high;
+}
+
+static void attached_cloth_lands_on_unattached_body() {
+    double contacts_plain = 0, contacts_attached = 0;
+    const double plain = landing_gap(false, &contacts_plain);
+    const double attached = landing_gap(true, &contacts_attached);
+    std::printf("cloth on an unattached sheet: gap %.4g m (Bullet alone %.4g m), Bullet "
+                "vertex-face contacts %g (alone %g)\n",
+                attached, plain, contacts_attached, contacts_plain);
+    // the sheets' margins: 0.25 x edge each (demo_common), 0.0136 + 0.0111 m
+    CHECK(plain > 0.01);
+    CHECK(attached > 0.01);
+}
+
+// Item F: a body is attached to one adapter at a time. 0.2 let a second
+// adapter attach it; destroyed in creation order, the second restored the
+// first's settings and left Bullet's own self-collision off.
+static void one_adapter_per_body() {
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *sheet =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    sheet->m_cfg.collisions |= btSoftBody::fCollision::VF_DD;
+    sheet->setSelfCollision(true);
+    const int before = sheet->m_cfg.collisions;
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.automatic = 0;
+    selfcol_bullet *first = nullptr, *second = nullptr;
+    CHECK(selfcol_bullet_create(&first, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_create(&second, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(first, sheet, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(second, sheet, nullptr) == SELFCOL_EINVAL);
+    selfcol_bullet_destroy(first);
+    selfcol_bullet_destroy(second);
+    CHECK(sheet->useSelfCollision());
+    CHECK(sheet->m_cfg.collisions == before);
+    // once free again, another adapter may take it
+    CHECK(selfcol_bullet_create(&second, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(second, sheet, nullptr) == SELFCOL_OK);
+    selfcol_bullet_destroy(second);
+    CHECK(sheet->useSelfCollision() && sheet->m_cfg.collisions == before);
+}
+
+// Item G: only bodies of the adapter's world (0.2 attached a body of
+// another world, or of none, and stepped it).
+static void attach_refuses_foreign_bodies() {
+    demo::options o;
+    demo::world w(o, 0.0), elsewhere(o, 0.0);
+    btSoftBody *foreign = elsewhere.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0),
+                                              btVector3(0, 0, 1), 6, 6, 0.1, false);
+    btSoftBody *loose = elsewhere.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0),
+                                            btVector3(0, 0, 1), 6, 6, 0.1, false);
+    elsewhere.dynamics->removeSoftBody(loose); // in no world
+    const int flags = foreign->m_cfg.collisions;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, foreign, nullptr) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_attach(a, loose, nullptr) == SELFCOL_EINVAL);
+    CHECK(foreign->m_cfg.collisions == flags); // untouched
+    selfcol_bullet_destroy(a);
+    elsewhere.dynamics->addSoftBody(loose); // for the world's teardown
+}
+
+// Item H: a non-finite node velocity fails the step before any node
+// changes (0.2 took it and the response spread NaN to the nodes of the
+// other body in contact), and fails attach.
+static void nonfinite_velocity_refused() {
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *low = w.add_sheet(btVector3(0, 0, 0), btVector3(0.5f, 0, 0), btVector3(0, 0, 0.5f),
+                                  8, 8, 0.1, false);
+    btSoftBody *high = w.add_sheet(btVector3(0, 0.01f, 0), btVector3(0.5f, 0, 0),
+                                   btVector3(0, 0, 0.5f), 8, 8, 0.1, false);
+    btSoftBody *third = w.add_sheet(btVector3(3, 0, 0), btVector3(0.5f, 0, 0),
+                                    btVector3(0, 0, 0.5f), 8, 8, 0.1, false);
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.automatic = 0;
+    opts.query.distance = 0.05;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, high, nullptr) == SELFCOL_OK);
+    for (int i = 0; i < high->m_nodes.size(); ++i)
+        high->m_nodes[i].m_v = btVector3(0, -0.5f, 0); // approaching: every contact responds
+    high->m_nodes[27].m_v.setX(btScalar(NAN));
+    std::vector<btVector3> x_before, v_before;
+    for (btSoftBody *b : {low, high})
+        for (int i = 0; i < b->m_nodes.size(); ++i) {
+            x_before.push_back(b->m_nodes[i].m_x);
+            v_before.push_back(b->m_nodes[i].m_v);
+        }
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_EINVAL);
+    size_t k = 0, changed = 0;
+    for (btSoftBody *b : {low, high})
+        for (int i = 0; i < b->m_nodes.size(); ++i, ++k) {
+            const btVector3 &v = b->m_nodes[i].m_v;
+            bool same_v = (b == high && i == 27) ? std::isnan(v.x()) && v.y() == v_before[k].y()
+                                                 : v == v_before[k];
+            changed += !(b->m_nodes[i].m_x == x_before[k]) || !same_v;
+        }
+    CHECK(changed == 0);
+    for (int i = 0; i < low->m_nodes.size(); ++i)
+        CHECK(std::isfinite(low->m_nodes[i].m_v.x()) && std::isfinite(low->m_nodes[i].m_v.y()));
+    high->m_nodes[27].m_v.setX(0);
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    third->m_nodes[5].m_v.setZ(btScalar(INFINITY));
+    CHECK(selfcol_bullet_attach(a, third, nullptr) == SELFCOL_EINVAL);
+    CHECK((third->m_cfg.collisions & btSoftBody::fCollision::CL_SELF) == 0);
+    third->m_nodes[5].m_v.setZ(0);
+    selfcol_bullet_destroy(a);
+}
+
+// Item D (demos): the run loop stops at the first failed step, exiting
+// non-zero (0.2 ran every step, each failing, and reported at the end).
+static void demo_run_stops_at_failed_step() {
+    demo::options o;
+    o.quiet = true;
+    demo::world w(o, 0.0);
+    btSoftBody *sheet =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
+    CHECK(w.start(o) == 0);
+    int calls = 0;
+    int status = demo::run(w, o, 40, [&](int i) {
+        ++calls;
+        if (i == 3) // a changed topology: the adapter's step fails with ESTALE
+            sheet->appendNode(btVector3(5, 5, 5), 1);
+    });
+    CHECK(status != 0);
+    CHECK(calls == 4);
 }
 
 // The untangling on hand-made points (untangle.hpp). A pyramid pokes
@@ -251,9 +676,11 @@ static void failing_free(void *user, void *p, size_t) {
 
 // Two sheets 1 cm apart, one falling onto the other (self and soft-soft
 // contacts from the first steps), stepped by hand 6 times with the Nth
-// allocation failing, for every N until a run no longer reaches N. Every
-// call returns OK or ENOMEM; after an ENOMEM the next steps (the allocator
-// working again) succeed with finite nodes; destroy frees everything.
+// allocation failing, for every N until a run no longer reaches N; a third
+// sheet is attached to the live scene after step 2 and the lower one
+// detached after step 4. Every call returns OK or ENOMEM; after an ENOMEM
+// the next steps (the allocator working again) succeed with finite nodes;
+// destroy frees everything.
 static void allocation_failure_at_every_call() {
     long n = 1;
     for (;; ++n) {
@@ -263,6 +690,8 @@ static void allocation_failure_at_every_call() {
                                       8, 0.2, false);
         btSoftBody *high = w.add_sheet(btVector3(0.05f, 0.01f, 0.05f), btVector3(0.9f, 0, 0),
                                        btVector3(0, 0, 0.9f), 8, 8, 0.2, false);
+        btSoftBody *late = w.add_sheet(btVector3(0.1f, -0.01f, 0.1f), btVector3(0.8f, 0, 0),
+                                       btVector3(0, 0, 0.8f), 6, 6, 0.2, false);
         for (int i = 0; i < high->m_nodes.size(); ++i)
             high->m_nodes[i].m_v = btVector3(0, -1, 0);
         failing_allocator f;
@@ -284,14 +713,24 @@ static void allocation_failure_at_every_call() {
                 status = selfcol_bullet_attach(a, high, nullptr);
                 CHECK(status == SELFCOL_OK || status == SELFCOL_ENOMEM);
             }
+            failed_steps += status == SELFCOL_ENOMEM;
             for (int step = 0; step < 6; ++step) {
                 w.step(1.0 / 240);
                 int st = selfcol_bullet_step(a, 1.0 / 240);
                 CHECK(st == SELFCOL_OK || st == SELFCOL_ENOMEM);
                 failed_steps += st == SELFCOL_ENOMEM;
-                CHECK(failed_steps <= 1); // one failing allocation, one failing step
+                if (step == 2) {
+                    st = selfcol_bullet_attach(a, late, nullptr);
+                    CHECK(st == SELFCOL_OK || st == SELFCOL_ENOMEM);
+                    failed_steps += st == SELFCOL_ENOMEM;
+                }
+                if (step == 4) {
+                    st = selfcol_bullet_detach(a, low);
+                    CHECK(st == SELFCOL_OK || (st == SELFCOL_EINVAL && failed_steps == 1));
+                }
+                CHECK(failed_steps <= 1); // one failing allocation, one failing call
             }
-            for (btSoftBody *b : {low, high})
+            for (btSoftBody *b : {low, high, late})
                 for (int i = 0; i < b->m_nodes.size(); ++i)
                     CHECK(std::isfinite(b->m_nodes[i].m_x.x()) &&
                           std::isfinite(b->m_nodes[i].m_x.y()) &&
@@ -390,7 +829,16 @@ static void response_rules() {
 int main() {
     api_rejects_bad_input();
     response_rules();
-    versioned_structs();
+    options_composed_and_versions();
+    create_validates_nested_options();
+    removed_body_is_dropped();
+    detach_restores_and_keeps_other_stores();
+    crossing_remembered_across_attach_and_detach();
+    attached_cloth_lands_on_unattached_body();
+    one_adapter_per_body();
+    attach_refuses_foreign_bodies();
+    nonfinite_velocity_refused();
+    demo_run_stops_at_failed_step();
     untangle_rules();
     allocation_failure_at_every_call();
     if (failures == 0)

@@ -8,10 +8,34 @@
  * 3.24's deformable world, `btDeformableMultiBodyDynamicsWorld`.
  *
  * An adapter belongs to one world. Soft bodies attached to it get their
- * self-collision and their collisions with each other from selfcol; Bullet's
- * own self-collision and vertex-face soft-soft handling are switched off on
- * them (and restored by selfcol_bullet_destroy()). Rigid bodies, multibodies
- * and Bullet's soft-rigid collision keep working unchanged.
+ * self-collision and their collisions with each other from selfcol:
+ * Bullet's own self-collision is switched off on them, and Bullet's
+ * soft-soft handling skips every pair of two attached bodies (attach marks
+ * the body with the CL_SELF bit of btSoftBody::fCollision, which Bullet
+ * 3.24 reads only for cluster self-collision; btSoftBody::
+ * defaultCollisionHandler() handles a pair only when the two bodies' common
+ * soft-soft bits are exactly VF_DD, so two marked bodies never match).
+ * Pairs of an attached body with an unattached one keep Bullet's own
+ * vertex-face handling (VF_DD, when both bodies have it), as do rigid
+ * bodies, multibodies and Bullet's soft-rigid collision. Detaching (or
+ * destroying the adapter) restores the body's settings.
+ *
+ * Lifetimes and identity. The world must outlive the adapter. A body is
+ * known by its address: attach only bodies that are in the adapter's world
+ * (btDeformableMultiBodyDynamicsWorld::getSoftBodyArray()), and detach a
+ * body (selfcol_bullet_detach()) or destroy the adapter before deleting it.
+ * A body removed from the world while attached is dropped, with the stores
+ * of its pairs, at the adapter's next step, without reading or writing it
+ * (it may have been deleted: its settings are not restored); every step
+ * and selfcol_bullet_destroy() check the world's soft body array by
+ * pointer before they touch an attached body. What no check can see: a body
+ * deleted and another one created at the same address and added to the
+ * world before the next step would be taken for the first (its node and
+ * face counts are checked, SELFCOL_ESTALE when they differ); so remove and
+ * delete an attached body only after detaching it, or step in between. A
+ * body can be attached to one adapter at a time (the CL_SELF mark): a body
+ * already attached elsewhere, or using Bullet's cluster self-collision
+ * (CL_SELF set by its owner), is refused.
  *
  * Each internal step of the world (the adapter registers a btActionInterface,
  * which the deformable world runs right after it has moved the nodes,
@@ -80,20 +104,39 @@ typedef struct selfcol_bullet selfcol_bullet;
 /** Default Gauss-Seidel passes over the contacts per step. */
 #define SELFCOL_BULLET_DEFAULT_ITERATIONS 4u
 
-/** Options for selfcol_bullet_create(). Initialise with selfcol_bullet_options_init(). */
+/**
+ * Options for selfcol_bullet_create(). Initialise with selfcol_bullet_options_init().
+ * The queries and the contact stores are configured by the core's own
+ * option structs, composed here (a field added to either is reachable
+ * without a new adapter field) and checked at creation by the core's rules.
+ */
 typedef struct selfcol_bullet_options {
     unsigned int version; /**< SELFCOL_BULLET_OPTIONS_VERSION */
     selfcol_allocator
         allocator; /**< of the adapter and its selfcol handles; all-zero: malloc/free */
     /**
-     * Detection distance and cloth thickness d, in world units; 0 (default):
-     * distance_factor x the mean edge length of the attached bodies at their
-     * first step, so that any scale works (a 1 m cloth with 1 cm edges
-     * collides at 2.5 mm).
+     * The queries (selfcol_query_options_init() defaults: kinds VF|EE|EF,
+     * method EXACT, closed-form narrow phase, threads 1). `distance` is the
+     * detection distance and cloth thickness d, in world units, at most
+     * SELFCOL_MESH_MAX_COORDINATE; 0 (the default here): distance_factor x
+     * the mean edge length of the bodies attached at the first step, so that
+     * any scale works (a 1 m cloth with 1 cm edges collides at 2.5 mm). The
+     * thickness is fixed when the scene is made, at the first step with a
+     * body attached: bodies attached later collide at that thickness (set
+     * it explicitly when bodies of very different edge lengths come and go).
+     * Responses need VF and EE contacts, the untangling EF interferences:
+     * leaving a kind out leaves out what it drives.
      */
-    double distance;
-    double distance_factor; /**< default SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR; used when distance
-                               is 0 */
+    selfcol_query_options query;
+    /**
+     * The contact stores: remnance_frames (default
+     * SELFCOL_STORE_DEFAULT_REMNANCE) and consistency (the region vote,
+     * default 1). Its allocator and orientations must stay zero: the
+     * adapter's allocator serves the stores, and cloth has no orientation.
+     */
+    selfcol_store_options store;
+    double distance_factor; /**< default SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR; used when
+                               query.distance is 0 */
     /**
      * Repulsion strength, in (0, 1]: the fraction of the gap between a
      * contact's signed distance and d that one step closes (at most d per
@@ -101,17 +144,13 @@ typedef struct selfcol_bullet_options {
      * weighted by the nodes' inverse masses. Default SELFCOL_BULLET_DEFAULT_REPULSION.
      */
     double repulsion;
-    unsigned int iterations;  /**< Gauss-Seidel passes per step (default 4, at most 64) */
-    uint32_t remnance_frames; /**< of the contact stores (default SELFCOL_STORE_DEFAULT_REMNANCE) */
-    int consistency;          /**< region vote on (default 1) */
-    unsigned int threads;     /**< threads of the queries (default 1: the caller's thread) */
+    unsigned int iterations; /**< Gauss-Seidel passes per step (default 4, at most 64) */
     /**
      * 1 (default): the adapter registers an action in the world and runs at
      * every internal step. 0: nothing is registered; the caller runs
      * selfcol_bullet_step() itself after each internal step.
      */
     int automatic;
-    /* Version 2. */
     /**
      * 1 (default): where surfaces cross, shorten their intersection contours
      * each step (Volino and Magnenat-Thalmann 2006, intersection contour
@@ -126,7 +165,8 @@ typedef struct selfcol_bullet_options {
     int untangle;
 } selfcol_bullet_options;
 
-#define SELFCOL_BULLET_OPTIONS_VERSION 2
+/** 3 since 0.3 (query and store options composed); 0.2's versions 1 and 2 are refused. */
+#define SELFCOL_BULLET_OPTIONS_VERSION 3
 /** Relative displacement per step of each EF interference's nodes when untangling, in units of d.
  */
 #define SELFCOL_BULLET_UNTANGLE_STEP 0.25
@@ -152,7 +192,12 @@ typedef struct selfcol_bullet_step_stats {
 
 #define SELFCOL_BULLET_STEP_STATS_VERSION 2
 
-/** Writes the defaults into opts. @return SELFCOL_OK; SELFCOL_EINVAL; SELFCOL_EVERSION. */
+/**
+ * Writes the defaults into opts, the nested query and store options by
+ * their own _init.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL); SELFCOL_EVERSION (any version
+ *         but SELFCOL_BULLET_OPTIONS_VERSION: 0.2's layouts are refused).
+ */
 SELFCOL_BULLET_API int selfcol_bullet_options_init(selfcol_bullet_options *opts,
                                                    unsigned int version);
 
@@ -162,41 +207,70 @@ SELFCOL_BULLET_API int selfcol_bullet_options_init(selfcol_bullet_options *opts,
  * @param[out] out the adapter; NULL on failure
  * @param[in] world the world; it must outlive the adapter
  * @param[in] opts options, or NULL for defaults
- * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, distance < 0 or not finite,
- *         repulsion outside (0, 1], iterations > 64); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, query.distance < 0, not finite
+ *         or above SELFCOL_MESH_MAX_COORDINATE, distance_factor not positive
+ *         and finite when query.distance is 0, any query or store option
+ *         that selfcol_scene_create() refuses (kinds, method, narrow phase,
+ *         threads outside 1..SELFCOL_MAX_THREADS, consistency, a store
+ *         allocator or orientation), repulsion outside (0, 1], iterations
+ *         0 or > 64, automatic or untangle not 0 or 1, half-set allocator);
+ *         SELFCOL_EVERSION (the options', the query's or the store's
+ *         version); SELFCOL_ENOMEM.
  */
 SELFCOL_BULLET_API int selfcol_bullet_create(selfcol_bullet **out,
                                              btDeformableMultiBodyDynamicsWorld *world,
                                              const selfcol_bullet_options *opts);
 
 /**
- * Removes the action, restores the attached bodies' collision flags and
- * self-collision setting, and frees everything. Accepts NULL.
+ * Removes the action, detaches every attached body that is still in the
+ * world (a body no longer in it is forgotten untouched: see the lifetime
+ * rules above), and frees everything. Accepts NULL.
  */
 SELFCOL_BULLET_API void selfcol_bullet_destroy(selfcol_bullet *adapter);
 
 /**
- * Attaches a soft body (already in the world, with its faces). The mesh is
+ * Attaches a soft body of the adapter's world, with its faces. The mesh is
  * its nodes and faces as they are now; the body's topology must not change
  * while attached (a changed node or face count makes the next step return
  * SELFCOL_ESTALE). Switches off the body's own self-collision
- * (setSelfCollision(false)) and its vertex-face soft-soft flag (VF_DD):
- * attach every soft body that should collide with it. Nodes of zero mass
- * (pinned or kinematic) take no impulse.
- * @param[out] id_out the body's surface id in selfcol_bullet_scene(), or NULL
- * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, no faces, attached twice, NaN
- *         positions); SELFCOL_ERANGE; SELFCOL_ENOMEM.
+ * (setSelfCollision(false)) and marks it (CL_SELF) so that Bullet's
+ * soft-soft handling skips its pairs with other attached bodies; its pairs
+ * with unattached bodies stay Bullet's. Nodes of zero mass (pinned or
+ * kinematic) take no impulse.
+ *
+ * Attaching to a live scene (after the first step) adds the body's surface
+ * to it: every other pair keeps its store, with its contacts' memory. The
+ * body collides at the scene's thickness (selfcol_bullet_options.query).
+ * @param[out] id_out the body's surface id in selfcol_bullet_scene(), or
+ *            NULL. Ids follow attach order and are never reused.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, a body not in the adapter's
+ *         world, no faces, attached to this or another adapter or carrying
+ *         CL_SELF, non-finite positions or velocities); SELFCOL_ERANGE
+ *         (2^31 nodes or 2^16 attaches in all); SELFCOL_ENOMEM. On error
+ *         nothing changes.
  */
 SELFCOL_BULLET_API int selfcol_bullet_attach(selfcol_bullet *adapter, btSoftBody *body,
                                              uint32_t *id_out);
 
 /**
+ * Detaches a body: restores its self-collision setting, removes the mark,
+ * and removes its surface and the stores of its pairs from the scene. Every
+ * other pair keeps its store. Call it before deleting an attached body.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, a body not attached, or one a
+ *         step already dropped because it had left the world).
+ */
+SELFCOL_BULLET_API int selfcol_bullet_detach(selfcol_bullet *adapter, btSoftBody *body);
+
+/**
  * One step: detection, stores, response (what the action runs). Call it
- * yourself only with automatic off, once after each internal step.
+ * yourself only with automatic off, once after each internal step. First
+ * it drops the attached bodies that are no longer in the world (lifetime
+ * rules above).
  * @param[in] dt the internal step's length, > 0
- * @return SELFCOL_OK; SELFCOL_EINVAL (dt); SELFCOL_ESTALE (a body's topology
- *         changed); SELFCOL_ENOMEM; an error of the scene (selfcol_status).
- *         On error no node is changed. The action records the status in the stats.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (dt, a non-finite node position or
+ *         velocity); SELFCOL_ESTALE (a body's topology changed); SELFCOL_ENOMEM;
+ *         an error of the scene (selfcol_status). On error no node is
+ *         changed. The action records the status in the stats.
  */
 SELFCOL_BULLET_API int selfcol_bullet_step(selfcol_bullet *adapter, double dt);
 
@@ -205,14 +279,20 @@ SELFCOL_BULLET_API int selfcol_bullet_stats(const selfcol_bullet *adapter,
                                             selfcol_bullet_step_stats *stats);
 
 /**
- * The scene the adapter runs (NULL before the first step): its stores hold
- * the contacts with their sides (selfcol_scene_store()), surface ids as
- * returned by selfcol_bullet_attach(). Borrowed; valid until the next step
- * or attach.
+ * The scene the adapter runs (NULL before the first step with a body
+ * attached): its stores hold the contacts with their sides
+ * (selfcol_scene_store()), surface ids as returned by
+ * selfcol_bullet_attach(). Borrowed; valid until the adapter is destroyed
+ * (attach and detach add and remove surfaces; a removed surface's stores
+ * are gone).
  */
 SELFCOL_BULLET_API const selfcol_scene *selfcol_bullet_scene(const selfcol_bullet *adapter);
 
-/** The attached body's mesh (positions of the last step). Borrowed. NULL for a bad id. */
+/**
+ * The attached body's mesh (positions of the last step). Borrowed, valid
+ * while the body is attached. NULL for an id not attached (never given,
+ * detached, or dropped).
+ */
 SELFCOL_BULLET_API const selfcol_mesh *selfcol_bullet_mesh(const selfcol_bullet *adapter,
                                                            uint32_t id);
 
