@@ -76,7 +76,7 @@
 // edges form one path. Measured on a 1.3M-triangle icosphere at d = 0.1 x
 // mean edge: ~140 ns per boundary edge, 62 tests and ~217k edges per query
 // (stats: contour_seconds).
-#include "query.h"
+#include "contour.h"
 
 #include "cone.h"
 #include "contacts.h"

@@ -13,7 +13,8 @@
 //
 // Loops run in (first, second) order so the records come out sorted by
 // (kind, first_mesh, first, second_mesh, second) without a sort.
-#include "query.h"
+#include "exhaustive.h"
+#include "pairs.h"
 
 #include "box.h"
 

@@ -31,7 +31,7 @@
 // plane_distances), so they never reject a pair whose true distance is below
 // d (1 + 2^-20): the contact sets stay exactly those of the exhaustive
 // search, which the tests check on every scene.
-#include "query.h"
+#include "pairs.h"
 
 #include "box.h"
 #include "hierarchy.h"

@@ -5,6 +5,8 @@
 // pipeline (dispatch here -> candidates from traverse.c or exhaustive.c ->
 // primitive-pair tests in pairs.c -> sorted records in contacts.c).
 #include "query.h"
+#include "exhaustive.h"
+#include "traverse.h"
 
 #include "core.h"
 #include "hierarchy.h"

@@ -26,7 +26,9 @@
 // the query's serial), and laid out by slot so that a leaf pair reads
 // contiguous memory; a flat sheet that EXACT culls near the root computes
 // none of them.
-#include "query.h"
+#include "traverse.h"
+#include "contour.h"
+#include "pairs.h"
 
 #include "box.h"
 #include "cone.h"

@@ -18,8 +18,8 @@
 
 #include <cmocka.h>
 
+#include "contour.h"
 #include "hierarchy.h"
-#include "query.h"
 #include "test_alloc.h"
 
 #include <selfcol/selfcol.h>
