@@ -31,6 +31,7 @@ int selfcol_contacts_create(selfcol_contacts **out, const selfcol_contacts_optio
         return SELFCOL_ENOMEM;
     memset(c, 0, sizeof *c);
     c->allocator = allocator;
+    selfcol_workspace__init(&c->work, &allocator);
     c->stats.version = SELFCOL_QUERY_STATS_VERSION;
     *out = c;
     return SELFCOL_OK;
@@ -40,16 +41,11 @@ void selfcol_contacts_destroy(selfcol_contacts *contacts) {
     if (contacts == NULL)
         return;
     selfcol_allocator allocator = contacts->allocator;
-    for (unsigned w = 0; w < contacts->worker_count; ++w)
-        selfcol_contacts_destroy(contacts->workers[w]);
-    selfcol_alloc__free_array(&allocator, contacts->workers, contacts->worker_count,
-                              sizeof *contacts->workers);
+    selfcol_workspace__free(&contacts->work);
     selfcol_alloc__free_array(&allocator, contacts->items, contacts->capacity,
                               sizeof(selfcol_contact));
     selfcol_alloc__free_array(&allocator, contacts->spare, contacts->spare_capacity,
                               sizeof(selfcol_contact));
-    for (int i = 0; i < SELFCOL_SCRATCH_SLOTS; ++i)
-        selfcol_alloc__free(&allocator, contacts->scratch[i], contacts->scratch_bytes[i]);
     selfcol_alloc__free(&allocator, contacts, sizeof *contacts);
 }
 
@@ -94,36 +90,7 @@ size_t selfcol_contacts_byte_count(const selfcol_contacts *contacts) {
         return 0;
     size_t bytes = sizeof *contacts +
                    (contacts->capacity + contacts->spare_capacity) * sizeof(selfcol_contact);
-    for (int i = 0; i < SELFCOL_SCRATCH_SLOTS; ++i)
-        bytes += contacts->scratch_bytes[i];
-    bytes += contacts->worker_count * sizeof *contacts->workers;
-    for (unsigned w = 0; w < contacts->worker_count; ++w)
-        bytes += selfcol_contacts_byte_count(contacts->workers[w]);
-    return bytes;
-}
-
-selfcol_contacts *selfcol_contacts__worker(selfcol_contacts *c, unsigned w) {
-    if (w == 0)
-        return c;
-    if (w > c->worker_count) {
-        selfcol_contacts **grown = selfcol_alloc__array(&c->allocator, w, sizeof *grown);
-        if (grown == NULL)
-            return NULL;
-        for (unsigned i = 0; i < w; ++i)
-            grown[i] = i < c->worker_count ? c->workers[i] : NULL;
-        selfcol_alloc__free_array(&c->allocator, c->workers, c->worker_count, sizeof *grown);
-        c->workers = grown;
-        c->worker_count = w;
-    }
-    if (c->workers[w - 1] == NULL) {
-        selfcol_contacts_options opts;
-        selfcol_contacts_options_init(&opts, SELFCOL_CONTACTS_OPTIONS_VERSION);
-        opts.allocator = c->allocator;
-        if (selfcol_contacts_create(&c->workers[w - 1], &opts) != SELFCOL_OK)
-            return NULL;
-    }
-    selfcol_contacts_clear(c->workers[w - 1]);
-    return c->workers[w - 1];
+    return bytes + selfcol_workspace__byte_count(&contacts->work);
 }
 
 // absorb adds every field up to sort_seconds: a field appended to the
@@ -190,23 +157,6 @@ int selfcol_contacts__push(selfcol_contacts *c, const selfcol_contact *contact) 
     return SELFCOL_OK;
 }
 
-void *selfcol_contacts__scratch(selfcol_contacts *c, int slot, size_t bytes, size_t keep) {
-    if (bytes <= c->scratch_bytes[slot])
-        return c->scratch[slot];
-    // Grow geometrically so a stack or list grown one step at a time costs
-    // amortised O(1) per step.
-    size_t size = c->scratch_bytes[slot] * 2 > bytes ? c->scratch_bytes[slot] * 2 : bytes;
-    void *buffer = selfcol_alloc__raw(&c->allocator, size);
-    if (buffer == NULL)
-        return NULL;
-    if (keep > 0)
-        memcpy(buffer, c->scratch[slot], keep);
-    selfcol_alloc__free(&c->allocator, c->scratch[slot], c->scratch_bytes[slot]);
-    c->scratch[slot] = buffer;
-    c->scratch_bytes[slot] = size;
-    return buffer;
-}
-
 static int contact_less(const selfcol_contact *a, const selfcol_contact *b) {
     const uint32_t ka[5] = {a->kind, a->first_mesh, a->first, a->second_mesh, a->second};
     const uint32_t kb[5] = {b->kind, b->first_mesh, b->first, b->second_mesh, b->second};
@@ -247,7 +197,7 @@ int selfcol_contacts__sort(selfcol_contacts *c) {
     if (n > (SIZE_MAX - RADIX_PASSES * RADIX_SIZE * sizeof(size_t)) / (2 * sizeof(sort_item)))
         return SELFCOL_ENOMEM;
     size_t bytes = 2 * n * sizeof(sort_item) + RADIX_PASSES * RADIX_SIZE * sizeof(size_t);
-    sort_item *items = selfcol_contacts__scratch(c, SELFCOL_SCRATCH_SORT, bytes, 0);
+    sort_item *items = selfcol_workspace__buffer(&c->work, SELFCOL_SCRATCH_SORT, bytes, 0);
     if (items == NULL)
         return SELFCOL_ENOMEM;
     if (c->spare_capacity < c->capacity) {

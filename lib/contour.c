@@ -419,7 +419,7 @@ static int counted_contour(selfcol_contacts *owner, const selfcol_mesh *m, const
 // Scratch for contour_clear over b half-edges, plus `extra` half-edge slots
 // (the caller's) after it. NULL without memory.
 static void *work_area(selfcol_contacts *owner, size_t b, size_t extra) {
-    return selfcol_contacts__scratch(owner, SELFCOL_SCRATCH_CONTOUR,
+    return selfcol_workspace__buffer(&owner->work, SELFCOL_SCRATCH_CONTOUR,
                                      work_bytes(b) + extra * sizeof(uint32_t), 0);
 }
 

@@ -97,12 +97,12 @@ static int push(traversal *t, uint32_t a, uint32_t b) {
     if (t->stack_size == t->stack_capacity) {
         size_t want = t->stack_capacity < 256 ? 256 : 2 * t->stack_capacity;
         node_pair *grown =
-            selfcol_contacts__scratch(t->q.out, SELFCOL_SCRATCH_STACK, want * sizeof(node_pair),
-                                      t->stack_size * sizeof(node_pair));
+            selfcol_workspace__buffer(&t->q.out->work, SELFCOL_SCRATCH_STACK,
+                                      want * sizeof(node_pair), t->stack_size * sizeof(node_pair));
         if (grown == NULL)
             return SELFCOL_ENOMEM;
         t->stack = grown;
-        t->stack_capacity = t->q.out->scratch_bytes[SELFCOL_SCRATCH_STACK] / sizeof(node_pair);
+        t->stack_capacity = t->q.out->work.bytes[SELFCOL_SCRATCH_STACK] / sizeof(node_pair);
     }
     t->stack[t->stack_size++] = (node_pair){a, b};
     return SELFCOL_OK;
@@ -388,7 +388,7 @@ static int seed_tasks(traversal *t, size_t want, node_pair **tasks, size_t *coun
     int status = push(t, 0, 0);
     while (status == SELFCOL_OK && t->stack_size > 0 && t->stack_size < want) {
         size_t level = t->stack_size;
-        node_pair *copy = selfcol_contacts__scratch(t->q.out, SELFCOL_SCRATCH_TASKS,
+        node_pair *copy = selfcol_workspace__buffer(&t->q.out->work, SELFCOL_SCRATCH_TASKS,
                                                     level * sizeof(node_pair), 0);
         if (copy == NULL)
             return SELFCOL_ENOMEM;
@@ -401,7 +401,7 @@ static int seed_tasks(traversal *t, size_t want, node_pair **tasks, size_t *coun
         return status;
     size_t n = t->stack_size;
     node_pair *list =
-        selfcol_contacts__scratch(t->q.out, SELFCOL_SCRATCH_TASKS, n * sizeof(node_pair), 0);
+        selfcol_workspace__buffer(&t->q.out->work, SELFCOL_SCRATCH_TASKS, n * sizeof(node_pair), 0);
     if (list == NULL && n > 0)
         return SELFCOL_ENOMEM;
     // Largest first (insertion sort of a few hundred pairs), so that no
@@ -447,10 +447,10 @@ static int worker_run(void *context, unsigned w) {
 // Zeroed stamps for `count` nodes in scratch `slot` (fresh memory is zeroed
 // once; later queries tell old stamps from new by the serial).
 static uint32_t *stamps_for(selfcol_contacts *c, int slot, size_t count) {
-    const int fresh = c->scratch_bytes[slot] < count * sizeof(uint32_t);
-    uint32_t *stamps = selfcol_contacts__scratch(c, slot, count * sizeof(uint32_t), 0);
+    const int fresh = c->work.bytes[slot] < count * sizeof(uint32_t);
+    uint32_t *stamps = selfcol_workspace__buffer(&c->work, slot, count * sizeof(uint32_t), 0);
     if (stamps != NULL && fresh)
-        memset(stamps, 0, c->scratch_bytes[slot]);
+        memset(stamps, 0, c->work.bytes[slot]);
     return stamps;
 }
 
@@ -488,9 +488,9 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
         const selfcol_hierarchy *h = side ? h1 : h0;
         if (h->mesh->triangle_count > SIZE_MAX / sizeof(selfcol_tri_frame))
             return SELFCOL_ENOMEM;
-        s.frames[side] =
-            selfcol_contacts__scratch(c, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
-                                      h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
+        s.frames[side] = selfcol_workspace__buffer(
+            &c->work, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
+            h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
         s.stamps[side] =
             stamps_for(c, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0, h->node_count);
         if (s.frames[side] == NULL || s.stamps[side] == NULL)
@@ -501,13 +501,13 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
         s.stamps[1] = s.stamps[0];
     }
     // A new serial invalidates every stamp; at wrap-around they are cleared.
-    if (++c->serial >= FRAMES_BUSY) {
+    if (++c->work.serial >= FRAMES_BUSY) {
         for (int side = 0; side < sides; ++side)
             memset(s.stamps[side], 0,
-                   c->scratch_bytes[side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0]);
-        c->serial = 1;
+                   c->work.bytes[side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0]);
+        c->work.serial = 1;
     }
-    s.serial = c->serial;
+    s.serial = c->work.serial;
 
     const double start = selfcol_core__seconds();
     unsigned workers = threads; // 1..SELFCOL_MAX_THREADS, checked by query.c
@@ -539,7 +539,7 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     s.tasks = tasks;
     s.out[0] = c;
     for (unsigned w = 1; w < workers; ++w) {
-        s.out[w] = selfcol_contacts__worker(c, w);
+        s.out[w] = selfcol_workspace__worker(&c->work, w);
         if (s.out[w] == NULL)
             return SELFCOL_ENOMEM;
     }
