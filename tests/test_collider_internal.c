@@ -595,14 +595,28 @@ static void check_random_at_scale(uint32_t shape, double scale, double *worst_ou
     assert_true(within > 20 && beyond > 10 && penetrating > 0);
 }
 
+// Does long double carry more bits than double here? Not under valgrind,
+// which computes x87 long double in double precision: the reference's own
+// rounding then grows to about 1e-7 at scale 1e9 (measured: 8.3e-8), above
+// the tolerance it checks, so the largest scale runs only where the
+// reference has its extended precision (natively and under ASan).
+static int long_double_is_extended(void) {
+    volatile ld one = 1.0L, tiny = 0x1p-60L;
+    return one + tiny != one;
+}
+
 static void test_random_against_reference(void **state) {
     (void)state;
     const uint32_t shapes[3] = {SELFCOL_COLLIDER_SPHERE, SELFCOL_COLLIDER_CAPSULE,
                                 SELFCOL_COLLIDER_BOX};
     const char *names[3] = {"sphere", "capsule", "box"};
     const double scales[4] = {1.0, 1e3, 1e6, 1e9};
+    const int scale_count = long_double_is_extended() ? 4 : 3;
+    if (scale_count < 4)
+        print_message("long double has double precision here (valgrind?): the reference is "
+                      "too coarse at scale 1e9, which is skipped\n");
     for (int s = 0; s < 3; ++s)
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < scale_count; ++k) {
             double worst = 0.0;
             check_random_at_scale(shapes[s], scales[k], &worst);
             print_message("%s at scale %.0e: worst |error| %.3g (tolerance %.1g)\n", names[s],
