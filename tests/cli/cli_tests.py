@@ -130,7 +130,7 @@ def test_exit_status():
              ['check', '--distance', '1', '--distance-rel', '0.1', sheet],
              ['check', '--bogus', sheet], ['check', sheet, '--json'],
              ['check', sheet, sheet, sheet], ['check', '--range', '0:3', sheet],
-             ['check', '--range', '3:1', work('exit/f%d.obj')], ['check', '--threads', '2', sheet],
+             ['check', '--range', '3:1', work('exit/f%d.obj')], ['check', '--threads', '0', sheet],
              ['check', '--size', '10x10', sheet], ['check', '--view', 'north', sheet],
              ['check', '--fail-on', 'warning', sheet], ['info'], ['info', '--method', 'bvh', sheet],
              ['check', '--json', '-', '--csv', '-', sheet]]
@@ -1184,6 +1184,194 @@ def test_track_cloth_ball():
               % (k, o['detected'], c['counts']))
     check(status == (1 if any(o['interferences'] for o in objs) else 0), 'exit status %d' % status)
     print('cloth-ball track: %s' % [{k: o[k] for k in TRACK_KEYS[2:]} for o in objs])
+
+
+# ---------------------------------------------------------------------------
+# --threads: the query's thread count. The library's contract is that the
+# contacts and statistics other than times are the same for every count, so
+# everything the tool prints must be too, once the times are taken out.
+
+THREAD_COUNTS = ('1', '2', '4')
+
+
+def without_times(text):
+    """text with every wall time taken out: check's 'time:' line and JSON
+    "seconds" object, track's '; query .. ms, store .. ms' and query_ms,
+    store_ms. Each pattern must have matched where times are printed, so an
+    output that changed shape is not compared with its times in it."""
+    lines = [x for x in text.split('\n') if not x.startswith('  time: ')]
+    text = '\n'.join(lines)
+    text = re.sub(r'"seconds":\{[^{}]*\}', '"seconds":{}', text)
+    text = re.sub(r'; query [0-9.]+ ms, store [0-9.]+ ms$', '; query - ms, store - ms', text,
+                  flags=re.M)
+    return re.sub(r'"(query_ms|store_ms)":[-+0-9.eE]+', r'"\1":0', text)
+
+
+def same_for_every_count(args, what, files=()):
+    """Runs args with each --threads count (and without the option, the
+    default 1); stdout, stderr and the files written must agree, times
+    aside. Returns the exit status and stdout of --threads 1."""
+    results = []
+    for count in (None,) + THREAD_COUNTS:
+        for f in files:
+            if os.path.exists(f):
+                os.remove(f)
+        extra = [] if count is None else ['--threads', count]
+        status, out, err = run(*(args[:1] + extra + args[1:]))
+        check(status in (0, 1), '%s --threads %s: exit %d, %r' % (what, count, status, err))
+        written = []
+        for f in files:
+            check(os.path.exists(f), '%s --threads %s: %s not written' % (what, count, f))
+            written.append(open(f, 'rb').read())
+        results.append((count, status, without_times(out), without_times(err), written))
+    base = results[1]
+    for count, status, out, err, written in results:
+        check(status == base[1], '%s: exit %d with --threads %s, %d with 1'
+              % (what, status, count, base[1]))
+        check(out == base[2], '%s: standard output with --threads %s differs from 1:\n%s\n---\n%s'
+              % (what, count, out[:1500], base[2][:1500]))
+        check(err == base[3], '%s: standard error with --threads %s differs from 1:\n%s\n---\n%s'
+              % (what, count, err[:1500], base[3][:1500]))
+        for f, a, b in zip(files, written, base[4]):
+            check(a == b, '%s: %s with --threads %s differs from 1' % (what, f, count))
+    return base[1], base[2]
+
+
+def thread_frames(name, count=3):
+    """count frames of a 64x20 sheet (2560 triangles) closing into a figure
+    eight; frames 1 and 2 cross. Returns (paths, pattern, meshes). Large
+    enough that, at --distance 0.01, every method but exhaustive hands the
+    traversal to worker threads with --threads 2 and 4 (seen with strace -f
+    when the test was written); on smaller meshes the main thread may finish
+    the traversal while dividing it up, and no worker would run."""
+    paths, meshes = [], []
+    for k in range(count):
+        def surface(u, v, k=k):
+            x, y, z = fx.figure_eight(u, v)
+            s = 0.5 + 0.25 * k
+            return (x * s + (1 - s) * (u - 0.5), y, z * s)
+        meshes.append(fx.grid_sheet(64, 20, surface, jitter=0.002, seed=11))
+        paths.append(work('threads/%s_%03d.ply' % (name, k)))
+        fx.write_ply(paths[-1], meshes[-1][0], meshes[-1][1], 'binary_little_endian', 'double')
+    return paths, work('threads/%s_%%03d.ply' % name), meshes
+
+
+def test_threads_identical():
+    """check and track print the same, times aside, for --threads 1, 2, 4."""
+    ribbon = os.path.join(ARGS.source, 'tests', 'data', 'folded_ribbon.obj')
+    paths, pattern, meshes = thread_frames('seq')
+    sheet = paths[2]
+    # A copy of the crossing frame shifted by half an edge: crosses and nears
+    # it everywhere, so the query between two meshes has contacts too.
+    pos, tris = meshes[2]
+    shifted = work('threads/shifted.obj')
+    fx.write_obj(shifted, [(x + 0.013, y + 0.007, z + 0.004) for x, y, z in pos], tris)
+    csv = work('threads/out.csv')
+    mark = work('threads/out.ply')
+    png = work('threads/out.png')
+    # One mesh, every method, summary and JSON. The exhaustive method runs on
+    # one thread whatever the count: it is only held to that on the small
+    # ribbon (on the sheets it would take most of the test's time).
+    for method in METHODS:
+        for mesh, distance in ((ribbon, []), (sheet, ['--distance', '0.01'])):
+            if method == 'exhaustive' and mesh == sheet:
+                continue
+            args = ['--method', method] + distance + [mesh]
+            what = 'check %s' % ' '.join(args[:-1] + [os.path.basename(mesh)])
+            status, out = same_for_every_count(['check'] + args, what)
+            check(status == 1 and 'EF interferences' in out, '%s: %d %r' % (what, status, out))
+            status, out = same_for_every_count(['check', '--json', '-'] + args, what + ' --json')
+            obj = json.loads(out)
+            check(obj['counts']['ef'] > 0 and obj['counts']['vf'] + obj['counts']['ee'] > 0,
+                  '%s: the fixture should have contacts: %s' % (what, obj['counts']))
+            # The times were where without_times() looks for them.
+            check(obj['stats']['seconds'] == {}, '%s: "seconds" left in %s' % (what, obj['stats']))
+    # Two meshes (self queries and the query between them), CSV and the
+    # marked mesh and picture, in a file each.
+    two = ['--distance', '0.01', sheet, shifted]
+    status, out = same_for_every_count(
+        ['check', '--csv', csv, '--mark', mark, '--png', png, '--size', '64x48'] + two,
+        'check MESH MESH2', files=(csv, mark, png))
+    check(status == 1, 'check MESH MESH2: exit %d' % status)
+    status, out = same_for_every_count(['check', '--json', '-'] + two, 'check MESH MESH2 --json')
+    check(json.loads(out)['counts']['ef'] > 0, 'two meshes: no interference')
+    # Frame sequences: --frames and --range, summary, JSON Lines and CSV.
+    for frames in (['--frames'] + paths, ['--range', '0:2', pattern]):
+        what = 'check %s' % frames[0]
+        status, out = same_for_every_count(['check', '--distance', '0.01'] + frames, what)
+        check(status == 1 and 'frames with interferences: 1-2' in out, '%s: %r' % (what, out))
+        status, out = same_for_every_count(['check', '--distance', '0.01', '--json', '-', '--csv',
+                                            csv] + frames, what + ' --json', files=(csv,))
+        objs = [json.loads(x) for x in out.splitlines()]
+        check(len(objs) == 3 and all(o['counts']['ef'] for o in objs[1:]),
+              '%s: %d frames, counts %s' % (what, len(objs), [o['counts'] for o in objs]))
+    # track: the per-frame lines and summary, and the JSON Lines (which send
+    # the lines to standard error, compared as well); every method that
+    # divides the work among threads.
+    for method in ('exact', 'bvh', 'seed', 'cone'):
+        what = 'track --method %s' % method
+        status, out = same_for_every_count(['track', '--method', method, '--distance', '0.01']
+                                           + paths, what)
+        check(status == 1 and 'worst frame' in out and '; query - ms' in out,
+              '%s: %d %r' % (what, status, out))
+        status, out = same_for_every_count(['track', '--method', method, '--distance', '0.01',
+                                            '--jsonl', '-', '--range', '0:2', pattern],
+                                           what + ' --jsonl')
+        objs = [json.loads(x) for x in out.splitlines()]
+        check(len(objs) == 3 and objs[-1]['interferences'] > 0 and objs[-1]['contacts'] > 0 and
+              objs[-1]['query_ms'] == 0, '%s: %s' % (what, objs))
+    # --threads=N is the same option.
+    _, a, _ = run('check', '--threads=4', '--json', '-', ribbon, expect=1)
+    _, b, _ = run('check', '--json', '-', ribbon, expect=1)
+    check(without_times(a) == without_times(b), 'check --threads=4 differs from the default')
+
+
+def test_threads_usage():
+    """--threads outside 1..SELFCOL_MAX_THREADS, malformed or with white space
+    is a usage error (status 2, a message naming --threads and --help), in
+    check and track; info has no queries and refuses the option."""
+    header = open(os.path.join(ARGS.source, 'include', 'selfcol', 'hierarchy.h')).read()
+    limit = int(re.search(r'#define SELFCOL_MAX_THREADS (\d+)', header).group(1))
+    paths, pattern = write_sequence('threads', [[3], [0.5]])
+    mesh = paths[0]
+    out_of_range = ['0', str(limit + 1), '65', '-1', '-0', '1000', '99999999999999999999999']
+    malformed = ['x', '', '2x', '1.5', '2.0', '0x2', '1e1', '--quiet', '=2', '4,']
+    spaced = [' 2', '2 ', '\t2', '2\n', ' ']
+    for cmd in ('check', 'track'):
+        for inputs in ([mesh], ['--range', '0:1', pattern]):
+            for bad in out_of_range + malformed + spaced:
+                for args in (['--threads', bad], ['--threads=' + bad]):
+                    status, out, err = run(cmd, *(args + inputs))
+                    check(status == 2, '%s %r: exit %d, expected 2 (%r)' % (cmd, args, status, err))
+                    check(out == '', '%s %r: wrote %r' % (cmd, args, out))
+                    check(err.startswith('selfcol-cli: ') and '--threads' in err and
+                          "Try 'selfcol-cli %s --help'." % cmd in err,
+                          '%s %r: message %r' % (cmd, args, err))
+                    if bad in spaced:
+                        check('spaces' in err, '%s %r: not refused for spaces: %r'
+                              % (cmd, args, err))
+                    elif bad in out_of_range:
+                        check('out of range' in err and str(limit) in err,
+                              '%s %r: not refused as out of range: %r' % (cmd, args, err))
+            status, out, err = run(cmd, *(inputs + ['--threads']))
+            check(status == 2 and "'--threads' needs a value" in err, '%s ... --threads: %r'
+                  % (cmd, err))
+        # The limits pass.
+        for good in ('1', str(limit)):
+            status, out, err = run(cmd, '--quiet', '--threads', good, mesh)
+            check(status == 0 and err == '', '%s --threads %s: exit %d, %r' % (cmd, good, status,
+                                                                               err))
+        _, out, _ = run(cmd, '--help', expect=0)
+        check(re.search(r'--threads N +threads per query, 1 to %d \(default 1\)' % limit, out),
+              '%s --help does not describe --threads' % cmd)
+        check('There is no --threads' not in out, '%s --help still says there is no --threads'
+              % cmd)
+    status, out, err = run('info', '--threads', '2', mesh)
+    check(status == 2 and 'belongs to the check and track commands' in err, 'info --threads: %r'
+          % err)
+    doc = open(os.path.join(ARGS.source, 'docs', 'cli.md')).read()
+    check('| `--threads N` |' in doc and 'There is no `--threads`' not in doc,
+          'docs/cli.md does not describe --threads')
 
 
 def main():

@@ -14,6 +14,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+// SELFCOL_MAX_THREADS as text, so the help and the messages follow the library.
+#define CLI_TEXT_(x) #x
+#define CLI_TEXT(x) CLI_TEXT_(x)
+#define CLI_MAX_THREADS_TEXT CLI_TEXT(SELFCOL_MAX_THREADS)
+
 const char *const cli_method_names[] = {"exhaustive", "bvh", "seed", "cone", "exact"};
 const char *const cli_narrow_names[] = {"closed", "libccd"};
 
@@ -47,6 +52,9 @@ static const char check_help[] =
     "  --view AZ,EL        view angles in degrees for --png (default 35,25; y is up)\n"
     "  --size WxH          picture size in pixels, 16 to 4096 each (default 1024x768)\n"
     "  --fail-on WHAT      interference (default) or proximity: what makes exit status 1\n"
+    "  --threads N         threads per query, 1 to " CLI_MAX_THREADS_TEXT " (default 1);\n"
+    "                      the contacts, counts and outputs do not depend on N,\n"
+    "                      only the times do\n"
     "  --no-weld           keep vertices as the file has them (no welding)\n"
     "  --quiet             no summary (errors only)\n"
     "  --frames            the arguments are frames of one mesh\n"
@@ -60,7 +68,6 @@ static const char check_help[] =
     "Outputs must name different files, none of them an input; they are checked\n"
     "before the first frame is read (a missing directory fails at once). --mark\n"
     "and --png write files only: '-' is refused (./- names a file '-').\n"
-    "There is no --threads: libselfcol runs on the calling thread and starts none.\n"
     "\n"
     "exit status: 0 no interference, 1 interferences found (or proximities, with\n"
     "--fail-on proximity), 2 usage or input error.\n";
@@ -98,6 +105,9 @@ static const char track_help[] =
     "  --remnance N        updates a contact stays after it was last detected\n"
     "                      (default 4; 0: none)\n"
     "  --no-consistency    track sides only, no region vote\n"
+    "  --threads N         threads per query, 1 to " CLI_MAX_THREADS_TEXT " (default 1);\n"
+    "                      the contacts, counters and outputs do not depend on N,\n"
+    "                      only the times do\n"
     "  --jsonl FILE|-      one JSON object per frame (JSON Lines); with '-' the\n"
     "                      per-frame lines and the summary go to standard error\n"
     "  --png PATTERN       a picture of every frame (PATTERN with %d, as\n"
@@ -433,6 +443,7 @@ static const known_option known_options[] = {
     {"--view", 1, FOR_CHECK | FOR_TRACK},
     {"--size", 1, FOR_CHECK | FOR_TRACK},
     {"--fail-on", 1, FOR_CHECK},
+    {"--threads", 1, FOR_CHECK | FOR_TRACK},
 };
 
 static const known_option *find_option(const char *name) {
@@ -453,6 +464,7 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
     o->view.width = 1024;
     o->view.height = 768;
     o->remnance = SELFCOL_STORE_DEFAULT_REMNANCE;
+    o->threads = 1;
     int only_inputs = 0;
     const int this_command = strcmp(command, "check") == 0   ? FOR_CHECK
                              : strcmp(command, "track") == 0 ? FOR_TRACK
@@ -518,8 +530,9 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
                 return cli_usage_error(cmd, "option '%s' needs a value", name);
         }
         static const char *const numeric[] = {"--distance", "--distance-rel", "--remnance",
-                                              "--view",     "--size",         "--range"};
-        if (value != NULL && lookup(name, numeric, 6) >= 0 && has_space(value)) {
+                                              "--view",     "--size",         "--range",
+                                              "--threads"};
+        if (value != NULL && lookup(name, numeric, 7) >= 0 && has_space(value)) {
             char message[128];
             snprintf(message, sizeof message, "%s takes numbers without spaces, not '%%s'", name);
             return cli_usage_error(cmd, message, value);
@@ -551,6 +564,22 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             if (parse_remnance(value, &o->remnance))
                 return cli_usage_error(
                     cmd, "--remnance needs a whole number of updates >= 0, not '%s'", value);
+        } else if (strcmp(name, "--threads") == 0) {
+            // The library refuses counts outside 1..SELFCOL_MAX_THREADS with
+            // SELFCOL_EINVAL only once a query runs; refusing them here makes
+            // them a usage error before any file is read.
+            long n;
+            int rc = parse_long(value, strlen(value), 1, SELFCOL_MAX_THREADS, &n);
+            if (rc < 0)
+                return cli_usage_error(
+                    cmd,
+                    "--threads needs a whole number of threads (1 to " CLI_MAX_THREADS_TEXT
+                    "), not '%s'",
+                    value);
+            if (rc > 0)
+                return cli_usage_error(
+                    cmd, "--threads '%s' is out of range (1 to " CLI_MAX_THREADS_TEXT ")", value);
+            o->threads = (unsigned int)n;
         } else if (strcmp(name, "--no-consistency") == 0) {
             o->no_consistency = 1;
         } else if (strcmp(name, "--distance") == 0) {

@@ -374,6 +374,7 @@ int cli_command_check(const cli_options *o) {
     selfcol_query_options_init(&st.query, SELFCOL_QUERY_OPTIONS_VERSION);
     st.query.method = o->method;
     st.query.narrow = o->narrow;
+    st.query.threads = o->threads;
     st.info.mean_edge = combined_mean_edge(parts, count);
     st.info.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
     if (cli_detection_distance(o, st.info.mean_edge, &st.info.distance, &err) != 0)

@@ -236,6 +236,7 @@ int cli_command_track(const cli_options *o) {
     st.query.method = o->method;
     st.query.narrow = o->narrow;
     st.query.kinds = SELFCOL_KIND_ALL;
+    st.query.threads = o->threads;
     st.mean_edge = selfcol_mesh_mean_edge_length(part.mesh);
     st.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
     if (cli_detection_distance(o, st.mean_edge, &st.distance, &err) != 0)
