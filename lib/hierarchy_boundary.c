@@ -10,6 +10,7 @@
 // climbing the tree from the triangles' leaves.
 #include "alloc.h"
 #include "hierarchy_build.h"
+#include "union_find.h"
 
 #include <string.h>
 
@@ -18,15 +19,6 @@ static uint32_t successor_on_edge(const selfcol_mesh *m, uint32_t e, uint32_t t)
     const uint32_t first = m->edge_tri_offsets[e], n = m->edge_tri_offsets[e + 1] - first;
     uint32_t at = selfcol_hierarchy__position_in(m->edge_tris + first, n, t);
     return at + 1 < n ? m->edge_tris[first + at + 1] : SELFCOL_INVALID_INDEX;
-}
-
-// Union-find root with path halving (over a vertex star).
-static uint32_t star_root(uint32_t *uf, uint32_t x) {
-    while (uf[x] != x) {
-        uf[x] = uf[uf[x]];
-        x = uf[x];
-    }
-    return x;
 }
 
 // The boundary half-edge of triangle t on edge e, oriented with t (after the
@@ -173,8 +165,9 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
                 uint32_t next = successor_on_edge(m, e, star[j]);
                 if (next == SELFCOL_INVALID_INDEX)
                     continue;
-                uint32_t ra = star_root(uf, j),
-                         rb = star_root(uf, selfcol_hierarchy__position_in(star, k, next));
+                uint32_t ra = selfcol_union_find__root(uf, j),
+                         rb = selfcol_union_find__root(
+                             uf, selfcol_hierarchy__position_in(star, k, next));
                 if (ra != rb) {
                     uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
                     components--;

@@ -13,6 +13,7 @@
 //   triangles of one of their edges, which a duplicate must share.
 #include "alloc.h"
 #include "mesh.h"
+#include "union_find.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -49,14 +50,6 @@ static void sort_bucket(half_edge *items, size_t count) {
         }
         items[j] = key;
     }
-}
-
-static uint32_t find_root(uint32_t *parent, uint32_t v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]]; // path halving
-        v = parent[v];
-    }
-    return v;
 }
 
 static void sort3(uint32_t out[3], const uint32_t *t) {
@@ -254,7 +247,8 @@ static void count_boundary_loops(selfcol_mesh *m, uint32_t *parent) {
                 boundary_vertices++;
             }
         }
-        uint32_t a = find_root(parent, m->edges[2 * e]), b = find_root(parent, m->edges[2 * e + 1]);
+        uint32_t a = selfcol_union_find__root(parent, m->edges[2 * e]),
+                 b = selfcol_union_find__root(parent, m->edges[2 * e + 1]);
         if (a != b) {
             parent[a < b ? b : a] = a < b ? a : b;
             unions++;
@@ -299,9 +293,9 @@ static int build_components(selfcol_mesh *m) {
         parent[v] = (uint32_t)v;
     for (size_t t = 0; t < F; ++t) {
         const uint32_t *tri = m->triangles + 3 * t;
-        uint32_t r0 = find_root(parent, tri[0]);
+        uint32_t r0 = selfcol_union_find__root(parent, tri[0]);
         for (int i = 1; i < 3; ++i) {
-            uint32_t r = find_root(parent, tri[i]);
+            uint32_t r = selfcol_union_find__root(parent, tri[i]);
             if (r != r0) {
                 // Union toward the smaller index keeps trees shallow enough
                 // with path halving (amortised near-constant per operation).
@@ -323,7 +317,7 @@ static int build_components(selfcol_mesh *m) {
     memset(label, 0xff, V * sizeof(uint32_t));
     size_t components = 0;
     for (size_t t = 0; t < F; ++t) {
-        uint32_t root = find_root(parent, m->triangles[3 * t]);
+        uint32_t root = selfcol_union_find__root(parent, m->triangles[3 * t]);
         if (label[root] == SELFCOL_INVALID_INDEX)
             label[root] = (uint32_t)components++;
         m->triangle_component[t] = label[root];

@@ -25,6 +25,7 @@
 #include "narrow.h"
 #include "predicates.h"
 #include "store.h"
+#include "union_find.h"
 #include "vec3.h"
 
 #include <math.h>
@@ -472,17 +473,9 @@ static void track_side(selfcol_store *s, selfcol_store_contact *e) {
 // ---------------------------------------------------------------------------
 // Union-find
 
-static uint32_t group_find(uint32_t *parent, uint32_t x) {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]]; // path halving
-        x = parent[x];
-    }
-    return x;
-}
-
 static void group_unite(uint32_t *parent, uint32_t x, uint32_t y) {
-    x = group_find(parent, x);
-    y = group_find(parent, y);
+    x = selfcol_union_find__root(parent, x);
+    y = selfcol_union_find__root(parent, y);
     if (x != y)
         parent[x < y ? y : x] = x < y ? x : y; // the smaller index is the root
 }
@@ -758,7 +751,7 @@ static void vote_and_label(selfcol_store *s) {
         s->label[i] = SELFCOL_INVALID_INDEX;
     size_t regions = 0;
     for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t g = group_find(s->group_parent, i);
+        const uint32_t g = selfcol_union_find__root(s->group_parent, i);
         if (s->label[g] == SELFCOL_INVALID_INDEX)
             s->label[g] = (uint32_t)regions++;
         s->entries[i].region = s->label[g];
