@@ -15,14 +15,7 @@
 #include <cstdlib>
 #include <vector>
 
-static int failures = 0;
-#define CHECK(cond)                                                                                \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            std::fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);          \
-            ++failures;                                                                            \
-        }                                                                                          \
-    } while (0)
+#include "check.hpp"
 
 using namespace selfcol_bullet_detail;
 

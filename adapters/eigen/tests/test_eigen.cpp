@@ -21,15 +21,7 @@ extern "C" {
 #include <utility>
 #include <vector>
 
-static int failures = 0;
-
-#define CHECK(cond)                                                                                \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            std::fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);          \
-            ++failures;                                                                            \
-        }                                                                                          \
-    } while (0)
+#include "check.hpp"
 
 // Expects `expr` to throw selfcol::error with `status`, whose text names it.
 #define CHECK_THROWS(expr, expected)                                                               \
