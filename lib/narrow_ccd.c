@@ -345,14 +345,6 @@ static double proximity_distance(proximity *q) {
     return ldexp(d, -q->exponent);
 }
 
-static double max_abs(int n, const double *const pts[]) {
-    double m = 0.0;
-    for (int i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k)
-            m = fmax(m, fabs(pts[i][k]));
-    return m;
-}
-
 // ---------------------------------------------------------------------------
 // The queries.
 
@@ -402,7 +394,7 @@ int selfcol_narrow_ccd__ef(const double p0[3], const double p1[3], const double 
         T.v[1][k] = b[k];
         T.v[2][k] = c[k];
     }
-    S.escape = T.escape = 4.0 * max_abs(5, pts) + 1.0;
+    S.escape = T.escape = 4.0 * vec3_max_abs(5, pts) + 1.0;
     ccd_t ccd;
     ccd_setup(&ccd, tolerance);
     if (!ccdGJKIntersect(&S, &T, &ccd) || supports > NARROW_CCD_SUPPORT_BUDGET)

@@ -67,4 +67,14 @@ static inline int vec3_normalize(double out[3], const double v[3]) {
     return 1;
 }
 
+// The largest coordinate magnitude of n points (the scale of a query's
+// rounding errors).
+static inline double vec3_max_abs(int n, const double *const pts[]) {
+    double m = 0.0;
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k)
+            m = fmax(m, fabs(pts[i][k]));
+    return m;
+}
+
 #endif // SELFCOL_VEC3_H

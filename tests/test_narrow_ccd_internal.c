@@ -67,6 +67,7 @@
 #include <cmocka.h>
 
 #include "narrow.h"
+#include "vec3.h"
 
 #include <float.h>
 #include <math.h>
@@ -119,42 +120,14 @@ static double rng_tiny(rng *r, double lo, double hi) {
     return pow(10.0, -(lo + (hi - lo) * rng_unit(r)));
 }
 
-static void sub3(double o[3], const double a[3], const double b[3]) {
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(double o[3], const double a[3], const double b[3]) {
-    double x = a[1] * b[2] - a[2] * b[1];
-    double y = a[2] * b[0] - a[0] * b[2];
-    double z = a[0] * b[1] - a[1] * b[0];
-    o[0] = x;
-    o[1] = y;
-    o[2] = z;
-}
-
 static double norm3(const double a[3]) {
-    return sqrt(dot3(a, a));
+    return sqrt(vec3_dot(a, a));
 }
 
 static double dist3(const double a[3], const double b[3]) {
     double d[3];
-    sub3(d, a, b);
+    vec3_sub(d, a, b);
     return norm3(d);
-}
-
-// Largest coordinate magnitude of n points.
-static double max_abs(int n, const double *const pts[]) {
-    double m = 0.0;
-    for (int i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k)
-            m = fmax(m, fabs(pts[i][k]));
-    return m;
 }
 
 // Distance band at radius r for coordinates of magnitude scale (top of file).
@@ -170,14 +143,14 @@ static double ef_band(const double p0[3], const double p1[3], const double a[3],
     double mink[6][3], lmin = HUGE_VAL;
     for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 3; ++j)
-            sub3(mink[3 * i + j], seg[i], tri[j]);
+            vec3_sub(mink[3 * i + j], seg[i], tri[j]);
     for (int i = 0; i < 6; ++i)
         for (int j = i + 1; j < 6; ++j) {
             double l = dist3(mink[i], mink[j]);
             if (l > 0.0)
                 lmin = fmin(lmin, l);
         }
-    return 2e-9 + 1e-9 * max_abs(5, pts) + 2.0 * sqrt(DBL_EPSILON) * fmax(1.0, 1.0 / lmin);
+    return 2e-9 + 1e-9 * vec3_max_abs(5, pts) + 2.0 * sqrt(DBL_EPSILON) * fmax(1.0, 1.0 / lmin);
 }
 
 static void combine2(double o[3], const double w[2], const double *p0, const double *p1) {
@@ -207,7 +180,7 @@ static void check_weights(const double *w, int n) {
 static void check_points(const selfcol_narrow_result *r, const double p[3], const double q[3],
                          double band) {
     double d[3];
-    sub3(d, p, q);
+    vec3_sub(d, p, q);
     double len = norm3(d);
     assert_true(fabs(len - r->distance) <= band);
     assert_true(fabs(norm3(r->direction) - 1.0) <= 1e-12);
@@ -328,13 +301,13 @@ static int untouched(const selfcol_narrow_result *r) {
 static void run_vf(figures *f, const double p[3], const double a[3], const double b[3],
                    const double c[3], double radius, double extra) {
     const double *pts[4] = {p, a, b, c};
-    double band = dist_band(radius, max_abs(4, pts)) + extra, tol = REL_TOL * radius;
+    double band = dist_band(radius, vec3_max_abs(4, pts)) + extra, tol = REL_TOL * radius;
     selfcol_narrow_result rc, rg = SENTINEL;
     double dc = selfcol_narrow__vf(p, a, b, c, &rc);
     double dg = selfcol_narrow_ccd__vf(p, a, b, c, radius, tol, &rg);
     assert_true(dc == rc.distance);
     assert_true(dg == selfcol_narrow_ccd__vf(p, a, b, c, radius, tol, NULL));
-    check_vf_result(&rc, p, a, b, c, 1e-12 * max_abs(4, pts) + extra);
+    check_vf_result(&rc, p, a, b, c, 1e-12 * vec3_max_abs(4, pts) + extra);
     if (dg < HUGE_VAL) {
         assert_true(dg == rg.distance && dg >= 0.0 && dg < radius);
         check_vf_result(&rg, p, a, b, c, band);
@@ -348,13 +321,13 @@ static void run_vf(figures *f, const double p[3], const double a[3], const doubl
 static void run_ee(figures *f, const double p0[3], const double p1[3], const double q0[3],
                    const double q1[3], double radius, double extra) {
     const double *pts[4] = {p0, p1, q0, q1};
-    double band = dist_band(radius, max_abs(4, pts)) + extra, tol = REL_TOL * radius;
+    double band = dist_band(radius, vec3_max_abs(4, pts)) + extra, tol = REL_TOL * radius;
     selfcol_narrow_result rc, rg = SENTINEL;
     double dc = selfcol_narrow__ee(p0, p1, q0, q1, &rc);
     double dg = selfcol_narrow_ccd__ee(p0, p1, q0, q1, radius, tol, &rg);
     assert_true(dc == rc.distance);
     assert_true(dg == selfcol_narrow_ccd__ee(p0, p1, q0, q1, radius, tol, NULL));
-    check_ee_result(&rc, p0, p1, q0, q1, 1e-12 * max_abs(4, pts) + extra);
+    check_ee_result(&rc, p0, p1, q0, q1, 1e-12 * vec3_max_abs(4, pts) + extra);
     if (dg < HUGE_VAL) {
         assert_true(dg == rg.distance && dg >= 0.0 && dg < radius);
         check_ee_result(&rg, p0, p1, q0, q1, band);
@@ -396,18 +369,18 @@ static double segment_triangle_distance(const double p0[3], const double p1[3], 
 static void plane_distances(const double p0[3], const double p1[3], const double a[3],
                             const double b[3], const double c[3], double h[2]) {
     double ab[3], ac[3], n[3], r[3];
-    sub3(ab, b, a);
-    sub3(ac, c, a);
-    cross3(n, ab, ac);
+    vec3_sub(ab, b, a);
+    vec3_sub(ac, c, a);
+    vec3_cross(n, ab, ac);
     double nl = norm3(n);
     if (!(nl > 0.0)) {
         h[0] = h[1] = HUGE_VAL;
         return;
     }
-    sub3(r, p0, a);
-    h[0] = fabs(dot3(r, n)) / nl;
-    sub3(r, p1, a);
-    h[1] = fabs(dot3(r, n)) / nl;
+    vec3_sub(r, p0, a);
+    h[0] = fabs(vec3_dot(r, n)) / nl;
+    vec3_sub(r, p1, a);
+    h[1] = fabs(vec3_dot(r, n)) / nl;
 }
 
 // Runs both EF tests; returns the libccd answer. EF ignores the tolerance
@@ -416,7 +389,7 @@ static void plane_distances(const double p0[3], const double p1[3], const double
 static int run_ef(figures *f, const double p0[3], const double p1[3], const double a[3],
                   const double b[3], const double c[3]) {
     const double *pts[5] = {p0, p1, a, b, c};
-    double band = 2e-9 + 1e-9 * max_abs(5, pts);
+    double band = 2e-9 + 1e-9 * vec3_max_abs(5, pts);
     double eband = ef_band(p0, p1, a, b, c);
     selfcol_narrow_result rc, rg;
     int hc = selfcol_narrow__ef(p0, p1, a, b, c, &rc);
@@ -492,9 +465,9 @@ static void interior_point(rng *r, const double a[3], const double b[3], const d
 // Unit normal of (a, b, c); 0 when it is nearly degenerate (|ab x ac| <= 1e-3).
 static int unit_normal(double n[3], const double a[3], const double b[3], const double c[3]) {
     double ab[3], ac[3];
-    sub3(ab, b, a);
-    sub3(ac, c, a);
-    cross3(n, ab, ac);
+    vec3_sub(ab, b, a);
+    vec3_sub(ac, c, a);
+    vec3_cross(n, ab, ac);
     double l = norm3(n);
     if (!(l > 1e-3))
         return 0;
@@ -537,10 +510,10 @@ static void test_narrow_ccd_random_vf(void **state) {
         } else if (i % 16 == 4) {
             // Near an edge, in the plane, just outside.
             double t = rng_unit(&r), e[3], ab[3], ac[3], nn[3];
-            sub3(ab, b, a);
-            sub3(ac, c, a);
-            cross3(nn, ab, ac);
-            cross3(e, ab, nn); // in-plane, away from c
+            vec3_sub(ab, b, a);
+            vec3_sub(ac, c, a);
+            vec3_cross(nn, ab, ac);
+            vec3_cross(e, ab, nn); // in-plane, away from c
             double l = norm3(e);
             if (l > 0.0) {
                 double h = rng_tiny(&r, 1.0, 13.0) / l;
@@ -584,9 +557,9 @@ static void test_narrow_ccd_random_ee(void **state) {
             // Near contact: interior points s, t at a distance along the common
             // normal, 1e-1 .. 1e-13 (both signs).
             double d1[3], d2[3], n[3];
-            sub3(d1, p1, p0);
-            sub3(d2, q1, q0);
-            cross3(n, d1, d2);
+            vec3_sub(d1, p1, p0);
+            vec3_sub(d2, q1, q0);
+            vec3_cross(n, d1, d2);
             double l = norm3(n);
             if (l > 1e-3) {
                 double s = rng_unit(&r), t = rng_unit(&r);
@@ -632,8 +605,8 @@ static void test_narrow_ccd_random_ef(void **state) {
             // Near an edge: crossing the plane 1e-1 .. 1e-13 inside or outside
             // the edge ab.
             double ab[3], e[3], t = rng_unit(&r);
-            sub3(ab, b, a);
-            cross3(e, ab, n);
+            vec3_sub(ab, b, a);
+            vec3_cross(e, ab, n);
             double l = norm3(e);
             double h = rng_tiny(&r, 1.0, 13.0) * (rng_unit(&r) < 0.5 ? -1.0 : 1.0) / l;
             double up = 0.1 + rng_unit(&r), down = 0.1 + rng_unit(&r);
@@ -654,7 +627,7 @@ static void test_narrow_ccd_random_ef(void **state) {
 
 // Extra band for thin configurations (see the top of the file).
 static double thin_band(int n, const double *const pts[]) {
-    return sqrt(DBL_EPSILON) * max_abs(n, pts);
+    return sqrt(DBL_EPSILON) * vec3_max_abs(n, pts);
 }
 
 // Needle triangles (two corners 1e-2 .. 1e-12 apart), corners in every
@@ -698,7 +671,7 @@ static void test_narrow_ccd_random_vf_needles(void **state) {
 static double near_parallel_band(const double p0[3], const double p1[3], const double q0[3],
                                  const double q1[3]) {
     const double *pts[4] = {p0, p1, q0, q1};
-    return 4.0 * sqrt(DBL_EPSILON) * max_abs(4, pts);
+    return 4.0 * sqrt(DBL_EPSILON) * vec3_max_abs(4, pts);
 }
 
 // Nearly parallel segments (angle 1e-2 .. 1e-12) at 1e-1 .. 1e-13 from each
