@@ -74,6 +74,7 @@
 
 #include "alloc.h"
 #include "box.h"
+#include "expansion.h"
 #include "narrow.h"
 #include "vec3.h"
 
@@ -180,21 +181,11 @@ static int by_triangle(const void *x, const void *y) {
 }
 
 // ---------------------------------------------------------------------------
-// Error-free transformations (Shewchuk 1997; Ogita, Rump and Oishi 2005):
-// a + b = s + e and a * b = p + e exactly (no overflow in the range of the
-// mesh contract; the build has -ffp-contract=off, and fma is exact).
-
-static void two_sum(double a, double b, double *s, double *e) {
-    const double x = a + b, z = x - a;
-    *e = (a - (x - z)) + (b - z);
-    *s = x;
-}
-
-static void two_prod(double a, double b, double *p, double *e) {
-    const double x = a * b;
-    *e = fma(a, b, -x);
-    *p = x;
-}
+// Exact sums (expansion.h's error-free transformations). Exactness range:
+// coordinates and half-extents within the mesh contract (magnitudes in
+// [2^-200, 2^200] or zero) and rotation entries of an orthonormal matrix:
+// no product or partial product overflows, and an entry small enough for a
+// partial product to underflow contributes far below the tolerance.
 
 #define EXACT_MAX_TERMS 32
 
@@ -205,20 +196,8 @@ static void two_prod(double a, double b, double *p, double *e) {
 static void exact_sum(const double *x, int n, double *hi, double *lo) {
     double e[EXACT_MAX_TERMS + 1], g[EXACT_MAX_TERMS + 1];
     int m = 0;
-    for (int i = 0; i < n; ++i) {
-        double q = x[i];
-        int k = 0;
-        for (int j = 0; j < m; ++j) {
-            double sum, err;
-            two_sum(q, e[j], &sum, &err);
-            if (err != 0.0)
-                e[k++] = err;
-            q = sum;
-        }
-        if (q != 0.0)
-            e[k++] = q;
-        m = k;
-    }
+    for (int i = 0; i < n; ++i)
+        m = grow_expansion(e, m, x[i]);
     if (m == 0) {
         *hi = *lo = 0.0;
         return;
@@ -283,8 +262,8 @@ static int frame_terms(const selfcol_collider *c, const double x[3], int k, doub
     int n = 0;
     for (int j = 0; j < 3; ++j) {
         const double r = c->rotation[3 * j + k]; // rotation^T
-        two_prod(r, yh[j], &out[n], &out[n + 1]);
-        two_prod(r, yl[j], &out[n + 2], &out[n + 3]);
+        two_product(r, yh[j], &out[n], &out[n + 1]);
+        two_product(r, yl[j], &out[n + 2], &out[n + 3]);
         n += 4;
     }
     return n;
@@ -355,12 +334,12 @@ static double excess(const candidate *c, double radius) {
     double t[20];
     int n = 0;
     for (int k = 0; k < 3; ++k) {
-        two_prod(c->dh[k], c->dh[k], &t[n], &t[n + 1]);
-        two_prod(2.0 * c->dh[k], c->dl[k], &t[n + 2], &t[n + 3]);
-        two_prod(c->dl[k], c->dl[k], &t[n + 4], &t[n + 5]);
+        two_product(c->dh[k], c->dh[k], &t[n], &t[n + 1]);
+        two_product(2.0 * c->dh[k], c->dl[k], &t[n + 2], &t[n + 3]);
+        two_product(c->dl[k], c->dl[k], &t[n + 4], &t[n + 5]);
         n += 6;
     }
-    two_prod(-radius, radius, &t[n], &t[n + 1]);
+    two_product(-radius, radius, &t[n], &t[n + 1]);
     return exact_round(t, n + 2);
 }
 
@@ -719,7 +698,7 @@ static int convex_contact(const selfcol_collider *col, const double *a, const do
             }
             double t[8];
             for (int j = 0; j < 3; ++j)
-                two_prod(r[j], l[j], &t[2 * j], &t[2 * j + 1]);
+                two_product(r[j], l[j], &t[2 * j], &t[2 * j + 1]);
             t[6] = dh[k];
             t[7] = dl[k];
             scratch[i][k] = exact_round(t, 8);
