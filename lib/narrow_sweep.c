@@ -268,7 +268,8 @@ static double face_gap(const sweep_query *q, double f[2][2][2][3], int k, int up
 // State shared by the two search orders.
 typedef struct sweep_search {
     const sweep_query *q;
-    double best;       // the least t_lo of an accepted box, HUGE_VAL before
+    double best;       // the least t_lo of an accepted box; t_max before
+    int found;         // best comes from an accepted box
     int best_forced;   // best comes from a box that could not be split
     long checks;       // boxes evaluated
     int max_depth;     // deepest box evaluated (levels summed)
@@ -365,6 +366,7 @@ static int depth_first(sweep_search *st, const sweep_box *start, const sweep_box
         const int m = examine(st, &box, children, &forced);
         if (m < 0) {
             st->best = box.lo[0];
+            st->found = 1;
             st->best_forced = forced;
             continue;
         }
@@ -375,10 +377,15 @@ static int depth_first(sweep_search *st, const sweep_box *start, const sweep_box
 }
 
 static int sweep(int kind, const double *const start[4], const double *const end[4], double delta,
-                 double *toi, selfcol_narrow_sweep_info *info) {
+                 double t_max, double *toi, selfcol_narrow_sweep_info *info) {
     sweep_query q;
     q.kind = kind;
-    sweep_search st = {&q, HUGE_VAL, 0, 0, 0, 0.0};
+    // Boxes starting at or after t_max are never examined: a box holds the
+    // times [t_lo, t_hi], so a root at t < t_max lies in a box with t_lo <
+    // t_max, which stays. Boxes start below 1, so t_max = 1 drops nothing.
+    if (!(t_max <= 1.0))
+        t_max = 1.0; // above 1 or NaN
+    sweep_search st = {&q, t_max, 0, 0, 0, 0, 0.0};
     if (!(delta >= 0.0))
         delta = 0.0; // negative or NaN
     double extent = 0.0;
@@ -429,13 +436,14 @@ static int sweep(int kind, const double *const start[4], const double *const end
         if (m < 0) {
             // Accepted, and no pending box starts earlier.
             st.best = box.lo[0];
+            st.found = 1;
             st.best_forced = forced;
             break;
         }
         for (int k = 0; k < m; ++k)
             heap_push(heap, &n, &children[k]);
     }
-    if (st.best <= 1.0)
+    if (st.found)
         return finish(1, st.best,
                       st.best_forced ? SELFCOL_NARROW_SWEEP_BUDGET : SELFCOL_NARROW_SWEEP_ACCEPTED,
                       &st, toi, info);
@@ -448,7 +456,7 @@ int selfcol_narrow_sweep__vf_info(const double p0[3], const double a0[3], const 
                                   selfcol_narrow_sweep_info *info) {
     const double *const start[4] = {p0, a0, b0, c0};
     const double *const end[4] = {p1, a1, b1, c1};
-    return sweep(KIND_VF, start, end, delta, toi, info);
+    return sweep(KIND_VF, start, end, delta, 1.0, toi, info);
 }
 
 int selfcol_narrow_sweep__ee_info(const double a0[3], const double b0[3], const double c0[3],
@@ -457,7 +465,7 @@ int selfcol_narrow_sweep__ee_info(const double a0[3], const double b0[3], const 
                                   selfcol_narrow_sweep_info *info) {
     const double *const start[4] = {a0, b0, c0, d0};
     const double *const end[4] = {a1, b1, c1, d1};
-    return sweep(KIND_EE, start, end, delta, toi, info);
+    return sweep(KIND_EE, start, end, delta, 1.0, toi, info);
 }
 
 int selfcol_narrow_sweep__vf(const double p0[3], const double a0[3], const double b0[3],
@@ -470,4 +478,16 @@ int selfcol_narrow_sweep__ee(const double a0[3], const double b0[3], const doubl
                              const double d0[3], const double a1[3], const double b1[3],
                              const double c1[3], const double d1[3], double delta, double *toi) {
     return selfcol_narrow_sweep__ee_info(a0, b0, c0, d0, a1, b1, c1, d1, delta, toi, NULL);
+}
+
+int selfcol_narrow_sweep__vf_before(const double *const start[4], const double *const end[4],
+                                    double delta, double t_max, double *toi,
+                                    selfcol_narrow_sweep_info *info) {
+    return sweep(KIND_VF, start, end, delta, t_max, toi, info);
+}
+
+int selfcol_narrow_sweep__ee_before(const double *const start[4], const double *const end[4],
+                                    double delta, double t_max, double *toi,
+                                    selfcol_narrow_sweep_info *info) {
+    return sweep(KIND_EE, start, end, delta, t_max, toi, info);
 }

@@ -92,4 +92,18 @@ int selfcol_narrow_sweep__ee_info(const double a0[3], const double b0[3], const 
                                   const double c1[3], const double d1[3], double delta, double *toi,
                                   selfcol_narrow_sweep_info *info);
 
+// The same two over [0, t_max) only, for a search of the earliest time over
+// many pairs: no box starting at or after t_max is examined, so the answer is
+// 1 only with *toi < t_max, and 0 means no contact before t_max (within the
+// guarantees above). t_max = 1 gives exactly the functions above (no box
+// starts at 1); t_max > 1 or NaN is taken as 1. The points are given as
+// arrays: start[k] and end[k] of point k, in the argument order of the
+// functions above (VF: p, a, b, c; EE: a, b, c, d).
+int selfcol_narrow_sweep__vf_before(const double *const start[4], const double *const end[4],
+                                    double delta, double t_max, double *toi,
+                                    selfcol_narrow_sweep_info *info);
+int selfcol_narrow_sweep__ee_before(const double *const start[4], const double *const end[4],
+                                    double delta, double t_max, double *toi,
+                                    selfcol_narrow_sweep_info *info);
+
 #endif // SELFCOL_NARROW_SWEEP_H

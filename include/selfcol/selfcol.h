@@ -28,6 +28,7 @@
 #include "mesh.h"
 #include "scene.h"
 #include "store.h"
+#include "sweep.h"
 #include "version.h"
 
 #endif /* SELFCOL_SELFCOL_H */

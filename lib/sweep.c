@@ -1,0 +1,365 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Continuous queries (include/selfcol/sweep.h): argument checks, the broad
+// phase (sweep_search.c), the narrow phase over the candidates
+// (narrow_sweep.h), and the hits sorted by key.
+#include "sweep.h"
+
+#include "alloc.h"
+#include "core.h"
+#include "narrow.h"
+#include "narrow_sweep.h"
+
+#include <math.h>
+#include <string.h>
+
+int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version) {
+    SELFCOL_CHECK(opts != NULL);
+    if (version == 0 || version > SELFCOL_SWEEP_OPTIONS_VERSION)
+        return SELFCOL_EVERSION;
+    memset(opts, 0, sizeof *opts);
+    opts->version = version;
+    opts->method = SELFCOL_METHOD_BVH;
+    opts->kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE;
+    opts->mode = SELFCOL_SWEEP_ALL;
+    opts->separation = 0.0;
+    return SELFCOL_OK;
+}
+
+static void reset_stats(selfcol_sweep *s) {
+    memset(&s->stats, 0, sizeof s->stats);
+    s->stats.version = SELFCOL_SWEEP_STATS_VERSION;
+    s->stats.free_fraction = 1.0;
+}
+
+int selfcol_sweep_create(selfcol_sweep **out, const selfcol_allocator *allocator) {
+    SELFCOL_CHECK(out != NULL);
+    *out = NULL;
+    selfcol_allocator al = {NULL, NULL, NULL};
+    if (allocator != NULL)
+        al = *allocator;
+    SELFCOL_CHECK(selfcol_alloc__valid(&al));
+    selfcol_sweep *s = selfcol_alloc__raw(&al, sizeof *s);
+    if (s == NULL)
+        return SELFCOL_ENOMEM;
+    memset(s, 0, sizeof *s);
+    s->allocator = al;
+    reset_stats(s);
+    *out = s;
+    return SELFCOL_OK;
+}
+
+void selfcol_sweep_destroy(selfcol_sweep *sweep) {
+    if (sweep == NULL)
+        return;
+    const selfcol_allocator al = sweep->allocator;
+    selfcol_alloc__free_array(&al, sweep->hits, sweep->hit_capacity, sizeof *sweep->hits);
+    selfcol_alloc__free_array(&al, sweep->hit_spare, sweep->spare_capacity,
+                              sizeof *sweep->hit_spare);
+    selfcol_alloc__free_array(&al, sweep->candidates, sweep->candidate_capacity,
+                              sizeof *sweep->candidates);
+    selfcol_alloc__free_array(&al, sweep->boxes, sweep->box_capacity, sizeof *sweep->boxes);
+    selfcol_alloc__free_array(&al, sweep->stack, sweep->stack_capacity, sizeof *sweep->stack);
+    selfcol_alloc__free(&al, sweep, sizeof *sweep);
+}
+
+int selfcol_sweep__push_candidate(selfcol_sweep *s, const selfcol_sweep_candidate *c) {
+    if (s->candidate_count == s->candidate_capacity) {
+        if (s->candidate_capacity > SIZE_MAX / 2 / sizeof *s->candidates)
+            return SELFCOL_ENOMEM;
+        const size_t cap = s->candidate_capacity < 1024 ? 1024 : 2 * s->candidate_capacity;
+        selfcol_sweep_candidate *grown = selfcol_alloc__array(&s->allocator, cap, sizeof *grown);
+        if (grown == NULL)
+            return SELFCOL_ENOMEM;
+        if (s->candidate_count > 0)
+            memcpy(grown, s->candidates, s->candidate_count * sizeof *grown);
+        selfcol_alloc__free_array(&s->allocator, s->candidates, s->candidate_capacity,
+                                  sizeof *s->candidates);
+        s->candidates = grown;
+        s->candidate_capacity = cap;
+    }
+    s->candidates[s->candidate_count++] = *c;
+    return SELFCOL_OK;
+}
+
+// Room for n hits in the array `which` (0: hits, kept; 1: the sort's spare).
+static int reserve_hits(selfcol_sweep *s, int which, size_t n) {
+    selfcol_sweep_hit **array = which == 0 ? &s->hits : &s->hit_spare;
+    size_t *capacity = which == 0 ? &s->hit_capacity : &s->spare_capacity;
+    if (n <= *capacity)
+        return SELFCOL_OK;
+    if (n > SIZE_MAX / 4 / sizeof **array)
+        return SELFCOL_ENOMEM;
+    const size_t cap = n + n / 2 + 64;
+    selfcol_sweep_hit *grown = selfcol_alloc__array(&s->allocator, cap, sizeof *grown);
+    if (grown == NULL)
+        return SELFCOL_ENOMEM;
+    if (which == 0 && s->hit_count > 0)
+        memcpy(grown, s->hits, s->hit_count * sizeof *grown);
+    selfcol_alloc__free_array(&s->allocator, *array, *capacity, sizeof *grown);
+    *array = grown;
+    *capacity = cap;
+    return SELFCOL_OK;
+}
+
+static int reserve_boxes(selfcol_sweep *s, size_t doubles) {
+    if (doubles <= s->box_capacity)
+        return SELFCOL_OK;
+    double *boxes = selfcol_alloc__array(&s->allocator, doubles, sizeof *boxes);
+    if (boxes == NULL)
+        return SELFCOL_ENOMEM;
+    selfcol_alloc__free_array(&s->allocator, s->boxes, s->box_capacity, sizeof *s->boxes);
+    s->boxes = boxes;
+    s->box_capacity = doubles;
+    return SELFCOL_OK;
+}
+
+// ---------------------------------------------------------------------------
+// Narrow phase
+
+// The vertices of a candidate's primitives, as a hit lists them.
+static void hit_of(const selfcol_sweep_query *q, const selfcol_sweep_candidate *c,
+                   selfcol_sweep_hit *h) {
+    const selfcol_mesh *mf = q->mesh[c->first_mesh], *ms = q->mesh[c->second_mesh];
+    h->kind = c->kind;
+    h->first = c->first;
+    h->second = c->second;
+    h->first_mesh = c->first_mesh;
+    h->second_mesh = c->second_mesh;
+    if (c->kind == SELFCOL_CONTACT_VF) {
+        h->a[0] = h->a[1] = c->first;
+        memcpy(h->b, ms->triangles + 3 * (size_t)c->second, sizeof h->b);
+    } else {
+        memcpy(h->a, mf->edges + 2 * (size_t)c->first, sizeof h->a);
+        memcpy(h->b, ms->edges + 2 * (size_t)c->second, 2 * sizeof *h->b);
+        h->b[2] = SELFCOL_INVALID_INDEX;
+    }
+    h->flags = 0;
+    h->toi = 1.0;
+}
+
+// The narrow phase over every candidate: ALL keeps each hit; EARLIEST asks
+// each candidate only for a time before the least found so far and keeps
+// the one hit that gives it.
+static int narrow(selfcol_sweep_query *q, uint32_t mode) {
+    selfcol_sweep *s = q->out;
+    double earliest = 1.0;
+    for (size_t i = 0; i < s->candidate_count; ++i) {
+        selfcol_sweep_hit h;
+        hit_of(q, &s->candidates[i], &h);
+        const int fm = (int)h.first_mesh, sm = (int)h.second_mesh;
+        const int vf = h.kind == SELFCOL_CONTACT_VF;
+        const uint32_t ids[4] = {h.a[0], vf ? h.b[0] : h.a[1], vf ? h.b[1] : h.b[0],
+                                 vf ? h.b[2] : h.b[1]};
+        const int of[4] = {fm, vf ? sm : fm, sm, sm};
+        const double *start[4], *end[4];
+        for (int k = 0; k < 4; ++k) {
+            start[k] = q->start[of[k]] + 3 * (size_t)ids[k];
+            end[k] = selfcol_mesh__position(q->mesh[of[k]], ids[k]);
+        }
+        const double t_max = mode == SELFCOL_SWEEP_ALL ? 1.0 : earliest;
+        selfcol_narrow_sweep_info info;
+        double toi = 1.0;
+        const int hit =
+            vf ? selfcol_narrow_sweep__vf_before(start, end, q->separation, t_max, &toi, &info)
+               : selfcol_narrow_sweep__ee_before(start, end, q->separation, t_max, &toi, &info);
+        s->stats.narrow_boxes += (uint64_t)info.checks;
+        if (!hit)
+            continue;
+        h.toi = toi;
+        if (info.outcome != SELFCOL_NARROW_SWEEP_ACCEPTED)
+            h.flags |= SELFCOL_SWEEP_UNRESOLVED;
+        if (toi == 0.0) {
+            // Already within the separation at t = 0? The closed form says.
+            selfcol_narrow_result r;
+            const double d = vf ? selfcol_narrow__vf(start[0], start[1], start[2], start[3], &r)
+                                : selfcol_narrow__ee(start[0], start[1], start[2], start[3], &r);
+            if (d <= q->separation)
+                h.flags |= SELFCOL_SWEEP_INITIAL;
+        }
+        const size_t slot = mode == SELFCOL_SWEEP_ALL ? s->hit_count : 0;
+        if (reserve_hits(s, 0, slot + 1) != SELFCOL_OK)
+            return SELFCOL_ENOMEM;
+        if (mode == SELFCOL_SWEEP_ALL) {
+            s->hits[s->hit_count++] = h;
+            s->stats.hits++;
+            s->stats.initial += (h.flags & SELFCOL_SWEEP_INITIAL) != 0;
+            s->stats.unresolved += (h.flags & SELFCOL_SWEEP_UNRESOLVED) != 0;
+        } else if (s->hit_count == 0 || toi < earliest) {
+            s->hits[0] = h;
+            s->hit_count = 1;
+        }
+        earliest = toi < earliest ? toi : earliest;
+    }
+    if (mode == SELFCOL_SWEEP_EARLIEST && s->hit_count == 1) {
+        const selfcol_sweep_hit *h = &s->hits[0];
+        s->stats.hits = 1;
+        s->stats.initial = (h->flags & SELFCOL_SWEEP_INITIAL) != 0;
+        s->stats.unresolved = (h->flags & SELFCOL_SWEEP_UNRESOLVED) != 0;
+    }
+    s->stats.free_fraction = earliest;
+    return SELFCOL_OK;
+}
+
+// ---------------------------------------------------------------------------
+// Sorting the hits: LSD radix by (kind, first_mesh, first, second_mesh,
+// second), a byte a pass, passes whose digit is the same for every hit
+// skipped (most of them: meshes, kinds and high index bytes).
+
+static uint32_t hit_digit(const selfcol_sweep_hit *h, int pass) {
+    if (pass < 4)
+        return (h->second >> (8 * pass)) & 0xffu;
+    if (pass == 4)
+        return h->second_mesh;
+    if (pass < 9)
+        return (h->first >> (8 * (pass - 5))) & 0xffu;
+    return h->kind << 1 | h->first_mesh;
+}
+
+static int sort_hits(selfcol_sweep *s) {
+    const size_t n = s->hit_count;
+    if (n < 2)
+        return SELFCOL_OK;
+    if (reserve_hits(s, 1, n) != SELFCOL_OK)
+        return SELFCOL_ENOMEM;
+    size_t count[256];
+    for (int pass = 0; pass < 10; ++pass) {
+        const uint32_t d0 = hit_digit(&s->hits[0], pass);
+        size_t same = 1;
+        while (same < n && hit_digit(&s->hits[same], pass) == d0)
+            ++same;
+        if (same == n)
+            continue;
+        memset(count, 0, sizeof count);
+        for (size_t i = 0; i < n; ++i)
+            count[hit_digit(&s->hits[i], pass)]++;
+        size_t sum = 0;
+        for (size_t b = 0; b < 256; ++b) {
+            const size_t c = count[b];
+            count[b] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; ++i)
+            s->hit_spare[count[hit_digit(&s->hits[i], pass)]++] = s->hits[i];
+        selfcol_sweep_hit *t = s->hits;
+        s->hits = s->hit_spare;
+        s->hit_spare = t;
+        const size_t c = s->hit_capacity;
+        s->hit_capacity = s->spare_capacity;
+        s->spare_capacity = c;
+    }
+    return SELFCOL_OK;
+}
+
+// ---------------------------------------------------------------------------
+// Queries
+
+static int start_valid(const double *start, size_t vertex_count) {
+    for (size_t i = 0; i < 3 * vertex_count; ++i)
+        if (!(fabs(start[i]) <= SELFCOL_MESH_MAX_COORDINATE)) // NaN fails too
+            return 0;
+    return 1;
+}
+
+static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
+                     const selfcol_hierarchy *second, const double *second_start,
+                     selfcol_sweep *result, const selfcol_sweep_options *opts) {
+    SELFCOL_CHECK(first != NULL && second != NULL && first_start != NULL && second_start != NULL &&
+                  result != NULL);
+    SELFCOL_CHECK_VERSION(opts, SELFCOL_SWEEP_OPTIONS_VERSION);
+    selfcol_sweep_options o;
+    selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
+    if (opts != NULL)
+        o = *opts; // version 1 is the only layout so far
+    SELFCOL_CHECK(o.method == SELFCOL_METHOD_BVH || o.method == SELFCOL_METHOD_EXHAUSTIVE);
+    SELFCOL_CHECK(o.kinds != 0 && (o.kinds & ~(uint32_t)(SELFCOL_KIND_VF | SELFCOL_KIND_EE)) == 0);
+    SELFCOL_CHECK(o.mode == SELFCOL_SWEEP_ALL || o.mode == SELFCOL_SWEEP_EARLIEST);
+    SELFCOL_CHECK(isfinite(o.separation) && o.separation >= 0.0 &&
+                  o.separation <= SELFCOL_MESH_MAX_COORDINATE);
+    if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||
+        !selfcol_mesh__is(second->mesh, &second->mesh_identity))
+        return SELFCOL_EMISMATCH;
+    const int self = first == second;
+    SELFCOL_CHECK(self ? first_start == second_start : first->mesh != second->mesh);
+    SELFCOL_CHECK(start_valid(first_start, first->mesh->vertex_count));
+    SELFCOL_CHECK(self || start_valid(second_start, second->mesh->vertex_count));
+
+    const double start_time = selfcol_core__seconds();
+    result->hit_count = 0;
+    result->candidate_count = 0;
+    reset_stats(result);
+    selfcol_sweep_query q = {{first, second},
+                             {first->mesh, second->mesh},
+                             {first_start, second_start},
+                             self,
+                             o.separation,
+                             o.kinds,
+                             result};
+    int status = SELFCOL_OK;
+    if (o.method == SELFCOL_METHOD_BVH) {
+        size_t doubles = 0;
+        for (int m = 0; m < (self ? 1 : 2); ++m)
+            doubles += 6 * (q.mesh[m]->triangle_count + q.hierarchy[m]->node_count);
+        status = reserve_boxes(result, doubles);
+        if (status == SELFCOL_OK)
+            status = selfcol_sweep__bvh(&q);
+    } else {
+        status = selfcol_sweep__exhaustive(&q);
+    }
+    const double narrow_start = selfcol_core__seconds();
+    if (status == SELFCOL_OK)
+        status = narrow(&q, o.mode);
+    if (status == SELFCOL_OK)
+        status = sort_hits(result);
+    if (status != SELFCOL_OK) {
+        result->hit_count = 0;
+        result->candidate_count = 0;
+        reset_stats(result);
+        return status;
+    }
+    const double end_time = selfcol_core__seconds();
+    result->stats.broad_seconds = narrow_start - start_time;
+    result->stats.narrow_seconds = end_time - narrow_start;
+    result->stats.total_seconds = end_time - start_time;
+    return SELFCOL_OK;
+}
+
+int selfcol_hierarchy_self_sweep(const selfcol_hierarchy *hierarchy, const double *start_positions,
+                                 selfcol_sweep *result, const selfcol_sweep_options *opts) {
+    return run_sweep(hierarchy, start_positions, hierarchy, start_positions, result, opts);
+}
+
+int selfcol_hierarchy_sweep(const selfcol_hierarchy *first, const double *first_start,
+                            const selfcol_hierarchy *second, const double *second_start,
+                            selfcol_sweep *result, const selfcol_sweep_options *opts) {
+    SELFCOL_CHECK(first != second);
+    return run_sweep(first, first_start, second, second_start, result, opts);
+}
+
+int selfcol_sweep_hits(const selfcol_sweep *sweep, const selfcol_sweep_hit **data_out,
+                       size_t *count_out) {
+    SELFCOL_CHECK(sweep != NULL && data_out != NULL && count_out != NULL);
+    *data_out = sweep->hit_count > 0 ? sweep->hits : NULL;
+    *count_out = sweep->hit_count;
+    return SELFCOL_OK;
+}
+
+int selfcol_sweep_stats(const selfcol_sweep *sweep, selfcol_sweep_query_stats *stats) {
+    SELFCOL_CHECK(sweep != NULL && stats != NULL);
+    if (stats->version == 0 || stats->version > SELFCOL_SWEEP_STATS_VERSION)
+        return SELFCOL_EVERSION;
+    const unsigned version = stats->version;
+    *stats = sweep->stats; // one version so far: the whole struct
+    stats->version = version;
+    return SELFCOL_OK;
+}
+
+size_t selfcol_sweep_byte_count(const selfcol_sweep *sweep) {
+    if (sweep == NULL)
+        return 0;
+    return sizeof *sweep + (sweep->hit_capacity + sweep->spare_capacity) * sizeof *sweep->hits +
+           sweep->candidate_capacity * sizeof *sweep->candidates +
+           sweep->box_capacity * sizeof *sweep->boxes +
+           sweep->stack_capacity * sizeof *sweep->stack;
+}

@@ -1,0 +1,55 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Continuous queries (include/selfcol/sweep.h): the result handle, and the
+// stages of a query. sweep.c checks the arguments, runs the broad phase of
+// sweep_search.c (candidate primitive pairs whose swept boxes are within the
+// separation), then the continuous narrow phase (narrow_sweep.h) over the
+// candidates, and sorts the hits.
+#ifndef SELFCOL_SWEEP_INTERNAL_H
+#define SELFCOL_SWEEP_INTERNAL_H
+
+#include <selfcol/sweep.h>
+
+#include "hierarchy.h"
+#include "mesh.h"
+
+// A candidate primitive pair, in the key of a hit: kind, meshes, elements.
+typedef struct selfcol_sweep_candidate {
+    uint8_t kind, first_mesh, second_mesh, unused;
+    uint32_t first, second;
+} selfcol_sweep_candidate;
+
+struct selfcol_sweep {
+    selfcol_allocator allocator;
+    selfcol_sweep_hit *hits, *hit_spare; // spare: the sort's destination
+    size_t hit_count, hit_capacity, spare_capacity;
+    selfcol_sweep_candidate *candidates;
+    size_t candidate_count, candidate_capacity;
+    double *boxes; // swept boxes (lo, hi) of triangles and nodes, both meshes
+    size_t box_capacity;
+    uint32_t *stack; // the traversal's node pairs
+    size_t stack_capacity;
+    selfcol_sweep_query_stats stats;
+};
+
+// One continuous query in progress: what sweep_search.c reads.
+typedef struct selfcol_sweep_query {
+    const selfcol_hierarchy *hierarchy[2]; // hierarchy[1] == hierarchy[0] for a self query
+    const selfcol_mesh *mesh[2];
+    const double *start[2]; // t = 0 positions, 3 V each
+    int self;
+    double separation;
+    uint32_t kinds;
+    selfcol_sweep *out;
+} selfcol_sweep_query;
+
+// Appends a candidate. SELFCOL_OK or SELFCOL_ENOMEM.
+int selfcol_sweep__push_candidate(selfcol_sweep *s, const selfcol_sweep_candidate *c);
+
+// Broad phases (sweep_search.c): fill q->out's candidates and the counters
+// node_pairs and candidates. EXHAUSTIVE writes them sorted by key.
+int selfcol_sweep__exhaustive(selfcol_sweep_query *q);
+int selfcol_sweep__bvh(selfcol_sweep_query *q);
+
+#endif // SELFCOL_SWEEP_INTERNAL_H
