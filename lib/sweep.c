@@ -158,6 +158,10 @@ static int narrow(selfcol_sweep_query *q, uint32_t mode) {
             start[k] = q->start[of[k]] + 3 * (size_t)ids[k];
             end[k] = selfcol_mesh__position(q->mesh[of[k]], ids[k]);
         }
+        if (selfcol_narrow_sweep__separated(start, end, !vf, q->separation)) {
+            s->stats.separated++;
+            continue;
+        }
         const double t_max = mode == SELFCOL_SWEEP_ALL ? 1.0 : earliest;
         selfcol_narrow_sweep_info info;
         double toi = 1.0;

@@ -339,6 +339,213 @@ static void test_data_simulation_frames_when_present(void **state) {
     }
 }
 
+// ---------------------------------------------------------------------------
+// Continuous queries against the Scalable-CCD ground truth
+
+// The JSON files of the data set are arrays of numbers or of true/false:
+// every number (or boolean, as 1/0) of the file, in order, into *out.
+static size_t read_json_values(const char *path, long **out) {
+    FILE *f = fopen(path, "rb");
+    *out = NULL;
+    if (f == NULL)
+        return 0;
+    size_t n = 0, cap = 0;
+    int c = fgetc(f);
+    while (c != EOF) {
+        long value;
+        if (c >= '0' && c <= '9') {
+            value = 0;
+            while (c >= '0' && c <= '9') {
+                value = 10 * value + (c - '0');
+                c = fgetc(f);
+            }
+        } else if (c == 't' || c == 'f') {
+            value = c == 't';
+            while (c >= 'a' && c <= 'z')
+                c = fgetc(f);
+        } else {
+            c = fgetc(f);
+            continue;
+        }
+        if (n == cap) {
+            cap = cap ? 2 * cap : 1024;
+            *out = realloc(*out, cap * sizeof **out);
+            assert_non_null(*out);
+        }
+        (*out)[n++] = value;
+    }
+    fclose(f);
+    return n;
+}
+
+// The data set numbers edges as libigl's igl::edges lists them: the
+// adjacency matrix's column-major order, i.e. sorted by (higher vertex,
+// lower vertex). selfcol's are sorted by (lower, higher). Returns the map
+// from the data set's edge numbers to selfcol's.
+static uint32_t *igl_edge_map(const selfcol_mesh *m) {
+    const size_t ne = selfcol_mesh_count(m, SELFCOL_MESH_EDGES);
+    const uint32_t *edges = selfcol_mesh_edges(m);
+    uint64_t *keys = malloc(ne * sizeof *keys);
+    uint32_t *map = malloc(ne * sizeof *map);
+    assert_non_null(keys);
+    assert_non_null(map);
+    for (size_t e = 0; e < ne; ++e)
+        keys[e] = (uint64_t)edges[2 * e + 1] << 32 | edges[2 * e];
+    // keys sorted ascending give the igl order; find each one's selfcol edge
+    // by sorting indices by key.
+    for (size_t e = 0; e < ne; ++e)
+        map[e] = (uint32_t)e;
+    // Shell sort of the indices by key (no qsort context in C99).
+    for (size_t gap = ne / 2; gap > 0; gap /= 2)
+        for (size_t i = gap; i < ne; ++i) {
+            const uint32_t x = map[i];
+            size_t j = i;
+            for (; j >= gap && keys[map[j - gap]] > keys[x]; j -= gap)
+                map[j] = map[j - gap];
+            map[j] = x;
+        }
+    free(keys);
+    return map;
+}
+
+static int hit_found(const selfcol_sweep_hit *h, size_t n, uint32_t kind, uint32_t first,
+                     uint32_t second) {
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        const int less = h[mid].kind != kind     ? h[mid].kind < kind
+                         : h[mid].first != first ? h[mid].first < first
+                                                 : h[mid].second < second;
+        if (less)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && h[lo].kind == kind && h[lo].first == first && h[lo].second == second;
+}
+
+// Every pair the data set's exact truth (mma_bool) marks colliding over the
+// step is a hit of the continuous self-query (BVH, separation 0): broad and
+// narrow phase together, zero false negatives. The data set's candidate
+// pairs (boxes) are counted against the query's candidates.
+static void test_data_sweep_finds_every_collision_of_real_steps_when_present(void **state) {
+    (void)state;
+    const struct {
+        const char *scene, *frame0, *frame1, *step;
+    } steps[] = {{"cloth-funnel", "227.ply", "228.ply", "227"},
+                 {"rod-twist", "3036.ply", "3037.ply", "3036"},
+                 {"cloth-ball", "cloth_ball92.ply", "cloth_ball93.ply", "92"}};
+    int checked = 0;
+    selfcol_sweep *result;
+    assert_int_equal(selfcol_sweep_create(&result, NULL), SELFCOL_OK);
+    for (size_t si = 0; si < sizeof steps / sizeof steps[0]; ++si) {
+        char path[4096], err[512];
+        scene s0, s1;
+        snprintf(path, sizeof path, "%s/sample-scalable-ccd-data/%s/frames/%s",
+                 SELFCOL_SHARED_DATA_DIR, steps[si].scene, steps[si].frame0);
+        if (ply_read(path, &s0, err, sizeof err) != 0)
+            continue;
+        snprintf(path, sizeof path, "%s/sample-scalable-ccd-data/%s/frames/%s",
+                 SELFCOL_SHARED_DATA_DIR, steps[si].scene, steps[si].frame1);
+        assert_int_equal(ply_read(path, &s1, err, sizeof err), 0);
+        assert_int_equal(s0.vertex_count, s1.vertex_count);
+        selfcol_mesh *m;
+        selfcol_hierarchy *h;
+        assert_int_equal(selfcol_mesh_create(&m, s1.vertex_count, s1.positions, s1.triangle_count,
+                                             s1.triangles, NULL),
+                         SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_self_sweep(h, s0.positions, result, NULL), SELFCOL_OK);
+        const selfcol_sweep_hit *hits;
+        size_t n;
+        assert_int_equal(selfcol_sweep_hits(result, &hits, &n), SELFCOL_OK);
+        selfcol_sweep_query_stats st;
+        st.version = SELFCOL_SWEEP_STATS_VERSION;
+        assert_int_equal(selfcol_sweep_stats(result, &st), SELFCOL_OK);
+        const size_t nv = s1.vertex_count, ne = selfcol_mesh_count(m, SELFCOL_MESH_EDGES);
+        uint32_t *edge_of = igl_edge_map(m);
+        const uint32_t *tris = selfcol_mesh_triangles(m);
+        const uint32_t *edges = selfcol_mesh_edges(m);
+        size_t truth = 0, boxes_total = 0, adjacent = 0;
+        for (int kind = 0; kind < 2; ++kind) {
+            const char *k = kind == 0 ? "vf" : "ee";
+            long *ids, *truths;
+            snprintf(path, sizeof path, "%s/sample-scalable-ccd-data/%s/boxes/%s%s.json",
+                     SELFCOL_SHARED_DATA_DIR, steps[si].scene, steps[si].step, k);
+            const size_t nb = read_json_values(path, &ids);
+            snprintf(path, sizeof path,
+                     "%s/sample-scalable-ccd-data/%s/mma_bool/%s%s_mma_bool.json",
+                     SELFCOL_SHARED_DATA_DIR, steps[si].scene, steps[si].step, k);
+            const size_t nt = read_json_values(path, &truths);
+            assert_true(nb > 0 && nb == 2 * nt);
+            boxes_total += nt;
+            for (size_t i = 0; i < nt; ++i) {
+                if (!truths[i])
+                    continue;
+                long x = ids[2 * i], y = ids[2 * i + 1];
+                if (kind == 0) {
+                    if (x > y) {
+                        const long t = x;
+                        x = y;
+                        y = t;
+                    }
+                    // vertex x, face y - nV - nE
+                    assert_true(x < (long)nv && y >= (long)(nv + ne));
+                    const uint32_t v = (uint32_t)x, f = (uint32_t)(y - (long)(nv + ne));
+                    assert_true(f < s1.triangle_count);
+                    if (v == tris[3 * f] || v == tris[3 * f + 1] || v == tris[3 * f + 2]) {
+                        adjacent++; // outside the contact set (sweep.h)
+                        continue;
+                    }
+                    if (!hit_found(hits, n, SELFCOL_CONTACT_VF, v, f))
+                        fail_msg("%s: VF %u-%u collides (mma_bool) but is no hit", steps[si].scene,
+                                 v, f);
+                } else {
+                    assert_true(x >= (long)nv && y >= (long)nv && x < (long)(nv + ne) &&
+                                y < (long)(nv + ne));
+                    uint32_t e = edge_of[x - (long)nv], g = edge_of[y - (long)nv];
+                    if (e > g) {
+                        const uint32_t t = e;
+                        e = g;
+                        g = t;
+                    }
+                    const uint32_t *ev = edges + 2 * (size_t)e, *gv = edges + 2 * (size_t)g;
+                    if (ev[0] == gv[0] || ev[0] == gv[1] || ev[1] == gv[0] || ev[1] == gv[1]) {
+                        adjacent++;
+                        continue;
+                    }
+                    if (!hit_found(hits, n, SELFCOL_CONTACT_EE, e, g))
+                        fail_msg("%s: EE %u-%u collides (mma_bool) but is no hit", steps[si].scene,
+                                 e, g);
+                }
+                truth++;
+            }
+            free(ids);
+            free(truths);
+        }
+        print_message("%s %s->%s: %zu triangles; %zu colliding pairs (mma_bool) all found, %zu "
+                      "adjacent skipped; %zu hits (%llu VF + %llu EE candidates against the data "
+                      "set's %zu boxes); free fraction %.3g; broad %.1f ms, narrow %.1f ms\n",
+                      steps[si].scene, steps[si].frame0, steps[si].frame1, s1.triangle_count, truth,
+                      adjacent, n, (unsigned long long)st.vf_candidates,
+                      (unsigned long long)st.ee_candidates, boxes_total, st.free_fraction,
+                      1e3 * st.broad_seconds, 1e3 * st.narrow_seconds);
+        assert_true(truth > 0);
+        free(edge_of);
+        selfcol_hierarchy_destroy(h);
+        selfcol_mesh_destroy(m);
+        scene_free(&s0);
+        scene_free(&s1);
+        checked++;
+    }
+    selfcol_sweep_destroy(result);
+    if (checked == 0) {
+        print_message("%s/sample-scalable-ccd-data absent: skipped\n", SELFCOL_SHARED_DATA_DIR);
+        data_skipped = 1;
+        skip();
+    }
+}
+
 // ctest's SKIP_RETURN_CODE: a run whose only test found no data reports
 // "skipped", not "passed".
 #define EXIT_SKIPPED 77
@@ -348,6 +555,7 @@ int main(int argc, char **argv) {
         cmocka_unit_test(test_data_ply_reader_round_trips_every_encoding),
         cmocka_unit_test(test_data_ipc_toolkit_meshes_when_present),
         cmocka_unit_test(test_data_simulation_frames_when_present),
+        cmocka_unit_test(test_data_sweep_finds_every_collision_of_real_steps_when_present),
     };
     // tests/CMakeLists.txt registers each test as its own ctest entry
     // (argv[1] names it), so one that skips is reported as skipped.

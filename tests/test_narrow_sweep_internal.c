@@ -157,7 +157,7 @@ static void lerp(double out[3], const double x0[3], const double x1[3], double t
 static void test_random_motions_against_sampled_distance(void **state) {
     (void)state;
     const int samples = 64;
-    int reported = 0, sampled_close = 0;
+    int reported = 0, sampled_close = 0, separated = 0;
     for (int trial = 0; trial < 2000; ++trial) {
         const int vf = trial % 2;
         const double scale = trial % 3 == 0 ? 1e-3 : (trial % 3 == 1 ? 1.0 : 1e3);
@@ -175,6 +175,10 @@ static void test_random_motions_against_sampled_distance(void **state) {
                                                            x[7], delta, &toi, &info);
         reported += hit;
         assert_true(!hit || (toi >= 0.0 && toi <= 1.0));
+        const double *const start[4] = {x[0], x[1], x[2], x[3]};
+        const double *const end[4] = {x[4], x[5], x[6], x[7]};
+        const int apart = selfcol_narrow_sweep__separated(start, end, !vf, delta);
+        separated += apart;
         const double margin = 1e-9 * scale;
         for (int s = 0; s <= samples; ++s) {
             const double t = (double)s / samples;
@@ -189,6 +193,10 @@ static void test_random_motions_against_sampled_distance(void **state) {
                     fail_msg("trial %d (%s): distance %.17g <= delta %.17g at t = %g, "
                              "answer %d, toi %.17g",
                              trial, vf ? "VF" : "EE", dist, delta, t, hit, toi);
+                if (apart)
+                    fail_msg("trial %d (%s): shown apart, but the distance is %.17g <= delta "
+                             "%.17g at t = %g",
+                             trial, vf ? "VF" : "EE", dist, delta, t);
                 break;
             }
         }
@@ -217,9 +225,11 @@ static void test_random_motions_against_sampled_distance(void **state) {
                          trial, vf ? "VF" : "EE", toi, dist, bound);
         }
     }
-    print_message("random motions: 2000 pairs, %d reported, %d with a sampled time within delta\n",
-                  reported, sampled_close);
+    print_message("random motions: 2000 pairs, %d reported, %d with a sampled time within delta, "
+                  "%d shown apart by the separation filter\n",
+                  reported, sampled_close, separated);
     assert_true(sampled_close > 100); // the families do exercise contacts
+    assert_true(separated > 100);     // and the filter does say something
 }
 
 // ------------------------------------------------- benchmark sample queries
@@ -344,6 +354,8 @@ static double now_ns(void) {
 // Per (family, kind) results.
 typedef struct family_result {
     long queries, positives, false_negatives, false_positives, budget;
+    long separated,
+        separated_wrongly; // selfcol_narrow_sweep__separated: said apart, of which truth 1
     long max_checks;
     double ns;
 } family_result;
@@ -367,6 +379,20 @@ static void run_queries(const query_list *list, int vf, const char *family, fami
         checks[k] = info.checks;
     }
     r->ns = now_ns() - start;
+    // The cheap separation filter must never call a colliding query apart.
+    for (size_t k = 0; k < list->n; ++k) {
+        const double(*x)[3] = (const double(*)[3])list->q[k].x;
+        const double *const start[4] = {x[0], x[1], x[2], x[3]};
+        const double *const end[4] = {x[4], x[5], x[6], x[7]};
+        if (selfcol_narrow_sweep__separated(start, end, !vf, 0.0)) {
+            ++r->separated;
+            if (list->q[k].truth) {
+                ++r->separated_wrongly;
+                print_message("SEPARATED BUT COLLIDES: %s %s query %zu\n", family, vf ? "VF" : "EE",
+                              k);
+            }
+        }
+    }
     for (size_t k = 0; k < list->n; ++k) {
         ++r->queries;
         r->positives += list->q[k].truth;
@@ -398,6 +424,7 @@ static void test_ccd_sample_queries_when_present(void **state) {
         skip();
     }
     long total_fn = 0, total[2] = {0, 0}, total_fp[2] = {0, 0}, total_pos[2] = {0, 0};
+    long total_separated = 0, total_separated_wrongly = 0;
     double total_ns[2] = {0.0, 0.0};
     print_message("%-28s %4s %7s %6s %4s %5s %9s %9s %9s\n", "family", "kind", "queries", "truth1",
                   "FN", "FP", "FPbudget", "maxboxes", "ns/query");
@@ -417,6 +444,8 @@ static void test_ccd_sample_queries_when_present(void **state) {
                           r.false_positives, r.budget, r.max_checks,
                           r.queries ? r.ns / (double)r.queries : 0.0);
             total_fn += r.false_negatives;
+            total_separated += r.separated;
+            total_separated_wrongly += r.separated_wrongly;
             total[vf] += r.queries;
             total_fp[vf] += r.false_positives;
             total_pos[vf] += r.positives;
@@ -430,11 +459,14 @@ static void test_ccd_sample_queries_when_present(void **state) {
                       vf ? "VF" : "EE", total[vf], total_pos[vf], total_fp[vf],
                       total[vf] ? total_ns[vf] / (double)total[vf] : 0.0);
     print_message("rationals: %ld converted, %ld not exactly\n", conversions, inexact_conversions);
+    print_message("separation filter: %ld queries shown apart, %ld of them colliding\n",
+                  total_separated, total_separated_wrongly);
     if (total[0] + total[1] == 0) {
         print_message("%s holds no queries: skipped\n", root);
         skip();
     }
     assert_int_equal(total_fn, 0);
+    assert_int_equal(total_separated_wrongly, 0);
 }
 
 int main(void) {

@@ -133,13 +133,16 @@ typedef struct selfcol_sweep_query_stats {
     uint64_t candidates;    /**< primitive pairs whose swept boxes are within delta */
     uint64_t vf_candidates; /**< of which VF */
     uint64_t ee_candidates; /**< of which EE */
-    uint64_t narrow_boxes;  /**< root finder boxes evaluated, over all candidates */
-    uint64_t hits;          /**< colliding pairs (SELFCOL_SWEEP_ALL) */
-    uint64_t initial;       /**< of which within the separation at t = 0 */
-    uint64_t unresolved;    /**< of which unresolved (budget) */
-    double broad_seconds;   /**< swept boxes and the candidate search */
-    double narrow_seconds;  /**< root finding over the candidates */
-    double total_seconds;   /**< the whole query */
+    /** candidates shown apart by a fixed direction separating them at both
+     *  ends of the step (an axis or a normal), before any root finding */
+    uint64_t separated;
+    uint64_t narrow_boxes; /**< root finder boxes evaluated, over all candidates */
+    uint64_t hits;         /**< colliding pairs (SELFCOL_SWEEP_ALL) */
+    uint64_t initial;      /**< of which within the separation at t = 0 */
+    uint64_t unresolved;   /**< of which unresolved (budget) */
+    double broad_seconds;  /**< swept boxes and the candidate search */
+    double narrow_seconds; /**< root finding over the candidates */
+    double total_seconds;  /**< the whole query */
 } selfcol_sweep_query_stats;
 
 #define SELFCOL_SWEEP_STATS_VERSION 1
