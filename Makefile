@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet
                 libeigen3-dev libcmocka-dev libpng-dev python3
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
-.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke plot fuzz
+.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep plot fuzz
 all: build
 
 deps:
@@ -40,6 +40,10 @@ bench-full: build
 
 bench-smoke: build
 	sh tools/bench/run.sh --subset smoke --build $(BUILD)
+	sh tools/bench/run_sweep.sh --smoke --build $(BUILD)
+
+bench-sweep: build
+	sh tools/bench/run_sweep.sh --build $(BUILD)
 
 plot:
 	sh tools/plot/plot.sh

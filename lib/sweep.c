@@ -158,10 +158,6 @@ static int narrow(selfcol_sweep_query *q, uint32_t mode) {
             start[k] = q->start[of[k]] + 3 * (size_t)ids[k];
             end[k] = selfcol_mesh__position(q->mesh[of[k]], ids[k]);
         }
-        if (selfcol_narrow_sweep__separated(start, end, !vf, q->separation)) {
-            s->stats.separated++;
-            continue;
-        }
         const double t_max = mode == SELFCOL_SWEEP_ALL ? 1.0 : earliest;
         selfcol_narrow_sweep_info info;
         double toi = 1.0;
@@ -296,21 +292,21 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
     selfcol_sweep_query q = {{first, second},
                              {first->mesh, second->mesh},
                              {first_start, second_start},
+                             {NULL, NULL},
                              self,
                              o.separation,
                              o.kinds,
                              result};
-    int status = SELFCOL_OK;
-    if (o.method == SELFCOL_METHOD_BVH) {
-        size_t doubles = 0;
-        for (int m = 0; m < (self ? 1 : 2); ++m)
+    size_t doubles = 0;
+    for (int m = 0; m < (self ? 1 : 2); ++m) {
+        doubles += 6 * q.mesh[m]->vertex_count;
+        if (o.method == SELFCOL_METHOD_BVH)
             doubles += 6 * (q.mesh[m]->triangle_count + q.hierarchy[m]->node_count);
-        status = reserve_boxes(result, doubles);
-        if (status == SELFCOL_OK)
-            status = selfcol_sweep__bvh(&q);
-    } else {
-        status = selfcol_sweep__exhaustive(&q);
     }
+    int status = reserve_boxes(result, doubles);
+    if (status == SELFCOL_OK)
+        status =
+            o.method == SELFCOL_METHOD_BVH ? selfcol_sweep__bvh(&q) : selfcol_sweep__exhaustive(&q);
     const double narrow_start = selfcol_core__seconds();
     if (status == SELFCOL_OK)
         status = narrow(&q, o.mode);

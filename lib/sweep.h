@@ -37,7 +37,8 @@ struct selfcol_sweep {
 typedef struct selfcol_sweep_query {
     const selfcol_hierarchy *hierarchy[2]; // hierarchy[1] == hierarchy[0] for a self query
     const selfcol_mesh *mesh[2];
-    const double *start[2]; // t = 0 positions, 3 V each
+    const double *start[2];        // t = 0 positions, 3 V each
+    const double *vertex_boxes[2]; // swept box per vertex (lo, hi), set by the search
     int self;
     double separation;
     uint32_t kinds;
@@ -47,8 +48,11 @@ typedef struct selfcol_sweep_query {
 // Appends a candidate. SELFCOL_OK or SELFCOL_ENOMEM.
 int selfcol_sweep__push_candidate(selfcol_sweep *s, const selfcol_sweep_candidate *c);
 
-// Broad phases (sweep_search.c): fill q->out's candidates and the counters
-// node_pairs and candidates. EXHAUSTIVE writes them sorted by key.
+// Broad phases (sweep_search.c): fill q->out's candidates (the pairs whose
+// swept boxes are near and that the separating-direction filter does not
+// show apart) and the counters node_pairs, candidates and separated.
+// q->out->boxes must hold 6 doubles per vertex (and, for BVH, per triangle
+// and node) of each mesh. EXHAUSTIVE writes the candidates sorted by key.
 int selfcol_sweep__exhaustive(selfcol_sweep_query *q);
 int selfcol_sweep__bvh(selfcol_sweep_query *q);
 

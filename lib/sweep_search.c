@@ -29,19 +29,32 @@
 #include "alloc.h"
 #include "box.h"
 #include "core.h"
+#include "narrow_sweep.h"
 
 #include <string.h>
 
 // ---------------------------------------------------------------------------
 // Swept boxes
 
+// The swept box of every vertex of mesh m (6 doubles each), computed once
+// per query: the pair tests read them instead of both position arrays.
+static void vertex_boxes(const selfcol_sweep_query *q, int m, double *boxes) {
+    const selfcol_mesh *mesh = q->mesh[m];
+    for (size_t v = 0; v < mesh->vertex_count; ++v) {
+        const double *p0 = q->start[m] + 3 * v, *p1 = selfcol_mesh__position(mesh, (uint32_t)v);
+        double *lo = boxes + 6 * v, *hi = lo + 3;
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = p0[k] < p1[k] ? p0[k] : p1[k];
+            hi[k] = p0[k] < p1[k] ? p1[k] : p0[k];
+        }
+    }
+}
+
 static void vertex_box(const selfcol_sweep_query *q, int m, uint32_t v, double lo[3],
                        double hi[3]) {
-    const double *p0 = q->start[m] + 3 * (size_t)v, *p1 = selfcol_mesh__position(q->mesh[m], v);
-    for (int k = 0; k < 3; ++k) {
-        lo[k] = p0[k] < p1[k] ? p0[k] : p1[k];
-        hi[k] = p0[k] < p1[k] ? p1[k] : p0[k];
-    }
+    const double *b = q->vertex_boxes[m] + 6 * (size_t)v;
+    memcpy(lo, b, 3 * sizeof *lo);
+    memcpy(hi, b + 3, 3 * sizeof *hi);
 }
 
 static void primitive_box(const selfcol_sweep_query *q, int m, const uint32_t *vertices, int count,
@@ -100,6 +113,22 @@ static int share_vertex(const uint32_t *e, const uint32_t *f) {
     return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1];
 }
 
+// The separating-direction filter of narrow_sweep.h on a pair whose swept
+// boxes are near: counted, and kept out of the candidates when it shows the
+// pair apart over the whole step.
+static int apart(selfcol_sweep_query *q, const uint32_t ids[4], const int meshes[4],
+                 int edge_edge) {
+    const double *start[4], *end[4];
+    for (int k = 0; k < 4; ++k) {
+        start[k] = q->start[meshes[k]] + 3 * (size_t)ids[k];
+        end[k] = selfcol_mesh__position(q->mesh[meshes[k]], ids[k]);
+    }
+    if (!selfcol_narrow_sweep__separated(start, end, edge_edge, q->separation))
+        return 0;
+    q->out->stats.separated++;
+    return 1;
+}
+
 // Vertex v of mesh mv against triangle t of mesh mt, when the pair belongs
 // to the contact set (sweep.h): t is no duplicate, v no corner of t (self).
 static int try_vf(selfcol_sweep_query *q, int mv, uint32_t v, int mt, uint32_t t) {
@@ -114,8 +143,12 @@ static int try_vf(selfcol_sweep_query *q, int mv, uint32_t v, int mt, uint32_t t
     primitive_box(q, mt, tri, 3, tlo, thi);
     if (!selfcol_box__near(vlo, vhi, tlo, thi, q->separation))
         return SELFCOL_OK;
-    const selfcol_sweep_candidate c = {SELFCOL_CONTACT_VF, (uint8_t)mv, (uint8_t)mt, 0, v, t};
     q->out->stats.vf_candidates++;
+    const uint32_t ids[4] = {v, tri[0], tri[1], tri[2]};
+    const int meshes[4] = {mv, mt, mt, mt};
+    if (apart(q, ids, meshes, 0))
+        return SELFCOL_OK;
+    const selfcol_sweep_candidate c = {SELFCOL_CONTACT_VF, (uint8_t)mv, (uint8_t)mt, 0, v, t};
     return selfcol_sweep__push_candidate(q->out, &c);
 }
 
@@ -131,13 +164,17 @@ static int try_ee(selfcol_sweep_query *q, uint32_t e, uint32_t f) {
     primitive_box(q, 1, fv, 2, flo, fhi);
     if (!selfcol_box__near(elo, ehi, flo, fhi, q->separation))
         return SELFCOL_OK;
+    q->out->stats.ee_candidates++;
+    const uint32_t ids[4] = {ev[0], ev[1], fv[0], fv[1]};
+    const int meshes[4] = {0, 0, q->self ? 0 : 1, q->self ? 0 : 1};
+    if (apart(q, ids, meshes, 1))
+        return SELFCOL_OK;
     selfcol_sweep_candidate c = {SELFCOL_CONTACT_EE, 0, 1, 0, e, f};
     if (q->self) {
         c.second_mesh = 0;
         c.first = e < f ? e : f;
         c.second = e < f ? f : e;
     }
-    q->out->stats.ee_candidates++;
     return selfcol_sweep__push_candidate(q->out, &c);
 }
 
@@ -147,6 +184,14 @@ static int try_ee(selfcol_sweep_query *q, uint32_t e, uint32_t f) {
 int selfcol_sweep__exhaustive(selfcol_sweep_query *q) {
     int status = SELFCOL_OK;
     const int meshes = q->self ? 1 : 2;
+    double *at = q->out->boxes; // sized by sweep.c
+    for (int m = 0; m < meshes; ++m) {
+        q->vertex_boxes[m] = at;
+        at += 6 * q->mesh[m]->vertex_count;
+        vertex_boxes(q, m, at - 6 * q->mesh[m]->vertex_count);
+    }
+    if (q->self)
+        q->vertex_boxes[1] = q->vertex_boxes[0];
     if (q->kinds & SELFCOL_KIND_VF)
         for (int mv = 0; mv < meshes && status == SELFCOL_OK; ++mv) {
             const int mt = q->self ? 0 : 1 - mv;
@@ -240,6 +285,13 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q) {
     const int meshes = q->self ? 1 : 2;
     double *tri_boxes[2], *nodes[2];
     double *at = s->boxes; // sized by sweep.c
+    for (int m = 0; m < meshes; ++m) {
+        q->vertex_boxes[m] = at;
+        at += 6 * q->mesh[m]->vertex_count;
+        vertex_boxes(q, m, at - 6 * q->mesh[m]->vertex_count);
+    }
+    if (q->self)
+        q->vertex_boxes[1] = q->vertex_boxes[0];
     for (int m = 0; m < meshes; ++m) {
         tri_boxes[m] = at;
         at += 6 * q->mesh[m]->triangle_count;

@@ -1,0 +1,96 @@
+#!/bin/sh
+# SPDX-FileCopyrightText: 2026 selfcol authors
+# SPDX-License-Identifier: MIT
+# Usage: sh tools/bench/run_sweep.sh [--build DIR] [--out FILE] [--data DIR]
+#                                    [--reps N] [--rounds N] [--no-ipctk] [--smoke]
+# Continuous queries over one step (selfcol-bench-sweep) beside ipc-toolkit's
+# continuous checks (bench_ipctk_sweep.py, in the venv under the build
+# directory that run.sh --ipctk also uses) on the same positions, one
+# thread each. The two alternate ROUNDS times (default 2), each run taking the
+# median of REPS queries (default 3), so that a load change on the machine
+# shows as a difference between rounds rather than as a bias of one tool.
+# Writes FILE (default BUILD/bench-results/sweep.md): a table per round and
+# tool. Called by `make bench-sweep`; `--smoke` (what CI runs) times a tiny
+# crumple step only, without ipc-toolkit.
+set -eu
+
+build=build
+out=""
+data=""
+reps=3
+rounds=2
+ipctk=1
+smoke=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build) build=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --data) data=$2; shift 2 ;;
+    --reps) reps=$2; shift 2 ;;
+    --rounds) rounds=$2; shift 2 ;;
+    --no-ipctk) ipctk=0; shift ;;
+    --smoke) smoke=--smoke; ipctk=0; rounds=1; shift ;;
+    *) echo "run_sweep.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root"
+case "$build" in /*) ;; *) build="$root/$build" ;; esac
+runner="$build/tools/bench/selfcol-bench-sweep"
+if [ ! -x "$runner" ]; then
+  echo "run_sweep.sh: $runner not found; build first (make build)" >&2
+  exit 1
+fi
+[ -n "$data" ] || data=${SELFCOL_SHARED_DATA:-"$root/../shared/data"}
+[ -n "$out" ] || out="$build/bench-results/sweep.md"
+mkdir -p "$(dirname "$out")"
+dump="$build/bench-dump"
+mkdir -p "$dump"
+log="$build/bench-results/sweep.log"
+: > "$log"
+
+venv="$build/ipctk-venv"
+if [ "$ipctk" = 1 ] && [ ! -x "$venv/bin/python" ]; then
+  for py in python3 /usr/bin/python3; do
+    if command -v "$py" >/dev/null 2>&1 && "$py" -m venv "$venv" >/dev/null 2>&1; then break; fi
+    rm -rf "$venv"
+  done
+  if [ ! -x "$venv/bin/python" ] && sh tools/deps.sh python3-venv >> "$log" 2>&1; then
+    /usr/bin/python3 -m venv "$venv" >> "$log" 2>&1 || rm -rf "$venv"
+  fi
+  if [ -x "$venv/bin/python" ]; then
+    "$venv/bin/python" -m pip install -q ipctk numpy >> "$log" 2>&1 || rm -rf "$venv"
+  fi
+fi
+if [ "$ipctk" = 1 ] && ! { [ -x "$venv/bin/python" ] && "$venv/bin/python" -c 'import ipctk' 2>/dev/null; }; then
+  echo "bench-sweep: ipctk skipped (no venv with the ipctk package; see $log)"
+  ipctk=0
+fi
+
+{
+  echo "# Continuous queries over one step, one thread"
+  echo
+  echo "$(date -u +%Y-%m-%d), $(uname -m), $(nproc) cores, commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown);"
+  echo "command: sh tools/bench/run_sweep.sh --reps $reps --rounds $rounds $smoke"
+} > "$out"
+round=1
+while [ "$round" -le "$rounds" ]; do
+  echo "bench-sweep: round $round: selfcol"
+  { echo; echo "## Round $round: selfcol (separation 0, BVH)"; echo; } >> "$out"
+  "$runner" --data "$data" --reps "$reps" --dump "$dump" $smoke >> "$out" 2>> "$log"
+  if [ "$ipctk" = 1 ]; then
+    echo "bench-sweep: round $round: ipc-toolkit"
+    {
+      echo
+      echo "## Round $round: ipc-toolkit $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("ipctk"))') (minimum distance 0, default broad phase, Tight-Inclusion)"
+      echo
+      echo "| case | triangles | collision-free stepsize ms (min-max) | stepsize | is_step_collision_free ms | collision free | build ms |"
+      echo "|---|---|---|---|---|---|---|"
+    } >> "$out"
+    "$venv/bin/python" tools/bench/bench_ipctk_sweep.py --dump "$dump" --reps "$reps" \
+      --case cloth-funnel-227 --case rod-twist-3036 --case cloth-ball-92 \
+      --case crumpled-200k-step >> "$out" 2>> "$log"
+  fi
+  round=$((round + 1))
+done
+echo "bench-sweep: wrote $out"
