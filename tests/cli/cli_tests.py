@@ -705,6 +705,51 @@ def test_cloth_ball_frames():
 
 
 # ---------------------------------------------------------------------------
+# check --continuous: pairs that touch within the steps between frames.
+
+def test_continuous():
+    """spikes_frame: the spike's lowest vertex p (index 3) goes from 0.3 above
+    the big triangle T (index 0) to 0.3 below it in the second step, passing
+    through T's interior at the step's middle; it touches nothing else (the
+    spike's other vertices stay 3 up, T's border is 1 away). The discrete
+    check sees frame 2's crossing edges (EF) but not the passage; the
+    continuous check finds exactly VF (3, 0) in step 1 -> 2, at a time of
+    impact just at or before 0.5."""
+    paths, pattern = write_sequence('continuous', [[3, 3], [3, 3], [-3, 3]])
+    csv = work('continuous/steps.csv')
+    status, out, _ = run('check', '--continuous', '--frames', *paths, '--csv', csv, expect=1)
+    check('2 step(s): 1 with colliding pairs' in out, 'summary: %r' % out)
+    check('COLLIDES WITHIN A STEP' in out, 'result line: %r' % out)
+    rows = open(csv).read().splitlines()
+    check(rows[0] == 'step_from,step_to,kind,first,second,toi,flags', 'header %r' % rows[0])
+    check(len(rows) == 2, 'expected one colliding pair, got %r' % rows[1:])
+    f = rows[1].split(',')
+    check(f[:5] == ['1', '2', 'VF', '3', '0'], 'row %r' % rows[1])
+    toi = float(f[5])
+    check(0.5 - 1e-4 <= toi <= 0.5, 'time of impact %r, expected just at or before 0.5' % toi)
+    check(f[6] == '0', 'flags %r' % f[6])
+    # The same frames, discretely: nothing near at frames 0 and 1 (0.3 from
+    # T, beyond d), frame 2 intersecting.
+    _, out, _ = run('check', '--frames', *paths, '--distance', '0.1', expect=1)
+    check('frames with interferences: 2\n' in out and '0 with proximities' in out,
+          'discrete summary %r' % out)
+    # --range works the same way; a step that stays clear: exit 0.
+    run('check', '--continuous', '--range', '1:2', pattern, expect=1)
+    run('check', '--continuous', '--range', '0:1', pattern, expect=0)
+    # --distance 0.35: both spikes' lowest vertices (3 and 6) are 0.3 above
+    # T from the start: time 0, flagged initial (flag 1).
+    run('check', '--continuous', '--range', '0:1', pattern, '--distance', '0.35',
+        '--csv', csv, expect=1)
+    rows = open(csv).read().splitlines()
+    check(rows[1:] == ['0,1,VF,3,0,0,1', '0,1,VF,6,0,0,1'], 'initial contact rows %r' % rows)
+    # Usage errors: no sequence, or an output it does not write.
+    _, _, err = run('check', '--continuous', paths[0], expect=2)
+    check('--frames or --range' in err, 'stderr %r' % err)
+    _, _, err = run('check', '--continuous', '--frames', *paths, '--json', '-', expect=2)
+    check('--json' in err, 'stderr %r' % err)
+
+
+# ---------------------------------------------------------------------------
 # track: sequences through the contact store.
 
 def spikes_frame(heights, d=0.1):

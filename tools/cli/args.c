@@ -58,6 +58,15 @@ static const char check_help[] =
     "  --no-weld           keep vertices as the file has them (no welding)\n"
     "  --quiet             no summary (errors only)\n"
     "  --frames            the arguments are frames of one mesh\n"
+    "  --continuous        for frames: the pairs (VF, EE) that touch at some time of\n"
+    "                      each step between consecutive frames, every vertex moving\n"
+    "                      on a straight line, with a conservative time of impact\n"
+    "                      and the step's collision-free fraction; none is missed\n"
+    "                      (include/selfcol/sweep.h). --distance D: within D instead\n"
+    "                      of touching (--distance-rel does not apply). --method\n"
+    "                      bvh (default) or exhaustive; --csv rows are then\n"
+    "                      step_from,step_to,kind,first,second,toi,flags; --json,\n"
+    "                      --mark and --png are not available\n"
     "  --range FIRST:LAST[:STEP]  frames FIRST, FIRST+STEP, ... <= LAST of PATTERN\n"
     "                      (FIRST, LAST within -1000000000..1000000000, STEP > 0,\n"
     "                      at most 1000000 frames)\n"
@@ -427,6 +436,7 @@ static const known_option known_options[] = {
     {"--quiet", 0, FOR_CHECK | FOR_INFO | FOR_TRACK},
     {"--no-weld", 0, FOR_CHECK | FOR_INFO | FOR_TRACK},
     {"--frames", 0, FOR_CHECK | FOR_TRACK},
+    {"--continuous", 0, FOR_CHECK},
     {"--no-consistency", 0, FOR_TRACK},
     {"--json", 1, FOR_CHECK | FOR_INFO},
     {"--range", 1, FOR_CHECK | FOR_TRACK},
@@ -553,6 +563,8 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
             o->json = value;
         } else if (strcmp(name, "--frames") == 0) {
             o->frames = 1;
+        } else if (strcmp(name, "--continuous") == 0) {
+            o->continuous = 1;
         } else if (strcmp(name, "--range") == 0) {
             if (parse_range(cmd, value, o) != 0)
                 return CLI_EXIT_ERROR;

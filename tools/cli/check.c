@@ -89,6 +89,11 @@ typedef struct check_state {
     long frames_checked, frames_intersecting, frames_near;
     cli_array intersecting_frames; /* long: frame numbers with interferences */
     int found;                     /* exit status 1 */
+    /* --continuous */
+    selfcol_sweep *sweep;
+    double *previous; /* the positions of the frame before the current one */
+    long steps_checked, steps_colliding;
+    double earliest; /* least collision-free fraction over the steps */
 } check_state;
 
 static void print_summary_header(check_state *st, cli_part *const *parts, int count) {
@@ -107,6 +112,8 @@ static void print_summary_header(check_state *st, cli_part *const *parts, int co
                 p->merged_vertices, p->file.triangle_count,
                 selfcol_mesh_count(p->mesh, SELFCOL_MESH_EDGES));
     }
+    if (st->o->continuous)
+        return; // check_step prints what it uses
     if (st->info.distance_rel >= 0)
         fprintf(s, "  detection distance d = %g (%g x mean edge length %g)\n", st->info.distance,
                 st->info.distance_rel, st->info.mean_edge);
@@ -180,6 +187,47 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
                     1e3 * st->sets.stats.broad_seconds, 1e3 * st->sets.stats.narrow_seconds);
     }
     return write_pictures(o, frame, parts, count, st->classes, err);
+}
+
+// --continuous: the continuous self-query of the step from frame `from` (the
+// positions in st->previous) to frame `to` (the mesh's current positions).
+static int check_step(check_state *st, cli_part *part, long from, long to, cli_error *err) {
+    const cli_options *o = st->o;
+    selfcol_sweep_options so;
+    selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
+    so.method =
+        o->method == SELFCOL_METHOD_EXHAUSTIVE ? SELFCOL_METHOD_EXHAUSTIVE : SELFCOL_METHOD_BVH;
+    so.separation = o->distance_given ? o->distance : 0.0;
+    const int rc = selfcol_hierarchy_self_sweep(part->hierarchy, st->previous, st->sweep, &so);
+    if (rc != SELFCOL_OK)
+        return cli_fail(err, "continuous query failed: %s", selfcol_status_string(rc));
+    const selfcol_sweep_hit *hits;
+    size_t n;
+    selfcol_sweep_hits(st->sweep, &hits, &n);
+    selfcol_sweep_query_stats stats;
+    stats.version = SELFCOL_SWEEP_STATS_VERSION;
+    selfcol_sweep_stats(st->sweep, &stats);
+    size_t vf = 0;
+    for (size_t i = 0; i < n; ++i)
+        vf += hits[i].kind == SELFCOL_CONTACT_VF;
+    st->steps_checked++;
+    st->steps_colliding += n > 0;
+    st->earliest = stats.free_fraction < st->earliest ? stats.free_fraction : st->earliest;
+    if (n > 0)
+        st->found = 1;
+    if (st->csv)
+        for (size_t i = 0; i < n; ++i)
+            fprintf(st->csv, "%ld,%ld,%s,%u,%u,%.17g,%u\n", from, to,
+                    hits[i].kind == SELFCOL_CONTACT_VF ? "VF" : "EE", hits[i].first, hits[i].second,
+                    hits[i].toi, hits[i].flags);
+    if (st->summary) {
+        cli_progress_end(st->progress);
+        fprintf(st->summary,
+                "  step %ld -> %ld: %zu pairs collide (VF %zu, EE %zu); collision-free "
+                "fraction %.6g; %.1f ms\n",
+                from, to, n, vf, n - vf, stats.free_fraction, 1e3 * stats.total_seconds);
+    }
+    return 0;
 }
 
 // "frames with interferences: 3, 5-9, 12": runs of consecutive frames of the
@@ -302,6 +350,16 @@ int cli_command_check(const cli_options *o) {
                                "check takes one or two meshes; for frames of one mesh use --frames "
                                "or --range (got %s)",
                                "more");
+    if (o->continuous && !sequence)
+        return cli_usage_error("check ",
+                               "--continuous checks the steps between frames: give them with "
+                               "--frames or --range%s",
+                               "");
+    if (o->continuous && (o->json || o->mark || o->png))
+        return cli_usage_error("check ", "--continuous writes no %s (only the summary and --csv)",
+                               o->json   ? "--json"
+                               : o->mark ? "--mark"
+                                         : "--png");
     cli_options local = *o;
     local.frames = sequence;
     o = &local;
@@ -343,7 +401,9 @@ int cli_command_check(const cli_options *o) {
         goto done;
     if (o->csv && (st.csv = cli_open_output(o->csv, &err)) == NULL)
         goto done;
-    if (st.csv)
+    if (st.csv && o->continuous)
+        fputs("step_from,step_to,kind,first,second,toi,flags\n", st.csv);
+    else if (st.csv)
         cli_write_csv_header(st.csv);
 
     double t0 = cli_now();
@@ -398,6 +458,19 @@ int cli_command_check(const cli_options *o) {
         }
     }
     print_summary_header(&st, parts, count);
+    if (o->continuous) {
+        st.earliest = 1.0;
+        rc = selfcol_sweep_create(&st.sweep, NULL);
+        st.previous = malloc(3 * parts[0]->file.vertex_count * sizeof(double) + 1);
+        if (rc != SELFCOL_OK || st.previous == NULL) {
+            cli_fail(&err, "out of memory");
+            goto done;
+        }
+        if (st.summary)
+            fprintf(st.summary,
+                    "  continuous: each step between consecutive frames, separation %g%s\n",
+                    o->distance_given ? o->distance : 0.0, o->distance_given ? "" : " (touching)");
+    }
 
     if (!sequence) {
         if (check_frame(&st, parts, count, 0, &err) != 0)
@@ -405,6 +478,9 @@ int cli_command_check(const cli_options *o) {
     } else {
         for (long f = 0; f < frame_count; ++f) {
             if (f > 0) {
+                if (o->continuous)
+                    memcpy(st.previous, selfcol_mesh_positions(parts[0]->mesh),
+                           3 * parts[0]->file.vertex_count * sizeof(double));
                 double start = cli_now();
                 parts[0]->path = frame_names[f];
                 files[0] = frame_names[f];
@@ -421,18 +497,34 @@ int cli_command_check(const cli_options *o) {
                 }
             }
             cli_progress_update(&progress, "frames", (double)f, (double)frame_count);
+            if (o->continuous) {
+                if (f > 0 &&
+                    check_step(&st, parts[0], frame_numbers[f - 1], frame_numbers[f], &err) != 0)
+                    goto done;
+                continue;
+            }
             if (check_frame(&st, parts, 1, frame_numbers[f], &err) != 0)
                 goto done;
         }
         cli_progress_end(&progress);
-        if (st.summary) {
+        if (st.summary && o->continuous) {
+            fprintf(st.summary,
+                    "  %ld step(s): %ld with colliding pairs; least collision-free fraction "
+                    "%.6g\n",
+                    st.steps_checked, st.steps_colliding, st.earliest);
+            cli_print_weld_warning(st.summary, split_frames);
+        } else if (st.summary) {
             fprintf(st.summary, "  %ld frame(s): %ld with interferences, %ld with proximities\n",
                     st.frames_checked, st.frames_intersecting, st.frames_near);
             cli_print_frame_list(st.summary, &st.intersecting_frames, frame_numbers, frame_count);
             cli_print_weld_warning(st.summary, split_frames);
         }
     }
-    if (st.summary)
+    if (st.summary && o->continuous)
+        fprintf(st.summary, "  result: %s (exit status %d)\n",
+                st.steps_colliding ? "COLLIDES WITHIN A STEP" : "clean",
+                st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
+    else if (st.summary)
         fprintf(st.summary, "  result: %s (exit status %d)\n",
                 st.frames_intersecting ? "INTERSECTS"
                 : st.frames_near       ? "no interference, proximities found"
@@ -457,6 +549,8 @@ done:
     if (st.csv && st.csv != stdout)
         fclose(st.csv);
     selfcol_contacts_destroy(st.contacts);
+    selfcol_sweep_destroy(st.sweep);
+    free(st.previous);
     cli_sets_free(&st.sets);
     free(st.intersecting_frames.data);
     free(st.classes);

@@ -22,7 +22,8 @@ typedef struct cli_options {
     unsigned int threads; /* --threads: selfcol_query_options.threads, default 1 */
     const char *json, *csv, *mark, *png;
     int quiet, fail_on_proximity, no_weld, frames;
-    const char *range;                        /* "FIRST:LAST[:STEP]" for a pattern */
+    int continuous;    /* check --continuous: continuous queries between consecutive frames */
+    const char *range; /* "FIRST:LAST[:STEP]" for a pattern */
     long range_first, range_last, range_step; /* --range, checked by cli_parse_options */
     cli_view view;
     /* track */
