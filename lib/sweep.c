@@ -139,31 +139,47 @@ static void hit_of(const selfcol_sweep_query *q, const selfcol_sweep_candidate *
     h->toi = 1.0;
 }
 
+// The points of a hit's primitives at both ends, in the narrow phase's
+// order (VF: p, a, b, c; EE: a, b, c, d).
+static void hit_points(const selfcol_sweep_query *q, const selfcol_sweep_hit *h,
+                       const double *start[4], const double *end[4]) {
+    const int fm = (int)h->first_mesh, sm = (int)h->second_mesh;
+    const int vf = h->kind == SELFCOL_CONTACT_VF;
+    const uint32_t ids[4] = {h->a[0], vf ? h->b[0] : h->a[1], vf ? h->b[1] : h->b[0],
+                             vf ? h->b[2] : h->b[1]};
+    const int of[4] = {fm, vf ? sm : fm, sm, sm};
+    for (int k = 0; k < 4; ++k) {
+        start[k] = q->start[of[k]] + 3 * (size_t)ids[k];
+        end[k] = selfcol_mesh__position(q->mesh[of[k]], ids[k]);
+    }
+}
+
+static int root_before(const selfcol_sweep_query *q, const selfcol_sweep_hit *h, double t_max,
+                       double *toi, selfcol_narrow_sweep_info *info) {
+    const double *start[4], *end[4];
+    hit_points(q, h, start, end);
+    return h->kind == SELFCOL_CONTACT_VF
+               ? selfcol_narrow_sweep__vf_before(start, end, q->separation, t_max, toi, info)
+               : selfcol_narrow_sweep__ee_before(start, end, q->separation, t_max, toi, info);
+}
+
 // The narrow phase over every candidate: ALL keeps each hit; EARLIEST asks
 // each candidate only for a time before the least found so far and keeps
-// the one hit that gives it.
+// the one hit that gives it. The fraction of ALL is the least time of the
+// resolved hits; an unresolved hit (its toi the earliest time its root
+// finder left undecided, often 0: parallel edges sliding at the
+// tolerance) is then asked again over [0, fraction) only, as EARLIEST would,
+// and lowers the fraction only if it may collide before it.
 static int narrow(selfcol_sweep_query *q, uint32_t mode) {
     selfcol_sweep *s = q->out;
     double earliest = 1.0;
     for (size_t i = 0; i < s->candidate_count; ++i) {
         selfcol_sweep_hit h;
         hit_of(q, &s->candidates[i], &h);
-        const int fm = (int)h.first_mesh, sm = (int)h.second_mesh;
-        const int vf = h.kind == SELFCOL_CONTACT_VF;
-        const uint32_t ids[4] = {h.a[0], vf ? h.b[0] : h.a[1], vf ? h.b[1] : h.b[0],
-                                 vf ? h.b[2] : h.b[1]};
-        const int of[4] = {fm, vf ? sm : fm, sm, sm};
-        const double *start[4], *end[4];
-        for (int k = 0; k < 4; ++k) {
-            start[k] = q->start[of[k]] + 3 * (size_t)ids[k];
-            end[k] = selfcol_mesh__position(q->mesh[of[k]], ids[k]);
-        }
         const double t_max = mode == SELFCOL_SWEEP_ALL ? 1.0 : earliest;
         selfcol_narrow_sweep_info info;
         double toi = 1.0;
-        const int hit =
-            vf ? selfcol_narrow_sweep__vf_before(start, end, q->separation, t_max, &toi, &info)
-               : selfcol_narrow_sweep__ee_before(start, end, q->separation, t_max, &toi, &info);
+        const int hit = root_before(q, &h, t_max, &toi, &info);
         s->stats.narrow_boxes += (uint64_t)info.checks;
         if (!hit)
             continue;
@@ -172,9 +188,12 @@ static int narrow(selfcol_sweep_query *q, uint32_t mode) {
             h.flags |= SELFCOL_SWEEP_UNRESOLVED;
         if (toi == 0.0) {
             // Already within the separation at t = 0? The closed form says.
+            const double *start[4], *end[4];
+            hit_points(q, &h, start, end);
             selfcol_narrow_result r;
-            const double d = vf ? selfcol_narrow__vf(start[0], start[1], start[2], start[3], &r)
-                                : selfcol_narrow__ee(start[0], start[1], start[2], start[3], &r);
+            const double d = h.kind == SELFCOL_CONTACT_VF
+                                 ? selfcol_narrow__vf(start[0], start[1], start[2], start[3], &r)
+                                 : selfcol_narrow__ee(start[0], start[1], start[2], start[3], &r);
             if (d <= q->separation)
                 h.flags |= SELFCOL_SWEEP_INITIAL;
         }
@@ -186,11 +205,27 @@ static int narrow(selfcol_sweep_query *q, uint32_t mode) {
             s->stats.hits++;
             s->stats.initial += (h.flags & SELFCOL_SWEEP_INITIAL) != 0;
             s->stats.unresolved += (h.flags & SELFCOL_SWEEP_UNRESOLVED) != 0;
+            if (h.flags & SELFCOL_SWEEP_UNRESOLVED)
+                continue; // decided below
         } else if (s->hit_count == 0 || toi < earliest) {
             s->hits[0] = h;
             s->hit_count = 1;
         }
         earliest = toi < earliest ? toi : earliest;
+    }
+    if (mode == SELFCOL_SWEEP_ALL) {
+        // Every unresolved hit against the same bound: the result does not
+        // depend on the hits' order (BVH's differs from EXHAUSTIVE's).
+        const double resolved = earliest;
+        for (size_t i = 0; i < s->hit_count; ++i) {
+            if (!(s->hits[i].flags & SELFCOL_SWEEP_UNRESOLVED))
+                continue;
+            selfcol_narrow_sweep_info info;
+            double toi = resolved;
+            if (root_before(q, &s->hits[i], resolved, &toi, &info) && toi < earliest)
+                earliest = toi;
+            s->stats.narrow_boxes += (uint64_t)info.checks;
+        }
     }
     if (mode == SELFCOL_SWEEP_EARLIEST && s->hit_count == 1) {
         const selfcol_sweep_hit *h = &s->hits[0];

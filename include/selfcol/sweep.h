@@ -127,7 +127,11 @@ typedef struct selfcol_sweep_hit {
  */
 typedef struct selfcol_sweep_query_stats {
     unsigned int version; /**< SELFCOL_SWEEP_STATS_VERSION */
-    /** Least toi over all pairs; 1 when no pair collides. */
+    /** The collision-free fraction: the least toi over all pairs, 1 when no
+     *  pair collides. A SELFCOL_SWEEP_UNRESOLVED hit's toi is only the
+     *  earliest time its root finder left undecided (often 0); such a pair
+     *  is searched again over [0, fraction of the others) alone and lowers
+     *  the fraction only if it may collide there. */
     double free_fraction;
     uint64_t node_pairs;    /**< node pairs whose swept boxes were compared (BVH) */
     uint64_t candidates;    /**< primitive pairs whose swept boxes are within delta */
