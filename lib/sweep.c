@@ -122,6 +122,7 @@ static int reserve_boxes(selfcol_sweep *s, size_t doubles) {
 static void hit_of(const selfcol_sweep_query *q, const selfcol_sweep_candidate *c,
                    selfcol_sweep_hit *h) {
     const selfcol_mesh *mf = q->mesh[c->first_mesh], *ms = q->mesh[c->second_mesh];
+    memset(h, 0, sizeof *h); // padding included: records compare and copy byte for byte
     h->kind = c->kind;
     h->first = c->first;
     h->second = c->second;

@@ -256,7 +256,11 @@ static int hits_equal(const selfcol_sweep_hit *a, size_t na, const selfcol_sweep
         return 0;
     }
     for (size_t i = 0; i < na; ++i)
-        if (memcmp(&a[i], &b[i], sizeof a[i]) != 0) {
+        if (a[i].kind != b[i].kind || a[i].first != b[i].first || a[i].second != b[i].second ||
+            a[i].first_mesh != b[i].first_mesh || a[i].second_mesh != b[i].second_mesh ||
+            memcmp(a[i].a, b[i].a, sizeof a[i].a) != 0 ||
+            memcmp(a[i].b, b[i].b, sizeof a[i].b) != 0 || a[i].flags != b[i].flags ||
+            a[i].toi != b[i].toi) {
             print_error("hit %zu differs: kind %u %u-%u against kind %u %u-%u\n", i, a[i].kind,
                         a[i].first, a[i].second, b[i].kind, b[i].first, b[i].second);
             return 0;
