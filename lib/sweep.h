@@ -30,6 +30,8 @@ struct selfcol_sweep {
     size_t box_capacity;
     uint32_t *stack; // the traversal's node pairs
     size_t stack_capacity;
+    double *positions_at; // EARLIEST: positions at t_box, 3 V per mesh
+    size_t positions_capacity;
     selfcol_sweep_query_stats stats;
 };
 
@@ -43,10 +45,31 @@ typedef struct selfcol_sweep_query {
     double separation;
     uint32_t kinds;
     selfcol_sweep *out;
+    // The broad phase covers the times [0, t_box]: end[m] holds mesh m's
+    // positions at t_box (the mesh's own at t_box = 1), computed to within
+    // eps of the exact x0 + t_box (x1 - x0) in every coordinate (0 at
+    // t_box = 1). Its boxes are widened and its filter's separation raised
+    // by that much (sweep.c, "EARLIEST").
+    double t_box, eps;
+    const double *end[2];
+    // EARLIEST: candidates go to selfcol_sweep__earliest_pair at once (not
+    // to the list); `earliest` is the least time found so far.
+    int earliest_mode;
+    double earliest;
 } selfcol_sweep_query;
+
+// What a broad phase returns, besides SELFCOL_OK and SELFCOL_ENOMEM, when
+// EARLIEST's time has dropped well below t_box: the search stops, to be run
+// again with boxes over [0, earliest].
+#define SELFCOL_SWEEP__RESTART 1
 
 // Appends a candidate. SELFCOL_OK or SELFCOL_ENOMEM.
 int selfcol_sweep__push_candidate(selfcol_sweep *s, const selfcol_sweep_candidate *c);
+
+// EARLIEST: the root search of one candidate before q->earliest (sweep.c).
+// SELFCOL_OK, or SELFCOL_SWEEP__RESTART when the time found is below a
+// quarter of q->t_box (or 0).
+int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_candidate *c);
 
 // Broad phases (sweep_search.c): fill q->out's candidates (the pairs whose
 // swept boxes are near and that the separating-direction filter does not

@@ -36,16 +36,20 @@
 // ---------------------------------------------------------------------------
 // Swept boxes
 
-// The swept box of every vertex of mesh m (6 doubles each), computed once
-// per query: the pair tests read them instead of both position arrays.
+// The swept box of every vertex of mesh m over [0, t_box] (6 doubles
+// each), computed once per search: the pair tests read them instead of both
+// position arrays. With t_box < 1 the end position is computed (within eps
+// of the exact one, sweep.h): the box is widened by 2 eps, which rounds to at
+// least eps since eps is at least 8 ulps of every coordinate (sweep.c).
 static void vertex_boxes(const selfcol_sweep_query *q, int m, double *boxes) {
     const selfcol_mesh *mesh = q->mesh[m];
+    const double widen = 2.0 * q->eps;
     for (size_t v = 0; v < mesh->vertex_count; ++v) {
-        const double *p0 = q->start[m] + 3 * v, *p1 = selfcol_mesh__position(mesh, (uint32_t)v);
+        const double *p0 = q->start[m] + 3 * v, *p1 = q->end[m] + 3 * v;
         double *lo = boxes + 6 * v, *hi = lo + 3;
         for (int k = 0; k < 3; ++k) {
-            lo[k] = p0[k] < p1[k] ? p0[k] : p1[k];
-            hi[k] = p0[k] < p1[k] ? p1[k] : p0[k];
+            lo[k] = (p0[k] < p1[k] ? p0[k] : p1[k]) - widen;
+            hi[k] = (p0[k] < p1[k] ? p1[k] : p0[k]) + widen;
         }
     }
 }
@@ -121,9 +125,14 @@ static int apart(selfcol_sweep_query *q, const uint32_t ids[4], const int meshes
     const double *start[4], *end[4];
     for (int k = 0; k < 4; ++k) {
         start[k] = q->start[meshes[k]] + 3 * (size_t)ids[k];
-        end[k] = selfcol_mesh__position(q->mesh[meshes[k]], ids[k]);
+        end[k] = q->end[meshes[k]] + 3 * (size_t)ids[k];
     }
-    if (!selfcol_narrow_sweep__separated(start, end, edge_edge, q->separation))
+    // Over [0, t_box], each computed end is within eps of the exact one in
+    // every coordinate, so every point of the computed motion is within
+    // sqrt(3) eps of the exact motion's at the same time: a pair the
+    // computed motion keeps beyond separation + 4 eps is beyond the
+    // separation (sweep.h).
+    if (!selfcol_narrow_sweep__separated(start, end, edge_edge, q->separation + 4.0 * q->eps))
         return 0;
     q->out->stats.separated++;
     return 1;
@@ -131,17 +140,24 @@ static int apart(selfcol_sweep_query *q, const uint32_t ids[4], const int meshes
 
 // Vertex v of mesh mv against triangle t of mesh mt, when the pair belongs
 // to the contact set (sweep.h): t is no duplicate, v no corner of t (self).
-static int try_vf(selfcol_sweep_query *q, int mv, uint32_t v, int mt, uint32_t t) {
+// tbox: t's swept box (lo, hi) when the caller has it, else NULL.
+static int try_vf(selfcol_sweep_query *q, int mv, uint32_t v, int mt, uint32_t t,
+                  const double *tbox) {
     const selfcol_mesh *mesht = q->mesh[mt];
     if (mesht->triangle_flags[t] & SELFCOL_TRIANGLE_DUPLICATE)
         return SELFCOL_OK;
     const uint32_t *tri = mesht->triangles + 3 * (size_t)t;
     if (q->self && is_corner(v, tri))
         return SELFCOL_OK;
-    double vlo[3], vhi[3], tlo[3], thi[3];
-    vertex_box(q, mv, v, vlo, vhi);
-    primitive_box(q, mt, tri, 3, tlo, thi);
-    if (!selfcol_box__near(vlo, vhi, tlo, thi, q->separation))
+    double tlo[3], thi[3];
+    if (tbox == NULL) {
+        primitive_box(q, mt, tri, 3, tlo, thi);
+    } else {
+        memcpy(tlo, tbox, sizeof tlo);
+        memcpy(thi, tbox + 3, sizeof thi);
+    }
+    const double *vbox = q->vertex_boxes[mv] + 6 * (size_t)v;
+    if (!selfcol_box__near(vbox, vbox + 3, tlo, thi, q->separation))
         return SELFCOL_OK;
     q->out->stats.vf_candidates++;
     const uint32_t ids[4] = {v, tri[0], tri[1], tri[2]};
@@ -149,7 +165,8 @@ static int try_vf(selfcol_sweep_query *q, int mv, uint32_t v, int mt, uint32_t t
     if (apart(q, ids, meshes, 0))
         return SELFCOL_OK;
     const selfcol_sweep_candidate c = {SELFCOL_CONTACT_VF, (uint8_t)mv, (uint8_t)mt, 0, v, t};
-    return selfcol_sweep__push_candidate(q->out, &c);
+    return q->earliest_mode ? selfcol_sweep__earliest_pair(q, &c)
+                            : selfcol_sweep__push_candidate(q->out, &c);
 }
 
 // Edge e of mesh 0 against edge f of mesh 1 (self: both of the one mesh,
@@ -175,7 +192,8 @@ static int try_ee(selfcol_sweep_query *q, uint32_t e, uint32_t f) {
         c.first = e < f ? e : f;
         c.second = e < f ? f : e;
     }
-    return selfcol_sweep__push_candidate(q->out, &c);
+    return q->earliest_mode ? selfcol_sweep__earliest_pair(q, &c)
+                            : selfcol_sweep__push_candidate(q->out, &c);
 }
 
 // ---------------------------------------------------------------------------
@@ -200,7 +218,7 @@ int selfcol_sweep__exhaustive(selfcol_sweep_query *q) {
                 if (selfcol_mesh__vertex_degree(meshv, v) == 0)
                     continue; // not part of the surface
                 for (uint32_t t = 0; t < q->mesh[mt]->triangle_count && status == SELFCOL_OK; ++t)
-                    status = try_vf(q, mv, v, mt, t);
+                    status = try_vf(q, mv, v, mt, t, NULL);
             }
         }
     if (q->kinds & SELFCOL_KIND_EE)
@@ -217,7 +235,8 @@ int selfcol_sweep__exhaustive(selfcol_sweep_query *q) {
 
 // The primitive pairs triangles ta (mesh 0) and tb (mesh 1) own; for a self
 // query two distinct triangles of the mesh.
-static int triangle_pair(selfcol_sweep_query *q, uint32_t ta, uint32_t tb) {
+static int triangle_pair(selfcol_sweep_query *q, uint32_t ta, uint32_t tb, const double *boxa,
+                         const double *boxb) {
     const selfcol_mesh *ma = q->mesh[0], *mb = q->mesh[1];
     const uint8_t oa = q->hierarchy[0]->owned[ta], ob = q->hierarchy[1]->owned[tb];
     const uint32_t *tria = ma->triangles + 3 * (size_t)ta, *trib = mb->triangles + 3 * (size_t)tb;
@@ -226,9 +245,9 @@ static int triangle_pair(selfcol_sweep_query *q, uint32_t ta, uint32_t tb) {
     if (q->kinds & SELFCOL_KIND_VF)
         for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
             if (oa & SELFCOL_OWNS_VERTEX(i))
-                status = try_vf(q, 0, tria[i], mesh_b, tb);
+                status = try_vf(q, 0, tria[i], mesh_b, tb, boxb);
             if (status == SELFCOL_OK && (ob & SELFCOL_OWNS_VERTEX(i)))
-                status = try_vf(q, mesh_b, trib[i], 0, ta);
+                status = try_vf(q, mesh_b, trib[i], 0, ta, boxa);
         }
     if (q->kinds & SELFCOL_KIND_EE)
         for (int i = 0; i < 3 && status == SELFCOL_OK; ++i) {
@@ -244,8 +263,8 @@ static int triangle_pair(selfcol_sweep_query *q, uint32_t ta, uint32_t tb) {
 
 // Every triangle pair of two leaves (self: a == b, the unordered pairs of
 // distinct triangles of one leaf), each behind its triangles' swept boxes.
-static int leaf_pair(selfcol_sweep_query *q, const double *const tri_boxes[2], uint32_t a,
-                     uint32_t b) {
+static int leaf_pair(selfcol_sweep_query *q, const double *const tri_boxes[2], const double *node_b,
+                     uint32_t a, uint32_t b) {
     const selfcol_hierarchy *ha = q->hierarchy[0], *hb = q->hierarchy[1];
     const selfcol_node *na = &ha->nodes[a], *nb = &hb->nodes[b];
     const int same = q->self && a == b;
@@ -253,11 +272,13 @@ static int leaf_pair(selfcol_sweep_query *q, const double *const tri_boxes[2], u
     for (uint32_t i = 0; i < na->tri_count && status == SELFCOL_OK; ++i) {
         const uint32_t ta = ha->tri_order[na->tri_begin + i];
         const double *boxa = tri_boxes[0] + 6 * (size_t)ta;
+        if (!same && !selfcol_box__near(boxa, boxa + 3, node_b, node_b + 3, q->separation))
+            continue; // ta is apart from all of b (b's box holds its triangles')
         for (uint32_t j = same ? i + 1 : 0; j < nb->tri_count && status == SELFCOL_OK; ++j) {
             const uint32_t tb = hb->tri_order[nb->tri_begin + j];
             const double *boxb = tri_boxes[1] + 6 * (size_t)tb;
             if (selfcol_box__near(boxa, boxa + 3, boxb, boxb + 3, q->separation))
-                status = triangle_pair(q, ta, tb);
+                status = triangle_pair(q, ta, tb, boxa, boxb);
         }
     }
     return status;
@@ -320,7 +341,7 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q) {
             if (na->flags & SELFCOL_NODE_DUPLICATES)
                 continue; // owns nothing, no contact's triangle (hierarchy.h)
             if (na->child_count == 0) {
-                status = leaf_pair(q, tri_read, a, a);
+                status = leaf_pair(q, tri_read, NULL, a, a);
                 continue;
             }
             for (uint32_t i = 0; i < na->child_count && status == SELFCOL_OK; ++i)
@@ -334,7 +355,7 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q) {
             !selfcol_box__near(ba, ba + 3, bb, bb + 3, q->separation))
             continue;
         if (na->child_count == 0 && nb->child_count == 0) {
-            status = leaf_pair(q, tri_read, a, b);
+            status = leaf_pair(q, tri_read, bb, a, b);
             continue;
         }
         // Descend into the node with more triangles (an internal one).

@@ -73,8 +73,10 @@ typedef enum selfcol_sweep_mode {
     /** Every colliding pair with its toi, and the collision-free fraction. */
     SELFCOL_SWEEP_ALL = 0,
     /** The collision-free fraction only, and the one pair that gives it: each
-     *  pair's root search stops at the earliest time found so far, which is
-     *  much faster when many pairs collide. The fraction is conservative
+     *  pair's root search stops at the earliest time found so far, and once
+     *  that time is well below the span the broad phase swept its boxes
+     *  over, the broad phase starts again over [0, that time] alone; much
+     *  faster when many pairs collide. The fraction is conservative
      *  (no later than the earliest contact) like every toi, but need not
      *  equal the least toi of SELFCOL_SWEEP_ALL to the last bit: the root
      *  finder subdivides differently when told to stop early. */
@@ -133,6 +135,9 @@ typedef struct selfcol_sweep_query_stats {
      *  is searched again over [0, fraction of the others) alone and lowers
      *  the fraction only if it may collide there. */
     double free_fraction;
+    /** broad-phase passes: 1 for ALL; EARLIEST starts again with boxes
+     *  swept over [0, t] once it has found a time t well below their span */
+    uint64_t passes;
     uint64_t node_pairs;    /**< node pairs whose swept boxes were compared (BVH) */
     uint64_t candidates;    /**< primitive pairs whose swept boxes are within delta */
     uint64_t vf_candidates; /**< of which VF */
