@@ -3,7 +3,7 @@
 
 // The exhaustive reference: every vertex against every triangle, every edge
 // against every edge and every triangle, O(n^2). It defines the exact contact
-// sets of design.md section 3, and every faster method is judged against it.
+// sets of docs/contract.md section 1, and every faster method is judged against it.
 //
 // The only shortcut is an axis-aligned box rejection before each primitive
 // test, and it is conservative: if dist(x, y) < d then, on every axis, the

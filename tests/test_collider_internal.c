@@ -705,5 +705,5 @@ int main(void) {
         cmocka_unit_test(test_random_against_reference),
         cmocka_unit_test(test_out_of_range_is_refused),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests_name("collider", tests, NULL, NULL);
 }

@@ -441,5 +441,5 @@ int main(void) {
         cmocka_unit_test(test_grid_and_all_pairs_agree_on_random_loops),
         cmocka_unit_test(test_self_skippable_is_sound_on_a_flat_u),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests_name("contour", tests, NULL, NULL);
 }

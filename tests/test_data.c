@@ -249,7 +249,7 @@ static int by_name(const void *a, const void *b) {
     return lx != ly ? (lx < ly ? -1 : 1) : strcmp(x, y); // numeric order for 92.ply, 93.ply
 }
 
-// The real simulation frames (design.md section 7): the first two frames of
+// The real simulation frames (../shared/data, README "Where things live"): the first two frames of
 // each scene, one hierarchy built on the first and refit to the second.
 // EXACT must equal BVH on every frame, and the exhaustive reference where
 // it is affordable (up to 20k triangles: cloth-funnel); BVH is held to the

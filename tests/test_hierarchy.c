@@ -34,7 +34,7 @@
 
 #define PI 3.14159265358979323846
 
-// The two detection distances of design.md section 3, in mean edge lengths.
+// The two detection distances of docs/contract.md section 1, in mean edge lengths.
 static const double distance_factors[2] = {0.1, 0.5};
 
 static selfcol_query_options query(uint32_t method, double d) {

@@ -479,5 +479,5 @@ int main(void) {
         cmocka_unit_test(test_random_motions_against_sampled_distance),
         cmocka_unit_test(test_ccd_sample_queries_when_present),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests_name("narrow_sweep", tests, NULL, NULL);
 }

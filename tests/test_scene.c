@@ -886,5 +886,5 @@ int main(void) {
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_memory),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
 }

@@ -347,5 +347,5 @@ int main(void) {
         cmocka_unit_test(test_threads_option_bounds_and_old_structs),
         cmocka_unit_test(test_threads_concurrent_queries_on_one_hierarchy),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests_name("threads", tests, NULL, NULL);
 }

@@ -137,5 +137,5 @@ int main(void) {
         cmocka_unit_test(test_validate_accepts_what_the_build_makes),
         cmocka_unit_test(test_validate_rejects_each_corruption),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests_name("validate", tests, NULL, NULL);
 }

@@ -6,7 +6,7 @@
  * @defgroup contacts Contacts
  * Contact records and the `selfcol_contacts` handle that queries fill.
  *
- * The contact sets (design.md section 3), for detection distance d:
+ * The contact sets (docs/contract.md section 1), for detection distance d:
  * - VF proximity: vertex v and triangle t, v not a corner of t, dist(v, t) < d;
  * - EE proximity: edges e and f with no common vertex, dist(e, f) < d;
  * - EF interference: edge e crosses triangle t, no common vertex.

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Fixture meshes for the selfcol-cli tests, their writers in every format,
 and an independent brute-force computation of the contact sets (the
-definitions of design.md section 3, in plain Python floats) to hold the
+definitions of docs/contract.md section 1, in plain Python floats) to hold the
 tool's output to. Standard library only."""
 
 import math

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """ipc-toolkit (PyPI `ipctk`) on the meshes selfcol-bench dumps (bench-full only).
 
-What is measured, as design.md section 6 does: its LBVH broad phase
+What is measured, as docs/benchmarks.md describes: its LBVH broad phase
 (Candidates.build with inflation d / 2) and its narrow phase
 (NormalCollisions.build with dhat = d), on one thread, on the same mesh
 and d as selfcol. Its collision mesh (CollisionMesh) is built once and timed
@@ -11,7 +11,7 @@ after one warm-up.
 
 ipc-toolkit regroups proximities by closest feature (vertex-vertex,
 edge-vertex, edge-edge, face-vertex). Each is mapped back to the pairs of
-the exact sets it stands for (design.md section 3), all of them within the
+the exact sets it stands for (docs/contract.md section 1), all of them within the
 collision's distance, hence within d:
   FV(v, f)  -> VF(v, f)
   EE(e, g)  -> EE(e, g)
