@@ -10,6 +10,7 @@
 #include "core.h"
 #include "narrow.h"
 #include "narrow_sweep.h"
+#include "parallel.h"
 
 #include <float.h>
 #include <math.h>
@@ -25,6 +26,7 @@ int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version
     opts->kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE;
     opts->mode = SELFCOL_SWEEP_ALL;
     opts->separation = 0.0;
+    opts->threads = 1;
     return SELFCOL_OK;
 }
 
@@ -64,6 +66,8 @@ void selfcol_sweep_destroy(selfcol_sweep *sweep) {
     selfcol_alloc__free_array(&al, sweep->stack, sweep->stack_capacity, sizeof *sweep->stack);
     selfcol_alloc__free_array(&al, sweep->positions_at, sweep->positions_capacity,
                               sizeof *sweep->positions_at);
+    selfcol_alloc__free_array(&al, sweep->outcome, sweep->outcome_capacity, sizeof *sweep->outcome);
+    selfcol_alloc__free_array(&al, sweep->toi, sweep->outcome_capacity, sizeof *sweep->toi);
     selfcol_alloc__free(&al, sweep, sizeof *sweep);
 }
 
@@ -186,22 +190,81 @@ static void flag_initial(const selfcol_sweep_query *q, selfcol_sweep_hit *h) {
 // parallel edges sliding at the tolerance) is then asked again over [0,
 // fraction of the others) only, as EARLIEST would, and lowers the fraction
 // only if it may collide before it.
-static int narrow_all(selfcol_sweep_query *q) {
+// The root searches of ALL, shared among the query's threads in chunks of
+// candidates taken from a counter; each writes its candidates' outcome into
+// per-candidate slots (no allocation, no order dependence: the hits are
+// gathered afterwards in candidate order, then sorted).
+#define SWEEP_CHUNK 1024u
+
+typedef struct narrow_job {
+    selfcol_sweep_query *q;
+    uint64_t next_chunk;                 // atomic
+    uint64_t boxes[SELFCOL_MAX_THREADS]; // root-finder boxes per worker
+} narrow_job;
+
+static int narrow_worker(void *context, unsigned worker) {
+    narrow_job *job = context;
+    selfcol_sweep *s = job->q->out;
+    const uint64_t chunks = (s->candidate_count + SWEEP_CHUNK - 1) / SWEEP_CHUNK;
+    for (;;) {
+        const uint64_t chunk = SELFCOL_ATOMIC_FETCH_ADD(&job->next_chunk, 1);
+        if (chunk >= chunks)
+            return SELFCOL_OK;
+        const size_t end = (size_t)((chunk + 1) * SWEEP_CHUNK) < s->candidate_count
+                               ? (size_t)((chunk + 1) * SWEEP_CHUNK)
+                               : s->candidate_count;
+        for (size_t i = (size_t)chunk * SWEEP_CHUNK; i < end; ++i) {
+            selfcol_sweep_hit h;
+            hit_of(job->q, &s->candidates[i], &h);
+            selfcol_narrow_sweep_info info;
+            double toi = 1.0;
+            const int hit = root_before(job->q, &h, 1.0, &toi, &info);
+            job->boxes[worker] += (uint64_t)info.checks;
+            s->outcome[i] =
+                (uint8_t)(hit ? (info.outcome == SELFCOL_NARROW_SWEEP_ACCEPTED ? 1 : 3) : 0);
+            s->toi[i] = toi;
+        }
+    }
+}
+
+static int narrow_all(selfcol_sweep_query *q, unsigned threads) {
     selfcol_sweep *s = q->out;
+    if (s->candidate_count > s->outcome_capacity) {
+        const size_t cap = s->candidate_capacity;
+        uint8_t *outcome = selfcol_alloc__array(&s->allocator, cap, sizeof *outcome);
+        double *toi = selfcol_alloc__array(&s->allocator, cap, sizeof *toi);
+        if (outcome == NULL || toi == NULL) {
+            selfcol_alloc__free_array(&s->allocator, outcome, cap, sizeof *outcome);
+            selfcol_alloc__free_array(&s->allocator, toi, cap, sizeof *toi);
+            return SELFCOL_ENOMEM;
+        }
+        selfcol_alloc__free_array(&s->allocator, s->outcome, s->outcome_capacity,
+                                  sizeof *s->outcome);
+        selfcol_alloc__free_array(&s->allocator, s->toi, s->outcome_capacity, sizeof *s->toi);
+        s->outcome = outcome;
+        s->toi = toi;
+        s->outcome_capacity = cap;
+    }
+    narrow_job job;
+    memset(&job, 0, sizeof job);
+    job.q = q;
+    const uint64_t chunks = (s->candidate_count + SWEEP_CHUNK - 1) / SWEEP_CHUNK;
+    const unsigned workers = chunks < threads ? (unsigned)(chunks > 0 ? chunks : 1) : threads;
+    int status = selfcol_parallel__run(workers, narrow_worker, &job);
+    if (status != SELFCOL_OK)
+        return status;
+    for (unsigned w = 0; w < workers; ++w)
+        s->stats.narrow_boxes += job.boxes[w];
     double earliest = 1.0;
     for (size_t i = 0; i < s->candidate_count; ++i) {
+        if (s->outcome[i] == 0)
+            continue;
         selfcol_sweep_hit h;
         hit_of(q, &s->candidates[i], &h);
-        selfcol_narrow_sweep_info info;
-        double toi = 1.0;
-        const int hit = root_before(q, &h, 1.0, &toi, &info);
-        s->stats.narrow_boxes += (uint64_t)info.checks;
-        if (!hit)
-            continue;
-        h.toi = toi;
-        if (info.outcome != SELFCOL_NARROW_SWEEP_ACCEPTED)
+        h.toi = s->toi[i];
+        if (s->outcome[i] == 3)
             h.flags |= SELFCOL_SWEEP_UNRESOLVED;
-        if (toi == 0.0)
+        if (h.toi == 0.0)
             flag_initial(q, &h);
         if (reserve_hits(s, 0, s->hit_count + 1) != SELFCOL_OK)
             return SELFCOL_ENOMEM;
@@ -210,7 +273,7 @@ static int narrow_all(selfcol_sweep_query *q) {
         s->stats.initial += (h.flags & SELFCOL_SWEEP_INITIAL) != 0;
         s->stats.unresolved += (h.flags & SELFCOL_SWEEP_UNRESOLVED) != 0;
         if (!(h.flags & SELFCOL_SWEEP_UNRESOLVED))
-            earliest = toi < earliest ? toi : earliest;
+            earliest = h.toi < earliest ? h.toi : earliest;
     }
     // Every unresolved hit against the same bound: the result does not
     // depend on the hits' order (BVH's differs from EXHAUSTIVE's).
@@ -418,6 +481,7 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
     SELFCOL_CHECK(o.mode == SELFCOL_SWEEP_ALL || o.mode == SELFCOL_SWEEP_EARLIEST);
     SELFCOL_CHECK(isfinite(o.separation) && o.separation >= 0.0 &&
                   o.separation <= SELFCOL_MESH_MAX_COORDINATE);
+    SELFCOL_CHECK(o.threads >= 1 && o.threads <= SELFCOL_MAX_THREADS);
     if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||
         !selfcol_mesh__is(second->mesh, &second->mesh_identity))
         return SELFCOL_EMISMATCH;
@@ -461,7 +525,7 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
             o.method == SELFCOL_METHOD_BVH ? selfcol_sweep__bvh(&q) : selfcol_sweep__exhaustive(&q);
         narrow_start = selfcol_core__seconds();
         if (status == SELFCOL_OK)
-            status = narrow_all(&q);
+            status = narrow_all(&q, o.threads);
         if (status == SELFCOL_OK)
             status = sort_hits(result);
         result->stats.narrow_seconds = selfcol_core__seconds() - narrow_start;
@@ -515,5 +579,6 @@ size_t selfcol_sweep_byte_count(const selfcol_sweep *sweep) {
            sweep->candidate_capacity * sizeof *sweep->candidates +
            sweep->box_capacity * sizeof *sweep->boxes +
            sweep->stack_capacity * sizeof *sweep->stack +
-           sweep->positions_capacity * sizeof *sweep->positions_at;
+           sweep->positions_capacity * sizeof *sweep->positions_at +
+           sweep->outcome_capacity * (sizeof *sweep->outcome + sizeof *sweep->toi);
 }

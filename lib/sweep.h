@@ -32,6 +32,9 @@ struct selfcol_sweep {
     size_t stack_capacity;
     double *positions_at; // EARLIEST: positions at t_box, 3 V per mesh
     size_t positions_capacity;
+    uint8_t *outcome; // ALL, per candidate: 0 apart, 1 hit, 3 unresolved hit
+    double *toi;      // ALL, per candidate: its time of impact
+    size_t outcome_capacity;
     selfcol_sweep_query_stats stats;
 };
 

@@ -340,12 +340,71 @@ static void test_threads_concurrent_queries_on_one_hierarchy(void **state) {
     scene_free(&s);
 }
 
+// Continuous queries (sweep.h): the root searches of ALL shared among 2,
+// 3 and 8 threads give the hits and counters of one thread, on a crumple
+// whose folds deepen fast (thousands of candidates, hundreds of hits).
+static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
+    (void)state;
+    scene from, to;
+    assert_int_equal(scene_crumpled(&from, 24, 24, 5, 2.0), 0);
+    assert_int_equal(scene_crumpled(&to, 24, 24, 5, 4.5), 0);
+    selfcol_mesh *m;
+    selfcol_hierarchy *h;
+    assert_int_equal(selfcol_mesh_create(&m, to.vertex_count, to.positions, to.triangle_count,
+                                         to.triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
+    selfcol_sweep *one, *many;
+    assert_int_equal(selfcol_sweep_create(&one, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_sweep_create(&many, NULL), SELFCOL_OK);
+    selfcol_sweep_options o;
+    selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
+    assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, one, &o), SELFCOL_OK);
+    const selfcol_sweep_hit *h1, *hn;
+    size_t n1, nn;
+    assert_int_equal(selfcol_sweep_hits(one, &h1, &n1), SELFCOL_OK);
+    assert_true(n1 > 100);
+    selfcol_sweep_query_stats s1, sn;
+    s1.version = sn.version = SELFCOL_SWEEP_STATS_VERSION;
+    selfcol_sweep_stats(one, &s1);
+    const unsigned counts[3] = {2, 3, 8};
+    for (int k = 0; k < 3; ++k) {
+        o.threads = counts[k];
+        assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, many, &o), SELFCOL_OK);
+        assert_int_equal(selfcol_sweep_hits(many, &hn, &nn), SELFCOL_OK);
+        assert_int_equal(nn, n1);
+        for (size_t i = 0; i < n1; ++i) {
+            assert_int_equal(hn[i].kind, h1[i].kind);
+            assert_int_equal(hn[i].first, h1[i].first);
+            assert_int_equal(hn[i].second, h1[i].second);
+            assert_int_equal(hn[i].flags, h1[i].flags);
+            assert_true(hn[i].toi == h1[i].toi);
+        }
+        selfcol_sweep_stats(many, &sn);
+        assert_true(sn.free_fraction == s1.free_fraction);
+        assert_int_equal(sn.candidates, s1.candidates);
+        assert_int_equal(sn.narrow_boxes, s1.narrow_boxes);
+        assert_int_equal(sn.hits, s1.hits);
+    }
+    o.threads = 0;
+    assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, many, &o), SELFCOL_EINVAL);
+    o.threads = SELFCOL_MAX_THREADS + 1;
+    assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, many, &o), SELFCOL_EINVAL);
+    selfcol_sweep_destroy(one);
+    selfcol_sweep_destroy(many);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(m);
+    scene_free(&from);
+    scene_free(&to);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_give_the_records_and_counters_of_one_thread),
         cmocka_unit_test(test_threads_allocation_failure_in_a_worker),
         cmocka_unit_test(test_threads_option_bounds_and_old_structs),
         cmocka_unit_test(test_threads_concurrent_queries_on_one_hierarchy),
+        cmocka_unit_test(test_threads_sweep_gives_the_hits_of_one_thread),
     };
     return cmocka_run_group_tests_name("threads", tests, NULL, NULL);
 }

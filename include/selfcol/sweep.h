@@ -95,6 +95,13 @@ typedef struct selfcol_sweep_options {
     uint32_t mode;
     /** Separation delta >= 0 in mesh units; default 0. */
     double separation;
+    /** Threads the root searches of SELFCOL_SWEEP_ALL may use, 1 to
+     *  SELFCOL_MAX_THREADS; default 1. The hits and counters (apart from
+     *  times) are the same for every count; the broad phase and
+     *  SELFCOL_SWEEP_EARLIEST run on the calling thread. As for discrete
+     *  queries, the result's allocator is only called from the calling
+     *  thread. */
+    unsigned int threads;
 } selfcol_sweep_options;
 
 #define SELFCOL_SWEEP_OPTIONS_VERSION 1
@@ -158,7 +165,7 @@ typedef struct selfcol_sweep_query_stats {
 
 /**
  * Writes the defaults into opts (BVH, VF and EE, SELFCOL_SWEEP_ALL,
- * separation 0).
+ * separation 0, one thread).
  * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
  */
 SELFCOL_API int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version);

@@ -4,9 +4,10 @@
 // selfcol-bench-sweep: continuous queries (sweep.h) over one simulation step
 // of each real scene (../shared/data/sample-scalable-ccd-data: cloth-funnel
 // 227 -> 228, rod-twist 3036 -> 3037, cloth-ball 92 -> 93) and of a slowly
-// crumpling 200k-triangle sheet, separation 0, one thread. Per case and
-// mode (ALL: every colliding pair; EARLIEST: the collision-free fraction
-// only), the median over --reps runs (modes interleaved) of the whole query,
+// crumpling 200k-triangle sheet, separation 0. Per case and row (ALL: every
+// colliding pair, on one thread and on two; EARLIEST: the collision-free
+// fraction only, one thread), the median over --reps runs (rows interleaved)
+// of the whole query,
 // its broad phase (swept boxes, candidates and the separating-direction
 // filter) and its narrow phase (root finding), with the counters.
 //
@@ -103,13 +104,17 @@ static void run(const bench_step *b, int reps) {
         fprintf(stderr, "bench-sweep: %s: setup failed\n", b->name);
         exit(1);
     }
-    double total[2][MAX_REPS], broad[2][MAX_REPS], narrow[2][MAX_REPS];
-    selfcol_sweep_query_stats last[2];
+    // Rows: ALL on one thread, ALL on two, EARLIEST (one thread).
+    enum { ROWS = 3 };
+    static const char *const row_name[ROWS] = {"ALL", "ALL, 2 threads", "EARLIEST"};
+    double total[ROWS][MAX_REPS], broad[ROWS][MAX_REPS], narrow[ROWS][MAX_REPS];
+    selfcol_sweep_query_stats last[ROWS];
     for (int rep = 0; rep < reps; ++rep)
-        for (int mode = 0; mode < 2; ++mode) {
+        for (int mode = 0; mode < ROWS; ++mode) {
             selfcol_sweep_options o;
             selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
-            o.mode = (uint32_t)mode;
+            o.mode = mode == 2 ? SELFCOL_SWEEP_EARLIEST : SELFCOL_SWEEP_ALL;
+            o.threads = mode == 1 ? 2 : 1;
             if (selfcol_hierarchy_self_sweep(h, b->start.positions, r, &o) != SELFCOL_OK) {
                 fprintf(stderr, "bench-sweep: %s: query failed\n", b->name);
                 exit(1);
@@ -120,7 +125,7 @@ static void run(const bench_step *b, int reps) {
             broad[mode][rep] = 1e3 * last[mode].broad_seconds;
             narrow[mode][rep] = 1e3 * last[mode].narrow_seconds;
         }
-    for (int mode = 0; mode < 2; ++mode) {
+    for (int mode = 0; mode < ROWS; ++mode) {
         const selfcol_sweep_query_stats *s = &last[mode];
         double sorted[MAX_REPS];
         memcpy(sorted, total[mode], (size_t)reps * sizeof *sorted);
@@ -128,7 +133,7 @@ static void run(const bench_step *b, int reps) {
         const double hi = sorted[reps - 1];
         printf("| %s | %zu | %s | %.1f (%.1f-%.1f) | %.1f | %.1f | %llu | %llu | %llu | %llu | "
                "%.3g |\n",
-               b->name, b->end.triangle_count, mode == 0 ? "ALL" : "EARLIEST", med, sorted[0], hi,
+               b->name, b->end.triangle_count, row_name[mode], med, sorted[0], hi,
                median(broad[mode], reps), median(narrow[mode], reps),
                (unsigned long long)s->candidates, (unsigned long long)s->separated,
                (unsigned long long)s->narrow_boxes, (unsigned long long)s->hits, s->free_fraction);

@@ -198,6 +198,7 @@ static int check_step(check_state *st, cli_part *part, long from, long to, cli_e
     so.method =
         o->method == SELFCOL_METHOD_EXHAUSTIVE ? SELFCOL_METHOD_EXHAUSTIVE : SELFCOL_METHOD_BVH;
     so.separation = o->distance_given ? o->distance : 0.0;
+    so.threads = o->threads;
     const int rc = selfcol_hierarchy_self_sweep(part->hierarchy, st->previous, st->sweep, &so);
     if (rc != SELFCOL_OK)
         return cli_fail(err, "continuous query failed: %s", selfcol_status_string(rc));
