@@ -446,6 +446,57 @@ def table_store(rows):
     return "\n".join(out)
 
 
+def load_sweep(path):
+    """The first round of tools/bench/results/sweep.md (run_sweep.sh):
+    {case: {row: median ms}}, selfcol's rows by mode and ipc-toolkit's
+    stepsize and is_step_collision_free."""
+    if not os.path.exists(path):
+        return {}
+    out, section, rnd = {}, None, None
+    for line in open(path):
+        if line.startswith("## Round "):
+            rnd = line.split()[2].rstrip(":")
+            section = "ipctk" if "ipc-toolkit" in line else "selfcol"
+            continue
+        if rnd != "1" or not line.startswith("| ") or line.startswith("| case"):
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        case = cells[0]
+        ms = lambda c: float(c.split()[0])
+        if section == "selfcol":
+            out.setdefault(case, {})["selfcol " + cells[2]] = ms(cells[3])
+        else:
+            out.setdefault(case, {})["ipc-toolkit stepsize"] = ms(cells[2])
+            out[case]["ipc-toolkit is_step_collision_free"] = ms(cells[4])
+    return out
+
+
+def chart_sweep(sweep, path):
+    rows = ["selfcol EARLIEST", "ipc-toolkit stepsize", "selfcol ALL", "selfcol ALL, 2 threads",
+            "ipc-toolkit is_step_collision_free"]
+    colors = ["#1f77b4", "#d62728", "#aec7e8", "#98df8a", "#ff9896"]
+    cases = list(sweep)
+    fig, ax = plt.subplots(figsize=(10, 4.2))
+    width = 0.8 / len(rows)
+    for k, (row, color) in enumerate(zip(rows, colors)):
+        xs = [i + (k - (len(rows) - 1) / 2) * width for i in range(len(cases))]
+        ys = [sweep[c].get(row, float("nan")) for c in cases]
+        ax.bar(xs, ys, width, label=row, color=color)
+    ax.set_yscale("log")
+    ax.set_xticks(range(len(cases)))
+    ax.set_xticklabels(cases, fontsize=8)
+    ax.set_ylabel("ms per step (median, log)", fontsize=8)
+    ax.set_title("Continuous queries over one step, separation 0: the collision-free fraction "
+                 "(selfcol EARLIEST, ipc-toolkit stepsize) and every pair (selfcol ALL)", fontsize=9)
+    top = max(v for c in cases for v in sweep[c].values())
+    ax.set_ylim(top=top * 20)  # room for the legend above the bars
+    ax.legend(fontsize=7, ncol=3, loc="upper left")
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
 def replace_block(text, name, content):
     pat = re.compile(r"(<!-- generated:%s -->\n).*?(<!-- /generated:%s -->)" % (name, name), re.S)
     if not pat.search(text):
@@ -478,6 +529,11 @@ def main():
             p = os.path.join(docs, "bench-%s-d%s.png" % (name, tag))
             fn(p)
             written.append(p)
+    sweep = load_sweep(os.path.join(results, "sweep.md"))
+    if sweep:
+        p = os.path.join(docs, "bench-sweep.png")
+        chart_sweep(sweep, p)
+        written.append(p)
     md = os.path.join(docs, "benchmarks.md")
     text = open(md).read() if os.path.exists(md) else "# Benchmarks\n"
     text = replace_block(text, "machine", table_machine(meta))
