@@ -24,7 +24,7 @@ static void usage(const char *name, const char *about) {
                  "%s: %s\n"
                  "usage: %s [--steps N] [--resolution N] [--scale S] [--out DIR] [--every K]\n"
                  "          [--collision selfcol|bullet|off] [--distance D] [--threads N] "
-                 "[--quiet] [--check]\n"
+                 "[--continuous] [--quiet] [--check]\n"
                  "  --steps N       1..%lld internal steps of 1/240 s (default: the demo's)\n"
                  "  --resolution N  %lld..%lld nodes along the long side (default: the demo's)\n"
                  "  --scale S       %g..%g: every length times S (Bullet's own path misses "
@@ -36,7 +36,10 @@ static void usage(const char *name, const char *about) {
                  "deformable path, or none\n"
                  "  --distance D    selfcol's thickness, 0 (default: 0.25 x the mean edge) up "
                  "to the mean edge\n"
-                 "  --threads N     selfcol's query threads, 1..%d\n",
+                 "  --threads N     selfcol's query threads, 1..%d\n"
+                 "  --continuous    selfcol keeps each step free of new pass-throughs (holds "
+                 "back the nodes\n"
+                 "                  of pairs that would touch during the step)\n",
                  name, about, name, max_steps, min_resolution, max_resolution, min_scale, max_scale,
                  max_steps, SELFCOL_MAX_THREADS);
 }
@@ -107,6 +110,9 @@ bool parse(int argc, char **argv, const char *name, const char *about, options &
                 ok = false;
         } else if (a == "--quiet") {
             o.quiet = true;
+            continue;
+        } else if (a == "--continuous") {
+            o.continuous = true;
             continue;
         } else if (a == "--check") {
             o.check = true;
@@ -278,6 +284,7 @@ int world::start(const options &o) {
     selfcol_bullet_options_init(&so, SELFCOL_BULLET_OPTIONS_VERSION);
     so.query.distance = o.distance;
     so.query.threads = o.threads;
+    so.continuous = o.continuous ? 1 : 0;
     int status = selfcol_bullet_create(&adapter, dynamics, &so);
     for (size_t i = 0; status == SELFCOL_OK && i < cloths.size(); ++i)
         status = selfcol_bullet_attach(adapter, cloths[i], nullptr);
@@ -379,6 +386,11 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
         if (selfcol_bullet_stats(w.adapter, &s) != SELFCOL_OK)
             std::memset(&s, 0, sizeof s);
         contacts = size_t(s.contacts);
+        r.last_interferences = s.interferences;
+        r.peak_interferences = std::max(r.peak_interferences, s.interferences);
+        r.continuous_hits += s.continuous_hits;
+        r.continuous_held += s.continuous_held;
+        r.continuous_remaining += s.continuous_remaining;
     } else {
         contacts = bullet_contacts(w);
     }
@@ -428,6 +440,13 @@ int finish(const world &w, const options &o, const report &r, int steps) {
                 status == SELFCOL_OK ? "" : ", adapter error");
     if (status != SELFCOL_OK)
         std::fprintf(stderr, "selfcol adapter: %s\n", selfcol_status_string(status));
+    if (w.adapter != nullptr)
+        std::printf("interferences: last step %llu, peak %llu; continuous: %llu pairs touching "
+                    "within steps, %llu nodes held, %llu pairs left after the last pass\n",
+                    (unsigned long long)r.last_interferences,
+                    (unsigned long long)r.peak_interferences, (unsigned long long)r.continuous_hits,
+                    (unsigned long long)r.continuous_held,
+                    (unsigned long long)r.continuous_remaining);
     bool ok = !r.ever_nonfinite && status == SELFCOL_OK;
     if (o.check) {
         double mass = 0;

@@ -32,14 +32,15 @@ enum class mode { selfcol, bullet, off };
 
 struct options {
     mode collision = mode::selfcol;
-    int steps = 0;        // 0: the demo's default
-    int resolution = 0;   // 0: the demo's default (vertices along the long side)
-    double scale = 1;     // lengths times this (and masses times its cube)
-    int every = 0;        // write a frame every this many steps (0: only the last)
-    std::string out;      // frame directory ("": no frames)
-    bool quiet = false;   // no per-step lines
-    double distance = 0;  // selfcol thickness (0: the adapter's default)
-    unsigned threads = 1; // selfcol query threads
+    int steps = 0;           // 0: the demo's default
+    int resolution = 0;      // 0: the demo's default (vertices along the long side)
+    double scale = 1;        // lengths times this (and masses times its cube)
+    int every = 0;           // write a frame every this many steps (0: only the last)
+    std::string out;         // frame directory ("": no frames)
+    bool quiet = false;      // no per-step lines
+    double distance = 0;     // selfcol thickness (0: the adapter's default)
+    unsigned threads = 1;    // selfcol query threads
+    bool continuous = false; // selfcol_bullet_options.continuous
     // --check: exit 1 if a node goes non-finite, the kinetic energy passes
     // its bound or a node leaves the scene box (finish())
     bool check = false;
@@ -55,7 +56,7 @@ const double min_scale = 1e-3;
 const double max_scale = 1e3;
 
 // Parses --steps N --resolution N --scale S --every K --out DIR --quiet
-// --distance D --threads N --collision selfcol|bullet|off; prints usage and
+// --distance D --threads N --continuous --collision selfcol|bullet|off; prints usage and
 // returns false on an error or --help. --distance is bounded by the scene
 // in world::start().
 bool parse(int argc, char **argv, const char *name, const char *about, options &o);
@@ -125,6 +126,10 @@ struct report {
     // The most self-collision contacts any step held: selfcol's VF/EE
     // contacts, or Bullet's own vertex-face contacts.
     size_t peak_contacts = 0;
+    // selfcol's EF interferences: the last step's and the most of any step;
+    // the continuous option's pairs, held nodes and pairs left, summed.
+    uint64_t last_interferences = 0, peak_interferences = 0;
+    uint64_t continuous_hits = 0, continuous_held = 0, continuous_remaining = 0;
 };
 void print_step(const world &w, const options &o, int step, double step_seconds, report &r);
 // Writes the frame of this step if asked; returns false on an I/O error.

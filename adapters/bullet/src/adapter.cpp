@@ -89,6 +89,9 @@ struct attached_body {
     int face_count;
     bool saved_self_collision;
     uint32_t first_node; // this body's node 0 in the adapter's node numbering
+    // The continuous option's hierarchy over `mesh` (its tree only: a
+    // continuous query sweeps its own boxes); NULL while the option is off.
+    selfcol_hierarchy *sweep_tree;
 };
 
 // The mark of an attached body. Bullet 3.24's btSoftBody::defaultCollisionHandler
@@ -149,6 +152,13 @@ struct selfcol_bullet {
     hvector<contour_point> contour_points;
     hvector<contour_key> contour_keys;
     hvector<double> contour_delta; // 3 per response slot
+    // The continuous option: every attached node's position where the last
+    // step left it (3 per node, adapter numbering), valid when
+    // have_previous; the factor each node keeps of its motion in a pass.
+    hvector<double> previous;
+    hvector<double> keep;
+    bool have_previous;
+    selfcol_sweep *sweep;
     selfcol_bullet_step_stats stats;
 
     explicit selfcol_bullet(const selfcol_allocator &h)
@@ -161,7 +171,8 @@ struct selfcol_bullet {
           edge_faces(hook_allocator<edge_face>(&hooks)),
           contour_points(hook_allocator<contour_point>(&hooks)),
           contour_keys(hook_allocator<contour_key>(&hooks)),
-          contour_delta(hook_allocator<double>(&hooks)), stats() {}
+          contour_delta(hook_allocator<double>(&hooks)), previous(hook_allocator<double>(&hooks)),
+          keep(hook_allocator<double>(&hooks)), have_previous(false), sweep(nullptr), stats() {}
 };
 
 namespace {
@@ -283,7 +294,9 @@ void drop_body(selfcol_bullet *a, size_t index) {
     const attached_body gone = a->bodies[index];
     if (a->scene != nullptr)
         selfcol_scene_remove_surface(a->scene, gone.surface);
+    selfcol_hierarchy_destroy(gone.sweep_tree);
     selfcol_mesh_destroy(gone.mesh);
+    a->have_previous = false; // the node numbering changes
     a->bodies.erase(a->bodies.begin() + std::ptrdiff_t(index));
     const uint32_t count = uint32_t(gone.node_count);
     for (size_t i = index; i < a->bodies.size(); ++i)
@@ -485,6 +498,108 @@ size_t untangle(selfcol_bullet *a) {
                         SELFCOL_BULLET_UNTANGLE_STEP * a->distance);
 }
 
+// The continuous option (bullet.h, `continuous`): hold back the nodes of
+// every pair that would touch during the step, as Bridson, Fedkiw and
+// Anderson (2002) stop colliding nodes at their time of impact, here
+// without impulses: each such node keeps SELFCOL_BULLET_CONTINUOUS_HOLD of
+// the pair's earliest time of impact of its motion, its velocity scaled
+// alike, and the query runs again on the held motion.
+int hold_back(selfcol_bullet *a, double dt) {
+    selfcol_bullet_step_stats &st = a->stats;
+    if (a->sweep == nullptr) {
+        int status = selfcol_sweep_create(&a->sweep, &a->hooks);
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    for (attached_body &b : a->bodies)
+        if (b.sweep_tree == nullptr) {
+            int status = selfcol_hierarchy_create(&b.sweep_tree, b.mesh, nullptr);
+            if (status != SELFCOL_OK)
+                return status;
+        }
+    a->keep.assign(a->node_total, 1.0);
+    for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
+        for (const attached_body &b : a->bodies) {
+            int status = selfcol_mesh_set_positions_float(
+                b.mesh, node_positions(b.body), sizeof(btSoftBody::Node), size_t(b.node_count));
+            if (status != SELFCOL_OK)
+                return status;
+        }
+        uint64_t hits = 0, held = 0;
+        std::fill(a->keep.begin(), a->keep.end(), 1.0);
+        for (size_t i = 0; i < a->bodies.size(); ++i)
+            for (size_t j = i; j < a->bodies.size(); ++j) {
+                const attached_body &bi = a->bodies[i], &bj = a->bodies[j];
+                const double *si = a->previous.data() + 3 * size_t(bi.first_node);
+                const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
+                int status =
+                    i == j ? selfcol_hierarchy_self_sweep(bi.sweep_tree, si, a->sweep, nullptr)
+                           : selfcol_hierarchy_sweep(bi.sweep_tree, si, bj.sweep_tree, sj, a->sweep,
+                                                     nullptr);
+                if (status != SELFCOL_OK)
+                    return status;
+                const selfcol_sweep_hit *h = nullptr;
+                size_t n = 0;
+                selfcol_sweep_hits(a->sweep, &h, &n);
+                hits += n;
+                for (size_t k = 0; k < n; ++k) {
+                    const double factor = SELFCOL_BULLET_CONTINUOUS_HOLD * h[k].toi;
+                    const attached_body &first = h[k].first_mesh == 0 ? bi : bj;
+                    const attached_body &second = h[k].second_mesh == 0 ? bi : bj;
+                    const uint32_t nodes[5] = {
+                        first.first_node + h[k].a[0], first.first_node + h[k].a[1],
+                        second.first_node + h[k].b[0], second.first_node + h[k].b[1],
+                        h[k].b[2] == SELFCOL_INVALID_INDEX ? first.first_node + h[k].a[0]
+                                                           : second.first_node + h[k].b[2]};
+                    for (uint32_t node : nodes)
+                        a->keep[node] = std::min(a->keep[node], factor);
+                }
+            }
+        if (pass == 0)
+            st.continuous_hits = hits;
+        st.continuous_passes++;
+        st.continuous_remaining = hits;
+        if (hits == 0 || pass + 1 == SELFCOL_BULLET_CONTINUOUS_PASSES)
+            break;
+        for (const attached_body &b : a->bodies)
+            for (int v = 0; v < b.node_count; ++v) {
+                const uint32_t node = b.first_node + uint32_t(v);
+                const double f = a->keep[node];
+                btSoftBody::Node &n = b.body->m_nodes[v];
+                if (f >= 1.0 || n.m_im <= 0)
+                    continue; // free, or kinematic: never held
+                const double *p = a->previous.data() + 3 * size_t(node);
+                btVector3 x(btScalar(p[0] + f * (double(n.m_x.x()) - p[0])),
+                            btScalar(p[1] + f * (double(n.m_x.y()) - p[1])),
+                            btScalar(p[2] + f * (double(n.m_x.z()) - p[2])));
+                n.m_x = x;
+                n.m_q = x;
+                n.m_v *= btScalar(f);
+                n.m_vn = n.m_v;
+                held++;
+            }
+        st.continuous_held += held;
+        if (held == 0)
+            break; // only kinematic nodes are involved
+    }
+    (void)dt;
+    return SELFCOL_OK;
+}
+
+// Where this step leaves every attached node: the next step's start.
+void remember_positions(selfcol_bullet *a) {
+    a->previous.resize(3 * size_t(a->node_total));
+    for (const attached_body &b : a->bodies)
+        for (int v = 0; v < b.node_count; ++v) {
+            const btVector3 &x = b.body->m_nodes[v].m_x;
+            double *p = a->previous.data() + 3 * (size_t(b.first_node) + size_t(v));
+            p[0] = double(x.x());
+            p[1] = double(x.y());
+            p[2] = double(x.z());
+        }
+    a->have_previous = true;
+}
+
 int step_impl(selfcol_bullet *a, double dt) {
     if (!(dt > 0) || !std::isfinite(dt))
         return SELFCOL_EINVAL;
@@ -551,6 +666,18 @@ int step_impl(selfcol_bullet *a, double dt) {
         a->slot_of_node[a->global_of_slot[s]] = -1;
     }
     double t2 = now_seconds();
+    a->stats.continuous_hits = a->stats.continuous_held = 0;
+    a->stats.continuous_passes = a->stats.continuous_remaining = 0;
+    a->stats.seconds_continuous = 0;
+    if (a->opts.continuous) {
+        if (a->have_previous) {
+            status = hold_back(a, dt);
+            if (status != SELFCOL_OK)
+                return status;
+        }
+        remember_positions(a);
+        a->stats.seconds_continuous = now_seconds() - t2;
+    }
 
     selfcol_scene_update_stats ss;
     ss.version = SELFCOL_SCENE_UPDATE_STATS_VERSION;
@@ -592,6 +719,7 @@ extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigne
     opts->iterations = SELFCOL_BULLET_DEFAULT_ITERATIONS;
     opts->automatic = 1;
     opts->untangle = 1;
+    opts->continuous = 0;
     return SELFCOL_OK;
 }
 
@@ -613,7 +741,8 @@ int check_options(const selfcol_bullet_options &o) {
         return SELFCOL_EINVAL;
     if (o.iterations == 0 || o.iterations > 64)
         return SELFCOL_EINVAL;
-    if ((o.automatic != 0 && o.automatic != 1) || (o.untangle != 0 && o.untangle != 1))
+    if ((o.automatic != 0 && o.automatic != 1) || (o.untangle != 0 && o.untangle != 1) ||
+        (o.continuous != 0 && o.continuous != 1))
         return SELFCOL_EINVAL;
     selfcol_scene_options so = scene_options(o, distance > 0 ? distance : 1.0);
     selfcol_scene *trial = nullptr;
@@ -683,8 +812,10 @@ extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
     for (attached_body &b : a->bodies) {
         if (in_world(a, b.body)) // one that left the world may be deleted
             restore_body(b);
+        selfcol_hierarchy_destroy(b.sweep_tree);
         selfcol_mesh_destroy(b.mesh);
     }
+    selfcol_sweep_destroy(a->sweep);
     selfcol_allocator hooks = a->hooks;
     a->~selfcol_bullet();
     hook_free(hooks, a, sizeof(selfcol_bullet));
@@ -739,6 +870,7 @@ extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32
         b.face_count = face_count;
         b.saved_self_collision = body->useSelfCollision();
         b.first_node = a->node_total;
+        b.sweep_tree = nullptr; // made by the first continuous pass
         // Everything that can fail first, so that a failure changes nothing
         // that a later attach would read.
         a->slot_of_node.resize(size_t(a->node_total) + size_t(node_count), -1);
@@ -773,6 +905,7 @@ extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32
     }
     a->node_total += uint32_t(node_count);
     a->next_surface = surface + 1;
+    a->have_previous = false; // a new body has no last positions
     // Bullet's own self-collision off, and the mark that makes Bullet's
     // soft-soft handling skip this body's pairs with other attached bodies
     // (attached_mark): selfcol is their collision now.
@@ -819,7 +952,9 @@ extern "C" int selfcol_bullet_stats(const selfcol_bullet *a, selfcol_bullet_step
     unsigned int version = stats->version;
     // Only the fields of the caller's version.
     std::memcpy(stats, &a->stats,
-                version >= 2 ? sizeof *stats : offsetof(selfcol_bullet_step_stats, untangled));
+                version >= 3   ? sizeof *stats
+                : version == 2 ? offsetof(selfcol_bullet_step_stats, continuous_hits)
+                               : offsetof(selfcol_bullet_step_stats, untangled));
     stats->version = version;
     return SELFCOL_OK;
 }

@@ -163,6 +163,20 @@ typedef struct selfcol_bullet_options {
      * right), with no side to decide. 0: off.
      */
     int untangle;
+    /**
+     * 1: keep each step free of new pass-throughs (default 0: off). After the
+     * response, a continuous query (selfcol/sweep.h, separation 0) follows
+     * every attached node on the straight line from where the last step
+     * left it to where this step puts it; each node of a pair that would
+     * touch during the step is held back to SELFCOL_BULLET_CONTINUOUS_HOLD
+     * of the pair's time of impact (its velocity scaled alike), and the
+     * query runs again on the held motion, up to
+     * SELFCOL_BULLET_CONTINUOUS_PASSES times. Kinematic nodes (zero inverse
+     * mass) are never held: a pair of kinematic nodes only is left alone.
+     * The first step after an attach or detach has no last positions and
+     * is not checked. Costs a continuous query per pass (stats).
+     */
+    int continuous;
 } selfcol_bullet_options;
 
 /** 3 since 0.3 (query and store options composed); 0.2's versions 1 and 2 are refused. */
@@ -170,6 +184,10 @@ typedef struct selfcol_bullet_options {
 /** Relative displacement per step of each EF interference's nodes when untangling, in units of d.
  */
 #define SELFCOL_BULLET_UNTANGLE_STEP 0.25
+/** Continuous option: the fraction of a pair's time of impact its nodes keep of their motion. */
+#define SELFCOL_BULLET_CONTINUOUS_HOLD 0.8
+/** Continuous option: continuous queries per step at most (the last one's hits are counted). */
+#define SELFCOL_BULLET_CONTINUOUS_PASSES 4
 
 /** Counters of the last step. The caller sets version. */
 typedef struct selfcol_bullet_step_stats {
@@ -188,9 +206,15 @@ typedef struct selfcol_bullet_step_stats {
     double seconds_response;
     /* Version 2. */
     uint64_t untangled; /**< EF interferences whose nodes the untangling moved */
+    /* Version 3 (continuous option; 0 when it is off). */
+    uint64_t continuous_hits;      /**< pairs touching during the step, first pass */
+    uint64_t continuous_held;      /**< nodes held back, over all passes */
+    uint64_t continuous_passes;    /**< continuous queries run */
+    uint64_t continuous_remaining; /**< pairs still touching after the last pass */
+    double seconds_continuous;     /**< time of the continuous passes */
 } selfcol_bullet_step_stats;
 
-#define SELFCOL_BULLET_STEP_STATS_VERSION 2
+#define SELFCOL_BULLET_STEP_STATS_VERSION 3
 
 /**
  * Writes the defaults into opts, the nested query and store options by
