@@ -35,11 +35,13 @@ typedef struct rig {
     selfcol_hierarchy *hierarchy;
     selfcol_contacts *detected;
     selfcol_store *store;
+    selfcol_store_contact *records; // records_of()'s buffer, grown only
+    size_t record_capacity;
 } rig;
 
 static rig make_rig(const double *positions, size_t vertex_count, const uint32_t *triangles,
                     size_t triangle_count, const selfcol_store_options *opts) {
-    rig r = {NULL, NULL, NULL, NULL};
+    rig r = {NULL, NULL, NULL, NULL, NULL, 0};
     assert_int_equal(
         selfcol_mesh_create(&r.mesh, vertex_count, positions, triangle_count, triangles, NULL),
         SELFCOL_OK);
@@ -50,6 +52,7 @@ static rig make_rig(const double *positions, size_t vertex_count, const uint32_t
 }
 
 static void free_rig(rig *r) {
+    free(r->records);
     selfcol_store_destroy(r->store);
     selfcol_contacts_destroy(r->detected);
     selfcol_hierarchy_destroy(r->hierarchy);
@@ -73,11 +76,24 @@ static void advance(rig *r, const double *positions, double d) {
     assert_int_equal(selfcol_store_update(r->store, r->mesh, NULL, r->detected), SELFCOL_OK);
 }
 
-static const selfcol_store_contact *find(const rig *r, uint32_t kind, uint32_t first,
-                                         uint32_t second) {
-    const selfcol_store_contact *c;
+// The store's records, copied into the rig's buffer (valid until the next
+// call; the mesh has not moved since the update, as the copy requires).
+static const selfcol_store_contact *records_of(rig *r, size_t *count_out) {
+    const size_t n = selfcol_store_contact_count(r->store);
+    if (n > r->record_capacity) {
+        free(r->records);
+        r->records = malloc(n * sizeof *r->records);
+        assert_non_null(r->records);
+        r->record_capacity = n;
+    }
+    assert_int_equal(selfcol_store_copy_contacts(r->store, 0, n, r->records), SELFCOL_OK);
+    *count_out = n;
+    return r->records;
+}
+
+static const selfcol_store_contact *find(rig *r, uint32_t kind, uint32_t first, uint32_t second) {
     size_t n;
-    assert_int_equal(selfcol_store_contacts(r->store, &c, &n), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(r, &n);
     for (size_t i = 0; i < n; ++i)
         if (c[i].kind == kind && c[i].first == first && c[i].second == second)
             return &c[i];
@@ -298,9 +314,8 @@ static void test_vote_corrects_a_patch_that_starts_crossed(void **state) {
         assert_int_equal(region_count, 1);
         assert_true(regions[0].flags & SELFCOL_REGION_CROSSED);
         assert_true(regions[0].votes_majority > regions[0].votes_minority);
-        const selfcol_store_contact *c;
         size_t count, checked = 0;
-        assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+        const selfcol_store_contact *c = records_of(&r, &count);
         const uint32_t base = (n + 1) * (n + 1);
         for (size_t i = 0; i < count; ++i) {
             if (c[i].kind != SELFCOL_CONTACT_VF || c[i].first < base || c[i].b[0] >= base)
@@ -348,9 +363,8 @@ static void test_a_wrong_majority_wins(void **state) {
             s.positions[3 * v + 2] = 0.05;
     rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
     advance(&r, NULL, 0.1);
-    const selfcol_store_contact *c;
     size_t count;
-    assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(&r, &count);
     const uint32_t base = (n + 1) * (n + 1);
     size_t corrected_above = 0;
     for (size_t i = 0; i < count; ++i)
@@ -394,9 +408,8 @@ static void test_wedge_sides_are_not_linked_through_the_hinge(void **state) {
         assert_int_equal(regions[0].flags, 0);
         assert_non_null(find(&r, SELFCOL_CONTACT_VF, 4, 0));
         assert_non_null(find(&r, SELFCOL_CONTACT_VF, 4, 1));
-        const selfcol_store_contact *c;
         size_t count;
-        assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+        const selfcol_store_contact *c = records_of(&r, &count);
         assert_true(count >= 4);
         for (size_t i = 0; i < count; ++i) {
             assert_int_equal(c[i].flags & SELFCOL_STORE_CORRECTED, 0);
@@ -451,7 +464,7 @@ static void test_new_contacts_follow_the_held_side(void **state) {
     double pos[21] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
     const uint32_t tri[] = {0, 1, 2, 1, 3, 2, 4, 5, 6};
     const double above[3] = {0.3, 0.3, 0.1}, through[3] = {0.45, 0.45, -0.05};
-    rig r = {NULL, NULL, NULL, NULL};
+    rig r = {NULL, NULL, NULL, NULL, NULL, 0};
     for (int frame = 0; frame < 2; ++frame) {
         const double *p = frame ? through : above;
         for (int k = 0; k < 3; ++k) {
@@ -474,9 +487,8 @@ static void test_new_contacts_follow_the_held_side(void **state) {
     const selfcol_store_contact *held = find(&r, SELFCOL_CONTACT_VF, 4, 0);
     assert_non_null(held);
     assert_true(held->flags & SELFCOL_STORE_FLIPPED);
-    const selfcol_store_contact *c;
     size_t count, voting = 0;
-    assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(&r, &count);
     for (size_t i = 0; i < count; ++i) {
         if (c[i].kind == SELFCOL_CONTACT_EF)
             continue;
@@ -501,7 +513,7 @@ static void test_tie_among_held_contacts_keeps_the_first(void **state) {
     const uint32_t tri[] = {0, 1, 2, 1, 3, 2, 4, 5, 6};
     const double p0[3] = {0.778, 0.384, 0.075}, move[3] = {-0.088, -0.070, -0.050};
     const double to5[3] = {0.463, 0.204, 0.379}, to6[3] = {0.095, 0.630, 0.354};
-    rig r = {NULL, NULL, NULL, NULL};
+    rig r = {NULL, NULL, NULL, NULL, NULL, 0};
     for (int frame = 0; frame < 2; ++frame) {
         for (int k = 0; k < 3; ++k) {
             const double p = p0[k] + frame * move[k];
@@ -522,9 +534,8 @@ static void test_tie_among_held_contacts_keeps_the_first(void **state) {
     assert_int_equal(selfcol_store_regions(r.store, &regions, &region_count), SELFCOL_OK);
     assert_int_equal(region_count, 1);
     assert_true(regions[0].flags & SELFCOL_REGION_TIE);
-    const selfcol_store_contact *c;
     size_t count;
-    assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(&r, &count);
     assert_int_equal(count, 4);
     for (size_t i = 0; i < count; ++i) {
         assert_int_equal(c[i].age, 1);
@@ -777,9 +788,8 @@ static void test_memory(void **state) {
             break;
         }
         assert_int_equal(status, SELFCOL_ENOMEM);
-        const selfcol_store_contact *c;
         size_t n;
-        assert_int_equal(selfcol_store_contacts(r.store, &c, &n), SELFCOL_OK);
+        (void)records_of(&r, &n);
         assert_int_equal(n, 0);
         alloc.fail_at = 0;
         assert_int_equal(selfcol_store_update(r.store, r.mesh, NULL, r.detected), SELFCOL_OK);
