@@ -5,17 +5,22 @@
 // Volino & Magnenat Thalmann (1995). One update is linear in the contacts:
 //  1. a merge of the held entries and the query's records, both sorted by
 //     key (kind, first_mesh, first, second_mesh, second): kept, new,
-//     remnant (geometry recomputed by the closed-form narrow phase) or
-//     dropped; the side of every VF/EE entry is the exact sign of orient3d;
-//  2. regions: each entry hashes the unordered pairs {u, w} of a vertex u of
+//     remnant or dropped; the side of every VF/EE entry is the exact sign of
+//     orient3d;
+//  2. regions: each entry has the unordered pairs {u, w} of a vertex u of
 //     its first element and a vertex w of its second (at most 6); entries
 //     sharing a pair are neighbours. A grouping union-find over all entries
 //     gives the regions; a second one, with parity, over VF/EE links whose
 //     sides read clearly through the surface normals, gives the voting
 //     groups (seed 3.2.1's labelling, without its recursion);
 //  3. the vote per group and the region records.
-// Every array is kept and grown geometrically: a steady state allocates
-// nothing.
+// An entry holds its key, counters and sides only (24 bytes): its vertices
+// come from the meshes' topology, and its geometry (distance, weights,
+// direction) is computed when the caller copies the records
+// (selfcol_store_copy_contacts), from the positions the update saw. Only the
+// directions the links compare live through an update, in a scratch array
+// that the vote then reuses. Every array is kept and grown: a steady state
+// allocates nothing.
 #include <selfcol/store.h>
 
 #include "alloc.h"
@@ -31,6 +36,18 @@
 #include <math.h>
 #include <string.h>
 
+// One held contact. Its vertices are its elements' (mesh topology), its
+// geometry is recomputed on demand: nothing here is a double.
+typedef struct store_entry {
+    uint32_t first, second; // as in selfcol_contact
+    uint32_t age, missed;   // as in selfcol_store_contact
+    uint32_t region;        // of the last update
+    uint8_t kind;           // selfcol_contact_kind
+    uint8_t meshes;         // first_mesh | second_mesh << 1
+    uint8_t flags;          // selfcol_store_contact_flag bits (all below 1 << 8)
+    uint8_t sides;          // (side + 1) | (right_side + 1) << 2
+} store_entry;
+
 struct selfcol_store {
     selfcol_allocator allocator;
     uint32_t remnance;
@@ -38,30 +55,37 @@ struct selfcol_store {
     int orientation[2];            // per mesh slot: 0 none, +1 / -1 (store.h)
     const selfcol_mesh *meshes[2]; // meshes[0] NULL until the first update after create or clear
     selfcol_mesh_identity identity[2]; // of meshes[], from the same update
+    uint64_t positions_version[2];     // of meshes[] at the last update (copies check them)
 
-    selfcol_store_contact *entries, *spare; // held entries; the merge's destination
-    size_t count, capacity;                 // capacity of both arrays
+    store_entry *entries, *spare; // held entries; the merge's destination
+    size_t count, capacity;       // capacity of every per-entry array
 
-    // Per entry (capacity): the regions (at most one per entry), the grouping
-    // union-find, the voting union-find with parity.
-    selfcol_store_region *regions;
-    size_t region_count;
-    uint32_t *group_parent, *vote_parent, *label;
+    // Per entry, for one update: the grouping union-find, the voting
+    // union-find with parity, and a scratch area of 24 bytes per entry:
+    // each VF/EE entry's direction (the links compare them), then, once the
+    // links are made, the vote's tallies (4 int32 per group root), oldest
+    // entry per root and region label per root.
+    uint32_t *group_parent, *vote_parent;
     int8_t *vote_parity;
-    // Per voting group root: vote counts (4: +1 and -1, of new contacts and
-    // of held ones), tie-break entry.
-    int32_t *tally;
-    uint32_t *oldest;
+    double *scratch; // 3 per entry
 
-    // The neighbour search (link_neighbours): one key per vertex pair {u, w}
-    // an entry produces, radix-sorted with its occurrence number, and per
-    // occurrence the entry that produced its key first (entry << 1 | whether
-    // that entry's first element held the pair's lower end). pair_capacity
-    // occurrences each.
-    uint64_t *pair_key[2]; // the sort's two halves
-    uint32_t *pair_occ[2];
-    uint64_t *pair_first;
+    selfcol_store_region *regions; // the last update's, grown apart from the entries
+    size_t region_count, region_capacity;
+
+    // The neighbour search (link_neighbours): per vertex-pair occurrence one
+    // word (its pair's hi end, then its first occurrence, then for a first
+    // occurrence its entry) and one bit (the first occurrence's
+    // first_is_lo); pair_capacity occurrences. Per bucket (lo end's mesh
+    // and vertex, hi end's mesh) an offset; per mesh slot and vertex, the
+    // stamp and first position of the bucket pass.
+    uint32_t *pair_item;
+    unsigned char *pair_bit;
     size_t pair_capacity;
+    uint32_t *bucket_offset;
+    size_t bucket_count; // offsets: bucket_count + 1
+    uint32_t *hi_stamp[2], *hi_first[2];
+    size_t hi_count[2];
+    uint32_t bucket_stamp;
 
     // Per mesh slot: the surface normal at each vertex (vertex_normal), kept
     // for one update: valid where normal_stamp equals stamp. Sized to the
@@ -74,6 +98,55 @@ struct selfcol_store {
 
     selfcol_store_update_stats stats;
 };
+
+// ---------------------------------------------------------------------------
+// Entry fields
+
+static uint32_t first_mesh(const store_entry *e) {
+    return e->meshes & 1u;
+}
+
+static uint32_t second_mesh(const store_entry *e) {
+    return (uint32_t)e->meshes >> 1;
+}
+
+static int side_of(const store_entry *e) {
+    return (int)(e->sides & 3u) - 1;
+}
+
+static int right_side_of(const store_entry *e) {
+    return (int)((e->sides >> 2) & 3u) - 1;
+}
+
+static void set_sides(store_entry *e, int side, int right_side) {
+    e->sides = (uint8_t)((side + 1) | (right_side + 1) << 2);
+}
+
+// The vertices of an entry's elements, from its meshes' topology (what the
+// query's record held: the update checks records against it).
+static void entry_vertices(const selfcol_store *s, const store_entry *e, uint32_t a[2],
+                           uint32_t b[3]) {
+    const selfcol_mesh *mf = s->meshes[first_mesh(e)], *ms = s->meshes[second_mesh(e)];
+    if (e->kind == SELFCOL_CONTACT_VF) {
+        a[0] = a[1] = e->first;
+    } else {
+        a[0] = mf->edges[2 * (size_t)e->first];
+        a[1] = mf->edges[2 * (size_t)e->first + 1];
+    }
+    if (e->kind == SELFCOL_CONTACT_EE) {
+        b[0] = ms->edges[2 * (size_t)e->second];
+        b[1] = ms->edges[2 * (size_t)e->second + 1];
+        b[2] = SELFCOL_INVALID_INDEX;
+    } else {
+        const uint32_t *t = ms->triangles + 3 * (size_t)e->second;
+        b[0] = t[0];
+        b[1] = t[1];
+        b[2] = t[2];
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Creation and memory
 
 int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
@@ -127,31 +200,40 @@ static void free_entry_arrays(selfcol_store *s) {
     selfcol_alloc__free_array(al, s->spare, n, sizeof *s->spare);
     selfcol_alloc__free_array(al, s->group_parent, n, sizeof *s->group_parent);
     selfcol_alloc__free_array(al, s->vote_parent, n, sizeof *s->vote_parent);
-    selfcol_alloc__free_array(al, s->label, n, sizeof *s->label);
     selfcol_alloc__free_array(al, s->vote_parity, n, sizeof *s->vote_parity);
-    selfcol_alloc__free_array(al, s->tally, 4 * n, sizeof *s->tally);
-    selfcol_alloc__free_array(al, s->oldest, n, sizeof *s->oldest);
-    selfcol_alloc__free_array(al, s->regions, n, sizeof *s->regions);
+    selfcol_alloc__free_array(al, s->scratch, 3 * n, sizeof *s->scratch);
+}
+
+static size_t bit_bytes(size_t bits) {
+    return bits / 8 + 1;
 }
 
 static void free_pair_arrays(selfcol_store *s) {
     const selfcol_allocator *al = &s->allocator;
-    const size_t n = s->pair_capacity;
-    for (int k = 0; k < 2; ++k) {
-        selfcol_alloc__free_array(al, s->pair_key[k], n, sizeof *s->pair_key[k]);
-        selfcol_alloc__free_array(al, s->pair_occ[k], n, sizeof *s->pair_occ[k]);
-        s->pair_key[k] = NULL;
-        s->pair_occ[k] = NULL;
-    }
-    selfcol_alloc__free_array(al, s->pair_first, n, sizeof *s->pair_first);
-    s->pair_first = NULL;
+    selfcol_alloc__free_array(al, s->pair_item, s->pair_capacity, sizeof *s->pair_item);
+    selfcol_alloc__free_array(al, s->pair_bit, bit_bytes(s->pair_capacity), 1);
+    s->pair_item = NULL;
+    s->pair_bit = NULL;
     s->pair_capacity = 0;
 }
 
-// Grown capacities: the need plus a half, so that a sequence whose contact
-// count creeps up reallocates rarely (and a steady state never).
+static void free_mesh_arrays(selfcol_store *s) {
+    const selfcol_allocator *al = &s->allocator;
+    for (int k = 0; k < 2; ++k) {
+        selfcol_alloc__free_array(al, s->normals[k], 3 * s->normal_count[k], sizeof *s->normals[k]);
+        selfcol_alloc__free_array(al, s->normal_stamp[k], s->normal_count[k],
+                                  sizeof *s->normal_stamp[k]);
+        selfcol_alloc__free_array(al, s->hi_stamp[k], s->hi_count[k], sizeof *s->hi_stamp[k]);
+        selfcol_alloc__free_array(al, s->hi_first[k], s->hi_count[k], sizeof *s->hi_first[k]);
+    }
+    selfcol_alloc__free_array(al, s->bucket_offset, s->bucket_count + 1, sizeof *s->bucket_offset);
+}
+
+// Grown capacities: the need plus a quarter, so that a sequence whose
+// contact count creeps up reallocates rarely (and a steady state never),
+// without holding half as much again as it uses.
 static size_t grown_capacity(size_t need) {
-    return need + need / 2 + 64;
+    return need + need / 4 + 64;
 }
 
 void selfcol_store_destroy(selfcol_store *store) {
@@ -160,12 +242,8 @@ void selfcol_store_destroy(selfcol_store *store) {
     selfcol_allocator al = store->allocator;
     free_entry_arrays(store);
     free_pair_arrays(store);
-    for (int k = 0; k < 2; ++k) {
-        selfcol_alloc__free_array(&al, store->normals[k], 3 * store->normal_count[k],
-                                  sizeof *store->normals[k]);
-        selfcol_alloc__free_array(&al, store->normal_stamp[k], store->normal_count[k],
-                                  sizeof *store->normal_stamp[k]);
-    }
+    free_mesh_arrays(store);
+    selfcol_alloc__free_array(&al, store->regions, store->region_capacity, sizeof *store->regions);
     selfcol_alloc__free(&al, store, sizeof *store);
 }
 
@@ -195,25 +273,27 @@ static int reserve_entries(selfcol_store *s, size_t n) {
     grown.spare = selfcol_alloc__array(al, cap, sizeof *grown.spare);
     grown.group_parent = selfcol_alloc__array(al, cap, sizeof *grown.group_parent);
     grown.vote_parent = selfcol_alloc__array(al, cap, sizeof *grown.vote_parent);
-    grown.label = selfcol_alloc__array(al, cap, sizeof *grown.label);
     grown.vote_parity = selfcol_alloc__array(al, cap, sizeof *grown.vote_parity);
-    grown.tally = selfcol_alloc__array(al, 4 * cap, sizeof *grown.tally);
-    grown.oldest = selfcol_alloc__array(al, cap, sizeof *grown.oldest);
-    grown.regions = selfcol_alloc__array(al, cap, sizeof *grown.regions);
+    grown.scratch = selfcol_alloc__array(al, 3 * cap, sizeof *grown.scratch);
     if (grown.entries == NULL || grown.spare == NULL || grown.group_parent == NULL ||
-        grown.vote_parent == NULL || grown.label == NULL || grown.vote_parity == NULL ||
-        grown.tally == NULL || grown.oldest == NULL || grown.regions == NULL) {
+        grown.vote_parent == NULL || grown.vote_parity == NULL || grown.scratch == NULL) {
         free_entry_arrays(&grown);
         return SELFCOL_ENOMEM;
     }
     if (s->count > 0)
         memcpy(grown.entries, s->entries, s->count * sizeof *s->entries);
     free_entry_arrays(s);
-    *s = grown;
+    s->entries = grown.entries;
+    s->spare = grown.spare;
+    s->group_parent = grown.group_parent;
+    s->vote_parent = grown.vote_parent;
+    s->vote_parity = grown.vote_parity;
+    s->scratch = grown.scratch;
+    s->capacity = cap;
     return SELFCOL_OK;
 }
 
-// Vertex pairs an entry hashes: |first's vertices| x |second's|.
+// Vertex pairs an entry has: |first's vertices| x |second's|.
 static size_t pairs_of_kind(uint32_t kind) {
     return kind == SELFCOL_CONTACT_VF ? 3 : kind == SELFCOL_CONTACT_EE ? 4 : 6;
 }
@@ -224,51 +304,86 @@ static int reserve_pairs(selfcol_store *s, size_t keys) {
         return SELFCOL_OK;
     const size_t cap = grown_capacity(keys);
     const selfcol_allocator *al = &s->allocator;
-    selfcol_store grown = *s;
-    grown.pair_capacity = cap;
-    for (int k = 0; k < 2; ++k) {
-        grown.pair_key[k] = selfcol_alloc__array(al, cap, sizeof *grown.pair_key[k]);
-        grown.pair_occ[k] = selfcol_alloc__array(al, cap, sizeof *grown.pair_occ[k]);
-    }
-    grown.pair_first = selfcol_alloc__array(al, cap, sizeof *grown.pair_first);
-    if (grown.pair_key[0] == NULL || grown.pair_key[1] == NULL || grown.pair_occ[0] == NULL ||
-        grown.pair_occ[1] == NULL || grown.pair_first == NULL) {
-        free_pair_arrays(&grown);
+    uint32_t *item = selfcol_alloc__array(al, cap, sizeof *item);
+    unsigned char *bit = selfcol_alloc__array(al, bit_bytes(cap), 1);
+    if (item == NULL || bit == NULL) {
+        selfcol_alloc__free_array(al, item, cap, sizeof *item);
+        selfcol_alloc__free_array(al, bit, bit_bytes(cap), 1);
         return SELFCOL_ENOMEM;
     }
     free_pair_arrays(s);
-    s->pair_key[0] = grown.pair_key[0];
-    s->pair_key[1] = grown.pair_key[1];
-    s->pair_occ[0] = grown.pair_occ[0];
-    s->pair_occ[1] = grown.pair_occ[1];
-    s->pair_first = grown.pair_first;
+    s->pair_item = item;
+    s->pair_bit = bit;
     s->pair_capacity = cap;
     return SELFCOL_OK;
 }
 
-// The normal caches for the meshes' vertices (grown only; every stamp 0 =
-// nothing cached).
-static int reserve_normals(selfcol_store *s, const selfcol_mesh *const meshes[2]) {
+// Buckets of the neighbour search: one per (lo end's mesh, lo vertex, hi
+// end's mesh) where lo orders before hi by (mesh, vertex): (0, v, 0), then
+// (0, v, 1) and (1, v, 1) when there is a second mesh.
+static size_t buckets_of(const selfcol_mesh *const meshes[2]) {
+    const size_t n0 = meshes[0]->vertex_count;
+    return meshes[1] != NULL ? 2 * n0 + meshes[1]->vertex_count : n0;
+}
+
+// The arrays per mesh vertex: normal caches and the neighbour search's
+// buckets and stamps (grown only; every stamp 0 = nothing cached).
+static int reserve_mesh_arrays(selfcol_store *s, const selfcol_mesh *const meshes[2]) {
+    const selfcol_allocator *al = &s->allocator;
     for (int k = 0; k < 2; ++k) {
         const size_t n = meshes[k] != NULL ? meshes[k]->vertex_count : 0;
         if (n <= s->normal_count[k])
             continue;
-        float *normals = selfcol_alloc__array(&s->allocator, 3 * n, sizeof *normals);
-        uint32_t *stamps = selfcol_alloc__array(&s->allocator, n, sizeof *stamps);
-        if (normals == NULL || stamps == NULL) {
-            selfcol_alloc__free_array(&s->allocator, normals, 3 * n, sizeof *normals);
-            selfcol_alloc__free_array(&s->allocator, stamps, n, sizeof *stamps);
+        float *normals = selfcol_alloc__array(al, 3 * n, sizeof *normals);
+        uint32_t *stamps = selfcol_alloc__array(al, n, sizeof *stamps);
+        uint32_t *hi_stamp = selfcol_alloc__array(al, n, sizeof *hi_stamp);
+        uint32_t *hi_first = selfcol_alloc__array(al, n, sizeof *hi_first);
+        if (normals == NULL || stamps == NULL || hi_stamp == NULL || hi_first == NULL) {
+            selfcol_alloc__free_array(al, normals, 3 * n, sizeof *normals);
+            selfcol_alloc__free_array(al, stamps, n, sizeof *stamps);
+            selfcol_alloc__free_array(al, hi_stamp, n, sizeof *hi_stamp);
+            selfcol_alloc__free_array(al, hi_first, n, sizeof *hi_first);
             return SELFCOL_ENOMEM;
         }
         memset(stamps, 0, n * sizeof *stamps);
-        selfcol_alloc__free_array(&s->allocator, s->normals[k], 3 * s->normal_count[k],
-                                  sizeof *s->normals[k]);
-        selfcol_alloc__free_array(&s->allocator, s->normal_stamp[k], s->normal_count[k],
+        memset(hi_stamp, 0, n * sizeof *hi_stamp);
+        selfcol_alloc__free_array(al, s->normals[k], 3 * s->normal_count[k], sizeof *s->normals[k]);
+        selfcol_alloc__free_array(al, s->normal_stamp[k], s->normal_count[k],
                                   sizeof *s->normal_stamp[k]);
+        selfcol_alloc__free_array(al, s->hi_stamp[k], s->hi_count[k], sizeof *s->hi_stamp[k]);
+        selfcol_alloc__free_array(al, s->hi_first[k], s->hi_count[k], sizeof *s->hi_first[k]);
         s->normals[k] = normals;
         s->normal_stamp[k] = stamps;
         s->normal_count[k] = n;
+        s->hi_stamp[k] = hi_stamp;
+        s->hi_first[k] = hi_first;
+        s->hi_count[k] = n;
     }
+    const size_t buckets = buckets_of(meshes);
+    if (buckets > s->bucket_count || s->bucket_offset == NULL) {
+        uint32_t *offset = selfcol_alloc__array(al, buckets + 1, sizeof *offset);
+        if (offset == NULL)
+            return SELFCOL_ENOMEM;
+        selfcol_alloc__free_array(al, s->bucket_offset, s->bucket_count + 1,
+                                  sizeof *s->bucket_offset);
+        s->bucket_offset = offset;
+        s->bucket_count = buckets;
+    }
+    return SELFCOL_OK;
+}
+
+// The region records for n regions (grown only, apart from the entries:
+// regions are a few per thousand contacts).
+static int reserve_regions(selfcol_store *s, size_t n) {
+    if (n <= s->region_capacity)
+        return SELFCOL_OK;
+    const size_t cap = grown_capacity(n);
+    selfcol_store_region *r = selfcol_alloc__array(&s->allocator, cap, sizeof *r);
+    if (r == NULL)
+        return SELFCOL_ENOMEM;
+    selfcol_alloc__free_array(&s->allocator, s->regions, s->region_capacity, sizeof *s->regions);
+    s->regions = r;
+    s->region_capacity = cap;
     return SELFCOL_OK;
 }
 
@@ -289,13 +404,13 @@ static int record_compare(const selfcol_contact *x, const selfcol_contact *y) {
                        y->first_mesh, y->first, y->second_mesh, y->second);
 }
 
-static int entry_record_compare(const selfcol_store_contact *e, const selfcol_contact *r) {
-    return key_compare(e->kind, e->first_mesh, e->first, e->second_mesh, e->second, r->kind,
+static int entry_record_compare(const store_entry *e, const selfcol_contact *r) {
+    return key_compare(e->kind, first_mesh(e), e->first, second_mesh(e), e->second, r->kind,
                        r->first_mesh, r->first, r->second_mesh, r->second);
 }
 
 // 1 when the record's primitives exist in the meshes and its vertices are
-// theirs.
+// theirs (so that an entry's vertices can be read back from the topology).
 static int record_matches(const selfcol_mesh *const meshes[2], const selfcol_contact *r) {
     if (r->kind > SELFCOL_CONTACT_EF || r->first_mesh > 1 || r->second_mesh > 1)
         return 0;
@@ -333,49 +448,35 @@ static const double *vertex_of(const selfcol_store *s, uint32_t mesh, uint32_t v
 
 // Exact side of the first element relative to the second's reference
 // direction (store.h): VF orient3d(b0, b1, b2, v), EE orient3d(a0, a1, b0, b1).
-static int exact_side(const selfcol_store *s, const selfcol_store_contact *e) {
-    const uint32_t fm = e->first_mesh, sm = e->second_mesh;
+static int exact_side(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
+                      const uint32_t b[3]) {
+    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
     if (e->kind == SELFCOL_CONTACT_VF)
-        return selfcol_predicates__orient3d(vertex_of(s, sm, e->b[0]), vertex_of(s, sm, e->b[1]),
-                                            vertex_of(s, sm, e->b[2]), vertex_of(s, fm, e->a[0]));
-    return selfcol_predicates__orient3d(vertex_of(s, fm, e->a[0]), vertex_of(s, fm, e->a[1]),
-                                        vertex_of(s, sm, e->b[0]), vertex_of(s, sm, e->b[1]));
+        return selfcol_predicates__orient3d(vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
+                                            vertex_of(s, sm, b[2]), vertex_of(s, fm, a[0]));
+    return selfcol_predicates__orient3d(vertex_of(s, fm, a[0]), vertex_of(s, fm, a[1]),
+                                        vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]));
 }
 
-// Distance, weights and direction of a remnant VF/EE entry at the current
-// positions (the closed form of the narrow phase).
-static void recompute(const selfcol_store *s, selfcol_store_contact *e) {
-    const uint32_t fm = e->first_mesh, sm = e->second_mesh;
-    selfcol_narrow_result r;
-    if (e->kind == SELFCOL_CONTACT_VF)
-        selfcol_narrow__vf(vertex_of(s, fm, e->a[0]), vertex_of(s, sm, e->b[0]),
-                           vertex_of(s, sm, e->b[1]), vertex_of(s, sm, e->b[2]), &r);
-    else
-        selfcol_narrow__ee(vertex_of(s, fm, e->a[0]), vertex_of(s, fm, e->a[1]),
-                           vertex_of(s, sm, e->b[0]), vertex_of(s, sm, e->b[1]), &r);
-    e->distance = r.distance;
-    memcpy(e->wa, r.wa, sizeof e->wa);
-    memcpy(e->wb, r.wb, sizeof e->wb);
-    memcpy(e->direction, r.direction, sizeof e->direction);
-}
-
-static void take_record(selfcol_store_contact *e, const selfcol_contact *r) {
-    e->kind = r->kind;
-    e->first = r->first;
-    e->second = r->second;
-    e->first_mesh = r->first_mesh;
-    e->second_mesh = r->second_mesh;
-    memcpy(e->a, r->a, sizeof e->a);
-    memcpy(e->b, r->b, sizeof e->b);
-    e->distance = r->distance;
-    memcpy(e->wa, r->wa, sizeof e->wa);
-    memcpy(e->wb, r->wb, sizeof e->wb);
-    memcpy(e->direction, r->direction, sizeof e->direction);
-}
-
-static void set_signed_distance(selfcol_store_contact *e) {
-    const int wrong = e->side != 0 && e->right_side != 0 && e->side != e->right_side;
-    e->signed_distance = wrong ? -e->distance : e->distance;
+// Distance, weights and direction of an entry at the current positions, by
+// the closed-form narrow phase with the query's arguments (pairs.c): a VF or
+// EE record bit for bit as a closed-form query gives it; an EF one as
+// selfcol_narrow__ef gives it (all zero if it finds no crossing, which only
+// a libccd query can have reported).
+static void geometry(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
+                     const uint32_t b[3], selfcol_narrow_result *r) {
+    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
+    if (e->kind == SELFCOL_CONTACT_VF) {
+        selfcol_narrow__vf(vertex_of(s, fm, a[0]), vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
+                           vertex_of(s, sm, b[2]), r);
+    } else if (e->kind == SELFCOL_CONTACT_EE) {
+        selfcol_narrow__ee(vertex_of(s, fm, a[0]), vertex_of(s, fm, a[1]), vertex_of(s, sm, b[0]),
+                           vertex_of(s, sm, b[1]), r);
+    } else if (!selfcol_narrow__ef(vertex_of(s, fm, a[0]), vertex_of(s, fm, a[1]),
+                                   vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
+                                   vertex_of(s, sm, b[2]), r)) {
+        memset(r, 0, sizeof *r);
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -412,11 +513,13 @@ static void add_element_normal(const selfcol_mesh *m, int orientation, int verti
 
 // The right side an oriented surface gives a VF/EE entry: +1, -1, or 0 when
 // neither mesh is oriented or the sign is not clear.
-static int oriented_right_side(const selfcol_store *s, const selfcol_store_contact *e) {
-    const int of = s->orientation[e->first_mesh], os = s->orientation[e->second_mesh];
+static int oriented_right_side(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
+                               const uint32_t b[3]) {
+    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
+    const int of = s->orientation[fm], os = s->orientation[sm];
     if (of == 0 && os == 0)
         return 0;
-    const selfcol_mesh *mf = s->meshes[e->first_mesh], *ms = s->meshes[e->second_mesh];
+    const selfcol_mesh *mf = s->meshes[fm], *ms = s->meshes[sm];
     const int vf = e->kind == SELFCOL_CONTACT_VF;
     double o[3] = {0.0, 0.0, 0.0}, r[3], unit_r[3];
     if (os != 0)
@@ -428,13 +531,12 @@ static int oriented_right_side(const selfcol_store *s, const selfcol_store_conta
     }
     // The reference direction R (store.h; side = sign((first - second) . R)).
     if (vf) {
-        vec3_triangle_normal(r, vertex_of(s, e->second_mesh, e->b[0]),
-                             vertex_of(s, e->second_mesh, e->b[1]),
-                             vertex_of(s, e->second_mesh, e->b[2]));
+        vec3_triangle_normal(r, vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
+                             vertex_of(s, sm, b[2]));
     } else {
         double u[3], w[3];
-        vec3_sub(u, vertex_of(s, e->first_mesh, e->a[1]), vertex_of(s, e->first_mesh, e->a[0]));
-        vec3_sub(w, vertex_of(s, e->second_mesh, e->b[1]), vertex_of(s, e->second_mesh, e->b[0]));
+        vec3_sub(u, vertex_of(s, fm, a[1]), vertex_of(s, fm, a[0]));
+        vec3_sub(w, vertex_of(s, sm, b[1]), vertex_of(s, sm, b[0]));
         vec3_cross(r, u, w);
     }
     if (!vec3_normalize(unit_r, r))
@@ -446,28 +548,31 @@ static int oriented_right_side(const selfcol_store *s, const selfcol_store_conta
 // Side tracking of a VF/EE entry at the current positions: a nonzero exact
 // sign different from the held side is a crossing; 0 keeps the held side.
 // An oriented entry's right side is then recomputed from the normals.
-static void track_side(selfcol_store *s, selfcol_store_contact *e) {
+static void track_side(selfcol_store *s, store_entry *e, const uint32_t a[2], const uint32_t b[3],
+                       selfcol_store_update_stats *st) {
     if (e->kind == SELFCOL_CONTACT_EF) {
-        e->side = e->right_side = 0;
+        set_sides(e, 0, 0);
         return;
     }
-    if (s->orientation[e->first_mesh] != 0 || s->orientation[e->second_mesh] != 0) {
+    int side = side_of(e), right_side = right_side_of(e);
+    if (s->orientation[first_mesh(e)] != 0 || s->orientation[second_mesh(e)] != 0) {
         e->flags |= SELFCOL_STORE_ORIENTED;
-        const int given = oriented_right_side(s, e);
+        const int given = oriented_right_side(s, e, a, b);
         if (given != 0)
-            e->right_side = given;
+            right_side = given;
     }
-    const int now = exact_side(s, e);
+    const int now = exact_side(s, e, a, b);
     if (now != 0) {
-        if (e->side != 0 && now != e->side) {
+        if (side != 0 && now != side) {
             e->flags |= SELFCOL_STORE_FLIPPED;
-            e->flags &= ~(uint32_t)SELFCOL_STORE_SETTLED; // a crossing reopens the vote
-            s->stats.flipped++;
+            e->flags &= (uint8_t)~SELFCOL_STORE_SETTLED; // a crossing reopens the vote
+            st->flipped++;
         }
-        e->side = now;
-        if (e->right_side == 0)
-            e->right_side = now; // first decided side: taken as the right one
+        side = now;
+        if (right_side == 0)
+            right_side = now; // first decided side: taken as the right one
     }
+    set_sides(e, side, right_side);
 }
 
 // ---------------------------------------------------------------------------
@@ -562,22 +667,24 @@ static int side_relation(const double n[3], const double dx[3], const double dy[
 
 // Two entries linked through a shared vertex pair {u, w} (u of mesh
 // u_mesh, w of w_mesh): group them; if both vote (VF/EE), link their
-// orientations. Each direction points from the second element to the
-// first, so it says which side of the surface at u (and at w) the entry's
-// first element is on. That side is what is compared, not the directions
-// themselves: two directions leaning opposite ways off the normal (closest
-// points on opposite borders, frequent when the gap is small against d)
-// point to the same side, although their dot product is negative (seed
-// 3.2.1 propagates the surfaces' orientation; this is its local form).
-// Same roles (parity +1) should point to the same side, crosswise ones
-// (-1) to opposite sides: o_i = parity * relation * o_j. The link is made
-// only where the geometry is clear: the two surfaces within 60 degrees of
-// parallel or antiparallel, every direction within 60 degrees of both
-// normals' lines, and the same relation through both normals.
+// orientations. Each direction (the record's, kept in the scratch for the
+// update: doubles, so that the links are those the record's direction
+// makes) points from the second element to the first, so it says which
+// side of the surface at u (and at w) the entry's first element is on.
+// That side is what is compared, not the directions themselves: two
+// directions leaning opposite ways off the normal (closest points on
+// opposite borders, frequent when the gap is small against d) point to the
+// same side, although their dot product is negative (seed 3.2.1 propagates
+// the surfaces' orientation; this is its local form). Same roles (parity
+// +1) should point to the same side, crosswise ones (-1) to opposite sides:
+// o_i = parity * relation * o_j. The link is made only where the geometry
+// is clear: the two surfaces within 60 degrees of parallel or antiparallel,
+// every direction within 60 degrees of both normals' lines, and the same
+// relation through both normals.
 static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles, uint32_t u,
                          uint32_t u_mesh, uint32_t w, uint32_t w_mesh) {
     group_unite(s->group_parent, i, j);
-    const selfcol_store_contact *x = &s->entries[i], *y = &s->entries[j];
+    const store_entry *x = &s->entries[i], *y = &s->entries[j];
     if (x->kind == SELFCOL_CONTACT_EF || y->kind == SELFCOL_CONTACT_EF ||
         ((x->flags | y->flags) & SELFCOL_STORE_ORIENTED))
         return; // only voting contacts are linked for the vote
@@ -589,8 +696,9 @@ static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_role
     if (!vertex_normal(s, u_mesh, u, nu) || !vertex_normal(s, w_mesh, w, nw) ||
         !(fabs(vec3_dot(nu, nw)) >= SELFCOL_STORE_LINK_COS))
         return;
-    const int through_u = side_relation(nu, x->direction, y->direction);
-    if (through_u == 0 || side_relation(nw, x->direction, y->direction) != through_u)
+    const double *dx = s->scratch + 3 * (size_t)i, *dy = s->scratch + 3 * (size_t)j;
+    const int through_u = side_relation(nu, dx, dy);
+    if (through_u == 0 || side_relation(nw, dx, dy) != through_u)
         return;
     vote_unite(s->vote_parent, s->vote_parity, i, j, (same_roles ? 1 : -1) * through_u);
 }
@@ -598,16 +706,30 @@ static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_role
 // One vertex pair {u, w} of an entry: u a vertex of its first element (of
 // mesh mu), w of its second (of mesh mw); first_is_lo when (mu, u) orders
 // before (mw, w). An entry has pairs_of_kind() of them, taken in the order
-// p over the first element's vertices, q over the second's.
+// p over the first element's vertices, q over the second's. bucket: the
+// neighbour search's bucket of the pair (lo end's mesh and vertex, hi
+// end's mesh: buckets_of()); hi_mesh, hi: its hi end.
 typedef struct vertex_pair {
     uint32_t u, w, mu, mw;
     int first_is_lo;
+    uint32_t hi, hi_mesh;
+    size_t bucket;
 } vertex_pair;
 
-static vertex_pair pair_of(const selfcol_store_contact *e, int k) {
+static vertex_pair pair_of(const store_entry *e, const uint32_t a[2], const uint32_t b[3], int k,
+                           size_t n0) {
     const int nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
-    vertex_pair v = {e->a[k / nb], e->b[k % nb], e->first_mesh, e->second_mesh, 0};
+    vertex_pair v;
+    v.u = a[k / nb];
+    v.w = b[k % nb];
+    v.mu = first_mesh(e);
+    v.mw = second_mesh(e);
     v.first_is_lo = v.mu < v.mw || (v.mu == v.mw && v.u < v.w);
+    const uint32_t lo = v.first_is_lo ? v.u : v.w, lo_mesh = v.first_is_lo ? v.mu : v.mw;
+    v.hi = v.first_is_lo ? v.w : v.u;
+    v.hi_mesh = v.first_is_lo ? v.mw : v.mu;
+    // (0, lo, 0) at lo, (0, lo, 1) at n0 + lo, (1, lo, 1) at 2 n0 + lo.
+    v.bucket = (lo_mesh + v.hi_mesh) * n0 + lo;
     return v;
 }
 
@@ -615,154 +737,151 @@ static vertex_pair pair_of(const selfcol_store_contact *e, int k) {
 // occurrence of a pair is linked to the pair's first occurrence (in entry
 // order), and the links are made in entry order: a link that closes a
 // cycle against the relation is ignored, so the order decides which links
-// win. The pairs are found by an LSD radix sort of their keys (stable, so
-// a run's first element is its first occurrence), not by hashing: a hash
-// of a few million pairs is a cache miss per probe (46 % of the update on
-// cloth-ball 92 -> 93); the sort reads and writes sequentially. Keys hold
-// (meshes, lo, hi): only the bits that vary are sorted, 11 at a time.
+// win. The first occurrences are found without a sort or a hash (a hash of
+// a few million pairs is a cache miss per probe): a counting sort of the
+// occurrences into buckets by their lo end (stable, so each bucket lists
+// its occurrences in entry order), then one pass per bucket in which a
+// stamp per hi vertex marks the first occurrence of each pair; then the
+// occurrences are replayed in entry order, each bucket read from its start
+// again. One word per occurrence: the pair's hi end, then the position of
+// its first occurrence, then (for a first occurrence, once replayed) its
+// entry; the first occurrence's first_is_lo goes in a bit.
 static void link_neighbours(selfcol_store *s) {
-    size_t max_vertex = 1;
-    for (int k = 0; k < 2; ++k)
-        if (s->meshes[k] != NULL && s->meshes[k]->vertex_count > max_vertex)
-            max_vertex = s->meshes[k]->vertex_count;
-    unsigned vbits = 1;
-    while (vbits < 32 && ((size_t)1 << vbits) < max_vertex)
-        ++vbits;
-    // key = lo << vbits | hi, with the ends' meshes above (two bits) when
-    // they fit in 64 bits; otherwise (vbits 32) the meshes go in a last pass.
-    const int two_meshes = s->meshes[1] != NULL;
-    const unsigned key_bits = 2 * vbits + (two_meshes ? 2 : 0);
-    uint64_t *key = s->pair_key[0];
-    uint32_t *occ_of = s->pair_occ[0];
-    size_t n = 0; // occurrences
-    for (uint32_t i = 0; i < s->count; ++i)
-        for (int k = 0; k < (int)pairs_of_kind(s->entries[i].kind); ++k, ++n) {
-            const vertex_pair v = pair_of(&s->entries[i], k);
-            const uint64_t lo = v.first_is_lo ? v.u : v.w, hi = v.first_is_lo ? v.w : v.u;
-            const uint64_t meshes = v.first_is_lo ? (v.mu | v.mw << 1) : (v.mw | v.mu << 1);
-            key[n] = (lo << vbits | hi) | (key_bits <= 64 ? meshes << (2 * vbits) : 0);
-            occ_of[n] = (uint32_t)n;
-            s->pair_first[n] = (uint64_t)i << 1 | (uint64_t)v.first_is_lo;
-        }
-
-    enum { DIGIT = 11, BUCKETS = 1 << DIGIT };
-    size_t count[BUCKETS];
-    const unsigned sorted_bits = key_bits <= 64 ? key_bits : 64;
-    int from = 0;
-    for (unsigned shift = 0; shift < sorted_bits; shift += DIGIT) {
-        const uint64_t *k0 = s->pair_key[from];
-        const uint32_t *o0 = s->pair_occ[from];
-        uint64_t *k1 = s->pair_key[1 - from];
-        uint32_t *o1 = s->pair_occ[1 - from];
-        memset(count, 0, sizeof count);
-        for (size_t x = 0; x < n; ++x)
-            count[(k0[x] >> shift) & (BUCKETS - 1)]++;
-        size_t sum = 0;
-        for (size_t b = 0; b < BUCKETS; ++b) {
-            const size_t c = count[b];
-            count[b] = sum;
-            sum += c;
-        }
-        for (size_t x = 0; x < n; ++x) {
-            const size_t at = count[(k0[x] >> shift) & (BUCKETS - 1)]++;
-            k1[at] = k0[x];
-            o1[at] = o0[x];
-        }
-        from = 1 - from;
+    const size_t n0 = s->meshes[0]->vertex_count;
+    const size_t buckets = buckets_of(s->meshes);
+    uint32_t *off = s->bucket_offset, *item = s->pair_item;
+    unsigned char *bit = s->pair_bit;
+    // Count (off[b + 1]), then exclusive sums: off[b] = start of bucket b.
+    memset(off, 0, (buckets + 1) * sizeof *off);
+    for (uint32_t i = 0; i < s->count; ++i) {
+        const store_entry *e = &s->entries[i];
+        uint32_t a[2], b[3];
+        entry_vertices(s, e, a, b);
+        for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k)
+            off[pair_of(e, a, b, k, n0).bucket + 1]++;
     }
-    // Runs of one key: every member takes its first occurrence's entry.
-    // Vertex indices of 32 bits leave no room for the meshes in the key:
-    // then a run is split by the meshes read back from the entries.
-    const uint64_t *k = s->pair_key[from];
-    const uint32_t *o = s->pair_occ[from];
-    for (size_t x = 0; x < n;) {
-        size_t end = x + 1;
-        while (end < n && k[end] == k[x])
-            ++end;
-        if (key_bits <= 64) {
-            const uint64_t first = s->pair_first[o[x]];
-            for (size_t y = x + 1; y < end; ++y)
-                s->pair_first[o[y]] = first;
-        } else {
-            // Few such runs (meshes beyond 2^31 vertices): quadratic in the
-            // run only, each member to the earliest one with its meshes.
-            for (size_t y = x + 1; y < end; ++y)
-                for (size_t z = x; z < y; ++z) {
-                    const uint64_t fz = s->pair_first[o[z]], fy = s->pair_first[o[y]];
-                    const selfcol_store_contact *ez = &s->entries[fz >> 1],
-                                                *ey = &s->entries[fy >> 1];
-                    const uint32_t mz = (fz & 1) ? (ez->first_mesh | ez->second_mesh << 1)
-                                                 : (ez->second_mesh | ez->first_mesh << 1);
-                    const uint32_t my = (fy & 1) ? (ey->first_mesh | ey->second_mesh << 1)
-                                                 : (ey->second_mesh | ey->first_mesh << 1);
-                    if (mz == my && o[z] < o[y]) {
-                        s->pair_first[o[y]] = s->pair_first[o[z]];
-                        break;
-                    }
-                }
+    for (size_t x = 0; x < buckets; ++x)
+        off[x + 1] += off[x];
+    // Scatter the hi ends: off[b] becomes the end of bucket b.
+    for (uint32_t i = 0; i < s->count; ++i) {
+        const store_entry *e = &s->entries[i];
+        uint32_t a[2], b[3];
+        entry_vertices(s, e, a, b);
+        for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k) {
+            const vertex_pair v = pair_of(e, a, b, k, n0);
+            item[off[v.bucket]++] = v.hi;
         }
-        x = end;
     }
-    size_t occ = 0;
-    for (uint32_t i = 0; i < s->count; ++i)
-        for (int k = 0; k < (int)pairs_of_kind(s->entries[i].kind); ++k, ++occ) {
-            const uint64_t first = s->pair_first[occ];
-            const uint32_t j = (uint32_t)(first >> 1);
+    // Per bucket, the first occurrence of each hi end: stamps unique to the
+    // bucket (a running count, cleared when it would wrap).
+    if (s->bucket_stamp > UINT32_MAX - buckets - 1) {
+        for (int k = 0; k < 2; ++k)
+            if (s->hi_count[k] > 0)
+                memset(s->hi_stamp[k], 0, s->hi_count[k] * sizeof *s->hi_stamp[k]);
+        s->bucket_stamp = 0;
+    }
+    for (size_t x = 0; x < buckets; ++x) {
+        const uint32_t start = x == 0 ? 0 : off[x - 1], end = off[x];
+        if (start == end)
+            continue;
+        const uint32_t stamp = ++s->bucket_stamp;
+        const int hm = x >= n0 ? 1 : 0; // buckets (0, v, 1) and (1, v, 1): hi in mesh 1
+        uint32_t *seen = s->hi_stamp[hm], *first = s->hi_first[hm];
+        for (uint32_t p = start; p < end; ++p) {
+            const uint32_t y = item[p];
+            if (seen[y] != stamp) {
+                seen[y] = stamp;
+                first[y] = p;
+            }
+            item[p] = first[y];
+        }
+    }
+    // Back to the starts, and the replay in entry order.
+    for (size_t x = buckets; x > 0; --x)
+        off[x] = off[x - 1];
+    off[0] = 0;
+    for (uint32_t i = 0; i < s->count; ++i) {
+        const store_entry *e = &s->entries[i];
+        uint32_t a[2], b[3];
+        entry_vertices(s, e, a, b);
+        for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k) {
+            const vertex_pair v = pair_of(e, a, b, k, n0);
+            const uint32_t p = off[v.bucket]++, fp = item[p];
+            if (fp == p) { // the pair's first occurrence: its entry, for the later ones
+                item[p] = i;
+                if (v.first_is_lo)
+                    bit[p / 8] |= (unsigned char)(1u << (p % 8));
+                else
+                    bit[p / 8] &= (unsigned char)~(1u << (p % 8));
+                continue;
+            }
+            const uint32_t j = item[fp];
             if (j == i)
-                continue; // the pair's first occurrence
-            const vertex_pair v = pair_of(&s->entries[i], k);
-            link_entries(s, i, j, (int)(first & 1) == v.first_is_lo, v.u, v.mu, v.w, v.mw);
+                continue; // the pair's first occurrence is this entry's
+            const int j_first_is_lo = (bit[fp / 8] >> (fp % 8)) & 1;
+            link_entries(s, i, j, j_first_is_lo == v.first_is_lo, v.u, v.mu, v.w, v.mw);
         }
+    }
 }
 
 // ---------------------------------------------------------------------------
 // The vote
 
-// Each voting group's majority right side, imposed; then the region records.
-static void vote_and_label(selfcol_store *s) {
+// Tallies each voting group's votes and numbers the regions by their first
+// entry (entry regions set); returns the number of regions. The scratch
+// (the directions, no longer needed) holds, per root r: votes[4 r .. 4 r +
+// 3], then oldest[r], then label[r].
+static size_t tally_and_label(selfcol_store *s, selfcol_store_update_stats *st) {
     const size_t n = s->count;
+    int32_t *votes = (int32_t *)(void *)s->scratch;
+    uint32_t *oldest = (uint32_t *)(votes + 4 * n), *label = oldest + n;
     // Per group root r: [4 r] and [4 r + 1] count the votes for o = +1 and
     // o = -1 of contacts new in this update, [4 r + 2] and [4 r + 3] those of
     // contacts held from earlier updates.
-    int32_t *votes = s->tally;
     for (size_t i = 0; i < n; ++i) {
         votes[4 * i] = votes[4 * i + 1] = votes[4 * i + 2] = votes[4 * i + 3] = 0;
-        s->oldest[i] = SELFCOL_INVALID_INDEX;
+        oldest[i] = SELFCOL_INVALID_INDEX;
     }
     // Tally: contact i's vote, in its group's frame, is sigma_i * o_i with
     // sigma_i = side * right_side (+1 on its right side). Contacts whose
     // side was never decided abstain.
     for (uint32_t i = 0; i < n; ++i) {
-        const selfcol_store_contact *e = &s->entries[i];
-        if (e->kind == SELFCOL_CONTACT_EF || e->side == 0 || (e->flags & SELFCOL_STORE_ORIENTED))
+        const store_entry *e = &s->entries[i];
+        if (e->kind == SELFCOL_CONTACT_EF || side_of(e) == 0 || (e->flags & SELFCOL_STORE_ORIENTED))
             continue;
-        s->stats.voted++;
+        st->voted++;
         int o;
         const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
-        const int vote = e->side * e->right_side * o;
+        const int vote = side_of(e) * right_side_of(e) * o;
         const int held = (e->flags & SELFCOL_STORE_NEW) == 0;
         votes[4 * r + 2 * held + (vote > 0 ? 0 : 1)]++;
-        const uint32_t old = s->oldest[r];
+        const uint32_t old = oldest[r];
         if (old == SELFCOL_INVALID_INDEX || e->age > s->entries[old].age)
-            s->oldest[r] = i;
+            oldest[r] = i;
     }
     // Regions, numbered by their first entry.
     for (size_t i = 0; i < n; ++i)
-        s->label[i] = SELFCOL_INVALID_INDEX;
+        label[i] = SELFCOL_INVALID_INDEX;
     size_t regions = 0;
     for (uint32_t i = 0; i < n; ++i) {
         const uint32_t g = selfcol_union_find__root(s->group_parent, i);
-        if (s->label[g] == SELFCOL_INVALID_INDEX)
-            s->label[g] = (uint32_t)regions++;
-        s->entries[i].region = s->label[g];
+        if (label[g] == SELFCOL_INVALID_INDEX)
+            label[g] = (uint32_t)regions++;
+        s->entries[i].region = label[g];
     }
-    // One region per entry at most: the per-entry array suffices.
-    s->region_count = regions;
-    if (regions > 0) // (never grown when no contact was ever held: no array)
+    return regions;
+}
+
+// Each voting group's majority right side, imposed; then the region
+// records (s->regions holds `regions`).
+static void impose(selfcol_store *s, size_t regions, selfcol_store_update_stats *st) {
+    const size_t n = s->count;
+    const int32_t *votes = (const int32_t *)(const void *)s->scratch;
+    const uint32_t *oldest = (const uint32_t *)(votes + 4 * n);
+    if (regions > 0)
         memset(s->regions, 0, regions * sizeof *s->regions);
-    // Impose and count.
     for (uint32_t i = 0; i < n; ++i) {
-        selfcol_store_contact *e = &s->entries[i];
+        store_entry *e = &s->entries[i];
         selfcol_store_region *reg = &s->regions[e->region];
         if (e->kind == SELFCOL_CONTACT_EF) {
             reg->interferences++;
@@ -772,8 +891,7 @@ static void vote_and_label(selfcol_store *s) {
         reg->contacts++;
         if (e->flags & SELFCOL_STORE_ORIENTED) {
             reg->oriented++;
-            s->stats.oriented++;
-            set_signed_distance(e);
+            st->oriented++;
             continue;
         }
         int o;
@@ -784,9 +902,9 @@ static void vote_and_label(selfcol_store *s) {
         // current side). New contacts decide only groups of new contacts.
         const int32_t *v = votes + 4 * r + (votes[4 * r + 2] + votes[4 * r + 3] > 0 ? 2 : 0);
         const int32_t plus = v[0], minus = v[1];
-        if (e->side == 0) {
+        const int side = side_of(e);
+        if (side == 0) {
             reg->abstained++;
-            set_signed_distance(e);
             continue;
         }
         int majority; // the group's winning sigma * o
@@ -796,33 +914,33 @@ static void vote_and_label(selfcol_store *s) {
             majority = 0; // nobody voted: nothing to impose
         } else {
             // Tie: the oldest contact keeps its right side.
-            const selfcol_store_contact *t = &s->entries[s->oldest[r]];
+            const store_entry *t = &s->entries[oldest[r]];
             int ot;
-            vote_find(s->vote_parent, s->vote_parity, s->oldest[r], &ot);
-            majority = t->side * t->right_side * ot;
+            vote_find(s->vote_parent, s->vote_parity, oldest[r], &ot);
+            majority = side_of(t) * right_side_of(t) * ot;
             reg->flags |= SELFCOL_REGION_TIE;
         }
         // A decided side always has a right side (track_side).
-        if (e->side * e->right_side * o == majority || majority == 0) {
+        const int right_side = right_side_of(e);
+        if (side * right_side * o == majority || majority == 0) {
             reg->votes_majority++;
         } else {
             reg->votes_minority++;
             if (s->consistency && !(e->flags & SELFCOL_STORE_SETTLED)) {
-                e->right_side = -e->right_side;
+                set_sides(e, side, -right_side);
                 e->flags |= SELFCOL_STORE_CORRECTED;
-                s->stats.corrected++;
+                st->corrected++;
                 reg->flags |= SELFCOL_REGION_CORRECTED;
             }
         }
         if (s->consistency && majority != 0)
             e->flags |= SELFCOL_STORE_SETTLED; // through a vote: settled until it crosses
-        set_signed_distance(e);
     }
     for (size_t r = 0; r < regions; ++r) {
-        s->stats.crossed_regions += (s->regions[r].flags & SELFCOL_REGION_CROSSED) != 0;
-        s->stats.corrected_regions += (s->regions[r].flags & SELFCOL_REGION_CORRECTED) != 0;
+        st->crossed_regions += (s->regions[r].flags & SELFCOL_REGION_CROSSED) != 0;
+        st->corrected_regions += (s->regions[r].flags & SELFCOL_REGION_CORRECTED) != 0;
     }
-    s->stats.regions = regions;
+    st->regions = regions;
 }
 
 // ---------------------------------------------------------------------------
@@ -833,7 +951,7 @@ static void vote_and_label(selfcol_store *s) {
 static void merge_size(const selfcol_store *s, const selfcol_contact *rec, size_t m,
                        size_t *entries_out, size_t *keys_out) {
     size_t i = 0, j = 0, n = 0, keys = 0;
-    const selfcol_store_contact *held = s->entries;
+    const store_entry *held = s->entries;
     while (i < s->count || j < m) {
         const int c = i == s->count ? 1 : j == m ? -1 : entry_record_compare(&held[i], &rec[j]);
         uint32_t kind;
@@ -841,7 +959,7 @@ static void merge_size(const selfcol_store *s, const selfcol_contact *rec, size_
             kind = rec[j++].kind;
             i += c == 0;
         } else {
-            const selfcol_store_contact *h = &held[i++];
+            const store_entry *h = &held[i++];
             if (h->kind == SELFCOL_CONTACT_EF || h->missed >= s->remnance)
                 continue; // dropped
             kind = h->kind;
@@ -885,16 +1003,17 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     if (status == SELFCOL_OK)
         status = reserve_entries(store, kept_entries > store->count ? kept_entries : store->count);
     if (status == SELFCOL_OK)
-        status = reserve_normals(store, meshes);
+        status = reserve_mesh_arrays(store, meshes);
     if (status == SELFCOL_OK)
         status = keys > UINT32_MAX ? SELFCOL_ERANGE : reserve_pairs(store, keys);
     if (status != SELFCOL_OK)
         return status;
+    // From here on only the region records can fail (their count is known
+    // after the links): until then the held entries, the meshes and the
+    // stats are kept aside, and restored on that failure.
+    const selfcol_mesh *const old_meshes[2] = {store->meshes[0], store->meshes[1]};
     store->meshes[0] = first;
     store->meshes[1] = second;
-    store->identity[0] = first->identity;
-    if (second != NULL)
-        store->identity[1] = second->identity;
     if (++store->stamp == 0) { // wrapped: forget every cached normal
         for (int k = 0; k < 2; ++k)
             if (store->normal_count[k] > 0)
@@ -902,49 +1021,69 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                        store->normal_count[k] * sizeof *store->normal_stamp[k]);
         store->stamp = 1;
     }
-    memset(&store->stats, 0, sizeof store->stats);
-    store->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    selfcol_store_update_stats st;
+    memset(&st, 0, sizeof st);
+    st.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 
-    // 1. Merge the held entries (sorted) with the records (sorted).
-    selfcol_store_contact *out = store->spare;
+    // 1. Merge the held entries (sorted) with the records (sorted). The
+    // direction of each VF/EE entry goes to the scratch for the links: the
+    // record's, or a remnant's recomputed.
+    store_entry *out = store->spare;
+    double *direction = store->scratch;
     size_t i = 0, j = 0, n = 0;
-    const selfcol_store_contact *held = store->entries;
+    const store_entry *held = store->entries;
     while (i < store->count || j < m) {
         int c = i == store->count ? 1 : j == m ? -1 : entry_record_compare(&held[i], &rec[j]);
-        selfcol_store_contact *e = &out[n];
+        store_entry *e = &out[n];
+        if (c <= 0 &&
+            !(c == 0 || (held[i].kind != SELFCOL_CONTACT_EF && held[i].missed < store->remnance))) {
+            ++i; // held, not detected, dropped
+            st.dropped++;
+            continue;
+        }
         if (c == 0) { // held and detected again
             *e = held[i++];
-            take_record(e, &rec[j++]);
             e->age += e->age < UINT32_MAX;
             e->missed = 0;
             e->flags &= SELFCOL_STORE_SETTLED; // the only flag that persists
-            store->stats.kept += e->kind != SELFCOL_CONTACT_EF;
+            st.kept += e->kind != SELFCOL_CONTACT_EF;
         } else if (c > 0) { // new
             memset(e, 0, sizeof *e);
-            take_record(e, &rec[j++]);
+            e->kind = (uint8_t)rec[j].kind;
+            e->meshes = (uint8_t)(rec[j].first_mesh | rec[j].second_mesh << 1);
+            e->first = rec[j].first;
+            e->second = rec[j].second;
+            set_sides(e, 0, 0);
             e->flags = SELFCOL_STORE_NEW;
-            store->stats.new_contacts += e->kind != SELFCOL_CONTACT_EF;
-        } else { // held, not detected
-            const selfcol_store_contact *h = &held[i++];
-            if (h->kind == SELFCOL_CONTACT_EF || h->missed >= store->remnance) {
-                store->stats.dropped++;
-                continue;
-            }
-            *e = *h;
+            st.new_contacts += e->kind != SELFCOL_CONTACT_EF;
+        } else { // held, not detected, remnant
+            *e = held[i++];
             e->age += e->age < UINT32_MAX;
             e->missed++;
-            e->flags = (e->flags & SELFCOL_STORE_SETTLED) | SELFCOL_STORE_REMNANT;
-            recompute(store, e);
-            store->stats.remnant++;
+            e->flags = (uint8_t)((e->flags & SELFCOL_STORE_SETTLED) | SELFCOL_STORE_REMNANT);
+            st.remnant++;
         }
-        track_side(store, e);
-        set_signed_distance(e);
+        uint32_t a[2], b[3];
+        entry_vertices(store, e, a, b);
+        if (e->kind != SELFCOL_CONTACT_EF) {
+            double *dir = direction + 3 * n;
+            if (c >= 0) {
+                memcpy(dir, rec[j].direction, 3 * sizeof *dir);
+            } else {
+                selfcol_narrow_result r;
+                geometry(store, e, a, b, &r);
+                memcpy(dir, r.direction, 3 * sizeof *dir);
+            }
+        }
+        j += c >= 0;
+        track_side(store, e, a, b, &st);
         if (e->kind == SELFCOL_CONTACT_EF)
-            store->stats.interferences++;
+            st.interferences++;
         else
-            store->stats.contacts++;
+            st.contacts++;
         ++n;
     }
+    const size_t old_count = store->count;
     store->spare = store->entries;
     store->entries = out;
     store->count = n;
@@ -956,16 +1095,78 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     }
     link_neighbours(store);
     // 3. The vote.
-    vote_and_label(store);
-    store->stats.seconds = selfcol_core__seconds() - start;
+    const size_t regions = tally_and_label(store, &st);
+    status = reserve_regions(store, regions);
+    if (status != SELFCOL_OK) { // the store as it was
+        store->entries = store->spare;
+        store->spare = out;
+        store->count = old_count;
+        store->meshes[0] = old_meshes[0];
+        store->meshes[1] = old_meshes[1];
+        return status;
+    }
+    impose(store, regions, &st);
+    store->region_count = regions;
+    store->identity[0] = first->identity;
+    store->positions_version[0] = first->positions_version;
+    if (second != NULL) {
+        store->identity[1] = second->identity;
+        store->positions_version[1] = second->positions_version;
+    }
+    st.seconds = selfcol_core__seconds() - start;
+    store->stats = st;
     return SELFCOL_OK;
 }
 
-int selfcol_store_contacts(const selfcol_store *store, const selfcol_store_contact **data_out,
-                           size_t *count_out) {
-    SELFCOL_CHECK(store != NULL && data_out != NULL && count_out != NULL);
-    *data_out = store->count > 0 ? store->entries : NULL;
-    *count_out = store->count;
+size_t selfcol_store_contact_count(const selfcol_store *store) {
+    return store != NULL ? store->count : 0;
+}
+
+int selfcol_store_copy_contacts(const selfcol_store *store, size_t first_index, size_t count,
+                                selfcol_store_contact *out) {
+    SELFCOL_CHECK(store != NULL && (out != NULL || count == 0));
+    SELFCOL_CHECK(first_index <= store->count && count <= store->count - first_index);
+    if (count == 0)
+        return SELFCOL_OK;
+    // The geometry is computed now, from the positions the last update saw:
+    // the meshes must not have moved since (or been replaced).
+    for (int k = 0; k < 2; ++k) {
+        const selfcol_mesh *m = store->meshes[k];
+        if (m == NULL)
+            continue;
+        if (!selfcol_mesh__is(m, &store->identity[k]))
+            return SELFCOL_EMISMATCH;
+        if (m->positions_version != store->positions_version[k])
+            return SELFCOL_ESTALE;
+    }
+    for (size_t x = 0; x < count; ++x) {
+        const store_entry *e = &store->entries[first_index + x];
+        selfcol_store_contact *c = &out[x];
+        memset(c, 0, sizeof *c); // the padding too: records compare bytewise
+        uint32_t a[2], b[3];
+        entry_vertices(store, e, a, b);
+        selfcol_narrow_result r;
+        geometry(store, e, a, b, &r);
+        c->kind = e->kind;
+        c->first = e->first;
+        c->second = e->second;
+        c->first_mesh = first_mesh(e);
+        c->second_mesh = second_mesh(e);
+        memcpy(c->a, a, sizeof c->a);
+        memcpy(c->b, b, sizeof c->b);
+        c->region = e->region;
+        c->age = e->age;
+        c->missed = e->missed;
+        c->flags = e->flags;
+        c->side = side_of(e);
+        c->right_side = right_side_of(e);
+        c->distance = r.distance;
+        const int wrong = c->side != 0 && c->right_side != 0 && c->side != c->right_side;
+        c->signed_distance = wrong ? -r.distance : r.distance;
+        memcpy(c->wa, r.wa, sizeof c->wa);
+        memcpy(c->wb, r.wb, sizeof c->wb);
+        memcpy(c->direction, r.direction, sizeof c->direction);
+    }
     return SELFCOL_OK;
 }
 
@@ -990,11 +1191,16 @@ int selfcol_store_stats(const selfcol_store *store, selfcol_store_update_stats *
 size_t selfcol_store_byte_count(const selfcol_store *store) {
     if (store == NULL)
         return 0;
-    const size_t per_entry = 2 * sizeof(selfcol_store_contact) + 3 * sizeof(uint32_t) +
-                             sizeof(int8_t) + 4 * sizeof(int32_t) + sizeof(uint32_t) +
-                             sizeof(selfcol_store_region);
-    const size_t per_pair = 3 * sizeof(uint64_t) + 2 * sizeof(uint32_t);
-    const size_t per_vertex = 3 * sizeof(float) + sizeof(uint32_t);
-    return sizeof *store + store->capacity * per_entry + store->pair_capacity * per_pair +
-           (store->normal_count[0] + store->normal_count[1]) * per_vertex;
+    const size_t per_entry =
+        2 * sizeof(store_entry) + 2 * sizeof(uint32_t) + sizeof(int8_t) + 3 * sizeof(double);
+    size_t bytes = sizeof *store + store->capacity * per_entry +
+                   store->pair_capacity * sizeof(uint32_t) +
+                   (store->pair_capacity > 0 ? bit_bytes(store->pair_capacity) : 0) +
+                   store->region_capacity * sizeof(selfcol_store_region);
+    if (store->bucket_offset != NULL)
+        bytes += (store->bucket_count + 1) * sizeof(uint32_t);
+    for (int k = 0; k < 2; ++k)
+        bytes += store->normal_count[k] * (3 * sizeof(float) + sizeof(uint32_t)) +
+                 store->hi_count[k] * 2 * sizeof(uint32_t);
+    return bytes;
 }

@@ -35,11 +35,13 @@ typedef struct rig {
     selfcol_hierarchy *hierarchy;
     selfcol_contacts *detected;
     selfcol_store *store;
+    selfcol_store_contact *records; // records_of()'s buffer, grown only
+    size_t record_capacity;
 } rig;
 
 static rig make_rig(const double *positions, size_t vertex_count, const uint32_t *triangles,
                     size_t triangle_count, const selfcol_store_options *opts) {
-    rig r = {NULL, NULL, NULL, NULL};
+    rig r = {NULL, NULL, NULL, NULL, NULL, 0};
     assert_int_equal(
         selfcol_mesh_create(&r.mesh, vertex_count, positions, triangle_count, triangles, NULL),
         SELFCOL_OK);
@@ -50,6 +52,7 @@ static rig make_rig(const double *positions, size_t vertex_count, const uint32_t
 }
 
 static void free_rig(rig *r) {
+    free(r->records);
     selfcol_store_destroy(r->store);
     selfcol_contacts_destroy(r->detected);
     selfcol_hierarchy_destroy(r->hierarchy);
@@ -73,11 +76,24 @@ static void advance(rig *r, const double *positions, double d) {
     assert_int_equal(selfcol_store_update(r->store, r->mesh, NULL, r->detected), SELFCOL_OK);
 }
 
-static const selfcol_store_contact *find(const rig *r, uint32_t kind, uint32_t first,
-                                         uint32_t second) {
-    const selfcol_store_contact *c;
+// The store's records, copied into the rig's buffer (valid until the next
+// call; the mesh has not moved since the update, as the copy requires).
+static const selfcol_store_contact *records_of(rig *r, size_t *count_out) {
+    const size_t n = selfcol_store_contact_count(r->store);
+    if (n > r->record_capacity) {
+        free(r->records);
+        r->records = malloc(n * sizeof *r->records);
+        assert_non_null(r->records);
+        r->record_capacity = n;
+    }
+    assert_int_equal(selfcol_store_copy_contacts(r->store, 0, n, r->records), SELFCOL_OK);
+    *count_out = n;
+    return r->records;
+}
+
+static const selfcol_store_contact *find(rig *r, uint32_t kind, uint32_t first, uint32_t second) {
     size_t n;
-    assert_int_equal(selfcol_store_contacts(r->store, &c, &n), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(r, &n);
     for (size_t i = 0; i < n; ++i)
         if (c[i].kind == kind && c[i].first == first && c[i].second == second)
             return &c[i];
@@ -298,9 +314,8 @@ static void test_vote_corrects_a_patch_that_starts_crossed(void **state) {
         assert_int_equal(region_count, 1);
         assert_true(regions[0].flags & SELFCOL_REGION_CROSSED);
         assert_true(regions[0].votes_majority > regions[0].votes_minority);
-        const selfcol_store_contact *c;
         size_t count, checked = 0;
-        assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+        const selfcol_store_contact *c = records_of(&r, &count);
         const uint32_t base = (n + 1) * (n + 1);
         for (size_t i = 0; i < count; ++i) {
             if (c[i].kind != SELFCOL_CONTACT_VF || c[i].first < base || c[i].b[0] >= base)
@@ -348,9 +363,8 @@ static void test_a_wrong_majority_wins(void **state) {
             s.positions[3 * v + 2] = 0.05;
     rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
     advance(&r, NULL, 0.1);
-    const selfcol_store_contact *c;
     size_t count;
-    assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(&r, &count);
     const uint32_t base = (n + 1) * (n + 1);
     size_t corrected_above = 0;
     for (size_t i = 0; i < count; ++i)
@@ -394,9 +408,8 @@ static void test_wedge_sides_are_not_linked_through_the_hinge(void **state) {
         assert_int_equal(regions[0].flags, 0);
         assert_non_null(find(&r, SELFCOL_CONTACT_VF, 4, 0));
         assert_non_null(find(&r, SELFCOL_CONTACT_VF, 4, 1));
-        const selfcol_store_contact *c;
         size_t count;
-        assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+        const selfcol_store_contact *c = records_of(&r, &count);
         assert_true(count >= 4);
         for (size_t i = 0; i < count; ++i) {
             assert_int_equal(c[i].flags & SELFCOL_STORE_CORRECTED, 0);
@@ -451,7 +464,7 @@ static void test_new_contacts_follow_the_held_side(void **state) {
     double pos[21] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
     const uint32_t tri[] = {0, 1, 2, 1, 3, 2, 4, 5, 6};
     const double above[3] = {0.3, 0.3, 0.1}, through[3] = {0.45, 0.45, -0.05};
-    rig r = {NULL, NULL, NULL, NULL};
+    rig r = {NULL, NULL, NULL, NULL, NULL, 0};
     for (int frame = 0; frame < 2; ++frame) {
         const double *p = frame ? through : above;
         for (int k = 0; k < 3; ++k) {
@@ -474,9 +487,8 @@ static void test_new_contacts_follow_the_held_side(void **state) {
     const selfcol_store_contact *held = find(&r, SELFCOL_CONTACT_VF, 4, 0);
     assert_non_null(held);
     assert_true(held->flags & SELFCOL_STORE_FLIPPED);
-    const selfcol_store_contact *c;
     size_t count, voting = 0;
-    assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(&r, &count);
     for (size_t i = 0; i < count; ++i) {
         if (c[i].kind == SELFCOL_CONTACT_EF)
             continue;
@@ -501,7 +513,7 @@ static void test_tie_among_held_contacts_keeps_the_first(void **state) {
     const uint32_t tri[] = {0, 1, 2, 1, 3, 2, 4, 5, 6};
     const double p0[3] = {0.778, 0.384, 0.075}, move[3] = {-0.088, -0.070, -0.050};
     const double to5[3] = {0.463, 0.204, 0.379}, to6[3] = {0.095, 0.630, 0.354};
-    rig r = {NULL, NULL, NULL, NULL};
+    rig r = {NULL, NULL, NULL, NULL, NULL, 0};
     for (int frame = 0; frame < 2; ++frame) {
         for (int k = 0; k < 3; ++k) {
             const double p = p0[k] + frame * move[k];
@@ -522,9 +534,8 @@ static void test_tie_among_held_contacts_keeps_the_first(void **state) {
     assert_int_equal(selfcol_store_regions(r.store, &regions, &region_count), SELFCOL_OK);
     assert_int_equal(region_count, 1);
     assert_true(regions[0].flags & SELFCOL_REGION_TIE);
-    const selfcol_store_contact *c;
     size_t count;
-    assert_int_equal(selfcol_store_contacts(r.store, &c, &count), SELFCOL_OK);
+    const selfcol_store_contact *c = records_of(&r, &count);
     assert_int_equal(count, 4);
     for (size_t i = 0; i < count; ++i) {
         assert_int_equal(c[i].age, 1);
@@ -735,6 +746,176 @@ static void test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh(void **state
     scene_free(&small);
 }
 
+// A query at d on the rig's current positions, into `out` (the rig's store
+// is not updated).
+static void query_into(rig *r, selfcol_contacts *out, double d) {
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.method = SELFCOL_METHOD_EXACT;
+    o.distance = d;
+    assert_int_equal(selfcol_hierarchy_self_collide(r->hierarchy, out, &o), SELFCOL_OK);
+}
+
+// The record of `q` with c's key, or NULL (records are sorted by key).
+static const selfcol_contact *record_of(const selfcol_contacts *q, const selfcol_store_contact *c) {
+    const selfcol_contact *d;
+    size_t n;
+    assert_int_equal(selfcol_contacts_data(q, &d, &n), SELFCOL_OK);
+    for (size_t i = 0; i < n; ++i)
+        if (d[i].kind == c->kind && d[i].first_mesh == c->first_mesh && d[i].first == c->first &&
+            d[i].second_mesh == c->second_mesh && d[i].second == c->second)
+            return &d[i];
+    return NULL;
+}
+
+// The copied record's vertices and geometry are the query record's, bit for
+// bit, and its signed distance is +-distance.
+static void assert_same_geometry(const selfcol_store_contact *c, const selfcol_contact *q) {
+    assert_memory_equal(c->a, q->a, sizeof c->a);
+    assert_memory_equal(c->b, q->b, sizeof c->b);
+    assert_memory_equal(&c->distance, &q->distance, sizeof c->distance);
+    assert_memory_equal(c->wa, q->wa, sizeof c->wa);
+    assert_memory_equal(c->wb, q->wb, sizeof c->wb);
+    assert_memory_equal(c->direction, q->direction, sizeof c->direction);
+    const int wrong = c->side != 0 && c->right_side != 0 && c->side != c->right_side;
+    assert_true(c->signed_distance == (wrong ? -c->distance : c->distance));
+}
+
+static void test_copied_records_are_the_query_records(void **state) {
+    (void)state;
+    scene s, g;
+    assert_int_equal(scene_crumpled(&s, 16, 16, 1, 5.0), 0);
+    assert_int_equal(scene_grid(&g, 16, 16, 1.0), 0);
+    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
+    selfcol_contacts *wide;
+    assert_int_equal(selfcol_contacts_create(&wide, NULL), SELFCOL_OK);
+    const double d = 0.1;
+    size_t detected = 0, remnants = 0, interferences = 0;
+    for (int f = 0; f < 4; ++f) {
+        // The crumple grows by 20 % a frame: contacts part (remnants) and
+        // appear.
+        const double k = 1.0 + 0.2 * f;
+        double *pos = malloc(3 * s.vertex_count * sizeof *pos);
+        assert_non_null(pos);
+        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
+            pos[i] = g.positions[i] + k * (s.positions[i] - g.positions[i]);
+        advance(&r, pos, d);
+        free(pos);
+        // A detected contact: the record the query gave; a remnant: the
+        // record a query at a larger distance gives at these positions (the
+        // closed form, from scratch).
+        query_into(&r, wide, 8 * d);
+        size_t n;
+        const selfcol_store_contact *c = records_of(&r, &n);
+        for (size_t i = 0; i < n; ++i) {
+            if (c[i].missed == 0) {
+                const selfcol_contact *q = record_of(r.detected, &c[i]);
+                assert_non_null(q);
+                assert_same_geometry(&c[i], q);
+                detected++;
+                interferences += c[i].kind == SELFCOL_CONTACT_EF;
+            } else {
+                const selfcol_contact *q = record_of(wide, &c[i]);
+                if (q == NULL)
+                    continue; // parted farther than 8 d
+                assert_same_geometry(&c[i], q);
+                remnants++;
+            }
+        }
+        // Any range copies the same records.
+        if (n > 10) {
+            selfcol_store_contact part[7];
+            assert_int_equal(selfcol_store_copy_contacts(r.store, n - 9, 7, part), SELFCOL_OK);
+            assert_memory_equal(part, c + (n - 9), sizeof part);
+        }
+    }
+    // (965, 340 and 573 when written)
+    assert_true(detected > 500);
+    assert_true(remnants > 100);
+    assert_true(interferences > 100);
+    selfcol_contacts_destroy(wide);
+    free_rig(&r);
+    scene_free(&s);
+    scene_free(&g);
+}
+
+static void test_copy_checks_its_range_and_the_meshes(void **state) {
+    (void)state;
+    double pos[18];
+    hover(pos, 0.25, 0.25, 0.1);
+    rig r = make_rig(pos, 6, hover_triangles, 2, NULL);
+    selfcol_store_contact c[4];
+    // Empty: 0 records; an empty range is fine, anything else is past the end.
+    assert_int_equal(selfcol_store_contact_count(NULL), 0);
+    assert_int_equal(selfcol_store_contact_count(r.store), 0);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 0, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 1, c), SELFCOL_EINVAL);
+    advance(&r, NULL, 0.2);
+    assert_int_equal(selfcol_store_contact_count(r.store), 1);
+    assert_int_equal(selfcol_store_copy_contacts(NULL, 0, 1, c), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 1, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 2, c), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 1, 1, c), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 2, 0, c), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 1, SIZE_MAX, c), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, SIZE_MAX, 2, c), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 1, 0, c), SELFCOL_OK);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 1, c), SELFCOL_OK);
+    assert_int_equal(c[0].kind, SELFCOL_CONTACT_VF);
+    assert_int_equal(c[0].first, 3);
+    assert_true(fabs(c[0].distance - 0.1) < 1e-12);
+    // The mesh moved: the geometry would not be the update's. Setting the
+    // positions it has is not a move.
+    assert_int_equal(selfcol_mesh_set_positions(r.mesh, pos, 6), SELFCOL_OK);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 1, c), SELFCOL_OK);
+    hover(pos, 0.25, 0.25, 0.15);
+    assert_int_equal(selfcol_mesh_set_positions(r.mesh, pos, 6), SELFCOL_OK);
+    memset(c, 0xab, sizeof c);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 1, c), SELFCOL_ESTALE);
+    assert_int_equal(c[0].kind, 0xababababu); // nothing written
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 0, c), SELFCOL_OK);
+    assert_int_equal(selfcol_store_contact_count(r.store), 1);
+    // Moved back: still a move since the update (its version changed).
+    hover(pos, 0.25, 0.25, 0.1);
+    assert_int_equal(selfcol_mesh_set_positions(r.mesh, pos, 6), SELFCOL_OK);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 1, c), SELFCOL_ESTALE);
+    // The next update makes the records readable again.
+    hover(pos, 0.25, 0.25, 0.15);
+    assert_int_equal(selfcol_mesh_set_positions(r.mesh, pos, 6), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_refit(r.hierarchy), SELFCOL_OK);
+    advance(&r, NULL, 0.2);
+    assert_int_equal(selfcol_store_copy_contacts(r.store, 0, 1, c), SELFCOL_OK);
+    assert_true(fabs(c[0].distance - 0.15) < 1e-12);
+    free_rig(&r);
+}
+
+// Bytes held per VF/EE contact held (the benchmark's
+// store_bytes_per_contact) on a crumpled 20k-triangle sheet whose contacts
+// grow from update to update (the arrays grow with slack): at most 200.
+static void test_bytes_per_contact(void **state) {
+    (void)state;
+    scene s, g;
+    assert_int_equal(scene_crumpled(&s, 100, 100, 1, 5.0), 0);
+    assert_int_equal(scene_grid(&g, 100, 100, 1.0), 0);
+    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
+    double *pos = malloc(3 * s.vertex_count * sizeof *pos);
+    assert_non_null(pos);
+    for (int f = 0; f < 4; ++f) {
+        const double k = 1.0 + 0.05 * f;
+        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
+            pos[i] = g.positions[i] + k * (s.positions[i] - g.positions[i]);
+        advance(&r, pos, 0.1 * selfcol_mesh_mean_edge_length(r.mesh));
+        const selfcol_store_update_stats st = stats_of(&r);
+        assert_true(st.contacts > 10000);
+        const double per_contact = (double)selfcol_store_byte_count(r.store) / (double)st.contacts;
+        assert_true(per_contact <= 200.0);
+    }
+    free(pos);
+    free_rig(&r);
+    scene_free(&s);
+    scene_free(&g);
+}
+
 static void test_memory(void **state) {
     (void)state;
     scene s;
@@ -777,9 +958,8 @@ static void test_memory(void **state) {
             break;
         }
         assert_int_equal(status, SELFCOL_ENOMEM);
-        const selfcol_store_contact *c;
         size_t n;
-        assert_int_equal(selfcol_store_contacts(r.store, &c, &n), SELFCOL_OK);
+        (void)records_of(&r, &n);
         assert_int_equal(n, 0);
         alloc.fail_at = 0;
         assert_int_equal(selfcol_store_update(r.store, r.mesh, NULL, r.detected), SELFCOL_OK);
@@ -807,6 +987,9 @@ int main(void) {
         cmocka_unit_test(test_errors_leave_the_store_unchanged),
         cmocka_unit_test(test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh),
         cmocka_unit_test(test_memory),
+        cmocka_unit_test(test_copied_records_are_the_query_records),
+        cmocka_unit_test(test_copy_checks_its_range_and_the_meshes),
+        cmocka_unit_test(test_bytes_per_contact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -323,7 +323,9 @@ SELFCOL_API int selfcol_scene_update(selfcol_scene *scene);
 
 /**
  * The store of a surface pair (first <= second; first == second for
- * self-collision).
+ * self-collision). Copy its contacts (selfcol_store_copy_contacts()) after
+ * selfcol_scene_update() and before the surfaces' positions are set again:
+ * their geometry is computed from the positions of that update.
  * @param[out] store_out borrowed, valid until the scene is destroyed; NULL
  *             when the scene never tests that pair (two static surfaces, a
  *             self pair without self-collision)

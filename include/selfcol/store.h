@@ -41,8 +41,12 @@
  *   on all its contacts (see selfcol_store_update() for the exact rule);
  *   interferences in a region mark it CROSSED.
  *
- * Memory is linear in the contacts held; once the store's arrays have grown,
- * an update allocates nothing.
+ * The store holds a compact entry per contact (its key, age, missed, flags,
+ * sides and region: 24 bytes) and computes the public record,
+ * selfcol_store_contact, when it is copied (selfcol_store_copy_contacts(),
+ * from the meshes' positions of the last update). Memory is linear in the
+ * contacts held and in the meshes' vertices (selfcol_store_byte_count());
+ * once the store's arrays have grown, an update allocates nothing.
  * @{
  */
 #ifndef SELFCOL_STORE_H
@@ -104,7 +108,8 @@ typedef enum selfcol_store_contact_flag {
     SELFCOL_STORE_SETTLED = 1u << 5
 } selfcol_store_contact_flag;
 
-/** One contact held by the store. Plain data; the layout is part of the ABI. */
+/** One contact held by the store, as selfcol_store_copy_contacts() writes it.
+ *  Plain data; the layout is part of the ABI. */
 typedef struct selfcol_store_contact {
     uint32_t kind;        /**< selfcol_contact_kind */
     uint32_t first;       /**< vertex (VF) or edge (EE, EF), as in selfcol_contact */
@@ -271,14 +276,46 @@ SELFCOL_API int selfcol_store_update(selfcol_store *store, const selfcol_mesh *f
                                      const selfcol_mesh *second, const selfcol_contacts *detected);
 
 /**
- * The contacts held (VF, EE and EF), sorted by (kind, first_mesh, first,
- * second_mesh, second).
- * @param[out] data_out borrowed, valid until the next update, clear or destroy; NULL when empty
- * @param[out] count_out number of records
- * @return SELFCOL_OK; SELFCOL_EINVAL for NULL arguments.
+ * Number of contacts held (VF, EE and EF): the records
+ * selfcol_store_copy_contacts() can copy.
+ * @return the count; 0 for NULL.
  */
-SELFCOL_API int selfcol_store_contacts(const selfcol_store *store,
-                                       const selfcol_store_contact **data_out, size_t *count_out);
+SELFCOL_API size_t selfcol_store_contact_count(const selfcol_store *store);
+
+/**
+ * Copies the records first_index .. first_index + count - 1 of the contacts
+ * held (VF, EE and EF), sorted by (kind, first_mesh, first, second_mesh,
+ * second), into the caller's array. The store keeps no record: it keeps
+ * each contact's key, counters and sides, and computes the rest now. The
+ * vertices (a, b) come from the meshes' topology; distance, weights and
+ * direction from the meshes' current positions by the closed-form narrow
+ * phase, which are the positions of the last update: a VF or EE record is
+ * then bit for bit the record a closed-form query (SELFCOL_NARROW_CLOSED_FORM)
+ * gave for it, or, for a remnant, the closed-form distance at those
+ * positions; an EF record carries the crossing point and the triangle's
+ * normal as the query gives them (all zero, with libccd's narrow phase, for
+ * an interference the exact test does not call crossing). A libccd query's
+ * VF/EE records differ from these in their geometry only.
+ *
+ * The store's meshes must therefore still be alive and unmoved since the
+ * last update: copy the contacts after selfcol_store_update() and before the
+ * next selfcol_mesh_set_positions(). A range may be copied in several calls
+ * (e.g. in blocks, into a buffer kept from frame to frame: nothing is
+ * allocated); reading one record costs a narrow-phase evaluation.
+ * @param[in] store the store
+ * @param[in] first_index index of the first record to copy
+ * @param[in] count records to copy; 0 copies nothing (and checks no mesh)
+ * @param[out] out caller owns: at least count records; may be NULL when count is 0
+ * @return SELFCOL_OK; SELFCOL_EINVAL for a NULL store, a NULL out with count
+ *         > 0, or a range past the end (first_index + count >
+ *         selfcol_store_contact_count(): nothing is clamped, nothing copied);
+ *         SELFCOL_ESTALE when a mesh's positions changed since the last
+ *         update (selfcol_mesh_set_positions() with other positions);
+ *         SELFCOL_EMISMATCH when a mesh is no longer the one the store was
+ *         given (another mesh at its address). Nothing is written on error.
+ */
+SELFCOL_API int selfcol_store_copy_contacts(const selfcol_store *store, size_t first_index,
+                                            size_t count, selfcol_store_contact *out);
 
 /**
  * The regions of the last update, numbered in order of their first contact.

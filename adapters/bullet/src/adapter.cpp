@@ -146,6 +146,10 @@ struct selfcol_bullet {
     hvector<uint32_t> global_of_slot;
     hvector<response_node> nodes;
     hvector<response_row> rows;
+    // The records of the store being gathered (selfcol_store_copy_contacts):
+    // one buffer for every store, grown only, so that a steady state
+    // allocates nothing.
+    hvector<selfcol_store_contact> records;
     // The untangling (untangle.hpp): every attached edge's faces, sorted by
     // edge, and the step's contour points and segment keys.
     hvector<edge_face> edge_faces;
@@ -168,6 +172,7 @@ struct selfcol_bullet {
           node_of_slot(hook_allocator<btSoftBody::Node *>(&hooks)),
           global_of_slot(hook_allocator<uint32_t>(&hooks)),
           nodes(hook_allocator<response_node>(&hooks)), rows(hook_allocator<response_row>(&hooks)),
+          records(hook_allocator<selfcol_store_contact>(&hooks)),
           edge_faces(hook_allocator<edge_face>(&hooks)),
           contour_points(hook_allocator<contour_point>(&hooks)),
           contour_keys(hook_allocator<contour_key>(&hooks)),
@@ -383,15 +388,24 @@ bool reference_direction(const selfcol_store_contact &c, int right, const double
     return true;
 }
 
-// One row per VF/EE contact of a store with a decided side and right side.
+// Copies a store's records into a->records (right after the scene's
+// update: the meshes have not moved, as the copy requires).
+int copy_records(selfcol_bullet *a, const selfcol_store *store) {
+    const size_t count = selfcol_store_contact_count(store);
+    if (a->records.size() < count)
+        a->records.resize(count); // grown only: a smaller store keeps the capacity
+    return selfcol_store_copy_contacts(store, 0, count, a->records.data());
+}
+
+// One row per VF/EE contact of a store with a decided side and right side;
+// its records are a->records (copy_records).
 void gather_rows(selfcol_bullet *a, const selfcol_store *store, const attached_body &first,
                  const attached_body &second, uint64_t *crossed) {
-    const selfcol_store_contact *contacts = nullptr;
-    size_t count = 0;
+    const selfcol_store_contact *contacts = a->records.data();
+    const size_t count = selfcol_store_contact_count(store);
     const selfcol_store_region *regions = nullptr;
     size_t region_count = 0;
-    if (selfcol_store_contacts(store, &contacts, &count) != SELFCOL_OK ||
-        selfcol_store_regions(store, &regions, &region_count) != SELFCOL_OK)
+    if (selfcol_store_regions(store, &regions, &region_count) != SELFCOL_OK)
         return;
     const double *positions[2] = {selfcol_mesh_positions(first.mesh),
                                   selfcol_mesh_positions(second.mesh)};
@@ -450,13 +464,11 @@ void gather_rows(selfcol_bullet *a, const selfcol_store *store, const attached_b
 
 // The contour points (untangle.hpp) of a store's EF interferences, at the
 // positions of the query, with their segment keys; first and second are
-// the store's bodies, by index.
+// the store's bodies, by index; its records are a->records (copy_records).
 void gather_contour_points(selfcol_bullet *a, const selfcol_store *store, size_t first,
                            size_t second) {
-    const selfcol_store_contact *c = nullptr;
-    size_t count = 0;
-    if (selfcol_store_contacts(store, &c, &count) != SELFCOL_OK)
-        return;
+    const selfcol_store_contact *c = a->records.data();
+    const size_t count = selfcol_store_contact_count(store);
     const size_t body_of[2] = {first, second};
     for (size_t k = 0; k < count; ++k) {
         if (c[k].kind != SELFCOL_CONTACT_EF)
@@ -647,6 +659,9 @@ int step_impl(selfcol_bullet *a, double dt) {
                     SELFCOL_OK ||
                 store == nullptr)
                 continue;
+            status = copy_records(a, store);
+            if (status != SELFCOL_OK)
+                return status;
             gather_rows(a, store, a->bodies[i], a->bodies[j], &crossed);
             if (a->opts.untangle)
                 gather_contour_points(a, store, i, j);
