@@ -821,6 +821,75 @@ static void response_rules() {
     CHECK(!response_prepare(row, nodes));
 }
 
+// The continuous option: a sheet thrown at another one so fast that it
+// passes through it within one step (0.05 m above, 30 m/s down, 1/240 s:
+// 0.125 m) ends the step below it without it, unseen by any discrete query
+// (0.075 m apart at the step's end, beyond the thickness); with it, the
+// step's continuous query finds the pairs, and every node of the thrown
+// sheet is held above the other one.
+struct throw_result {
+    double lowest_y; // of the thrown sheet's nodes after the step
+    selfcol_bullet_step_stats stats;
+};
+
+static throw_result throw_through(int continuous) {
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *low =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 8, 8, 0.1, false);
+    btSoftBody *high = w.add_sheet(btVector3(0.05f, 0.05f, 0.05f), btVector3(0.8f, 0, 0),
+                                   btVector3(0, 0, 0.8f), 8, 8, 0.1, false);
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.continuous = continuous;
+    opts.untangle = 0;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, high, nullptr) == SELFCOL_OK);
+    w.step(1.0 / 240); // at rest: the continuous option's first positions
+    for (int i = 0; i < high->m_nodes.size(); ++i)
+        high->m_nodes[i].m_v = btVector3(0, -30, 0);
+    w.step(1.0 / 240);
+    throw_result r;
+    r.stats.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &r.stats) == SELFCOL_OK && r.stats.status == SELFCOL_OK);
+    r.lowest_y = 1e9;
+    for (int i = 0; i < high->m_nodes.size(); ++i)
+        r.lowest_y = std::fmin(r.lowest_y, double(high->m_nodes[i].m_x.y()));
+    selfcol_bullet_destroy(a);
+    return r;
+}
+
+static void continuous_option_stops_a_pass_through() {
+    const throw_result off = throw_through(0), on = throw_through(1);
+    std::printf("thrown sheet: lowest node at y = %.4f without the continuous option (%llu "
+                "contacts, %llu interferences), %.4f with it (%llu pairs touching within the "
+                "step, %llu nodes held, %llu passes, %llu pairs left)\n",
+                off.lowest_y, (unsigned long long)off.stats.contacts,
+                (unsigned long long)off.stats.interferences, on.lowest_y,
+                (unsigned long long)on.stats.continuous_hits,
+                (unsigned long long)on.stats.continuous_held,
+                (unsigned long long)on.stats.continuous_passes,
+                (unsigned long long)on.stats.continuous_remaining);
+    CHECK(off.lowest_y < -0.02);         // went through, unseen:
+    CHECK(off.stats.interferences == 0); // no crossing left at the step's end
+    CHECK(off.stats.continuous_passes == 0 && off.stats.continuous_hits == 0);
+    CHECK(on.lowest_y > 0); // held above the other sheet
+    CHECK(on.stats.continuous_hits > 0 && on.stats.continuous_held > 0);
+    CHECK(on.stats.continuous_remaining == 0);
+    CHECK(on.stats.continuous_passes >= 2 && on.stats.seconds_continuous > 0);
+    // Only 0 and 1 are options.
+    demo::options o;
+    demo::world w(o, 0.0);
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    CHECK(opts.continuous == 0);
+    opts.continuous = 2;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_EINVAL && a == nullptr);
+}
+
 int main() {
     api_rejects_bad_input();
     response_rules();
@@ -835,6 +904,7 @@ int main() {
     nonfinite_velocity_refused();
     demo_run_stops_at_failed_step();
     untangle_rules();
+    continuous_option_stops_a_pass_through();
     allocation_failure_at_every_call();
     if (failures == 0)
         std::printf("test_bullet_adapter: all checks passed\n");
