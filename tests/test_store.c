@@ -991,5 +991,5 @@ int main(void) {
         cmocka_unit_test(test_copy_checks_its_range_and_the_meshes),
         cmocka_unit_test(test_bytes_per_contact),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests_name("store", tests, NULL, NULL);
 }
