@@ -2,8 +2,9 @@
 // SPDX-License-Identifier: MIT
 
 // Every allocation of the core goes through these functions, with the
-// allocator of the handle that owns the memory (per-handle allocator hooks: docs/architecture.md). A bare malloc
-// anywhere else in lib/ is a CI failure.
+// allocator of the handle that owns the memory (per-handle allocator hooks,
+// docs/architecture.md). A bare malloc anywhere else in lib/ is a CI
+// failure.
 #ifndef SELFCOL_ALLOC_H
 #define SELFCOL_ALLOC_H
 
