@@ -28,12 +28,14 @@
 #include "core.h"
 #include "mesh.h"
 #include "narrow.h"
+#include "narrow_sweep.h"
 #include "predicates.h"
 #include "store.h"
 #include "union_find.h"
 #include "vec3.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 // One held contact. Its vertices are its elements' (mesh topology), its
@@ -56,6 +58,9 @@ struct selfcol_store {
     const selfcol_mesh *meshes[2]; // meshes[0] NULL until the first update after create or clear
     selfcol_mesh_identity identity[2]; // of meshes[], from the same update
     uint64_t positions_version[2];     // of meshes[] at the last update (copies check them)
+    // selfcol_store_update_swept: the meshes' positions at the step's start,
+    // during that update only (NULL otherwise).
+    const double *step_start[2];
 
     store_entry *entries, *spare; // held entries; the merge's destination
     size_t count, capacity;       // capacity of every per-entry array
@@ -548,6 +553,26 @@ static int oriented_right_side(const selfcol_store *s, const store_entry *e, con
 // Side tracking of a VF/EE entry at the current positions: a nonzero exact
 // sign different from the held side is a crossing; 0 keeps the held side.
 // An oriented entry's right side is then recomputed from the normals.
+// selfcol_store_update_swept: whether the entry's primitives may touch at
+// some time of the step, every vertex moving linearly from its step-start
+// position to its current one (the continuous narrow phase, no false
+// negatives: narrow_sweep.h). 0 is a proof that they never touched.
+static int touched_in_step(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
+                           const uint32_t b[3]) {
+    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
+    const int vf = e->kind == SELFCOL_CONTACT_VF;
+    const uint32_t ids[4] = {a[0], vf ? b[0] : a[1], vf ? b[1] : b[0], vf ? b[2] : b[1]};
+    const uint32_t of[4] = {fm, vf ? sm : fm, sm, sm};
+    const double *start[4], *end[4];
+    for (int k = 0; k < 4; ++k) {
+        start[k] = s->step_start[of[k]] + 3 * (size_t)ids[k];
+        end[k] = vertex_of(s, of[k], ids[k]);
+    }
+    double toi;
+    return vf ? selfcol_narrow_sweep__vf_before(start, end, 0.0, 1.0, &toi, NULL)
+              : selfcol_narrow_sweep__ee_before(start, end, 0.0, 1.0, &toi, NULL);
+}
+
 static void track_side(selfcol_store *s, store_entry *e, const uint32_t a[2], const uint32_t b[3],
                        selfcol_store_update_stats *st) {
     if (e->kind == SELFCOL_CONTACT_EF) {
@@ -563,7 +588,14 @@ static void track_side(selfcol_store *s, store_entry *e, const uint32_t a[2], co
     }
     const int now = exact_side(s, e, a, b);
     if (now != 0) {
-        if (side != 0 && now != side) {
+        if (side != 0 && now != side && s->step_start[0] != NULL && !touched_in_step(s, e, a, b)) {
+            // The sign changed but the elements never touched during the
+            // step: they went around each other, not through. Where they
+            // belong turned with the reference direction: no crossing.
+            e->flags |= SELFCOL_STORE_PASSED_AROUND;
+            right_side = right_side != 0 ? -right_side : 0;
+            st->passed_around++;
+        } else if (side != 0 && now != side) {
             e->flags |= SELFCOL_STORE_FLIPPED;
             e->flags &= (uint8_t)~SELFCOL_STORE_SETTLED; // a crossing reopens the vote
             st->flipped++;
@@ -971,6 +1003,27 @@ static void merge_size(const selfcol_store *s, const selfcol_contact *rec, size_
     *keys_out = keys;
 }
 
+static int start_valid(const double *start, size_t vertex_count) {
+    for (size_t i = 0; i < 3 * vertex_count; ++i)
+        if (!(fabs(start[i]) <= SELFCOL_MESH_MAX_COORDINATE)) // NaN fails too
+            return 0;
+    return 1;
+}
+
+int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
+                               const selfcol_mesh *second, const selfcol_contacts *detected,
+                               const double *first_start, const double *second_start) {
+    SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL && first_start != NULL);
+    SELFCOL_CHECK((second == NULL) == (second_start == NULL));
+    SELFCOL_CHECK(start_valid(first_start, first->vertex_count));
+    SELFCOL_CHECK(second == NULL || start_valid(second_start, second->vertex_count));
+    store->step_start[0] = first_start;
+    store->step_start[1] = second_start;
+    const int status = selfcol_store_update(store, first, second, detected);
+    store->step_start[0] = store->step_start[1] = NULL;
+    return status;
+}
+
 int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                          const selfcol_mesh *second, const selfcol_contacts *detected) {
     SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL);
@@ -1183,7 +1236,9 @@ int selfcol_store_stats(const selfcol_store *store, selfcol_store_update_stats *
     if (stats->version == 0 || stats->version > SELFCOL_STORE_UPDATE_STATS_VERSION)
         return SELFCOL_EVERSION;
     const unsigned version = stats->version;
-    *stats = store->stats; // one version so far: the whole struct
+    // A version 1 caller's struct ends before passed_around.
+    memcpy(stats, &store->stats,
+           version >= 2 ? sizeof *stats : offsetof(selfcol_store_update_stats, passed_around));
     stats->version = version;
     return SELFCOL_OK;
 }

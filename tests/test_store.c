@@ -205,7 +205,8 @@ static void test_side_flips_through_crossings_decided_exactly(void **state) {
 
 // Known limit: with two frames' positions, a vertex that went around T's
 // border (out of detection, as a remnant) and ended below T's plane counts
-// as crossed, though it never passed through T.
+// as crossed, though it never passed through T. selfcol_store_update_swept
+// removes the limit (next test).
 static void test_pass_around_counts_as_crossing(void **state) {
     (void)state;
     double pos[18];
@@ -220,6 +221,72 @@ static void test_pass_around_counts_as_crossing(void **state) {
     assert_int_equal(c->side, -1);
     assert_true(c->signed_distance < 0.0);
     free_rig(&r);
+}
+
+// The same pass-around, with the step's start given
+// (selfcol_store_update_swept): the continuous test proves that vertex 3,
+// moving straight from (0.25, 0.25, 0.1) to (-0.4, 0.25, -0.1), meets the
+// plane z = 0 at x = -0.075, outside T: it went around, not through. The
+// contact is PASSED_AROUND, not FLIPPED, and stays on its right side (the
+// right side turned with the side). A vertex moved straight through T's
+// interior is still a crossing.
+static void test_pass_around_confirmed_by_the_continuous_test(void **state) {
+    (void)state;
+    for (int through = 0; through < 2; ++through) {
+        double pos[18], start[18];
+        hover(pos, 0.25, 0.25, 0.1);
+        rig r = make_rig(pos, 6, hover_triangles, 2, NULL);
+        advance(&r, NULL, 0.2);
+        memcpy(start, pos, sizeof start);
+        if (through)
+            hover(pos, 0.25, 0.25, -0.1); // straight down through T
+        else
+            hover(pos, -0.4, 0.25, -0.1); // beside T, below its plane
+        assert_int_equal(selfcol_mesh_set_positions(r.mesh, pos, 6), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_refit(r.hierarchy), SELFCOL_OK);
+        selfcol_query_options o;
+        selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+        o.distance = 0.2;
+        assert_int_equal(selfcol_hierarchy_self_collide(r.hierarchy, r.detected, &o), SELFCOL_OK);
+        // Bad starts: nothing changes.
+        double bad[18];
+        memcpy(bad, start, sizeof bad);
+        bad[4] = NAN;
+        assert_int_equal(selfcol_store_update_swept(r.store, r.mesh, NULL, r.detected, bad, NULL),
+                         SELFCOL_EINVAL);
+        assert_int_equal(selfcol_store_update_swept(r.store, r.mesh, NULL, r.detected, NULL, NULL),
+                         SELFCOL_EINVAL);
+        assert_int_equal(
+            selfcol_store_update_swept(r.store, r.mesh, NULL, r.detected, start, start),
+            SELFCOL_EINVAL);
+        assert_int_equal(selfcol_store_update_swept(r.store, r.mesh, NULL, r.detected, start, NULL),
+                         SELFCOL_OK);
+        const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
+        assert_non_null(c);
+        assert_int_equal(c->side, -1);
+        const selfcol_store_update_stats st = stats_of(&r);
+        if (through) {
+            assert_int_equal(update_flags(c), SELFCOL_STORE_FLIPPED);
+            assert_int_equal(c->right_side, 1);
+            assert_true(c->signed_distance < 0.0);
+            assert_int_equal(st.flipped, 1);
+            assert_int_equal(st.passed_around, 0);
+        } else {
+            assert_int_equal(update_flags(c), SELFCOL_STORE_REMNANT | SELFCOL_STORE_PASSED_AROUND);
+            assert_int_equal(c->right_side, -1);
+            assert_true(c->signed_distance > 0.0);
+            assert_int_equal(st.flipped, 0);
+            assert_int_equal(st.passed_around, 1);
+        }
+        // A version 1 caller gets the fields it knows only.
+        selfcol_store_update_stats v1;
+        memset(&v1, 0xab, sizeof v1);
+        v1.version = 1;
+        assert_int_equal(selfcol_store_stats(r.store, &v1), SELFCOL_OK);
+        assert_int_equal(v1.flipped, st.flipped);
+        assert_int_equal(v1.passed_around, 0xababababababababull); // untouched
+        free_rig(&r);
+    }
 }
 
 // Known limit: a stale side. The vertex hovers over the triangle, the two
@@ -976,6 +1043,7 @@ int main(void) {
         cmocka_unit_test(test_remnance_keeps_a_contact_exactly_r_updates_with_its_side),
         cmocka_unit_test(test_side_flips_through_crossings_decided_exactly),
         cmocka_unit_test(test_pass_around_counts_as_crossing),
+        cmocka_unit_test(test_pass_around_confirmed_by_the_continuous_test),
         cmocka_unit_test(test_stale_side_after_parting_and_turning_over),
         cmocka_unit_test(test_vote_corrects_a_patch_that_starts_crossed),
         cmocka_unit_test(test_a_wrong_majority_wins),

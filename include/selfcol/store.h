@@ -105,7 +105,13 @@ typedef enum selfcol_store_contact_flag {
      *  since, so no later vote changes it until it crosses (FLIPPED clears
      *  the bit). This keeps the vote from flickering where a region's links
      *  contradict each other. */
-    SELFCOL_STORE_SETTLED = 1u << 5
+    SELFCOL_STORE_SETTLED = 1u << 5,
+    /** selfcol_store_update_swept() only: its side changed sign, but the
+     *  continuous test proves that the elements never touched during the
+     *  step: they went around each other, not through. Not a crossing: its
+     *  right side turned with its side (the signed distance keeps its
+     *  sign), and it is not FLIPPED. */
+    SELFCOL_STORE_PASSED_AROUND = 1u << 6
 } selfcol_store_contact_flag;
 
 /** One contact held by the store, as selfcol_store_copy_contacts() writes it.
@@ -173,9 +179,13 @@ typedef struct selfcol_store_update_stats {
     uint64_t crossed_regions;   /**< regions holding interferences */
     uint64_t corrected_regions; /**< regions where the vote corrected a contact */
     double seconds;             /**< wall time of the update */
+    /* Version 2 */
+    /** sign changes that selfcol_store_update_swept() proved were no
+     *  crossing (SELFCOL_STORE_PASSED_AROUND) */
+    uint64_t passed_around;
 } selfcol_store_update_stats;
 
-#define SELFCOL_STORE_UPDATE_STATS_VERSION 1
+#define SELFCOL_STORE_UPDATE_STATS_VERSION 2
 
 /**
  * Writes the defaults into opts (remnance SELFCOL_STORE_DEFAULT_REMNANCE,
@@ -274,6 +284,27 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  */
 SELFCOL_API int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                                      const selfcol_mesh *second, const selfcol_contacts *detected);
+
+/**
+ * selfcol_store_update() for a step whose start the caller knows: first_start
+ * (and second_start for a two-mesh store, else NULL) hold the meshes'
+ * positions at the start of the step, i.e. at the store's previous update
+ * (3 doubles per vertex). A contact whose side changes sign is then a
+ * crossing only if the continuous test (include/selfcol/sweep.h's narrow
+ * phase, no false negatives) finds that its elements may have touched
+ * during the step, every vertex moving on the straight line from its start
+ * to its current position. Otherwise they went around each other (a vertex
+ * around a triangle's border): SELFCOL_STORE_PASSED_AROUND, the right side
+ * turns with the side, no FLIPPED. This removes the pass-around limit of
+ * two frames (README). The first update of a store has nothing to confirm.
+ * @return as selfcol_store_update(); SELFCOL_EINVAL also for a NULL
+ *         first_start, second_start given without a second mesh or missing
+ *         with one, or a non-finite or out-of-contract start coordinate.
+ */
+SELFCOL_API int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
+                                           const selfcol_mesh *second,
+                                           const selfcol_contacts *detected,
+                                           const double *first_start, const double *second_start);
 
 /**
  * Number of contacts held (VF, EE and EF): the records
