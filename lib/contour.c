@@ -142,30 +142,29 @@ static int point_clear(double px, double py, double ax, double ay, double bx, do
 // Sign of orient_along(a, b, c, v), decided from the projected coordinates
 // when they prove it: `bound` covers the rounding of the coordinates and of
 // the basis (see contour_clear); otherwise the exact predicate decides.
-static int side(const selfcol_mesh *m, uint32_t ia, uint32_t ib, uint32_t ic, double ax, double ay,
+static int side(const double *pos, uint32_t ia, uint32_t ib, uint32_t ic, double ax, double ay,
                 double bx, double by, double cx, double cy, const double v[3], double bound) {
     double o = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
     if (o > bound)
         return 1;
     if (o < -bound)
         return -1;
-    return selfcol_predicates__orient_along(selfcol_mesh__position(m, ia),
-                                            selfcol_mesh__position(m, ib),
-                                            selfcol_mesh__position(m, ic), v);
+    return selfcol_predicates__orient_along(pos + 3 * (size_t)ia, pos + 3 * (size_t)ib,
+                                            pos + 3 * (size_t)ic, v);
 }
 
 // Edges e and f of the boundary (exact where it matters): 1 when they are
 // compatible with a simple polygon and, for d > 0, every endpoint of one not
 // incident to the other is at projected distance >= margin from it.
-static int edges_clear(const selfcol_mesh *m, const projected_edge *e, const projected_edge *f,
+static int edges_clear(const double *pos, const projected_edge *e, const projected_edge *f,
                        const double v[3], double margin, int proximity, double bound) {
     const double margin2 = margin * margin;
     if (e->to == f->from || f->to == e->from) {
         // Consecutive: they may not fold back onto each other. The shared
         // vertex w, the other ends u (of the earlier edge) and x.
         const projected_edge *first = e->to == f->from ? e : f, *second = first == e ? f : e;
-        if (side(m, first->from, first->to, second->to, first->x0, first->y0, first->x1, first->y1,
-                 second->x1, second->y1, v, bound) == 0) {
+        if (side(pos, first->from, first->to, second->to, first->x0, first->y0, first->x1,
+                 first->y1, second->x1, second->y1, v, bound) == 0) {
             double dot = (first->x0 - first->x1) * (second->x1 - second->x0) +
                          (first->y0 - first->y1) * (second->y1 - second->y0);
             if (dot > 0.0)
@@ -181,12 +180,13 @@ static int edges_clear(const selfcol_mesh *m, const projected_edge *e, const pro
     }
     if (e->from == f->from || e->to == f->to)
         return 0; // a vertex visited twice by the boundary (a pinch)
-    int o1 = side(m, e->from, e->to, f->from, e->x0, e->y0, e->x1, e->y1, f->x0, f->y0, v, bound);
-    int o2 = side(m, e->from, e->to, f->to, e->x0, e->y0, e->x1, e->y1, f->x1, f->y1, v, bound);
+    int o1 = side(pos, e->from, e->to, f->from, e->x0, e->y0, e->x1, e->y1, f->x0, f->y0, v, bound);
+    int o2 = side(pos, e->from, e->to, f->to, e->x0, e->y0, e->x1, e->y1, f->x1, f->y1, v, bound);
     if (o1 * o2 <= 0) {
         int o3 =
-            side(m, f->from, f->to, e->from, f->x0, f->y0, f->x1, f->y1, e->x0, e->y0, v, bound);
-        int o4 = side(m, f->from, f->to, e->to, f->x0, f->y0, f->x1, f->y1, e->x1, e->y1, v, bound);
+            side(pos, f->from, f->to, e->from, f->x0, f->y0, f->x1, f->y1, e->x0, e->y0, v, bound);
+        int o4 =
+            side(pos, f->from, f->to, e->to, f->x0, f->y0, f->x1, f->y1, e->x1, e->y1, v, bound);
         if (o3 * o4 <= 0) {
             if (o1 != 0 || o2 != 0 || o3 != 0 || o4 != 0)
                 return 0; // they cross or touch
@@ -234,8 +234,8 @@ typedef struct projection {
 
 // Projects the boundary chain he[0..b) along the unit vector v into `pe`.
 // 0 when the projection cannot be used (degenerate or non-finite).
-static int project_boundary(const selfcol_mesh *m, const uint32_t *he, size_t b, const double v[3],
-                            double d, projected_edge *pe, projection *out) {
+static int project_boundary(const selfcol_mesh *m, const double *pos, const uint32_t *he, size_t b,
+                            const double v[3], double d, projected_edge *pe, projection *out) {
     // An orthonormal basis (e1, e2) of the projection plane.
     double helper[3] = {fabs(v[0]) < 0.6 ? 1.0 : 0.0, fabs(v[0]) < 0.6 ? 0.0 : 1.0, 0.0};
     double e1[3] = {helper[1] * v[2] - helper[2] * v[1], helper[2] * v[0] - helper[0] * v[2],
@@ -252,7 +252,7 @@ static int project_boundary(const selfcol_mesh *m, const uint32_t *he, size_t b,
         projected_edge *e = &pe[i];
         e->from = from_vertex(m, he[i]);
         e->to = to_vertex(m, he[i]);
-        const double *u = selfcol_mesh__position(m, e->from), *w = selfcol_mesh__position(m, e->to);
+        const double *u = pos + 3 * (size_t)e->from, *w = pos + 3 * (size_t)e->to;
         for (int k = 0; k < 3; ++k)
             scale = fabs(u[k]) > scale ? fabs(u[k]) : scale;
         e->x0 = u[0] * e1[0] + u[1] * e1[1] + u[2] * e1[2];
@@ -297,15 +297,15 @@ static int boxes_apart(const projected_edge *e, const projected_edge *f) {
 // Every pair of edges whose grown boxes meet, by looking at all b (b - 1) / 2
 // pairs: for the short boundaries most tests see (a crumpled 20k ribbon:
 // 25 edges on average), cheaper than filling a grid.
-static int clear_all_pairs(const selfcol_mesh *m, const projected_edge *pe, size_t b,
-                           const double v[3], const projection *p) {
+static int clear_all_pairs(const double *pos, const projected_edge *pe, size_t b, const double v[3],
+                           const projection *p) {
     for (size_t i = 0; i < b; ++i) {
         const projected_edge *e = &pe[i];
         for (size_t j = i + 1; j < b; ++j) {
             const projected_edge *f = &pe[j];
             if (boxes_apart(e, f))
                 continue;
-            if (!edges_clear(m, e, f, v, p->margin, p->proximity, p->bound))
+            if (!edges_clear(pos, e, f, v, p->margin, p->proximity, p->bound))
                 return 0;
         }
     }
@@ -318,8 +318,8 @@ static int clear_all_pairs(const selfcol_mesh *m, const projected_edge *pe, size
 // cell (cell indices are a monotone function of the coordinates); a pair is
 // examined in one cell only (the lowest cell of the overlap of their cell
 // ranges). O(b) expected, no sorting.
-static int clear_by_grid(const selfcol_mesh *m, const projected_edge *pe, size_t b,
-                         const double v[3], const projection *p, void *grid_work) {
+static int clear_by_grid(const double *pos, const projected_edge *pe, size_t b, const double v[3],
+                         const projection *p, void *grid_work) {
     const double inverse = 1.0 / p->cell;
     uint32_t buckets = 1;
     while (buckets < 2 * b)
@@ -376,7 +376,7 @@ static int clear_by_grid(const selfcol_mesh *m, const projected_edge *pe, size_t
                 int32_t cy = (int32_t)((e->lo_y > f->lo_y ? e->lo_y : f->lo_y) * inverse);
                 if (cx != ep->ix || cy != ep->iy)
                     continue;
-                if (!edges_clear(m, e, f, v, p->margin, p->proximity, p->bound))
+                if (!edges_clear(pos, e, f, v, p->margin, p->proximity, p->bound))
                     return 0;
             }
         }
@@ -386,87 +386,169 @@ static int clear_by_grid(const selfcol_mesh *m, const projected_edge *pe, size_t
 }
 
 // Conditions (2) and (4) for the boundary chain he[0..b) projected along
-// the unit vector v; the caller has shown that the chain is one loop (a
-// disk's boundary, or two disks' boundaries joined along one path). A pinch
-// (a vertex visited twice) shows up here as two edges into one vertex. Both
-// candidate searches examine the same edge pairs (those whose grown boxes
-// meet), so the strategy changes the time, never the answer.
-static int contour_clear(const selfcol_mesh *m, const uint32_t *he, size_t b, const double v[3],
-                         double d, void *work, int strategy) {
+// the unit vector v, with the positions `pos`; the caller has shown that the
+// chain is one loop (a disk's boundary, or two disks' boundaries joined
+// along one path). A pinch (a vertex visited twice) shows up here as two
+// edges into one vertex. Both candidate searches examine the same edge
+// pairs (those whose grown boxes meet), so the strategy changes the time,
+// never the answer.
+static int contour_clear(const selfcol_mesh *m, const double *pos, const uint32_t *he, size_t b,
+                         const double v[3], double d, void *work, int strategy) {
     if (b < 3)
         return 0;
     projected_edge *pe = work;
     projection p;
-    if (!project_boundary(m, he, b, v, d, pe, &p))
+    if (!project_boundary(m, pos, he, b, v, d, pe, &p))
         return 0;
     if (strategy == SELFCOL_CONTOUR_ALL_PAIRS ||
         (strategy == SELFCOL_CONTOUR_AUTO && b <= CONTOUR_ALL_PAIRS_MAX))
-        return clear_all_pairs(m, pe, b, v, &p);
-    return clear_by_grid(m, pe, b, v, &p, pe + b);
+        return clear_all_pairs(pos, pe, b, v, &p);
+    return clear_by_grid(pos, pe, b, v, &p, pe + b);
 }
 
-// contour_clear, counted and timed in the query's statistics.
-static int counted_contour(selfcol_contacts *owner, const selfcol_mesh *m, const uint32_t *he,
+// Over a step: mu, a bound on how far the loop deforms in projection. Why
+// conditions (2) and (4) checked once, at t = 0 and with clearance d + 2 mu,
+// hold at every t of the step. Vertex x moves from x0 to x0 + t D_x.
+// Translating the whole projected loop by -t pi(c), for any fixed c, changes
+// neither its simplicity nor its distances; after it, every vertex is within
+// t |D_x - c| <= mu of its place at t = 0, with mu the largest |D_x - c| over
+// the loop's vertices, and so is every point of every edge (a convex
+// combination of its ends). So at every t:
+//  - a vertex and an edge not incident to it are at least (d + 2 mu) - 2 mu
+//    = d apart: (4) holds;
+//  - two edges with no common vertex that met at t would have had two points
+//    within 2 mu at t = 0, so an endpoint of one within 2 mu of the other
+//    (the distance between two disjoint segments of the plane is attained at
+//    an endpoint), which the clearance d + 2 mu > 2 mu excludes (for d = 0
+//    and mu = 0 nothing moves: the frame's test itself);
+//  - two consecutive edges can only meet beyond their common vertex by
+//    folding onto each other, which puts the far end of the shorter within
+//    2 mu of the other edge at t = 0: excluded in the same way.
+// c is the centre of the box of the displacements, so mu is at most half
+// its diagonal; the displacements' rounding (half an ulp each) and the
+// error `end_error` of each end coordinate are added (sqrt(3) per point).
+static double step_deformation(const selfcol_contour_job *job, const selfcol_mesh *m,
+                               const uint32_t *he, size_t b) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double largest = 0.0;
+    for (size_t i = 0; i < b; ++i) {
+        const uint32_t x = from_vertex(m, he[i]);
+        for (int k = 0; k < 3; ++k) {
+            const double dk = job->end[3 * (size_t)x + k] - job->positions[3 * (size_t)x + k];
+            lo[k] = dk < lo[k] ? dk : lo[k];
+            hi[k] = dk > hi[k] ? dk : hi[k];
+            largest = fabs(dk) > largest ? fabs(dk) : largest;
+        }
+    }
+    double diagonal2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+        diagonal2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return (0.5 * sqrt(diagonal2) * (1.0 + 1e-12) + 0x1p-52 * largest + job->end_error) *
+           1.7320508075688774;
+}
+
+// contour_clear on the job's positions (and, over a step, with the
+// clearance of step_deformation), counted and timed in the job.
+static int counted_contour(selfcol_contour_job *job, const selfcol_mesh *m, const uint32_t *he,
                            size_t b, const double v[3], double d, void *work, int strategy) {
     double start = selfcol_core__seconds();
-    int clear = contour_clear(m, he, b, v, d, work, strategy);
-    owner->stats.contour_tests++;
-    owner->stats.contour_refused += !clear;
-    owner->stats.contour_seconds += selfcol_core__seconds() - start;
+    double clearance = d;
+    if (job->end != NULL && b > 0)
+        clearance = d + 2.0 * step_deformation(job, m, he, b) * (1.0 + 1e-9);
+    int clear = isfinite(clearance) &&
+                contour_clear(m, job->positions, he, b, v, clearance, work, strategy);
+    job->tests++;
+    job->refused += !clear;
+    job->seconds += selfcol_core__seconds() - start;
     return clear;
 }
 
 // Scratch for contour_clear over b half-edges, plus `extra` half-edge slots
 // (the caller's) after it. NULL without memory.
-static void *work_area(selfcol_contacts *owner, size_t b, size_t extra) {
-    return selfcol_workspace__buffer(&owner->work, SELFCOL_SCRATCH_CONTOUR,
+static void *work_area(selfcol_workspace *work, size_t b, size_t extra) {
+    return selfcol_workspace__buffer(work, SELFCOL_SCRATCH_CONTOUR,
                                      work_bytes(b) + extra * sizeof(uint32_t), 0);
+}
+
+// A discrete query's job: the mesh's positions, contact set owner's scratch.
+static selfcol_contour_job frame_job(const selfcol_mesh *m, selfcol_contacts *owner) {
+    selfcol_contour_job job = {&owner->work, m->positions, NULL, 0.0, 0, 0, 0.0};
+    return job;
+}
+
+static int counted_in(selfcol_contacts *owner, const selfcol_contour_job *job, int clear) {
+    owner->stats.contour_tests += job->tests;
+    owner->stats.contour_refused += job->refused;
+    owner->stats.contour_seconds += job->seconds;
+    return clear;
 }
 
 int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edges, size_t count,
                                 const double v[3], double d, int strategy,
                                 selfcol_contacts *scratch_owner) {
-    void *work = work_area(scratch_owner, count, 0);
+    selfcol_contour_job job = frame_job(m, scratch_owner);
+    void *work = work_area(job.work, count, 0);
     if (work == NULL)
         return 0;
-    return counted_contour(scratch_owner, m, half_edges, count, v, d, work, strategy);
+    return counted_in(scratch_owner, &job,
+                      counted_contour(&job, m, half_edges, count, v, d, work, strategy));
+}
+
+static const uint8_t DISK_PATCH =
+    SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
+
+int selfcol_contour__patch_clear(const selfcol_hierarchy *h, uint32_t id, const selfcol_cone *cone,
+                                 double min_altitude, double d, selfcol_contour_job *job) {
+    const selfcol_node *n = &h->nodes[id];
+    if ((n->flags & DISK_PATCH) != DISK_PATCH || !(cone->angle < SELFCOL_HALF_PI))
+        return 0;
+    // (3): altitudes.
+    if (!(d <= min_altitude * cos(cone->angle)))
+        return 0;
+    const size_t b = n->boundary_count;
+    if (b < 3)
+        return 0;
+    void *work = work_area(job->work, b, 0);
+    if (work == NULL)
+        return 0; // no memory: do not skip (still exact)
+    // A disk's boundary is one loop.
+    return counted_contour(job, h->mesh, h->bedge + n->boundary_begin, b, cone->axis, d, work,
+                           SELFCOL_CONTOUR_AUTO);
+}
+
+// A node's cone as the refit keeps it (float axis, and a half-angle that
+// already covers the axis's rounding: hierarchy_refit.c).
+static selfcol_cone node_cone(const selfcol_node *n) {
+    selfcol_cone c;
+    selfcol_cone__unit_axis(n->cone_axis, c.axis);
+    c.angle = n->cone_angle;
+    return c;
 }
 
 int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, double d,
                                     selfcol_contacts *scratch_owner) {
     const selfcol_node *n = &h->nodes[id];
-    const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
-    if ((n->flags & need) != need || !(n->cone_angle < SELFCOL_HALF_PI))
+    if ((n->flags & DISK_PATCH) != DISK_PATCH || !(n->cone_angle < SELFCOL_HALF_PI))
         return 0;
-    // (3): altitudes. The float axis differs from the exact cone's by far less
-    // than the 1e-6 rad the refit added to the angle.
-    double cos_theta = cos((double)n->cone_angle);
-    if (!(d <= (double)h->min_altitude[id] * cos_theta))
-        return 0;
-    const size_t b = n->boundary_count;
-    if (b < 3)
-        return 0;
-    void *work = work_area(scratch_owner, b, 0);
-    if (work == NULL)
-        return 0; // no memory: do not skip (still exact)
-    double v[3];
-    selfcol_cone__unit_axis(n->cone_axis, v);
-    // A disk's boundary is one loop.
-    return counted_contour(scratch_owner, h->mesh, h->bedge + n->boundary_begin, b, v, d, work,
-                           SELFCOL_CONTOUR_AUTO);
+    const selfcol_cone cone = node_cone(n);
+    selfcol_contour_job job = frame_job(h->mesh, scratch_owner);
+    return counted_in(scratch_owner, &job,
+                      selfcol_contour__patch_clear(h, id, &cone, h->min_altitude[id], d, &job));
 }
 
-int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib, double d,
-                                    selfcol_contacts *scratch_owner) {
+int selfcol_contour__patches_clear(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib,
+                                   const selfcol_cone *cone_a, double altitude_a,
+                                   const selfcol_cone *cone_b, double altitude_b, double d,
+                                   selfcol_contour_job *job) {
     const selfcol_node *na = &h->nodes[ia], *nb = &h->nodes[ib];
-    const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED | SELFCOL_NODE_DISK;
     // Leaves keep no boundary list (hierarchy_boundary.c): not tried.
     if (na->child_count == 0 || nb->child_count == 0)
         return 0;
-    if ((na->flags & nb->flags & need) != need || !(na->cone_angle < SELFCOL_HALF_PI) ||
-        !(nb->cone_angle < SELFCOL_HALF_PI))
+    if ((na->flags & nb->flags & DISK_PATCH) != DISK_PATCH || !(cone_a->angle < SELFCOL_HALF_PI) ||
+        !(cone_b->angle < SELFCOL_HALF_PI))
         return 0;
-    double ta = na->cone_angle, tb = nb->cone_angle;
+    const double ta = cone_a->angle, tb = cone_b->angle;
+    const double *ua = cone_a->axis, *ub = cone_b->axis;
     // Cheap rejections first (most pairs a crumpled sheet visits fail
     // here). (3) needs d <= h cos(theta) for the joint half-angle theta
     // around whatever V is chosen below, so theta <= theta_max =
@@ -477,16 +559,13 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     // computed below. On the Bullet bench's folded 20k ribbon it turns
     // away 16k of the 23k pairs that passed the weaker test it replaces
     // (phi < pi - ta - tb), before their 6 trigonometric calls.
-    const double h_min =
-        h->min_altitude[ia] < h->min_altitude[ib] ? h->min_altitude[ia] : h->min_altitude[ib];
+    const double h_min = altitude_a < altitude_b ? altitude_a : altitude_b;
     if (!(d <= h_min))
         return 0;
     const double theta_max = h_min > 0.0 ? acos(d / h_min) : SELFCOL_HALF_PI;
     if (!(ta <= theta_max && tb <= theta_max))
         return 0;
-    double ua[3], ub[3], v[3];
-    selfcol_cone__unit_axis(na->cone_axis, ua);
-    selfcol_cone__unit_axis(nb->cone_axis, ub);
+    double v[3];
     const double room = 2.0 * theta_max - ta - tb; // in [0, pi] when phi may fit
     if (!(room >= 0.0) || !(ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2] > cos(room) - 1e-9))
         return 0;
@@ -519,7 +598,7 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     // (2) and (4) on the joint boundary: both lists are sorted by edge; a
     // shared edge must appear with opposite directions and drops out.
     const size_t ba = na->boundary_count, bb = nb->boundary_count, cap = ba + bb;
-    void *work = work_area(scratch_owner, cap, 2 * cap);
+    void *work = work_area(job->work, cap, 2 * cap);
     if (work == NULL)
         return 0;
     uint32_t *joint = (uint32_t *)((char *)work + work_bytes(cap));
@@ -561,9 +640,25 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
     for (size_t k = 1; k < 2 * shared; ++k)
         distinct += path[k] != path[k - 1];
     if (distinct != shared + 1) {
-        scratch_owner->stats.contour_tests++;
-        scratch_owner->stats.contour_refused++;
+        job->tests++;
+        job->refused++;
         return 0;
     }
-    return counted_contour(scratch_owner, h->mesh, joint, b, v, d, work, SELFCOL_CONTOUR_AUTO);
+    return counted_contour(job, h->mesh, joint, b, v, d, work, SELFCOL_CONTOUR_AUTO);
+}
+
+int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib, double d,
+                                    selfcol_contacts *scratch_owner) {
+    const selfcol_node *na = &h->nodes[ia], *nb = &h->nodes[ib];
+    // The cheapest refusals before the axes are unpacked.
+    if (na->child_count == 0 || nb->child_count == 0 ||
+        (na->flags & nb->flags & DISK_PATCH) != DISK_PATCH || !(na->cone_angle < SELFCOL_HALF_PI) ||
+        !(nb->cone_angle < SELFCOL_HALF_PI) ||
+        !(d <= h->min_altitude[ia] && d <= h->min_altitude[ib]))
+        return 0;
+    const selfcol_cone ca = node_cone(na), cb = node_cone(nb);
+    selfcol_contour_job job = frame_job(h->mesh, scratch_owner);
+    return counted_in(scratch_owner, &job,
+                      selfcol_contour__patches_clear(h, ia, ib, &ca, h->min_altitude[ia], &cb,
+                                                     h->min_altitude[ib], d, &job));
 }

@@ -6,8 +6,24 @@
 #ifndef SELFCOL_CONTOUR_H
 #define SELFCOL_CONTOUR_H
 
+#include "cone.h"
 #include "hierarchy.h"
 #include "query.h"
+#include "workspace.h"
+
+// One use of the criterion: where the loop's positions are, the scratch it
+// may use, and what it counts. A discrete query's job reads the mesh's
+// positions; a continuous query's (sweep_cull.c) reads the step's start
+// positions and, through `end`, proves the loop clear at every time of the
+// step (contour.c, step_deformation).
+typedef struct selfcol_contour_job {
+    selfcol_workspace *work; // scratch slot SELFCOL_SCRATCH_CONTOUR
+    const double *positions; // 3 per vertex: the loop is projected here
+    const double *end;       // NULL for one frame; else the step's end positions
+    double end_error;        // bound on the error of each coordinate of end
+    uint64_t tests, refused; // contour tests run and refused (added to)
+    double seconds;          // their time (added to)
+} selfcol_contour_job;
 
 // Conditions (2) and (4) of EXACT's criterion alone (contour.c), for the
 // direct tests: 1 when the closed loop of boundary half-edges
@@ -31,6 +47,19 @@ int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edge
 // contact at distance d. Uses scratch slot SELFCOL_SCRATCH_CONTOUR of `scratch_owner`.
 int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, double d,
                                     selfcol_contacts *scratch_owner);
+
+// The criterion for Self(node id) with the given cone of its normals and
+// lower bound of its altitudes (both valid at every time the job covers):
+// conditions (1) and (3) from them, (2) and (4) on the node's boundary loop.
+int selfcol_contour__patch_clear(const selfcol_hierarchy *h, uint32_t id, const selfcol_cone *cone,
+                                 double min_altitude, double d, selfcol_contour_job *job);
+
+// The same for Pair(a, b) of two adjacent nodes: the joint axis from the two
+// cones, (2) and (4) on the joint boundary loop.
+int selfcol_contour__patches_clear(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib,
+                                   const selfcol_cone *cone_a, double altitude_a,
+                                   const selfcol_cone *cone_b, double altitude_b, double d,
+                                   selfcol_contour_job *job);
 
 // The same for Pair(a, b) of two nodes of one hierarchy: 1 when no primitive
 // of a has a contact with a primitive of b (judged on the union of the two
