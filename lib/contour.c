@@ -424,17 +424,23 @@ static int contour_clear(const selfcol_mesh *m, const double *pos, const uint32_
 //  - two consecutive edges can only meet beyond their common vertex by
 //    folding onto each other, which puts the far end of the shorter within
 //    2 mu of the other edge at t = 0: excluded in the same way.
-// c is the centre of the box of the displacements, so mu is at most half
-// its diagonal; the displacements' rounding (half an ulp each) and the
-// error `end_error` of each end coordinate are added (sqrt(3) per point).
+// Only the displacements' components across v matter (pi drops the one
+// along v); c is the centre of their box, so mu is at most half its
+// diagonal. The rounding of the displacements and of their projection (a
+// few ulps of the largest component) and the error `end_error` of each end
+// coordinate are added (sqrt(3) per point).
 static double step_deformation(const selfcol_contour_job *job, const selfcol_mesh *m,
-                               const uint32_t *he, size_t b) {
+                               const uint32_t *he, size_t b, const double v[3]) {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double largest = 0.0;
     for (size_t i = 0; i < b; ++i) {
         const uint32_t x = from_vertex(m, he[i]);
+        double dx[3];
+        for (int k = 0; k < 3; ++k)
+            dx[k] = job->end[3 * (size_t)x + k] - job->positions[3 * (size_t)x + k];
+        const double along = dx[0] * v[0] + dx[1] * v[1] + dx[2] * v[2];
         for (int k = 0; k < 3; ++k) {
-            const double dk = job->end[3 * (size_t)x + k] - job->positions[3 * (size_t)x + k];
+            const double dk = dx[k] - along * v[k];
             lo[k] = dk < lo[k] ? dk : lo[k];
             hi[k] = dk > hi[k] ? dk : hi[k];
             largest = fabs(dk) > largest ? fabs(dk) : largest;
@@ -443,7 +449,7 @@ static double step_deformation(const selfcol_contour_job *job, const selfcol_mes
     double diagonal2 = 0.0;
     for (int k = 0; k < 3; ++k)
         diagonal2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return (0.5 * sqrt(diagonal2) * (1.0 + 1e-12) + 0x1p-52 * largest + job->end_error) *
+    return (0.5 * sqrt(diagonal2) * (1.0 + 1e-12) + 0x1p-49 * largest + job->end_error) *
            1.7320508075688774;
 }
 
@@ -454,7 +460,7 @@ static int counted_contour(selfcol_contour_job *job, const selfcol_mesh *m, cons
     double start = selfcol_core__seconds();
     double clearance = d;
     if (job->end != NULL && b > 0)
-        clearance = d + 2.0 * step_deformation(job, m, he, b) * (1.0 + 1e-9);
+        clearance = d + 2.0 * step_deformation(job, m, he, b, v) * (1.0 + 1e-9);
     int clear = isfinite(clearance) &&
                 contour_clear(m, job->positions, he, b, v, clearance, work, strategy);
     job->tests++;

@@ -14,6 +14,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version) {
@@ -48,6 +49,7 @@ int selfcol_sweep_create(selfcol_sweep **out, const selfcol_allocator *allocator
         return SELFCOL_ENOMEM;
     memset(s, 0, sizeof *s);
     s->allocator = al;
+    selfcol_workspace__init(&s->work, &al);
     reset_stats(s);
     *out = s;
     return SELFCOL_OK;
@@ -68,6 +70,11 @@ void selfcol_sweep_destroy(selfcol_sweep *sweep) {
                               sizeof *sweep->positions_at);
     selfcol_alloc__free_array(&al, sweep->outcome, sweep->outcome_capacity, sizeof *sweep->outcome);
     selfcol_alloc__free_array(&al, sweep->toi, sweep->outcome_capacity, sizeof *sweep->toi);
+    selfcol_alloc__free_array(&al, sweep->cull_cones, sweep->cull_capacity,
+                              sizeof *sweep->cull_cones);
+    selfcol_alloc__free_array(&al, sweep->cull_altitudes, sweep->cull_capacity,
+                              sizeof *sweep->cull_altitudes);
+    selfcol_workspace__free(&sweep->work);
     selfcol_alloc__free(&al, sweep, sizeof *sweep);
 }
 
@@ -385,8 +392,8 @@ static int run_earliest(selfcol_sweep_query *q, uint32_t method) {
                 q->end[1] = q->end[0];
         }
         s->stats.passes++;
-        const int status =
-            method == SELFCOL_METHOD_BVH ? selfcol_sweep__bvh(q) : selfcol_sweep__exhaustive(q);
+        const int status = method == SELFCOL_METHOD_EXHAUSTIVE ? selfcol_sweep__exhaustive(q)
+                                                               : selfcol_sweep__bvh(q);
         if (status != SELFCOL_SWEEP__RESTART) {
             if (status != SELFCOL_OK)
                 return status;
@@ -476,7 +483,8 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
     selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
     if (opts != NULL)
         o = *opts; // version 1 is the only layout so far
-    SELFCOL_CHECK(o.method == SELFCOL_METHOD_BVH || o.method == SELFCOL_METHOD_EXHAUSTIVE);
+    SELFCOL_CHECK(o.method == SELFCOL_METHOD_EXACT || o.method == SELFCOL_METHOD_BVH ||
+                  o.method == SELFCOL_METHOD_EXHAUSTIVE);
     SELFCOL_CHECK(o.kinds != 0 && (o.kinds & ~(uint32_t)(SELFCOL_KIND_VF | SELFCOL_KIND_EE)) == 0);
     SELFCOL_CHECK(o.mode == SELFCOL_SWEEP_ALL || o.mode == SELFCOL_SWEEP_EARLIEST);
     SELFCOL_CHECK(isfinite(o.separation) && o.separation >= 0.0 &&
@@ -509,10 +517,11 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
     q.t_box = 1.0;
     q.end[0] = first->mesh->positions;
     q.end[1] = second->mesh->positions;
+    q.cull = self && o.method == SELFCOL_METHOD_EXACT;
     size_t doubles = 0;
     for (int m = 0; m < (self ? 1 : 2); ++m) {
         doubles += 6 * q.mesh[m]->vertex_count;
-        if (o.method == SELFCOL_METHOD_BVH)
+        if (o.method != SELFCOL_METHOD_EXHAUSTIVE)
             doubles += 6 * (q.mesh[m]->triangle_count + q.hierarchy[m]->node_count);
     }
     int status = reserve_boxes(result, doubles);
@@ -521,8 +530,8 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
         status = run_earliest(&q, o.method);
     } else if (status == SELFCOL_OK) {
         result->stats.passes = 1;
-        status =
-            o.method == SELFCOL_METHOD_BVH ? selfcol_sweep__bvh(&q) : selfcol_sweep__exhaustive(&q);
+        status = o.method == SELFCOL_METHOD_EXHAUSTIVE ? selfcol_sweep__exhaustive(&q)
+                                                       : selfcol_sweep__bvh(&q);
         narrow_start = selfcol_core__seconds();
         if (status == SELFCOL_OK)
             status = narrow_all(&q, o.threads);
@@ -567,7 +576,9 @@ int selfcol_sweep_stats(const selfcol_sweep *sweep, selfcol_sweep_query_stats *s
     if (stats->version == 0 || stats->version > SELFCOL_SWEEP_STATS_VERSION)
         return SELFCOL_EVERSION;
     const unsigned version = stats->version;
-    *stats = sweep->stats; // one version so far: the whole struct
+    // Version 1 ends before the culling's counters.
+    memcpy(stats, &sweep->stats,
+           version == 1 ? offsetof(selfcol_sweep_query_stats, patches_culled) : sizeof *stats);
     stats->version = version;
     return SELFCOL_OK;
 }
@@ -580,5 +591,7 @@ size_t selfcol_sweep_byte_count(const selfcol_sweep *sweep) {
            sweep->box_capacity * sizeof *sweep->boxes +
            sweep->stack_capacity * sizeof *sweep->stack +
            sweep->positions_capacity * sizeof *sweep->positions_at +
-           sweep->outcome_capacity * (sizeof *sweep->outcome + sizeof *sweep->toi);
+           sweep->outcome_capacity * (sizeof *sweep->outcome + sizeof *sweep->toi) +
+           sweep->cull_capacity * (sizeof *sweep->cull_cones + sizeof *sweep->cull_altitudes) +
+           selfcol_workspace__byte_count(&sweep->work);
 }

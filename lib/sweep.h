@@ -11,8 +11,11 @@
 
 #include <selfcol/sweep.h>
 
+#include "cone.h"
+#include "contour.h"
 #include "hierarchy.h"
 #include "mesh.h"
+#include "workspace.h"
 
 // A candidate primitive pair, in the key of a hit: kind, meshes, elements.
 typedef struct selfcol_sweep_candidate {
@@ -35,6 +38,12 @@ struct selfcol_sweep {
     uint8_t *outcome; // ALL, per candidate: 0 apart, 1 hit, 3 unresolved hit
     double *toi;      // ALL, per candidate: its time of impact
     size_t outcome_capacity;
+    // EXACT (sweep_cull.c), per node: the cone of its normals and the lower
+    // bound of its altitudes over the step; the contour test's scratch.
+    selfcol_cone *cull_cones;
+    double *cull_altitudes;
+    size_t cull_capacity;
+    selfcol_workspace work;
     selfcol_sweep_query_stats stats;
 };
 
@@ -59,6 +68,10 @@ typedef struct selfcol_sweep_query {
     // to the list); `earliest` is the least time found so far.
     int earliest_mode;
     double earliest;
+    // EXACT on a self query: patches proved free of contacts over the step
+    // are skipped (sweep_cull.c).
+    int cull;
+    selfcol_contour_job cull_job;
 } selfcol_sweep_query;
 
 // What a broad phase returns, besides SELFCOL_OK and SELFCOL_ENOMEM, when
@@ -81,5 +94,13 @@ int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_can
 // and node) of each mesh. EXHAUSTIVE writes the candidates sorted by key.
 int selfcol_sweep__exhaustive(selfcol_sweep_query *q);
 int selfcol_sweep__bvh(selfcol_sweep_query *q);
+
+// EXACT (sweep_cull.c): the per-node cones and altitudes over [0, t_box] of
+// a self query's hierarchy (SELFCOL_OK or SELFCOL_ENOMEM), then whether
+// Self(id), or Pair(a, b) of two nodes, provably holds no pair of the
+// contact set over the step (1) or may (0). Counted in the statistics.
+int selfcol_sweep__cull_prepare(selfcol_sweep_query *q);
+int selfcol_sweep__self_free(selfcol_sweep_query *q, uint32_t id);
+int selfcol_sweep__pair_free(selfcol_sweep_query *q, uint32_t a, uint32_t b);
 
 #endif // SELFCOL_SWEEP_INTERNAL_H

@@ -329,6 +329,11 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q) {
     const selfcol_hierarchy *ha = q->hierarchy[0], *hb = q->hierarchy[1];
     if (ha->node_count == 0 || hb->node_count == 0)
         return SELFCOL_OK; // an empty mesh
+    if (q->cull) {
+        const int status = selfcol_sweep__cull_prepare(q);
+        if (status != SELFCOL_OK)
+            return status;
+    }
     // Node pairs (a, b): a of hierarchy 0, b of hierarchy 1. In a self query
     // a == b stands for the node against itself: its children each against
     // themselves and against each other.
@@ -340,6 +345,8 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q) {
         if (q->self && a == b) {
             if (na->flags & SELFCOL_NODE_DUPLICATES)
                 continue; // owns nothing, no contact's triangle (hierarchy.h)
+            if (q->cull && selfcol_sweep__self_free(q, a))
+                continue; // curvature and contour over the step (sweep_cull.c)
             if (na->child_count == 0) {
                 status = leaf_pair(q, tri_read, NULL, a, a);
                 continue;
@@ -354,6 +361,8 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q) {
         if ((na->flags & SELFCOL_NODE_DUPLICATES) || (nb->flags & SELFCOL_NODE_DUPLICATES) ||
             !selfcol_box__near(ba, ba + 3, bb, bb + 3, q->separation))
             continue;
+        if (q->cull && selfcol_sweep__pair_free(q, a, b))
+            continue; // adjacent patches, jointly free over the step
         if (na->child_count == 0 && nb->child_count == 0) {
             status = leaf_pair(q, tri_read, bb, a, b);
             continue;

@@ -288,7 +288,7 @@ static void test_sweep_bvh_equals_exhaustive_on_random_steps(void **state) {
     selfcol_sweep *result;
     assert_int_equal(selfcol_sweep_create(&result, NULL), SELFCOL_OK);
     size_t total_hits = 0;
-    uint64_t max_passes = 0;
+    uint64_t max_passes = 0, total_culled = 0;
     for (unsigned seed = 1; seed <= 4; ++seed) {
         scene from, to;
         crumple_step(&from, &to, 12, seed, 1.5 + 0.5 * seed, 3.0 + seed, 0.4);
@@ -311,12 +311,25 @@ static void test_sweep_bvh_equals_exhaustive_on_random_steps(void **state) {
             assert_int_equal(se.candidates, sb.candidates);
             assert_true(se.free_fraction == sb.free_fraction);
             assert_true(sb.node_pairs > 0);
+            // EXACT skips patches proved free over the step: the same hits
+            // (the skipped pairs never come within the separation), fewer
+            // candidates.
+            size_t nx;
+            const selfcol_sweep_hit *hx =
+                self_sweep(&s, result, SELFCOL_METHOD_EXACT, 0, d[k], &nx);
+            const selfcol_sweep_query_stats sx = stats_of(result);
+            assert_true(hits_equal(copy, ne, hx, nx));
+            assert_true(sx.free_fraction == se.free_fraction);
+            assert_true(sx.candidates <= sb.candidates);
+            total_culled += sx.patches_culled;
             // EARLIEST: a fraction as conservative, near the least toi.
             size_t n1;
             // Both methods (their candidates come in other orders), with
             // the broad phase restarted over [0, t] once a time t is found.
-            for (uint32_t method = 0; method < 2; ++method) {
-                self_sweep(&s, result, method, SELFCOL_SWEEP_EARLIEST, d[k], &n1);
+            const uint32_t methods[3] = {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_METHOD_BVH,
+                                         SELFCOL_METHOD_EXACT};
+            for (int mi = 0; mi < 3; ++mi) {
+                self_sweep(&s, result, methods[mi], SELFCOL_SWEEP_EARLIEST, d[k], &n1);
                 const selfcol_sweep_query_stats st = stats_of(result);
                 assert_int_equal(n1, ne > 0 ? 1 : 0);
                 assert_true(fabs(st.free_fraction - se.free_fraction) <= 1e-3);
@@ -331,6 +344,81 @@ static void test_sweep_bvh_equals_exhaustive_on_random_steps(void **state) {
     }
     assert_true(total_hits > 100); // the steps do collide
     assert_true(max_passes > 1);   // and EARLIEST did restart on them
+    print_message("EXACT culled %llu patches over the steps\n", (unsigned long long)total_culled);
+    selfcol_sweep_destroy(result);
+}
+
+// EXACT on surfaces whose patches stay smooth over the step: a wrinkled sheet
+// that moves and deepens its wrinkles (no contact at all), and a hairpin
+// whose top layer passes through the bottom one. Patches are proved free and
+// skipped (fewer candidates than BVH), and the hits are exactly the
+// reference's.
+static void test_sweep_exact_skips_patches_free_over_the_step(void **state) {
+    (void)state;
+    selfcol_sweep *result;
+    assert_int_equal(selfcol_sweep_create(&result, NULL), SELFCOL_OK);
+    scene from, to;
+    assert_int_equal(scene_wrinkled(&from, 40, 40, 3, 0.5), 0);
+    assert_int_equal(scene_wrinkled(&to, 40, 40, 3, 0.8), 0);
+    const double offset[3] = {0.3, 0.2, 0.5};
+    scene_translate(&to, offset);
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            // The hairpin: top layer from z = 0.5 to z = -0.5 (through the
+            // bottom one at z = 0, fold included).
+            scene_free(&from);
+            scene_free(&to);
+            assert_int_equal(scene_hairpin(&from, 30, 0.5), 0);
+            assert_int_equal(scene_hairpin(&to, 30, 0.5), 0);
+            for (size_t v = 0; v < to.vertex_count; ++v)
+                if (to.positions[3 * v + 2] > 0.0)
+                    to.positions[3 * v + 2] = -to.positions[3 * v + 2];
+        }
+        step s;
+        step_make(&s, to.vertex_count, from.positions, to.positions, to.triangle_count,
+                  to.triangles);
+        const double separation[2] = {0.0, 0.05};
+        for (int k = 0; k < 2; ++k) {
+            size_t ne, nb, nx;
+            const selfcol_sweep_hit *he =
+                self_sweep(&s, result, SELFCOL_METHOD_EXHAUSTIVE, 0, separation[k], &ne);
+            selfcol_sweep_hit *copy = malloc((ne + 1) * sizeof *copy);
+            assert_non_null(copy);
+            if (ne > 0)
+                memcpy(copy, he, ne * sizeof *copy);
+            self_sweep(&s, result, SELFCOL_METHOD_BVH, 0, separation[k], &nb);
+            const selfcol_sweep_query_stats sb = stats_of(result);
+            const selfcol_sweep_hit *hx =
+                self_sweep(&s, result, SELFCOL_METHOD_EXACT, 0, separation[k], &nx);
+            const selfcol_sweep_query_stats sx = stats_of(result);
+            assert_true(hits_equal(copy, ne, hx, nx));
+            assert_int_equal(nb, ne);
+            if (pass == 0)
+                assert_int_equal(ne, 0);
+            else
+                assert_true(ne > 0);
+            assert_true(sx.patches_culled > 0);
+            assert_true(sx.cull_tests >= sx.patches_culled);
+            // The sheet is one smooth patch over the step; the hairpin's
+            // candidates are mostly between its layers, which no patch
+            // proof covers.
+            if (pass == 0)
+                assert_int_equal(sx.candidates, 0);
+            assert_true(sx.candidates < sb.candidates);
+            assert_true(sb.candidates > 1000);
+            // Version 1 of the statistics stops before the culling's counters.
+            selfcol_sweep_query_stats v1;
+            memset(&v1, 0xff, sizeof v1);
+            v1.version = 1;
+            assert_int_equal(selfcol_sweep_stats(result, &v1), SELFCOL_OK);
+            assert_true(v1.candidates == sx.candidates);
+            assert_true(v1.patches_culled == UINT64_MAX);
+            free(copy);
+        }
+        step_free(&s);
+    }
+    scene_free(&from);
+    scene_free(&to);
     selfcol_sweep_destroy(result);
 }
 
@@ -446,7 +534,7 @@ static void test_sweep_rejects_bad_input(void **state) {
         double separation;
         int status;
     } cases[] = {
-        {SELFCOL_METHOD_EXACT, SELFCOL_KIND_VF, 0, 0.0, SELFCOL_EINVAL},
+        {SELFCOL_METHOD_SEED, SELFCOL_KIND_VF, 0, 0.0, SELFCOL_EINVAL},
         {SELFCOL_METHOD_BVH, SELFCOL_KIND_EF, 0, 0.0, SELFCOL_EINVAL},
         {SELFCOL_METHOD_BVH, 0, 0, 0.0, SELFCOL_EINVAL},
         {SELFCOL_METHOD_BVH, SELFCOL_KIND_VF, 2, 0.0, SELFCOL_EINVAL},
@@ -574,6 +662,7 @@ int main(void) {
         cmocka_unit_test(test_sweep_two_meshes_pass_through),
         cmocka_unit_test(test_sweep_separation_and_initial_contacts),
         cmocka_unit_test(test_sweep_bvh_equals_exhaustive_on_random_steps),
+        cmocka_unit_test(test_sweep_exact_skips_patches_free_over_the_step),
         cmocka_unit_test(test_sweep_contains_both_ends_and_finds_pass_throughs),
         cmocka_unit_test(test_sweep_rejects_bad_input),
         cmocka_unit_test(test_sweep_empty_result_and_empty_mesh),

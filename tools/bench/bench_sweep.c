@@ -104,17 +104,24 @@ static void run(const bench_step *b, int reps) {
         fprintf(stderr, "bench-sweep: %s: setup failed\n", b->name);
         exit(1);
     }
-    // Rows: ALL on one thread, ALL on two, EARLIEST (one thread).
-    enum { ROWS = 3 };
-    static const char *const row_name[ROWS] = {"ALL", "ALL, 2 threads", "EARLIEST"};
+    // Rows: ALL and EARLIEST (one thread) with each method, and EXACT's
+    // ALL on two threads. BVH is the box-only search that EXACT refines
+    // with the curvature criterion over the step (sweep_cull.c).
+    enum { ROWS = 5 };
+    static const char *const row_name[ROWS] = {"ALL, BVH", "ALL, EXACT", "ALL, EXACT, 2 threads",
+                                               "EARLIEST, BVH", "EARLIEST, EXACT"};
+    static const uint32_t row_method[ROWS] = {SELFCOL_METHOD_BVH, SELFCOL_METHOD_EXACT,
+                                              SELFCOL_METHOD_EXACT, SELFCOL_METHOD_BVH,
+                                              SELFCOL_METHOD_EXACT};
     double total[ROWS][MAX_REPS], broad[ROWS][MAX_REPS], narrow[ROWS][MAX_REPS];
     selfcol_sweep_query_stats last[ROWS];
     for (int rep = 0; rep < reps; ++rep)
         for (int mode = 0; mode < ROWS; ++mode) {
             selfcol_sweep_options o;
             selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
-            o.mode = mode == 2 ? SELFCOL_SWEEP_EARLIEST : SELFCOL_SWEEP_ALL;
-            o.threads = mode == 1 ? 2 : 1;
+            o.method = row_method[mode];
+            o.mode = mode >= 3 ? SELFCOL_SWEEP_EARLIEST : SELFCOL_SWEEP_ALL;
+            o.threads = mode == 2 ? 2 : 1;
             if (selfcol_hierarchy_self_sweep(h, b->start.positions, r, &o) != SELFCOL_OK) {
                 fprintf(stderr, "bench-sweep: %s: query failed\n", b->name);
                 exit(1);
@@ -131,10 +138,11 @@ static void run(const bench_step *b, int reps) {
         memcpy(sorted, total[mode], (size_t)reps * sizeof *sorted);
         const double med = median(sorted, reps);
         const double hi = sorted[reps - 1];
-        printf("| %s | %zu | %s | %.1f (%.1f-%.1f) | %.1f | %.1f | %llu | %llu | %llu | %llu | "
-               "%.3g |\n",
+        printf("| %s | %zu | %s | %.1f (%.1f-%.1f) | %.1f | %.1f | %llu | %.1f | %llu | %llu | "
+               "%llu | %llu | %.3g |\n",
                b->name, b->end.triangle_count, row_name[mode], med, sorted[0], hi,
                median(broad[mode], reps), median(narrow[mode], reps),
+               (unsigned long long)s->patches_culled, 1e3 * s->cull_seconds,
                (unsigned long long)s->candidates, (unsigned long long)s->separated,
                (unsigned long long)s->narrow_boxes, (unsigned long long)s->hits, s->free_fraction);
     }
@@ -168,9 +176,9 @@ int main(int argc, char **argv) {
         fprintf(stderr, "bench-sweep: --reps must be 1 to %d\n", MAX_REPS);
         return 2;
     }
-    printf("| case | triangles | mode | query ms (min-max) | broad ms | narrow ms | candidates | "
-           "separated | root boxes | hits | free fraction |\n");
-    printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+    printf("| case | triangles | mode | query ms (min-max) | broad ms | narrow ms | patches culled "
+           "| cull ms | candidates | separated | root boxes | hits | free fraction |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int c = 0; c < 5; ++c) {
         bench_step b;
         memset(&b, 0, sizeof b);

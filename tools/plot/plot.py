@@ -472,9 +472,10 @@ def load_sweep(path):
 
 
 def chart_sweep(sweep, path):
-    rows = ["selfcol EARLIEST", "ipc-toolkit stepsize", "selfcol ALL", "selfcol ALL, 2 threads",
+    rows = ["selfcol EARLIEST, EXACT", "selfcol EARLIEST, BVH", "ipc-toolkit stepsize",
+            "selfcol ALL, EXACT", "selfcol ALL, EXACT, 2 threads",
             "ipc-toolkit is_step_collision_free"]
-    colors = ["#1f77b4", "#d62728", "#aec7e8", "#98df8a", "#ff9896"]
+    colors = ["#1f77b4", "#6baed6", "#d62728", "#aec7e8", "#98df8a", "#ff9896"]
     cases = list(sweep)
     fig, ax = plt.subplots(figsize=(10, 4.2))
     width = 0.8 / len(rows)
