@@ -358,8 +358,8 @@ static void test_sweep_exact_skips_patches_free_over_the_step(void **state) {
     selfcol_sweep *result;
     assert_int_equal(selfcol_sweep_create(&result, NULL), SELFCOL_OK);
     scene from, to;
-    assert_int_equal(scene_wrinkled(&from, 40, 40, 3, 0.5), 0);
-    assert_int_equal(scene_wrinkled(&to, 40, 40, 3, 0.8), 0);
+    assert_int_equal(scene_wrinkled(&from, 20, 20, 3, 0.5), 0);
+    assert_int_equal(scene_wrinkled(&to, 20, 20, 3, 0.8), 0);
     const double offset[3] = {0.3, 0.2, 0.5};
     scene_translate(&to, offset);
     for (int pass = 0; pass < 2; ++pass) {
@@ -368,8 +368,8 @@ static void test_sweep_exact_skips_patches_free_over_the_step(void **state) {
             // bottom one at z = 0, fold included).
             scene_free(&from);
             scene_free(&to);
-            assert_int_equal(scene_hairpin(&from, 30, 0.5), 0);
-            assert_int_equal(scene_hairpin(&to, 30, 0.5), 0);
+            assert_int_equal(scene_hairpin(&from, 8, 0.5), 0);
+            assert_int_equal(scene_hairpin(&to, 8, 0.5), 0);
             for (size_t v = 0; v < to.vertex_count; ++v)
                 if (to.positions[3 * v + 2] > 0.0)
                     to.positions[3 * v + 2] = -to.positions[3 * v + 2];
@@ -405,7 +405,7 @@ static void test_sweep_exact_skips_patches_free_over_the_step(void **state) {
             if (pass == 0)
                 assert_int_equal(sx.candidates, 0);
             assert_true(sx.candidates < sb.candidates);
-            assert_true(sb.candidates > 1000);
+            assert_true(sb.candidates > 100);
             // Version 1 of the statistics stops before the culling's counters.
             selfcol_sweep_query_stats v1;
             memset(&v1, 0xff, sizeof v1);
