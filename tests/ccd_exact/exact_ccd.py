@@ -34,6 +34,10 @@ Usage: exact_ccd.py DRIVER [--queries N] [--seed S]. DRIVER is the
 narrow_sweep_driver binary (reads queries, prints the narrow phase's answer
 and toi). Exit 1 on a false negative, or on a toi later than the exact
 earliest contact; prints the counts, false positives included.
+
+exact_ccd.py --check-reference ../shared/data/ccd-sample-queries [--limit N]
+checks the reference itself against that benchmark's exact truth (N queries
+spread over its files; 0: all of them).
 """
 import argparse
 import random
@@ -432,12 +436,50 @@ def random_query(rng):
     return kind, pts0, pts1
 
 
+def check_reference(directory, limit):
+    """The reference itself against the exact truth of the continuous-
+    collision benchmark's sample queries (rational coordinates, 8 rows a
+    query: the 4 points at t = 0, then at t = 1, the truth in the last
+    column): `limit` queries spread over every file."""
+    import glob
+    import os
+    files = sorted(glob.glob(os.path.join(directory, "*", "*", "*.csv")))
+    queries = []
+    for path in files:
+        rows = [line.strip().split(",") for line in open(path) if line.strip()]
+        kind = "vf" if "vertex-face" in path else "ee"
+        for q in range(len(rows) // 8):
+            r = rows[8 * q:8 * q + 8]
+            pts = [tuple(Fraction(int(x[2 * k]), int(x[2 * k + 1])) for k in range(3)) for x in r]
+            queries.append((os.path.relpath(path, directory), kind, pts[:4], pts[4:], int(r[0][6])))
+    step = max(1, len(queries) // limit) if limit else 1
+    chosen = queries[::step]
+    wrong = 0
+    for name, kind, p0, p1, truth in chosen:
+        pts = [tuple(trim((a, b - a)) for a, b in zip(x0, x1)) for x0, x1 in zip(p0, p1)]
+        P, holds = vf_touch(*pts) if kind == "vf" else ee_touch(*pts)
+        got = earliest_contact(P, holds) is not None
+        if got != bool(truth):
+            wrong += 1
+            print("REFERENCE DISAGREES on %s (%s): truth %d" % (name, kind, truth))
+    print("reference: %d of %d sample queries (%d files) agree with the benchmark's truth"
+          % (len(chosen) - wrong, len(chosen), len(files)))
+    return 1 if wrong else 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("driver")
+    ap.add_argument("driver", nargs="?")
     ap.add_argument("--queries", type=int, default=4000)
     ap.add_argument("--seed", type=int, default=2026)
+    ap.add_argument("--check-reference", metavar="DIR",
+                    help="check the reference on the sample queries in DIR instead")
+    ap.add_argument("--limit", type=int, default=300)
     args = ap.parse_args()
+    if args.check_reference:
+        return check_reference(args.check_reference, args.limit)
+    if not args.driver:
+        ap.error("the driver is required")
     rng = random.Random(args.seed)
     queries = [random_query(rng) for _ in range(args.queries)]
     text = "".join(
