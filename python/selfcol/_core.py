@@ -157,7 +157,10 @@ def _as_triangles(F: Any, name: str = "F") -> np.ndarray:
 
 
 def _ptr(ctype: str, a: np.ndarray) -> Any:
-    return ffi.cast(ctype, ffi.from_buffer(a))
+    """A pointer to a's first element; the caller keeps a alive over the call."""
+    if a.flags.c_contiguous:
+        return ffi.cast(ctype, ffi.from_buffer(a))
+    return ffi.cast(ctype, a.__array_interface__["data"][0])  # strided float32 rows
 
 
 # --------------------------------------------------------------------------
@@ -494,9 +497,12 @@ class Hierarchy:
 
     def _distance(self, distance: Optional[float], distance_rel: float,
                   *meshes: Mesh) -> float:
-        if distance is None:
-            return float(distance_rel) * mean_edge_length(*meshes)
-        return float(distance)
+        d = distance if distance is not None else distance_rel
+        try:
+            d = float(d)
+        except (TypeError, ValueError):
+            raise _invalid("distance must be a number, got %r" % (d,)) from None
+        return d * mean_edge_length(*meshes) if distance is None else d
 
     def self_collide(self, distance: Optional[float] = None, distance_rel: float = 0.1,
                      method: Union[str, int] = "exact", kinds: KindsArg = "all",
