@@ -10,6 +10,7 @@ call into C.
 """
 
 import sys
+from typing import Any
 
 import cffi
 
@@ -235,7 +236,7 @@ size_t selfcol_scene_byte_count(const selfcol_scene *scene);
 """
 
 
-def build_ffi():
+def build_ffi() -> Any:
     ffi = cffi.FFI()
     ffi.cdef(CDEF)
     ffi.set_source("selfcol._selfcol_cffi", "#include <selfcol/selfcol.h>\n")

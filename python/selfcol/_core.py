@@ -75,7 +75,7 @@ _ERRORS = {
 
 
 def _status_text(status: int) -> str:
-    return ffi.string(lib.selfcol_status_string(status)).decode()
+    return str(ffi.string(lib.selfcol_status_string(status)).decode())
 
 
 def _check(status: int, what: str) -> None:
@@ -90,7 +90,7 @@ def _invalid(message: str) -> InvalidArgument:
 
 def version() -> str:
     """Version of the linked C library, "MAJOR.MINOR.PATCH"."""
-    return ffi.string(lib.selfcol_version_string()).decode()
+    return str(ffi.string(lib.selfcol_version_string()).decode())
 
 
 # --------------------------------------------------------------------------
@@ -176,7 +176,9 @@ KindsArg = Union[str, int, Iterable[str]]
 
 
 def _kinds_mask(kinds: KindsArg) -> int:
-    if isinstance(kinds, (int, np.integer)) and not isinstance(kinds, bool):
+    if isinstance(kinds, bool):
+        raise _invalid("kinds must be names or a mask, got %r" % (kinds,))
+    if isinstance(kinds, (int, np.integer)):
         return int(kinds)
     if isinstance(kinds, str):
         if kinds.strip().lower() == "all":

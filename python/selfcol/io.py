@@ -25,7 +25,8 @@ def weld(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     key = np.ascontiguousarray(V, dtype=np.float64) + 0.0  # -0.0 + 0.0 == +0.0
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
     rep = first[inverse.reshape(-1)]
-    return rep[F].astype(F.dtype, copy=False)
+    out: np.ndarray = rep[F].astype(F.dtype, copy=False)
+    return out
 
 
 def _fan(polys: List[List[int]]) -> np.ndarray:
@@ -176,7 +177,7 @@ def read_mesh(path: str, weld_vertices: bool = True) -> Tuple[np.ndarray, np.nda
         V, F = read_ply(path)
     else:
         try:
-            import meshio  # type: ignore[import-not-found]
+            import meshio
         except ImportError:
             raise ValueError("%s: only .obj and .ply are read without meshio" % path) from None
         m = meshio.read(path)
