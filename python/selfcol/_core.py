@@ -13,7 +13,7 @@ another thread at the same time.
 from __future__ import annotations
 
 import threading
-from typing import Any, Dict, Iterable, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -180,6 +180,8 @@ def _kinds_mask(kinds: KindsArg) -> int:
         raise _invalid("kinds must be names or a mask, got %r" % (kinds,))
     if isinstance(kinds, (int, np.integer)):
         return int(kinds)
+    if kinds == "all":
+        return int(lib.SELFCOL_KIND_ALL)
     if isinstance(kinds, str):
         if kinds.strip().lower() == "all":
             return int(lib.SELFCOL_KIND_ALL)
@@ -261,13 +263,15 @@ def _copy_records(ptr: Any, count: int, dtype: np.dtype) -> np.ndarray:
     return np.frombuffer(buf, dtype=dtype, count=count).copy()
 
 
+_FIELD_NAMES: Dict[str, Tuple[str, ...]] = {}
+
+
 def _stats_dict(stats: Any, ctype: str) -> Dict[str, Union[int, float]]:
-    out: Dict[str, Union[int, float]] = {}
-    for name, field in ffi.typeof(ctype).fields:
-        if name == "version":
-            continue
-        out[name] = getattr(stats, name)
-    return out
+    names = _FIELD_NAMES.get(ctype)
+    if names is None:
+        names = tuple(n for n, _ in ffi.typeof(ctype).fields if n != "version")
+        _FIELD_NAMES[ctype] = names
+    return {n: getattr(stats, n) for n in names}
 
 
 # --------------------------------------------------------------------------
@@ -386,22 +390,44 @@ class Contacts:
     of a kind in the per-record arrays. ``stats``: the query's counters."""
 
     def __init__(self, handle: Any, meshes: Tuple[Mesh, ...], distance: float) -> None:
+        # The handle is never queried again: its records stay valid, and are
+        # copied into numpy on first use (records, stats: lazily).
         self._h = handle
         self._meshes = meshes
         self.distance_used = distance
-        ptr = ffi.new("selfcol_contact **")
-        cnt = ffi.new("size_t *")
-        _check(lib.selfcol_contacts_data(handle, ptr, cnt), "selfcol_contacts_data")
-        self.records = _copy_records(ptr[0], int(cnt[0]), CONTACT_DTYPE)
-        st = ffi.new("selfcol_query_stats *")
-        st.version = lib.SELFCOL_QUERY_STATS_VERSION
-        _check(lib.selfcol_contacts_stats(handle, st), "selfcol_contacts_stats")
-        self.stats: Dict[str, Union[int, float]] = _stats_dict(st, "selfcol_query_stats")
-        kinds = self.records["kind"]
-        self._bounds = np.searchsorted(kinds, [0, 1, 2, 3]).tolist()
+        self._records: Optional[np.ndarray] = None
+        self._stats: Optional[Dict[str, Union[int, float]]] = None
+        self._bounds_list: Optional[List[int]] = None
+
+    @property
+    def records(self) -> np.ndarray:
+        """All records, a structured array with the fields of selfcol_contact."""
+        if self._records is None:
+            ptr = ffi.new("selfcol_contact **")
+            cnt = ffi.new("size_t *")
+            _check(lib.selfcol_contacts_data(self._h, ptr, cnt), "selfcol_contacts_data")
+            self._records = _copy_records(ptr[0], int(cnt[0]), CONTACT_DTYPE)
+        return self._records
+
+    @property
+    def stats(self) -> Dict[str, Union[int, float]]:
+        """The query's counters and times (selfcol_query_stats)."""
+        if self._stats is None:
+            st = ffi.new("selfcol_query_stats *")
+            st.version = lib.SELFCOL_QUERY_STATS_VERSION
+            _check(lib.selfcol_contacts_stats(self._h, st), "selfcol_contacts_stats")
+            self._stats = _stats_dict(st, "selfcol_query_stats")
+        return self._stats
+
+    @property
+    def _bounds(self) -> List[int]:
+        if self._bounds_list is None:
+            self._bounds_list = [int(x) for x in np.searchsorted(self.records["kind"],
+                                                                   [0, 1, 2, 3])]
+        return self._bounds_list
 
     def __len__(self) -> int:
-        return int(self.records.shape[0])
+        return int(lib.selfcol_contacts_count(self._h))
 
     def slice(self, kind: str) -> slice:
         """The rows of one kind ('vf', 'ee' or 'ef') in the per-record arrays."""
