@@ -69,6 +69,8 @@ size_t selfcol_mesh_count(const selfcol_mesh *mesh, int quantity);
 const double *selfcol_mesh_positions(const selfcol_mesh *mesh);
 const uint32_t *selfcol_mesh_triangles(const selfcol_mesh *mesh);
 const uint32_t *selfcol_mesh_edges(const selfcol_mesh *mesh);
+int selfcol_mesh_edge_triangles(const selfcol_mesh *mesh, uint32_t edge,
+                                const uint32_t **triangles_out, size_t *count_out);
 uint32_t selfcol_mesh_triangle_flags(const selfcol_mesh *mesh, uint32_t triangle);
 uint32_t selfcol_mesh_triangle_component(const selfcol_mesh *mesh, uint32_t triangle);
 double selfcol_mesh_mean_edge_length(const selfcol_mesh *mesh);

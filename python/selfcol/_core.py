@@ -475,21 +475,24 @@ class Contacts:
         edge paired with the crossed one)."""
         if len(self._meshes) != 1:
             raise _invalid("intersecting_triangles: only for a self query")
-        ef = self.ef
-        if ef.shape[0] == 0:
+        r = self.records[self.slice("ef")]
+        if r.shape[0] == 0:
             return np.zeros((0, 2), dtype=np.int64)
-        F = self._meshes[0].triangles.astype(np.int64)
-        edge_tris: Dict[Tuple[int, int], list] = {}
-        for t, (p, q, r) in enumerate(F):
-            for u, v in ((p, q), (q, r), (r, p)):
-                if u != v:
-                    edge_tris.setdefault((min(u, v), max(u, v)), []).append(t)
-        pairs = set()
-        for a0, a1, t in ef:
-            for s in set(edge_tris.get((int(a0), int(a1)), [])):
-                if s != t:
-                    pairs.add((min(s, int(t)), max(s, int(t))))
-        return np.array(sorted(pairs), dtype=np.int64).reshape(-1, 2)
+        mesh = self._meshes[0]
+        ptr = ffi.new("uint32_t **")
+        cnt = ffi.new("size_t *")
+        parts = []
+        for e in np.unique(r["first"]).tolist():
+            _check(lib.selfcol_mesh_edge_triangles(mesh._h, e, ptr, cnt),
+                   "selfcol_mesh_edge_triangles")
+            tris = np.frombuffer(ffi.buffer(ptr[0], int(cnt[0]) * 4), dtype=np.uint32)
+            crossed = r["second"][r["first"] == e]
+            parts.append(np.stack(np.broadcast_arrays(tris[:, None], crossed[None, :]),
+                                  axis=-1).reshape(-1, 2))
+        pairs = np.concatenate(parts).astype(np.int64)
+        pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+        pairs.sort(axis=1)
+        return np.unique(pairs, axis=0).reshape(-1, 2)
 
     def __repr__(self) -> str:
         c = self.counts

@@ -123,8 +123,10 @@ def _worst_regions(sc: Any, mesh: Any, k: int) -> List[Dict[str, Any]]:
     return out
 
 
-def summarize(records: List[Dict[str, Any]], seconds: float, workers: int) -> Dict[str, Any]:
-    """Totals over the frames, the worst frame, and the throughput."""
+def summarize(records: List[Dict[str, Any]], seconds: float, workers: int,
+              startup: float = 0.0) -> Dict[str, Any]:
+    """Totals over the frames, the worst frame, and the throughput (frames per
+    second of the checks, after the cluster's start-up)."""
     ok = [r for r in records if r.get("status") != "error"]
     totals = {k: sum(r["counts"][k] for r in ok)
               for k in ("vf", "ee", "ef", "intersecting_triangles")}
@@ -141,7 +143,8 @@ def summarize(records: List[Dict[str, Any]], seconds: float, workers: int) -> Di
             "file": worst["file"], "index": worst["index"], "counts": worst["counts"]},
         "workers": workers,
         "seconds": seconds,
-        "frames_per_second": (len(records) / seconds) if seconds > 0 else None,
+        "startup_seconds": startup,
+        "frames_per_second": (len(records) / (seconds - startup)) if seconds > startup else None,
     }
 
 
@@ -152,7 +155,7 @@ def _local_results(paths: List[str], indices: List[int], kw: Dict[str, Any]
 
 
 def _dask_results(paths: List[str], indices: List[int], kw: Dict[str, Any], workers: int,
-                  scheduler: Optional[str]) -> Iterator[Dict[str, Any]]:
+                  scheduler: Optional[str], timing: Dict[str, float]) -> Iterator[Dict[str, Any]]:
     from dask.distributed import Client, LocalCluster, as_completed
 
     from selfcol.batch import check_frame as task  # by reference, also under python -m
@@ -164,6 +167,8 @@ def _dask_results(paths: List[str], indices: List[int], kw: Dict[str, Any], work
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                dashboard_address=None)
         client = Client(cluster)
+    client.wait_for_workers(1 if scheduler else workers)
+    timing["ready"] = time.perf_counter()
     try:
         futures = client.map(task, paths, indices, pure=False, **kw)
         for fut in as_completed(futures):
@@ -189,8 +194,10 @@ def run(frames: List[str], out: str, summary: Optional[str] = None, workers: int
         indices = indices[i::n]
         paths = paths[i::n]
     start = time.perf_counter()
+    timing = {"ready": start}
     records: List[Dict[str, Any]] = []
-    results = (_dask_results(paths, indices, kw, workers, scheduler) if use_dask and paths
+    results = (_dask_results(paths, indices, kw, workers, scheduler, timing)
+               if use_dask and paths
                else _local_results(paths, indices, kw))
     with open(out, "w") as fh:
         for rec in results:
@@ -198,7 +205,8 @@ def run(frames: List[str], out: str, summary: Optional[str] = None, workers: int
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
             fh.flush()
         summ = summarize(sorted(records, key=lambda r: r["index"]),
-                         time.perf_counter() - start, workers if use_dask else 1)
+                         time.perf_counter() - start, workers if use_dask else 1,
+                         timing["ready"] - start)
         fh.write(json.dumps(summ, sort_keys=True) + "\n")
     if summary:
         with open(summary, "w") as fh:
@@ -275,9 +283,11 @@ def main(argv: Optional[List[str]] = None) -> int:
     except (OSError, ValueError) as exc:
         print("selfcol.batch: %s" % exc, file=sys.stderr)
         return 2
-    print("selfcol.batch: %d frames, %d clean, %d intersecting, %d errors, %.2f frames/s -> %s"
+    print("selfcol.batch: %d frames, %d clean, %d intersecting, %d errors, %.2f frames/s "
+          "(%.1f s, of which %.1f s start-up) -> %s"
           % (summ["frames"], summ["clean"], summ["intersecting"], summ["errors"],
-             summ["frames_per_second"] or 0.0, args.out))
+             summ["frames_per_second"] or 0.0, summ["seconds"], summ.get("startup_seconds", 0.0),
+             args.out))
     if summ["errors"]:
         return 2
     return 1 if summ["intersecting"] else 0

@@ -96,6 +96,7 @@ def test_real_frames_match_cli(cli, shared_data):
     want = cli(frame)[0]
     assert as_cli(c) == cli_sets(want)
     assert c.counts["ef"] > 0
+    assert c.intersecting_triangles().tolist() == want["intersecting_triangles"]
     # float32 positions (the file's precision) give the same sets
     c32 = selfcol.self_collide(V.astype(np.float32), F)
     assert as_cli(c32) == cli_sets(want)
