@@ -166,3 +166,19 @@ def test_frames_with_handles():
     assert mesh.edges.shape == (mesh.count("edges"), 2)
     assert np.array_equal(mesh.triangles, F)
     assert h.count("nodes") > h.count("leaves") > 0 and h.byte_count > 0
+
+
+def test_read_only_and_reversed_inputs():
+    V, F = folded()
+    ref = selfcol.self_collide(V, F, distance_rel=0.3)
+    Vr, Fr = V.copy(), F.copy()
+    Vr.setflags(write=False)
+    Fr.setflags(write=False)
+    assert np.array_equal(selfcol.self_collide(Vr, Fr, distance_rel=0.3).records, ref.records)
+    # negative strides are converted (once), not misread
+    W = V[::-1].copy()[::-1]
+    assert np.array_equal(selfcol.self_collide(W, F, distance_rel=0.3).records, ref.records)
+    W32 = V.astype(np.float32)[::-1][::-1]
+    c32 = selfcol.self_collide(W32, F, distance_rel=0.3)
+    assert np.array_equal(c32.records, selfcol.self_collide(V.astype(np.float32), F,
+                                                            distance_rel=0.3).records)
