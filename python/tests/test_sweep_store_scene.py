@@ -113,3 +113,32 @@ def test_scene_surfaces_and_colliders():
     assert len({box, hull, cap}) == 3
     scene.remove_surface(c)
     assert scene.update()["surfaces"] == 1
+
+
+def test_sweep_matches_cli_continuous(tmp_path):
+    import os
+    import subprocess
+    from conftest import ROOT, write_obj
+    exe = os.environ.get("SELFCOL_CLI") or os.path.join(ROOT, "build", "tools", "cli",
+                                                         "selfcol-cli")
+    if not os.access(exe, os.X_OK):
+        import pytest
+        pytest.skip("selfcol-cli not built")
+    V, F = grid(6, 6)
+    V0 = np.concatenate([V, V + [0.05, 0.05, 0.2]])
+    V1 = np.concatenate([V, V + [0.05, 0.05, -0.2]])
+    F2 = np.concatenate([F, F + len(V)])
+    write_obj(tmp_path / "s0.obj", V0, F2)
+    write_obj(tmp_path / "s1.obj", V1, F2)
+    for method in ("bvh", "exhaustive"):
+        proc = subprocess.run([exe, "check", "--continuous", "--method", method, "--quiet",
+                               "--frames", str(tmp_path / "s0.obj"), str(tmp_path / "s1.obj"),
+                               "--csv", "-"], stdout=subprocess.PIPE, timeout=300)
+        assert proc.returncode == 1
+        rows = proc.stdout.decode().splitlines()[1:]
+        want = {(r.split(",")[2], int(r.split(",")[3]), int(r.split(",")[4]),
+                 float(r.split(",")[5]), int(r.split(",")[6])) for r in rows}
+        s = selfcol.self_sweep(V0, V1, F2, method=method)
+        got = {(("VF", "EE")[int(h["kind"])], int(h["first"]), int(h["second"]),
+                float(h["toi"]), int(h["flags"])) for h in s.hits}
+        assert got == want and len(got) == len(s) > 0
