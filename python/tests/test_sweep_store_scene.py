@@ -142,3 +142,48 @@ def test_sweep_matches_cli_continuous(tmp_path):
         got = {(("VF", "EE")[int(h["kind"])], int(h["first"]), int(h["second"]),
                 float(h["toi"]), int(h["flags"])) for h in s.hits}
         assert got == want and len(got) == len(s) > 0
+
+
+def test_store_matches_cli_track(tmp_path):
+    import json
+    import os
+    import subprocess
+    import pytest
+    from conftest import ROOT, write_obj
+    exe = os.environ.get("SELFCOL_CLI") or os.path.join(ROOT, "build", "tools", "cli",
+                                                         "selfcol-cli")
+    if not os.access(exe, os.X_OK):
+        pytest.skip("selfcol-cli not built")
+    # two sheets in one mesh; the second sinks through the first in steps
+    # smaller than d, so contacts are seen on both sides (flips)
+    A, FA = grid(10, 10)
+    F = np.concatenate([FA, FA + len(A)])
+    frames = []
+    for i in range(8):
+        z = 0.009 - 0.003 * i
+        W = np.concatenate([A, A + [0.031, 0.043, z]])
+        W[len(A):, 2] += 0.002 * np.sin(7 * W[len(A):, 0])
+        write_obj(tmp_path / ("f%d.obj" % i), W, F)
+        frames.append(W)
+    proc = subprocess.run([exe, "track", "--quiet", "--jsonl", "-", "--frames"]
+                          + [str(tmp_path / ("f%d.obj" % i)) for i in range(8)],
+                          stdout=subprocess.PIPE, timeout=300)
+    want = [json.loads(line) for line in proc.stdout.decode().splitlines() if line.strip()]
+    mesh = selfcol.Mesh(frames[0], F)
+    h = selfcol.Hierarchy(mesh)
+    d = 0.1 * mesh.mean_edge_length()
+    store = selfcol.Store()
+    keys = ("contacts", "regions", "new", "kept", "remnant", "dropped", "flipped", "corrected",
+            "corrected_regions", "interferences", "crossed_regions")
+    rename = {"new": "new_contacts"}
+    seen_flip = False
+    for i, W in enumerate(frames):
+        mesh.set_positions(W)
+        h.refit()
+        c = h.self_collide(d)
+        st = store.update(c)
+        assert want[i]["distance"] == d
+        assert {k: st[rename.get(k, k)] for k in keys} == {k: want[i][k] for k in keys}
+        assert c.counts == want[i]["detected"]
+        seen_flip |= st["flipped"] > 0
+    assert len(want) == 8 and seen_flip
