@@ -12,7 +12,6 @@ another thread at the same time.
 
 from __future__ import annotations
 
-import threading
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -767,7 +766,6 @@ class Store:
     def _meshes_of(self, detected: Contacts) -> Tuple[Any, Any]:
         if not isinstance(detected, Contacts):
             raise _invalid("update needs the Contacts returned by a query")
-        self._meshes = detected._meshes  # the store reads them: keep them alive
         m = detected._meshes
         return m[0]._h, (m[1]._h if len(m) > 1 else ffi.NULL)
 
@@ -777,6 +775,7 @@ class Store:
         first, second = self._meshes_of(detected)
         _check(lib.selfcol_store_update(self._h, first, second, detected._h),
                "selfcol_store_update")
+        self._meshes = detected._meshes  # the store reads them: keep them alive
         return self.stats()
 
     def update_swept(self, detected: Contacts, first_start: Any,
@@ -799,6 +798,7 @@ class Store:
         _check(lib.selfcol_store_update_swept(self._h, first, second, detected._h,
                                               _ptr("double *", S0), S1),
                "selfcol_store_update_swept")
+        self._meshes = detected._meshes
         del keep
         return self.stats()
 
@@ -876,7 +876,7 @@ class Scene:
         _check(lib.selfcol_scene_create(out, opts), "selfcol_scene_create")
         self._h = ffi.gc(out[0], lib.selfcol_scene_destroy)
         self._surfaces: Dict[int, Mesh] = {}
-        self._lock = threading.Lock()
+        self._retired: List[Mesh] = []
 
     def add_surface(self, mesh: Mesh, kind: str = "cloth", self_collision: Optional[bool] = None,
                     orientation: Optional[int] = None) -> int:
@@ -903,7 +903,8 @@ class Scene:
     def remove_surface(self, surface: int) -> None:
         _check(lib.selfcol_scene_remove_surface(self._h, _u32(surface)),
                "selfcol_scene_remove_surface")
-        self._surfaces.pop(int(surface), None)
+        # the header asks the mesh to outlive the scene: keep it until then
+        self._retired.append(self._surfaces.pop(int(surface)))
 
     def rebuild_surface(self, surface: int) -> None:
         _check(lib.selfcol_scene_rebuild_surface(self._h, _u32(surface)),

@@ -124,3 +124,38 @@ def test_gil_released_during_a_query():
     t.join()
     # with the GIL held by the query, the loop would stall for the whole call
     assert ticks > 1000, (ticks, single)
+
+
+def test_store_keeps_the_meshes_it_follows():
+    V, F = folded(12, 4)
+    a = selfcol.Hierarchy(selfcol.Mesh(V, F))
+    s = selfcol.Store()
+    s.update(a.self_collide(distance_rel=0.5))
+    ref = weakref.ref(a.mesh)
+    b = selfcol.Hierarchy(selfcol.Mesh(V + 3, F))
+    with pytest.raises(selfcol.Mismatch):
+        s.update(b.self_collide(distance_rel=0.5))  # refused: the store keeps following a
+    del a, b
+    gc.collect()
+    assert ref() is not None  # still held by the store, which reads it
+    assert len(s.contacts()) > 0
+    s.clear()
+    gc.collect()
+    assert ref() is None
+
+
+def test_scene_keeps_removed_meshes_until_it_goes():
+    V, F = grid(4, 4)
+    scene = selfcol.Scene(distance=0.01)
+    m = selfcol.Mesh(V, F)
+    ref = weakref.ref(m)
+    sid = scene.add_surface(m)
+    scene.update()
+    scene.remove_surface(sid)
+    del m
+    gc.collect()
+    assert ref() is not None
+    scene.update()
+    del scene
+    gc.collect()
+    assert ref() is None
