@@ -7,7 +7,7 @@ BUILD ?= build
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet-extras-dev \
-                libeigen3-dev libcmocka-dev libpng-dev python3
+                libeigen3-dev libcmocka-dev libpng-dev python3 python3-dev python3-venv
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
 .PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep plot fuzz

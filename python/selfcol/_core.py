@@ -1,0 +1,1029 @@
+# SPDX-FileCopyrightText: 2026 selfcol authors
+# SPDX-License-Identifier: MIT
+"""The binding proper: errors, array conversion, the handles and the queries.
+
+Every call into C goes through cffi, which releases the GIL for its
+duration: refits, queries, sweeps and store updates of different Python
+threads run side by side. The handles follow the C API's thread-safety
+rules (include/selfcol/*.h): concurrent queries on one hierarchy are fine;
+a handle being modified (set_positions, refit, update) must not be used by
+another thread at the same time.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from ._selfcol_cffi import ffi, lib
+
+__all__ = [
+    "Error", "InvalidArgument", "OutOfMemory", "VersionError", "RangeError", "Mismatch",
+    "StaleHierarchy", "Mesh", "Hierarchy", "Contacts", "Store", "StoreContacts", "Sweep",
+    "Scene", "self_collide", "collide", "self_sweep", "mean_edge_length", "version",
+]
+
+
+# --------------------------------------------------------------------------
+# Errors
+
+
+class Error(Exception):
+    """A selfcol call failed. ``status`` is the C library's selfcol_status (< 0)."""
+
+    status: int
+
+    def __init__(self, status: int, message: str) -> None:
+        super().__init__(message)
+        self.status = status
+
+
+class InvalidArgument(Error, ValueError):
+    """SELFCOL_EINVAL: an argument or the input data is invalid."""
+
+
+class OutOfMemory(Error, MemoryError):
+    """SELFCOL_ENOMEM: the allocator returned NULL (nothing was changed)."""
+
+
+class VersionError(Error):
+    """SELFCOL_EVERSION: an options version unknown to the linked library."""
+
+
+class RangeError(Error, ValueError):
+    """SELFCOL_ERANGE: a count or coordinate outside what the library represents."""
+
+
+class Mismatch(Error, ValueError):
+    """SELFCOL_EMISMATCH: handles that must belong together do not."""
+
+
+class StaleHierarchy(Error, RuntimeError):
+    """SELFCOL_ESTALE: a hierarchy was not refit after its mesh moved."""
+
+
+_ERRORS = {
+    int(lib.SELFCOL_EINVAL): InvalidArgument,
+    int(lib.SELFCOL_ENOMEM): OutOfMemory,
+    int(lib.SELFCOL_EVERSION): VersionError,
+    int(lib.SELFCOL_ERANGE): RangeError,
+    int(lib.SELFCOL_EMISMATCH): Mismatch,
+    int(lib.SELFCOL_ESTALE): StaleHierarchy,
+}
+
+
+def _status_text(status: int) -> str:
+    return str(ffi.string(lib.selfcol_status_string(status)).decode())
+
+
+def _check(status: int, what: str) -> None:
+    if status != 0:
+        cls = _ERRORS.get(status, Error)
+        raise cls(status, "%s: %s (status %d)" % (what, _status_text(status), status))
+
+
+def _invalid(message: str) -> InvalidArgument:
+    return InvalidArgument(int(lib.SELFCOL_EINVAL), message)
+
+
+def version() -> str:
+    """Version of the linked C library, "MAJOR.MINOR.PATCH"."""
+    return str(ffi.string(lib.selfcol_version_string()).decode())
+
+
+# --------------------------------------------------------------------------
+# Input arrays
+
+_REAL_KINDS = "fiu"
+
+
+def _as_positions(V: Any, name: str = "V") -> np.ndarray:
+    """(n, 3) positions as float64 C-contiguous, or float32 rows of stride >= 12.
+
+    No copy for C-contiguous float64 or float32 input (nor for float32 rows
+    with a row stride, e.g. V[:, :3] of an (n, 4) array); anything else
+    real-valued is converted once to float64."""
+    a = np.asarray(V)
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise _invalid("%s must have shape (n, 3), got %s" % (name, a.shape))
+    if a.dtype.kind not in _REAL_KINDS or a.dtype == np.bool_:
+        raise _invalid("%s must hold real numbers, got dtype %s" % (name, a.dtype))
+    if a.shape[0] == 0:
+        raise _invalid("%s is empty" % name)
+    if a.dtype == np.float64 and a.flags.c_contiguous:
+        return a
+    if (a.dtype == np.float32 and a.strides[1] == 4 and a.strides[0] >= 12
+            and a.strides[0] % 4 == 0):
+        return a
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _as_double_positions(V: Any, n: int, name: str) -> np.ndarray:
+    """(n, 3) float64 C-contiguous (converted once if needed), for the C
+    functions that only take doubles (sweeps' start positions)."""
+    a = _as_positions(V, name)
+    if a.dtype != np.float64 or not a.flags.c_contiguous:
+        a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.shape[0] != n:
+        raise _invalid("%s has %d vertices, the mesh %d" % (name, a.shape[0], n))
+    return a
+
+
+def _as_triangles(F: Any, name: str = "F") -> np.ndarray:
+    """(m, 3) indices as uint32 C-contiguous. int32/uint32 C-contiguous input
+    is passed without a copy (int32 reinterpreted after a sign check); int64
+    and other integer types are converted once (the C API takes uint32)."""
+    a = np.asarray(F)
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise _invalid("%s must have shape (m, 3), got %s" % (name, a.shape))
+    if a.shape[0] == 0:
+        raise _invalid("%s is empty (a mesh needs at least one triangle)" % name)
+    if a.dtype.kind not in "iu" or a.dtype == np.bool_:
+        if a.dtype.kind == "f" and np.all(np.isfinite(a)) and np.all(a == np.floor(a)):
+            a = a.astype(np.int64)
+        else:
+            raise _invalid("%s must hold integer indices, got dtype %s" % (name, a.dtype))
+    if a.dtype.kind == "i" and a.size and int(a.min()) < 0:
+        raise _invalid("%s holds a negative index" % name)
+    if a.dtype == np.uint32 or a.dtype == np.int32:
+        if a.flags.c_contiguous:
+            return a.view(np.uint32)
+        return np.ascontiguousarray(a).view(np.uint32)
+    if a.size and int(a.max()) >= 0xFFFFFFFF:
+        raise RangeError(int(lib.SELFCOL_ERANGE), "%s holds an index >= 2^32 - 1" % name)
+    return np.ascontiguousarray(a, dtype=np.uint32)
+
+
+def _ptr(ctype: str, a: np.ndarray) -> Any:
+    """A pointer to a's first element; the caller keeps a alive over the call."""
+    if a.flags.c_contiguous:
+        return ffi.cast(ctype, ffi.from_buffer(a))
+    return ffi.cast(ctype, a.__array_interface__["data"][0])  # strided float32 rows
+
+
+# --------------------------------------------------------------------------
+# Options
+
+_METHODS = {"exhaustive": 0, "bvh": 1, "seed": 2, "cone": 3, "exact": 4}
+_NARROW = {"closed": 0, "closed_form": 0, "libccd": 1}
+_KINDS = {"vf": int(lib.SELFCOL_KIND_VF), "ee": int(lib.SELFCOL_KIND_EE),
+          "ef": int(lib.SELFCOL_KIND_EF)}
+_KIND_NAMES = ("vf", "ee", "ef")
+
+KindsArg = Union[str, int, Iterable[str]]
+
+
+def _kinds_mask(kinds: KindsArg) -> int:
+    if isinstance(kinds, bool):
+        raise _invalid("kinds must be names or a mask, got %r" % (kinds,))
+    if isinstance(kinds, (int, np.integer)):
+        return int(kinds)
+    if kinds == "all":
+        return int(lib.SELFCOL_KIND_ALL)
+    if isinstance(kinds, str):
+        if kinds.strip().lower() == "all":
+            return int(lib.SELFCOL_KIND_ALL)
+        names: Iterable[str] = [k for k in kinds.replace("|", ",").split(",") if k.strip()]
+    else:
+        names = kinds
+    mask = 0
+    for k in names:
+        key = str(k).strip().lower()
+        if key not in _KINDS:
+            raise _invalid("unknown contact kind %r (vf, ee, ef or all)" % (k,))
+        mask |= _KINDS[key]
+    if mask == 0:
+        raise _invalid("kinds selects no contact kind")
+    return mask
+
+
+def _lookup(table: Dict[str, int], value: Union[str, int], what: str) -> int:
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        return int(value)
+    key = str(value).lower()
+    if key not in table:
+        raise _invalid("unknown %s %r (one of %s)" % (what, value, ", ".join(sorted(table))))
+    return table[key]
+
+
+def _query_options(distance: float, method: Union[str, int], kinds: KindsArg, threads: int,
+                   narrow: Union[str, int]) -> Any:
+    opts = ffi.new("selfcol_query_options *")
+    _check(lib.selfcol_query_options_init(opts, lib.SELFCOL_QUERY_OPTIONS_VERSION),
+           "selfcol_query_options_init")
+    opts.method = _lookup(_METHODS, method, "method")
+    opts.narrow = _lookup(_NARROW, narrow, "narrow phase")
+    opts.kinds = _kinds_mask(kinds) & 0xFFFFFFFF
+    try:
+        opts.distance = float(distance)
+    except (TypeError, ValueError):
+        raise _invalid("distance must be a number, got %r" % (distance,)) from None
+    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
+        raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
+    opts.threads = min(int(threads), 1 << 31)
+    return opts
+
+
+def _struct_dtype(ctype: str, fields: Sequence[Tuple[str, Any, Tuple[int, ...]]]) -> np.dtype:
+    names, formats, offsets = [], [], []
+    for name, fmt, shape in fields:
+        names.append(name)
+        formats.append((fmt, shape) if shape else fmt)
+        offsets.append(ffi.offsetof(ctype, name))
+    return np.dtype({"names": names, "formats": formats, "offsets": offsets,
+                     "itemsize": ffi.sizeof(ctype)})
+
+
+_U, _I, _D = np.uint32, np.int32, np.float64
+_KEY = [("kind", _U, ()), ("first", _U, ()), ("second", _U, ()), ("first_mesh", _U, ()),
+        ("second_mesh", _U, ()), ("a", _U, (2,)), ("b", _U, (3,))]
+CONTACT_DTYPE = _struct_dtype("selfcol_contact", _KEY + [
+    ("distance", _D, ()), ("wa", _D, (2,)), ("wb", _D, (3,)), ("direction", _D, (3,))])
+STORE_CONTACT_DTYPE = _struct_dtype("selfcol_store_contact", _KEY + [
+    ("region", _U, ()), ("age", _U, ()), ("missed", _U, ()), ("flags", _U, ()),
+    ("side", _I, ()), ("right_side", _I, ()), ("distance", _D, ()),
+    ("signed_distance", _D, ()), ("wa", _D, (2,)), ("wb", _D, (3,)), ("direction", _D, (3,))])
+REGION_DTYPE = _struct_dtype("selfcol_store_region", [
+    (n, _U, ()) for n in ("contacts", "interferences", "votes_majority", "votes_minority",
+                          "abstained", "oriented", "flags")])
+SWEEP_HIT_DTYPE = _struct_dtype("selfcol_sweep_hit", _KEY + [
+    ("flags", _U, ()), ("toi", _D, ())])
+COLLIDER_CONTACT_DTYPE = _struct_dtype("selfcol_collider_contact", [
+    ("collider", _U, ()), ("surface", _U, ()), ("triangle", _U, ()), ("flags", _U, ()),
+    ("distance", _D, ()), ("wb", _D, (3,)), ("normal", _D, (3,))])
+
+
+def _copy_records(ptr: Any, count: int, dtype: np.dtype) -> np.ndarray:
+    """One copy of a borrowed C array into a structured numpy array."""
+    if count == 0 or ptr == ffi.NULL:
+        return np.zeros(0, dtype=dtype)
+    buf = ffi.buffer(ptr, count * dtype.itemsize)
+    return np.frombuffer(buf, dtype=dtype, count=count).copy()
+
+
+_FIELD_NAMES: Dict[str, Tuple[str, ...]] = {}
+
+
+def _stats_dict(stats: Any, ctype: str) -> Dict[str, Union[int, float]]:
+    names = _FIELD_NAMES.get(ctype)
+    if names is None:
+        names = tuple(n for n, _ in ffi.typeof(ctype).fields if n != "version")
+        _FIELD_NAMES[ctype] = names
+    return {n: getattr(stats, n) for n in names}
+
+
+# --------------------------------------------------------------------------
+# Mesh
+
+
+class Mesh:
+    """A triangle surface: positions and the topology built once.
+
+    ``V``: (n, 3) positions (float64 or float32; C-contiguous float input is
+    read in place, anything else converted once). ``F``: (m, 3) vertex
+    indices (int32/uint32 read in place, int64 converted once). The C
+    library copies both. Mirrors ``selfcol_mesh_create``."""
+
+    def __init__(self, V: Any, F: Any) -> None:
+        P = _as_positions(V)
+        T = _as_triangles(F)
+        out = ffi.new("selfcol_mesh **")
+        if P.dtype == np.float64:
+            st = lib.selfcol_mesh_create(out, P.shape[0], _ptr("double *", P), T.shape[0],
+                                         _ptr("uint32_t *", T), ffi.NULL)
+        else:
+            st = lib.selfcol_mesh_create_float(out, P.shape[0], _ptr("float *", P), P.strides[0],
+                                               T.shape[0], _ptr("uint32_t *", T), ffi.NULL)
+        _check(st, "selfcol_mesh_create")
+        self._h = ffi.gc(out[0], lib.selfcol_mesh_destroy)
+        self.vertex_count = int(P.shape[0])
+        self.triangle_count = int(T.shape[0])
+
+    def set_positions(self, V: Any) -> None:
+        """Replaces all positions (a new frame); hierarchies then need refit().
+        On error the mesh keeps its previous positions."""
+        P = _as_positions(V)
+        if P.shape[0] != self.vertex_count:
+            raise _invalid("set_positions: %d vertices, the mesh has %d"
+                           % (P.shape[0], self.vertex_count))
+        if P.dtype == np.float64:
+            st = lib.selfcol_mesh_set_positions(self._h, _ptr("double *", P), P.shape[0])
+        else:
+            st = lib.selfcol_mesh_set_positions_float(self._h, _ptr("float *", P), P.strides[0],
+                                                      P.shape[0])
+        _check(st, "selfcol_mesh_set_positions")
+
+    @property
+    def positions(self) -> np.ndarray:
+        """A copy of the current positions, (n, 3) float64."""
+        p = lib.selfcol_mesh_positions(self._h)
+        return np.frombuffer(ffi.buffer(p, self.vertex_count * 24), dtype=np.float64).reshape(
+            -1, 3).copy()
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """A copy of the triangles, (m, 3) uint32."""
+        p = lib.selfcol_mesh_triangles(self._h)
+        return np.frombuffer(ffi.buffer(p, self.triangle_count * 12), dtype=np.uint32).reshape(
+            -1, 3).copy()
+
+    @property
+    def edges(self) -> np.ndarray:
+        """A copy of the unique edges, (e, 2) uint32, sorted, smaller vertex first."""
+        n = self.count("edges")
+        p = lib.selfcol_mesh_edges(self._h)
+        return np.frombuffer(ffi.buffer(p, n * 8), dtype=np.uint32).reshape(-1, 2).copy()
+
+    _QUANTITIES = {"vertices": 0, "triangles": 1, "edges": 2, "boundary_edges": 3,
+                   "nonmanifold_edges": 4, "components": 5, "unreferenced_vertices": 6,
+                   "repeated_index_triangles": 7, "duplicate_triangles": 8,
+                   "zero_area_triangles": 9, "boundary_loops": 10, "misoriented_edges": 11}
+
+    def count(self, quantity: str) -> int:
+        """selfcol_mesh_count: 'vertices', 'triangles', 'edges', 'boundary_edges',
+        'nonmanifold_edges', 'components', 'unreferenced_vertices',
+        'repeated_index_triangles', 'duplicate_triangles', 'zero_area_triangles',
+        'boundary_loops', 'misoriented_edges'."""
+        q = _lookup(self._QUANTITIES, quantity, "mesh quantity")
+        return int(lib.selfcol_mesh_count(self._h, q))
+
+    def mean_edge_length(self) -> float:
+        """Mean length of the unique edges at the current positions."""
+        return float(lib.selfcol_mesh_mean_edge_length(self._h))
+
+    @property
+    def byte_count(self) -> int:
+        return int(lib.selfcol_mesh_byte_count(self._h))
+
+    def __repr__(self) -> str:
+        return "selfcol.Mesh(%d vertices, %d triangles)" % (self.vertex_count,
+                                                            self.triangle_count)
+
+
+def mean_edge_length(*meshes: Mesh) -> float:
+    """Mean edge length over one or more meshes (weighted by their edge counts,
+    as selfcol-cli does for two meshes)."""
+    total, edges = 0.0, 0
+    for m in meshes:
+        e = m.count("edges")
+        total += e * m.mean_edge_length()
+        edges += e
+    return total / edges if edges else 0.0
+
+
+# --------------------------------------------------------------------------
+# Contacts (the result of a discrete query)
+
+
+class Contacts:
+    """The contacts of one discrete query, as numpy arrays (copied once from C).
+
+    Per record (sorted by kind, first_mesh, first, second_mesh, second):
+    ``kind`` (0 VF, 1 EE, 2 EF), ``first``, ``second``, ``first_mesh``,
+    ``second_mesh``, ``a`` (n, 2) and ``b`` (n, 3) vertices, ``distance``,
+    ``wa`` (n, 2), ``wb`` (n, 3) and ``direction`` (n, 3). Per kind:
+    ``vf`` (n, 2) [vertex, triangle], ``ee`` (n, 4) [a0, a1, b0, b1],
+    ``ef`` (n, 3) [a0, a1, triangle] (indices local to each record's mesh;
+    ``first_mesh``/``second_mesh`` tell which). ``slice('ee')`` gives the rows
+    of a kind in the per-record arrays. ``stats``: the query's counters."""
+
+    def __init__(self, handle: Any, meshes: Tuple[Mesh, ...], distance: float) -> None:
+        # The handle is never queried again: its records stay valid, and are
+        # copied into numpy on first use (records, stats: lazily).
+        self._h = handle
+        self._meshes = meshes
+        self.distance_used = distance
+        self._records: Optional[np.ndarray] = None
+        self._stats: Optional[Dict[str, Union[int, float]]] = None
+        self._bounds_list: Optional[List[int]] = None
+
+    @property
+    def records(self) -> np.ndarray:
+        """All records, a structured array with the fields of selfcol_contact."""
+        if self._records is None:
+            ptr = ffi.new("selfcol_contact **")
+            cnt = ffi.new("size_t *")
+            _check(lib.selfcol_contacts_data(self._h, ptr, cnt), "selfcol_contacts_data")
+            self._records = _copy_records(ptr[0], int(cnt[0]), CONTACT_DTYPE)
+        return self._records
+
+    @property
+    def stats(self) -> Dict[str, Union[int, float]]:
+        """The query's counters and times (selfcol_query_stats)."""
+        if self._stats is None:
+            st = ffi.new("selfcol_query_stats *")
+            st.version = lib.SELFCOL_QUERY_STATS_VERSION
+            _check(lib.selfcol_contacts_stats(self._h, st), "selfcol_contacts_stats")
+            self._stats = _stats_dict(st, "selfcol_query_stats")
+        return self._stats
+
+    @property
+    def _bounds(self) -> List[int]:
+        if self._bounds_list is None:
+            self._bounds_list = [int(x) for x in np.searchsorted(self.records["kind"],
+                                                                   [0, 1, 2, 3])]
+        return self._bounds_list
+
+    def __len__(self) -> int:
+        return int(lib.selfcol_contacts_count(self._h))
+
+    def slice(self, kind: str) -> slice:
+        """The rows of one kind ('vf', 'ee' or 'ef') in the per-record arrays."""
+        k = _KIND_NAMES.index(kind.lower())
+        return slice(self._bounds[k], self._bounds[k + 1])
+
+    def _field(self, name: str) -> np.ndarray:
+        return np.ascontiguousarray(self.records[name])
+
+    kind = property(lambda self: self._field("kind"))
+    first = property(lambda self: self._field("first"))
+    second = property(lambda self: self._field("second"))
+    first_mesh = property(lambda self: self._field("first_mesh"))
+    second_mesh = property(lambda self: self._field("second_mesh"))
+    a = property(lambda self: self._field("a"))
+    b = property(lambda self: self._field("b"))
+    distance = property(lambda self: self._field("distance"))
+    wa = property(lambda self: self._field("wa"))
+    wb = property(lambda self: self._field("wb"))
+    direction = property(lambda self: self._field("direction"))
+
+    @property
+    def vf(self) -> np.ndarray:
+        r = self.records[self.slice("vf")]
+        return np.stack([r["first"], r["second"]], axis=1).astype(np.int64).reshape(-1, 2)
+
+    @property
+    def ee(self) -> np.ndarray:
+        r = self.records[self.slice("ee")]
+        return np.concatenate([r["a"], r["b"][:, :2]], axis=1).astype(np.int64).reshape(-1, 4)
+
+    @property
+    def ef(self) -> np.ndarray:
+        r = self.records[self.slice("ef")]
+        return np.concatenate([r["a"], r["second"][:, None]], axis=1).astype(np.int64).reshape(
+            -1, 3)
+
+    @property
+    def counts(self) -> Dict[str, int]:
+        return {k: self._bounds[i + 1] - self._bounds[i] for i, k in enumerate(_KIND_NAMES)}
+
+    def intersecting_triangles(self) -> np.ndarray:
+        """(k, 2) sorted pairs of intersecting triangles derived from EF as
+        selfcol-cli does (self queries only; each triangle on the crossing
+        edge paired with the crossed one)."""
+        if len(self._meshes) != 1:
+            raise _invalid("intersecting_triangles: only for a self query")
+        r = self.records[self.slice("ef")]
+        if r.shape[0] == 0:
+            return np.zeros((0, 2), dtype=np.int64)
+        mesh = self._meshes[0]
+        ptr = ffi.new("uint32_t **")
+        cnt = ffi.new("size_t *")
+        parts = []
+        for e in np.unique(r["first"]).tolist():
+            _check(lib.selfcol_mesh_edge_triangles(mesh._h, e, ptr, cnt),
+                   "selfcol_mesh_edge_triangles")
+            tris = np.frombuffer(ffi.buffer(ptr[0], int(cnt[0]) * 4), dtype=np.uint32)
+            crossed = r["second"][r["first"] == e]
+            parts.append(np.stack(np.broadcast_arrays(tris[:, None], crossed[None, :]),
+                                  axis=-1).reshape(-1, 2))
+        pairs = np.concatenate(parts).astype(np.int64)
+        pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+        pairs.sort(axis=1)
+        return np.unique(pairs, axis=0).reshape(-1, 2)
+
+    def __repr__(self) -> str:
+        c = self.counts
+        return "selfcol.Contacts(vf=%d, ee=%d, ef=%d, distance=%g)" % (
+            c["vf"], c["ee"], c["ef"], self.distance_used)
+
+
+def _new_contacts() -> Any:
+    out = ffi.new("selfcol_contacts **")
+    _check(lib.selfcol_contacts_create(out, ffi.NULL), "selfcol_contacts_create")
+    return ffi.gc(out[0], lib.selfcol_contacts_destroy)
+
+
+# --------------------------------------------------------------------------
+# Hierarchy
+
+
+class Hierarchy:
+    """A collision hierarchy over a mesh (selfcol_hierarchy_create). Keeps its
+    mesh alive. Call refit() after the mesh's positions change."""
+
+    def __init__(self, mesh: Mesh) -> None:
+        if not isinstance(mesh, Mesh):
+            raise _invalid("Hierarchy needs a selfcol.Mesh, got %s" % type(mesh).__name__)
+        out = ffi.new("selfcol_hierarchy **")
+        _check(lib.selfcol_hierarchy_create(out, mesh._h, ffi.NULL), "selfcol_hierarchy_create")
+        self._h = ffi.gc(out[0], lib.selfcol_hierarchy_destroy)
+        self.mesh = mesh
+
+    def refit(self) -> None:
+        """Boxes, masks and cones from the mesh's current positions (GIL released)."""
+        _check(lib.selfcol_hierarchy_refit(self._h), "selfcol_hierarchy_refit")
+
+    def _distance(self, distance: Optional[float], distance_rel: float,
+                  *meshes: Mesh) -> float:
+        d = distance if distance is not None else distance_rel
+        try:
+            d = float(d)
+        except (TypeError, ValueError):
+            raise _invalid("distance must be a number, got %r" % (d,)) from None
+        return d * mean_edge_length(*meshes) if distance is None else d
+
+    def self_collide(self, distance: Optional[float] = None, distance_rel: float = 0.1,
+                     method: Union[str, int] = "exact", kinds: KindsArg = "all",
+                     threads: int = 1, narrow: Union[str, int] = "closed") -> Contacts:
+        """Self-contacts of the mesh at its current positions
+        (selfcol_hierarchy_self_collide). ``distance=None``: distance_rel x the
+        mean edge length."""
+        d = self._distance(distance, distance_rel, self.mesh)
+        opts = _query_options(d, method, kinds, threads, narrow)
+        c = _new_contacts()
+        _check(lib.selfcol_hierarchy_self_collide(self._h, c, opts),
+               "selfcol_hierarchy_self_collide")
+        return Contacts(c, (self.mesh,), d)
+
+    def collide(self, other: "Hierarchy", distance: Optional[float] = None,
+                distance_rel: float = 0.1, method: Union[str, int] = "exact",
+                kinds: KindsArg = "all", threads: int = 1,
+                narrow: Union[str, int] = "closed") -> Contacts:
+        """Contacts between this mesh (mesh 0) and other's (mesh 1), not the
+        self-contacts of either (selfcol_hierarchy_collide)."""
+        if not isinstance(other, Hierarchy):
+            raise _invalid("collide needs another selfcol.Hierarchy")
+        d = self._distance(distance, distance_rel, self.mesh, other.mesh)
+        opts = _query_options(d, method, kinds, threads, narrow)
+        c = _new_contacts()
+        _check(lib.selfcol_hierarchy_collide(self._h, other._h, c, opts),
+               "selfcol_hierarchy_collide")
+        return Contacts(c, (self.mesh, other.mesh), d)
+
+    def self_sweep(self, start: Any, separation: float = 0.0, method: Union[str, int] = "bvh",
+                   kinds: KindsArg = "vf,ee", mode: str = "all", threads: int = 1) -> "Sweep":
+        """Continuous self-query over one step, from ``start`` (t = 0) to the
+        mesh's current positions (t = 1) (selfcol_hierarchy_self_sweep)."""
+        S = _as_double_positions(start, self.mesh.vertex_count, "start")
+        opts = _sweep_options(separation, method, kinds, mode, threads)
+        sw = _new_sweep()
+        _check(lib.selfcol_hierarchy_self_sweep(self._h, _ptr("double *", S), sw, opts),
+               "selfcol_hierarchy_self_sweep")
+        return Sweep(sw)
+
+    def sweep(self, start: Any, other: "Hierarchy", other_start: Any, separation: float = 0.0,
+              method: Union[str, int] = "bvh", kinds: KindsArg = "vf,ee", mode: str = "all",
+              threads: int = 1) -> "Sweep":
+        """Continuous query between this mesh (0) and other's (1) over one step
+        (selfcol_hierarchy_sweep)."""
+        if not isinstance(other, Hierarchy):
+            raise _invalid("sweep needs another selfcol.Hierarchy")
+        S0 = _as_double_positions(start, self.mesh.vertex_count, "start")
+        S1 = _as_double_positions(other_start, other.mesh.vertex_count, "other_start")
+        opts = _sweep_options(separation, method, kinds, mode, threads)
+        sw = _new_sweep()
+        _check(lib.selfcol_hierarchy_sweep(self._h, _ptr("double *", S0), other._h,
+                                           _ptr("double *", S1), sw, opts),
+               "selfcol_hierarchy_sweep")
+        return Sweep(sw)
+
+    def count(self, quantity: str) -> int:
+        """'nodes', 'leaves' or 'depth'."""
+        q = _lookup({"nodes": 0, "leaves": 1, "depth": 2}, quantity, "hierarchy quantity")
+        return int(lib.selfcol_hierarchy_count(self._h, q))
+
+    @property
+    def byte_count(self) -> int:
+        return int(lib.selfcol_hierarchy_byte_count(self._h))
+
+    def __repr__(self) -> str:
+        return "selfcol.Hierarchy(%r, %d nodes)" % (self.mesh, self.count("nodes"))
+
+
+# --------------------------------------------------------------------------
+# Continuous queries
+
+
+_SWEEP_METHODS = {"exhaustive": 0, "bvh": 1}
+_SWEEP_MODES = {"all": 0, "earliest": 1}
+
+
+def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg, mode: str,
+                   threads: int) -> Any:
+    opts = ffi.new("selfcol_sweep_options *")
+    _check(lib.selfcol_sweep_options_init(opts, lib.SELFCOL_SWEEP_OPTIONS_VERSION),
+           "selfcol_sweep_options_init")
+    opts.method = _lookup(_SWEEP_METHODS, method, "sweep method")
+    opts.kinds = _kinds_mask(kinds) & 0xFFFFFFFF
+    opts.mode = _lookup(_SWEEP_MODES, mode, "sweep mode")
+    try:
+        opts.separation = float(separation)
+    except (TypeError, ValueError):
+        raise _invalid("separation must be a number, got %r" % (separation,)) from None
+    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
+        raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
+    opts.threads = min(int(threads), 1 << 31)
+    return opts
+
+
+def _new_sweep() -> Any:
+    out = ffi.new("selfcol_sweep **")
+    _check(lib.selfcol_sweep_create(out, ffi.NULL), "selfcol_sweep_create")
+    return ffi.gc(out[0], lib.selfcol_sweep_destroy)
+
+
+class Sweep:
+    """The result of a continuous query: ``hits`` (structured: kind, first,
+    second, first_mesh, second_mesh, a, b, flags, toi), ``vf`` (n, 2)
+    [vertex, triangle], ``ee`` (n, 4), ``toi``, ``flags``,
+    ``free_fraction`` (the least toi, 1 when nothing collides), ``stats``."""
+
+    INITIAL = 1
+    UNRESOLVED = 2
+
+    def __init__(self, handle: Any) -> None:
+        ptr = ffi.new("selfcol_sweep_hit **")
+        cnt = ffi.new("size_t *")
+        _check(lib.selfcol_sweep_hits(handle, ptr, cnt), "selfcol_sweep_hits")
+        self.hits = _copy_records(ptr[0], int(cnt[0]), SWEEP_HIT_DTYPE)
+        st = ffi.new("selfcol_sweep_query_stats *")
+        st.version = lib.SELFCOL_SWEEP_STATS_VERSION
+        _check(lib.selfcol_sweep_stats(handle, st), "selfcol_sweep_stats")
+        self.stats: Dict[str, Union[int, float]] = _stats_dict(st, "selfcol_sweep_query_stats")
+        self.free_fraction = float(st.free_fraction)
+
+    def __len__(self) -> int:
+        return int(self.hits.shape[0])
+
+    @property
+    def earliest_time(self) -> float:
+        """The least time of impact (= free_fraction)."""
+        return self.free_fraction
+
+    @property
+    def toi(self) -> np.ndarray:
+        return np.ascontiguousarray(self.hits["toi"])
+
+    @property
+    def flags(self) -> np.ndarray:
+        return np.ascontiguousarray(self.hits["flags"])
+
+    @property
+    def vf(self) -> np.ndarray:
+        r = self.hits[self.hits["kind"] == 0]
+        return np.stack([r["first"], r["second"]], axis=1).astype(np.int64).reshape(-1, 2)
+
+    @property
+    def ee(self) -> np.ndarray:
+        r = self.hits[self.hits["kind"] == 1]
+        return np.concatenate([r["a"], r["b"][:, :2]], axis=1).astype(np.int64).reshape(-1, 4)
+
+    def __repr__(self) -> str:
+        return "selfcol.Sweep(%d hits, free_fraction=%g)" % (len(self), self.free_fraction)
+
+
+# --------------------------------------------------------------------------
+# Store
+
+
+class StoreContacts:
+    """Contacts held by a store (structured ``records``: the fields of
+    selfcol_store_contact) and its ``regions`` (selfcol_store_region)."""
+
+    NEW, REMNANT, FLIPPED, CORRECTED, ORIENTED, SETTLED, PASSED_AROUND = (
+        1, 2, 4, 8, 16, 32, 64)
+
+    def __init__(self, records: np.ndarray, regions: np.ndarray) -> None:
+        self.records = records
+        self.regions = regions
+
+    def __len__(self) -> int:
+        return int(self.records.shape[0])
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        recs = self.__dict__.get("records")
+        if recs is not None and name in recs.dtype.names:
+            return np.ascontiguousarray(recs[name])
+        raise AttributeError(name)
+
+
+def _store_read(h: Any) -> StoreContacts:
+    n = int(lib.selfcol_store_contact_count(h))
+    recs = np.zeros(n, dtype=STORE_CONTACT_DTYPE)
+    if n:
+        _check(lib.selfcol_store_copy_contacts(h, 0, n, _ptr("selfcol_store_contact *", recs)),
+               "selfcol_store_copy_contacts")
+    ptr = ffi.new("selfcol_store_region **")
+    cnt = ffi.new("size_t *")
+    _check(lib.selfcol_store_regions(h, ptr, cnt), "selfcol_store_regions")
+    return StoreContacts(recs, _copy_records(ptr[0], int(cnt[0]), REGION_DTYPE))
+
+
+def _store_stats(h: Any) -> Dict[str, Union[int, float]]:
+    st = ffi.new("selfcol_store_update_stats *")
+    st.version = lib.SELFCOL_STORE_UPDATE_STATS_VERSION
+    _check(lib.selfcol_store_stats(h, st), "selfcol_store_stats")
+    return _stats_dict(st, "selfcol_store_update_stats")
+
+
+def _orientation(value: int, what: str) -> int:
+    if value not in (-1, 0, 1):
+        raise _invalid("%s must be -1, 0 or +1, got %r" % (what, value))
+    return int(value)
+
+
+def _store_options(remnance: int, consistency: bool, first_orientation: int,
+                   second_orientation: int, into: Any = None) -> Any:
+    opts = into if into is not None else ffi.new("selfcol_store_options *")
+    _check(lib.selfcol_store_options_init(opts, lib.SELFCOL_STORE_OPTIONS_VERSION),
+           "selfcol_store_options_init")
+    if not isinstance(remnance, (int, np.integer)) or not 0 <= remnance <= 0xFFFFFFFF:
+        raise _invalid("remnance must be an integer in [0, 2^32), got %r" % (remnance,))
+    opts.remnance_frames = int(remnance)
+    opts.consistency = 1 if consistency else 0
+    opts.first_orientation = _orientation(first_orientation, "first_orientation")
+    opts.second_orientation = _orientation(second_orientation, "second_orientation")
+    return opts
+
+
+class Store:
+    """The persistent contact store (selfcol_store): remnance, sides tracked
+    through crossings, regions and their vote. Feed it each frame's query::
+
+        store.update(hierarchy.self_collide())
+    """
+
+    def __init__(self, remnance: int = 4, consistency: bool = True, first_orientation: int = 0,
+                 second_orientation: int = 0) -> None:
+        opts = _store_options(remnance, consistency, first_orientation, second_orientation)
+        out = ffi.new("selfcol_store **")
+        _check(lib.selfcol_store_create(out, opts), "selfcol_store_create")
+        self._h = ffi.gc(out[0], lib.selfcol_store_destroy)
+        self._meshes: Tuple[Mesh, ...] = ()
+
+    def _meshes_of(self, detected: Contacts) -> Tuple[Any, Any]:
+        if not isinstance(detected, Contacts):
+            raise _invalid("update needs the Contacts returned by a query")
+        m = detected._meshes
+        return m[0]._h, (m[1]._h if len(m) > 1 else ffi.NULL)
+
+    def update(self, detected: Contacts) -> Dict[str, Union[int, float]]:
+        """Merges one frame's query result (selfcol_store_update); returns the
+        update's counters."""
+        first, second = self._meshes_of(detected)
+        _check(lib.selfcol_store_update(self._h, first, second, detected._h),
+               "selfcol_store_update")
+        self._meshes = detected._meshes  # the store reads them: keep them alive
+        return self.stats()
+
+    def update_swept(self, detected: Contacts, first_start: Any,
+                     second_start: Any = None) -> Dict[str, Union[int, float]]:
+        """As update(), with the step's start positions: a sign change is a
+        crossing only if the continuous test says the elements may have met
+        (selfcol_store_update_swept)."""
+        first, second = self._meshes_of(detected)
+        m = detected._meshes
+        S0 = _as_double_positions(first_start, m[0].vertex_count, "first_start")
+        S1: Any = ffi.NULL
+        keep = None
+        if len(m) > 1:
+            if second_start is None:
+                raise _invalid("update_swept: a two-mesh result needs second_start")
+            keep = _as_double_positions(second_start, m[1].vertex_count, "second_start")
+            S1 = _ptr("double *", keep)
+        elif second_start is not None:
+            raise _invalid("update_swept: second_start given for a self query")
+        _check(lib.selfcol_store_update_swept(self._h, first, second, detected._h,
+                                              _ptr("double *", S0), S1),
+               "selfcol_store_update_swept")
+        self._meshes = detected._meshes
+        del keep
+        return self.stats()
+
+    def contacts(self) -> StoreContacts:
+        """Copy of the contacts held, with the regions."""
+        return _store_read(self._h)
+
+    def regions(self) -> np.ndarray:
+        """Copy of the regions (structured: contacts, interferences,
+        votes_majority, votes_minority, abstained, oriented, flags)."""
+        return _store_read(self._h).regions
+
+    def stats(self) -> Dict[str, Union[int, float]]:
+        """Counters of the last update."""
+        return _store_stats(self._h)
+
+    def clear(self) -> None:
+        """Forgets every contact, region and mesh."""
+        lib.selfcol_store_clear(self._h)
+        self._meshes = ()
+
+    def __len__(self) -> int:
+        return int(lib.selfcol_store_contact_count(self._h))
+
+    @property
+    def byte_count(self) -> int:
+        return int(lib.selfcol_store_byte_count(self._h))
+
+
+# --------------------------------------------------------------------------
+# Scene
+
+
+_SURFACE_KINDS = {"cloth": 0, "body": 1, "static": 2}
+_SHAPES = {"sphere": 0, "capsule": 1, "box": 2, "convex": 3}
+
+
+class SceneStore:
+    """A scene's store for one pair of surfaces (borrowed; keeps the scene alive)."""
+
+    def __init__(self, scene: "Scene", handle: Any) -> None:
+        self._scene = scene
+        self._h = handle
+
+    def contacts(self) -> StoreContacts:
+        return _store_read(self._h)
+
+    def regions(self) -> np.ndarray:
+        return _store_read(self._h).regions
+
+    def stats(self) -> Dict[str, Union[int, float]]:
+        return _store_stats(self._h)
+
+    def __len__(self) -> int:
+        return int(lib.selfcol_store_contact_count(self._h))
+
+
+class Scene:
+    """Surfaces by kind (cloth, body, static) and convex colliders, with one
+    store per pair of surfaces (selfcol_scene). The scene keeps its meshes
+    alive while they are surfaces of it."""
+
+    def __init__(self, distance: float = 0.0, method: Union[str, int] = "exact",
+                 kinds: KindsArg = "all", threads: int = 1, remnance: int = 4,
+                 consistency: bool = True, collider_tolerance: Optional[float] = None) -> None:
+        opts = ffi.new("selfcol_scene_options *")
+        _check(lib.selfcol_scene_options_init(opts, lib.SELFCOL_SCENE_OPTIONS_VERSION),
+               "selfcol_scene_options_init")
+        q = _query_options(distance, method, kinds, threads, "closed")
+        opts.query = q[0]
+        _store_options(remnance, consistency, 0, 0, into=ffi.addressof(opts, "store"))
+        if collider_tolerance is not None:
+            opts.collider_tolerance = float(collider_tolerance)
+        out = ffi.new("selfcol_scene **")
+        _check(lib.selfcol_scene_create(out, opts), "selfcol_scene_create")
+        self._h = ffi.gc(out[0], lib.selfcol_scene_destroy)
+        self._surfaces: Dict[int, Mesh] = {}
+        self._retired: List[Mesh] = []
+
+    def add_surface(self, mesh: Mesh, kind: str = "cloth", self_collision: Optional[bool] = None,
+                    orientation: Optional[int] = None) -> int:
+        """Adds a surface on ``mesh``; returns its id. ``kind``: 'cloth',
+        'body' or 'static'; defaults of self_collision and orientation are
+        the kind's (selfcol_scene_surface_options_init)."""
+        if not isinstance(mesh, Mesh):
+            raise _invalid("add_surface needs a selfcol.Mesh")
+        k = _lookup(_SURFACE_KINDS, kind, "surface kind")
+        opts = ffi.new("selfcol_scene_surface_options *")
+        _check(lib.selfcol_scene_surface_options_init(
+            opts, k, lib.SELFCOL_SCENE_SURFACE_OPTIONS_VERSION),
+            "selfcol_scene_surface_options_init")
+        if self_collision is not None:
+            opts.self_collision = 1 if self_collision else 0
+        if orientation is not None:
+            opts.orientation = _orientation(orientation, "orientation")
+        out = ffi.new("uint32_t *")
+        _check(lib.selfcol_scene_add_surface(self._h, mesh._h, opts, out),
+               "selfcol_scene_add_surface")
+        self._surfaces[int(out[0])] = mesh
+        return int(out[0])
+
+    def remove_surface(self, surface: int) -> None:
+        _check(lib.selfcol_scene_remove_surface(self._h, _u32(surface)),
+               "selfcol_scene_remove_surface")
+        # the header asks the mesh to outlive the scene: keep it until then
+        self._retired.append(self._surfaces.pop(int(surface)))
+
+    def rebuild_surface(self, surface: int) -> None:
+        _check(lib.selfcol_scene_rebuild_surface(self._h, _u32(surface)),
+               "selfcol_scene_rebuild_surface")
+
+    def add_collider(self, shape: str, radius: float = 0.0, half_height: float = 0.0,
+                     half_extents: Sequence[float] = (0.0, 0.0, 0.0),
+                     points: Any = None) -> int:
+        """Adds a convex collider ('sphere', 'capsule', 'box' or 'convex'); returns its id."""
+        s = _lookup(_SHAPES, shape, "collider shape")
+        desc = ffi.new("selfcol_scene_collider_desc *")
+        _check(lib.selfcol_scene_collider_desc_init(desc, s,
+                                                    lib.SELFCOL_SCENE_COLLIDER_DESC_VERSION),
+               "selfcol_scene_collider_desc_init")
+        desc.radius = float(radius)
+        desc.half_height = float(half_height)
+        he = np.asarray(half_extents, dtype=np.float64).reshape(-1)
+        if he.shape != (3,):
+            raise _invalid("half_extents must have 3 values")
+        for i in range(3):
+            desc.half_extents[i] = float(he[i])
+        keep = None
+        if points is not None:
+            keep = _as_double_positions(points, np.asarray(points).shape[0], "points")
+            desc.points = _ptr("double *", keep)
+            desc.point_count = keep.shape[0]
+        out = ffi.new("uint32_t *")
+        _check(lib.selfcol_scene_add_collider(self._h, desc, out), "selfcol_scene_add_collider")
+        del keep
+        return int(out[0])
+
+    def set_collider_pose(self, collider: int, position: Sequence[float],
+                          rotation: Any = None) -> None:
+        """Places a collider: position (3,), rotation (3, 3) (identity when None)."""
+        p = np.ascontiguousarray(position, dtype=np.float64).reshape(-1)
+        R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
+        if p.shape != (3,) or R.shape != (3, 3):
+            raise _invalid("position must be (3,) and rotation (3, 3)")
+        R = np.ascontiguousarray(R)
+        _check(lib.selfcol_scene_set_collider_pose(self._h, _u32(collider), _ptr("double *", p),
+                                                   _ptr("double *", R)),
+               "selfcol_scene_set_collider_pose")
+
+    def update(self) -> Dict[str, Union[int, float]]:
+        """Refits, queries every pair and the colliders, updates the stores
+        (selfcol_scene_update; GIL released); returns the counters."""
+        _check(lib.selfcol_scene_update(self._h), "selfcol_scene_update")
+        return self.stats()
+
+    def store(self, first: int, second: Optional[int] = None) -> Optional[SceneStore]:
+        """The store of a pair of surfaces (second=None: first with itself);
+        None when the scene never tests that pair."""
+        a = int(first)
+        b = a if second is None else int(second)
+        if a > b:
+            a, b = b, a
+        out = ffi.new("selfcol_store **")
+        _check(lib.selfcol_scene_store(self._h, _u32(a), _u32(b), out), "selfcol_scene_store")
+        if out[0] == ffi.NULL:
+            return None
+        return SceneStore(self, out[0])
+
+    def collider_contacts(self) -> np.ndarray:
+        """The collider contacts of the last update (structured: collider,
+        surface, triangle, flags, distance, wb, normal)."""
+        ptr = ffi.new("selfcol_collider_contact **")
+        cnt = ffi.new("size_t *")
+        _check(lib.selfcol_scene_collider_contacts(self._h, ptr, cnt),
+               "selfcol_scene_collider_contacts")
+        return _copy_records(ptr[0], int(cnt[0]), COLLIDER_CONTACT_DTYPE)
+
+    def stats(self) -> Dict[str, Union[int, float]]:
+        st = ffi.new("selfcol_scene_update_stats *")
+        st.version = lib.SELFCOL_SCENE_UPDATE_STATS_VERSION
+        _check(lib.selfcol_scene_stats(self._h, st), "selfcol_scene_stats")
+        return _stats_dict(st, "selfcol_scene_update_stats")
+
+    @property
+    def byte_count(self) -> int:
+        return int(lib.selfcol_scene_byte_count(self._h))
+
+
+def _u32(value: Any) -> int:
+    if (not isinstance(value, (int, np.integer)) or isinstance(value, bool)
+            or not 0 <= int(value) <= 0xFFFFFFFF):
+        raise _invalid("an id must be an integer in [0, 2^32), got %r" % (value,))
+    return int(value)
+
+
+# --------------------------------------------------------------------------
+# One-call queries
+
+
+def self_collide(V: Any, F: Any, distance: Optional[float] = None, distance_rel: float = 0.1,
+                 method: Union[str, int] = "exact", kinds: KindsArg = "all", threads: int = 1,
+                 narrow: Union[str, int] = "closed") -> Contacts:
+    """Self-contacts of the surface (V, F): VF and EE proximities closer than
+    ``distance`` and EF interferences (docs/contract.md). ``distance=None``:
+    ``distance_rel`` x the mean edge length. Builds a Mesh and a Hierarchy;
+    for frames of one topology, keep them and call set_positions/refit."""
+    return Hierarchy(Mesh(V, F)).self_collide(distance, distance_rel, method, kinds, threads,
+                                              narrow)
+
+
+def collide(V1: Any, F1: Any, V2: Any, F2: Any, distance: Optional[float] = None,
+            distance_rel: float = 0.1, method: Union[str, int] = "exact",
+            kinds: KindsArg = "all", threads: int = 1,
+            narrow: Union[str, int] = "closed") -> Contacts:
+    """Contacts between two surfaces (mesh 0 and mesh 1 in first_mesh and
+    second_mesh), not the self-contacts of either. ``distance=None``:
+    ``distance_rel`` x the mean edge length of both (weighted by edges)."""
+    h1, h2 = Hierarchy(Mesh(V1, F1)), Hierarchy(Mesh(V2, F2))
+    return h1.collide(h2, distance, distance_rel, method, kinds, threads, narrow)
+
+
+def self_sweep(V0: Any, V1: Any, F: Any, separation: float = 0.0,
+               method: Union[str, int] = "bvh", kinds: KindsArg = "vf,ee",
+               mode: str = "all", threads: int = 1) -> Sweep:
+    """Continuous self-query of the surface F moving linearly from V0 (t = 0)
+    to V1 (t = 1): every VF/EE pair coming within ``separation``, with
+    conservative times of impact and the collision-free fraction."""
+    return Hierarchy(Mesh(V1, F)).self_sweep(V0, separation, method, kinds, mode, threads)

@@ -1,0 +1,184 @@
+# SPDX-FileCopyrightText: 2026 selfcol authors
+# SPDX-License-Identifier: MIT
+"""Results of the binding against selfcol-cli (the C API) on the same meshes."""
+
+import os
+
+import numpy as np
+import pytest
+
+import selfcol
+from conftest import ROOT, folded, grid, write_obj
+
+
+def as_cli(c, offsets=(0, 0), toffsets=(0, 0)):
+    """A Contacts in selfcol-cli's JSON shape (sets; a second mesh's indices offset)."""
+    offsets, toffsets = np.asarray(offsets), np.asarray(toffsets)
+    oa = offsets[c.first_mesh][:, None]
+    ob = offsets[c.second_mesh][:, None]
+    ot = toffsets[c.second_mesh]
+    a = np.sort(c.a.astype(np.int64) + oa, axis=1)
+    b = np.sort(c.b[:, :2].astype(np.int64) + ob, axis=1)
+    s = c.second.astype(np.int64) + ot
+    k = c.kind
+    out = {"vf": set(zip(a[k == 0, 0].tolist(), s[k == 0].tolist())),
+           "ef": set(zip(a[k == 2, 0].tolist(), a[k == 2, 1].tolist(), s[k == 2].tolist()))}
+    e1, e2 = a[k == 1], b[k == 1]
+    swap = (e1[:, 0] > e2[:, 0]) | ((e1[:, 0] == e2[:, 0]) & (e1[:, 1] > e2[:, 1]))
+    lo = np.where(swap[:, None], e2, e1)
+    hi = np.where(swap[:, None], e1, e2)
+    out["ee"] = set(map(tuple, np.concatenate([lo, hi], axis=1).tolist()))
+    return out
+
+
+def cli_sets(obj):
+    return {k: {tuple(x) for x in obj[k]} for k in ("vf", "ee", "ef")}
+
+
+def test_version():
+    assert selfcol.version() == selfcol.__version__ == "0.3.0"
+
+
+def test_bundled_ribbon_matches_cli(cli):
+    path = os.path.join(ROOT, "tests", "data", "folded_ribbon.obj")
+    from selfcol.io import read_mesh
+    V, F = read_mesh(path)
+    c = selfcol.self_collide(V, F)
+    want = cli(path)[0]
+    assert c.counts == {"vf": 96, "ee": 280, "ef": 48}
+    assert as_cli(c) == cli_sets(want)
+    assert c.distance_used == pytest.approx(want["distance"], rel=1e-15)
+    assert c.intersecting_triangles().tolist() == want["intersecting_triangles"]
+    assert c.stats["vf_contacts"] == 96 and c.stats["ef_contacts"] == 48
+
+
+@pytest.mark.parametrize("method", ["exact", "bvh", "exhaustive"])
+def test_generated_matches_cli(cli, tmp_path, method):
+    V, F = folded()
+    path = tmp_path / "f.obj"
+    write_obj(path, V, F)
+    c = selfcol.self_collide(V, F, distance_rel=0.5, method=method)
+    want = cli(path, "--distance-rel", 0.5, "--method", method)[0]
+    assert as_cli(c) == cli_sets(want)
+    assert len(c) > 0
+
+
+def test_two_meshes_match_cli(cli, tmp_path):
+    V1, F1 = folded(seed=1)
+    V2, F2 = grid(8, 8, lambda u, v: (u - 0.5, v - 0.2, 0.02 + 0.1 * u))
+    write_obj(tmp_path / "a.obj", V1, F1)
+    write_obj(tmp_path / "b.obj", V2, F2)
+    want = cli_sets(cli(tmp_path / "a.obj", tmp_path / "b.obj")[0])
+    m1, m2 = selfcol.Mesh(V1, F1), selfcol.Mesh(V2, F2)
+    d = 0.1 * selfcol.mean_edge_length(m1, m2)
+    h1, h2 = selfcol.Hierarchy(m1), selfcol.Hierarchy(m2)
+    got = {"vf": set(), "ee": set(), "ef": set()}
+    offs, toffs = (0, len(V1)), (0, len(F1))
+    for part in (as_cli(h1.self_collide(d)), as_cli(h2.self_collide(d), (len(V1),) * 2,
+                                                   (len(F1),) * 2),
+                 as_cli(h1.collide(h2, d), offs, toffs)):
+        for k in got:
+            got[k] |= part[k]
+    assert got == want
+    c = selfcol.collide(V1, F1, V2, F2)
+    assert c.distance_used == pytest.approx(d, rel=1e-15)
+    assert set(np.unique(c.first_mesh)) | set(np.unique(c.second_mesh)) <= {0, 1}
+
+
+def test_real_frames_match_cli(cli, shared_data):
+    frame = os.path.join(shared_data, "sample-scalable-ccd-data", "cloth-ball", "frames",
+                         "cloth_ball92.ply")
+    if not os.path.exists(frame):
+        pytest.skip("no cloth-ball frame")
+    from selfcol.io import read_mesh
+    V, F = read_mesh(frame)
+    c = selfcol.self_collide(V, F)
+    want = cli(frame)[0]
+    assert as_cli(c) == cli_sets(want)
+    assert c.counts["ef"] > 0
+    assert c.intersecting_triangles().tolist() == want["intersecting_triangles"]
+    # float32 positions (the file's precision) give the same sets
+    c32 = selfcol.self_collide(V.astype(np.float32), F)
+    assert as_cli(c32) == cli_sets(want)
+
+
+def test_record_fields_consistent():
+    V, F = folded()
+    c = selfcol.self_collide(V, F, distance_rel=0.5)
+    n = len(c)
+    assert c.kind.shape == (n,) and c.a.shape == (n, 2) and c.b.shape == (n, 3)
+    assert c.wa.shape == (n, 2) and c.wb.shape == (n, 3) and c.direction.shape == (n, 3)
+    vf = c.slice("vf")
+    # closest points: the weights reproduce the distance along the direction
+    pa = (c.wa[vf, :, None] * V[c.a[vf]]).sum(1)
+    pb = (c.wb[vf, :, None] * V[c.b[vf]]).sum(1)
+    np.testing.assert_allclose(np.linalg.norm(pa - pb, axis=1), c.distance[vf], atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(c.direction, axis=1), 1.0, atol=1e-12)
+    assert (c.distance[c.slice("ef")] == 0).all()
+    assert c.vf.shape[1] == 2 and c.ee.shape[1] == 4 and c.ef.shape[1] == 3
+    assert c.vf.shape[0] + c.ee.shape[0] + c.ef.shape[0] == n
+    assert set(c.stats) >= {"candidate_pairs", "total_seconds", "vf_contacts", "sort_seconds"}
+
+
+def test_input_layouts_give_identical_results():
+    V, F = folded()
+    ref = selfcol.self_collide(V, F, distance_rel=0.3)
+    V32 = V.astype(np.float32)
+    variants = [
+        (V, F.astype(np.int64)), (V, F.astype(np.uint32)), (V, F.astype(np.int16)),
+        (np.asfortranarray(V), F), (V.tolist(), F.tolist()),
+    ]
+    for Vx, Fx in variants:
+        c = selfcol.self_collide(Vx, Fx, distance_rel=0.3)
+        assert np.array_equal(c.records, ref.records)
+    # float32 in place, also as the first 3 columns of an (n, 4) array (strided rows)
+    V4 = np.zeros((len(V), 4), dtype=np.float32)
+    V4[:, :3] = V32
+    a = selfcol.self_collide(V32, F, distance_rel=0.3)
+    b = selfcol.self_collide(V4[:, :3], F, distance_rel=0.3)
+    assert np.array_equal(a.records, b.records)
+
+
+def test_kinds_and_threads():
+    V, F = folded()
+    full = selfcol.self_collide(V, F, distance_rel=0.5)
+    for kinds, keep in (("vf", 0), (["ee"], 1), ("ef", 2), (selfcol._core._KINDS["ee"], 1)):
+        c = selfcol.self_collide(V, F, distance_rel=0.5, kinds=kinds)
+        assert np.array_equal(c.records, full.records[full.records["kind"] == keep])
+    t = selfcol.self_collide(V, F, distance_rel=0.5, threads=2)
+    assert np.array_equal(t.records, full.records)
+
+
+def test_frames_with_handles():
+    V, F = folded()
+    mesh = selfcol.Mesh(V, F)
+    h = selfcol.Hierarchy(mesh)
+    d = 0.3 * mesh.mean_edge_length()
+    for s in (1.0, 1.05, 0.97):
+        mesh.set_positions(V * s)
+        h.refit()
+        c = h.self_collide(d, method="bvh")
+        want = selfcol.self_collide(V * s, F, distance=d, method="exhaustive")
+        assert np.array_equal(c.records, want.records)
+    mesh.set_positions((V * 1.01).astype(np.float32))
+    assert np.allclose(mesh.positions, (V * 1.01).astype(np.float32))
+    assert mesh.count("triangles") == len(F) and mesh.count("vertices") == len(V)
+    assert mesh.edges.shape == (mesh.count("edges"), 2)
+    assert np.array_equal(mesh.triangles, F)
+    assert h.count("nodes") > h.count("leaves") > 0 and h.byte_count > 0
+
+
+def test_read_only_and_reversed_inputs():
+    V, F = folded()
+    ref = selfcol.self_collide(V, F, distance_rel=0.3)
+    Vr, Fr = V.copy(), F.copy()
+    Vr.setflags(write=False)
+    Fr.setflags(write=False)
+    assert np.array_equal(selfcol.self_collide(Vr, Fr, distance_rel=0.3).records, ref.records)
+    # negative strides are converted (once), not misread
+    W = V[::-1].copy()[::-1]
+    assert np.array_equal(selfcol.self_collide(W, F, distance_rel=0.3).records, ref.records)
+    W32 = V.astype(np.float32)[::-1][::-1]
+    c32 = selfcol.self_collide(W32, F, distance_rel=0.3)
+    assert np.array_equal(c32.records, selfcol.self_collide(V.astype(np.float32), F,
+                                                            distance_rel=0.3).records)

@@ -1,0 +1,189 @@
+# SPDX-FileCopyrightText: 2026 selfcol authors
+# SPDX-License-Identifier: MIT
+"""Continuous queries, the store across frames, scenes and colliders."""
+
+import numpy as np
+
+import selfcol
+from conftest import folded, grid
+
+
+def sheets():
+    A = grid(10, 10, lambda u, v: (u, v, 0 * u))
+    return A
+
+
+def test_sweep_sheet_through_sheet():
+    V, F = grid(6, 6)
+    Vb = V + [0.05, 0.05, 0.2]
+    m1, m2 = selfcol.Mesh(V, F), selfcol.Mesh(Vb - [0, 0, 0.4], F)
+    h1, h2 = selfcol.Hierarchy(m1), selfcol.Hierarchy(m2)
+    # sheet 2 moves from z = 0.2 to z = -0.2 through sheet 1 (static)
+    sw = h1.sweep(V, h2, Vb)
+    assert len(sw) > 0
+    assert 0.45 < sw.free_fraction <= 0.5 + 1e-9
+    assert sw.earliest_time == sw.free_fraction
+    ex = h1.sweep(V, h2, Vb, method="exhaustive")
+    assert np.array_equal(ex.hits, sw.hits)
+    early = h1.sweep(V, h2, Vb, mode="earliest")
+    assert len(early) <= 1 and early.free_fraction <= sw.free_fraction + 1e-6
+    assert sw.vf.shape[1] == 2 and sw.ee.shape[1] == 4
+    assert set(sw.stats) >= {"free_fraction", "candidates", "hits", "total_seconds"}
+    # a discrete query at both ends sees nothing: the crossing passes unseen
+    assert len(h1.collide(h2, 0.01)) == 0
+
+
+def test_self_sweep_free_step():
+    V, F = folded()
+    s = selfcol.self_sweep(V, V + [0.01, 0, 0], F)  # a rigid translation
+    assert s.free_fraction == 0.0 or s.free_fraction == 1.0
+    V2, F2 = grid(6, 6)
+    s2 = selfcol.self_sweep(V2, V2 * 1.1, F2)
+    assert len(s2) == 0 and s2.free_fraction == 1.0
+    h = selfcol.Hierarchy(selfcol.Mesh(V2 * 1.1, F2))
+    assert np.array_equal(h.self_sweep(V2, method="exhaustive").hits, s2.hits)
+
+
+def test_store_across_frames():
+    V, F = folded()
+    m = selfcol.Mesh(V, F)
+    h = selfcol.Hierarchy(m)
+    d = 0.3 * m.mean_edge_length()
+    s = selfcol.Store(remnance=2)
+    st = s.update(h.self_collide(d))
+    assert st["new_contacts"] == st["contacts"] > 0
+    prev = V
+    for k in range(1, 4):
+        W = V * (1 + 0.01 * k)
+        m.set_positions(W)
+        h.refit()
+        st = s.update_swept(h.self_collide(d), prev)
+        prev = W
+    sc = s.contacts()
+    assert len(sc) == len(s) == st["contacts"] + st["interferences"]
+    assert sc.records["region"].max() < len(sc.regions)
+    assert set(np.unique(sc.side)) <= {-1, 0, 1}
+    assert sc.signed_distance.shape == (len(sc),)
+    assert len(s.regions()) == st["regions"]
+    assert s.byte_count > 0
+    s.clear()
+    assert len(s) == 0
+
+
+def test_store_two_meshes_swept_needs_both_starts():
+    V, F = grid(6, 6)
+    c = selfcol.collide(V, F, V + [0, 0, 0.01], F, distance=0.05)
+    s = selfcol.Store()
+    try:
+        s.update_swept(c, V)
+    except selfcol.InvalidArgument:
+        pass
+    else:
+        raise AssertionError("missing second_start accepted")
+    s.update_swept(c, V, V + [0, 0, 0.01])
+    assert len(s) > 0
+
+
+def test_scene_surfaces_and_colliders():
+    V, F = grid(12, 12, lambda u, v: (u - 0.5, v - 0.5, 0 * u))
+    cloth = selfcol.Mesh(V + [0, 0, 0.3], F)
+    floor = selfcol.Mesh(V * 3, F)
+    scene = selfcol.Scene(distance=0.02)
+    c = scene.add_surface(cloth, "cloth")
+    f = scene.add_surface(floor, "static", orientation=1)
+    ball = scene.add_collider("sphere", radius=0.25)
+    scene.set_collider_pose(ball, (0, 0, 0.05))
+    st = scene.update()
+    assert st["surfaces"] == 2 and st["colliders"] == 1
+    assert st["collider_contacts"] > 0
+    cc = scene.collider_contacts()
+    assert (cc["collider"] == ball).all() and (cc["surface"] == c).all()
+    assert scene.store(c) is not None
+    assert scene.store(f) is None  # a static surface is not tested against itself
+    # drop the cloth to the floor: contacts between them
+    cloth.set_positions(V + [0, 0, 0.01])
+    scene.set_collider_pose(ball, (5, 5, 5), np.eye(3))
+    scene.update()
+    pair = scene.store(f, c)
+    assert pair is not None and len(pair) > 0
+    assert pair.stats()["contacts"] > 0
+    box = scene.add_collider("box", half_extents=(0.1, 0.1, 0.1))
+    hull = scene.add_collider("convex", points=np.random.default_rng(0).normal(size=(10, 3)))
+    cap = scene.add_collider("capsule", radius=0.1, half_height=0.2)
+    assert len({box, hull, cap}) == 3
+    scene.remove_surface(c)
+    assert scene.update()["surfaces"] == 1
+
+
+def test_sweep_matches_cli_continuous(tmp_path):
+    import os
+    import subprocess
+    from conftest import ROOT, write_obj
+    exe = os.environ.get("SELFCOL_CLI") or os.path.join(ROOT, "build", "tools", "cli",
+                                                         "selfcol-cli")
+    if not os.access(exe, os.X_OK):
+        import pytest
+        pytest.skip("selfcol-cli not built")
+    V, F = grid(6, 6)
+    V0 = np.concatenate([V, V + [0.05, 0.05, 0.2]])
+    V1 = np.concatenate([V, V + [0.05, 0.05, -0.2]])
+    F2 = np.concatenate([F, F + len(V)])
+    write_obj(tmp_path / "s0.obj", V0, F2)
+    write_obj(tmp_path / "s1.obj", V1, F2)
+    for method in ("bvh", "exhaustive"):
+        proc = subprocess.run([exe, "check", "--continuous", "--method", method, "--quiet",
+                               "--frames", str(tmp_path / "s0.obj"), str(tmp_path / "s1.obj"),
+                               "--csv", "-"], stdout=subprocess.PIPE, timeout=300)
+        assert proc.returncode == 1
+        rows = proc.stdout.decode().splitlines()[1:]
+        want = {(r.split(",")[2], int(r.split(",")[3]), int(r.split(",")[4]),
+                 float(r.split(",")[5]), int(r.split(",")[6])) for r in rows}
+        s = selfcol.self_sweep(V0, V1, F2, method=method)
+        got = {(("VF", "EE")[int(h["kind"])], int(h["first"]), int(h["second"]),
+                float(h["toi"]), int(h["flags"])) for h in s.hits}
+        assert got == want and len(got) == len(s) > 0
+
+
+def test_store_matches_cli_track(tmp_path):
+    import json
+    import os
+    import subprocess
+    import pytest
+    from conftest import ROOT, write_obj
+    exe = os.environ.get("SELFCOL_CLI") or os.path.join(ROOT, "build", "tools", "cli",
+                                                         "selfcol-cli")
+    if not os.access(exe, os.X_OK):
+        pytest.skip("selfcol-cli not built")
+    # two sheets in one mesh; the second sinks through the first in steps
+    # smaller than d, so contacts are seen on both sides (flips)
+    A, FA = grid(10, 10)
+    F = np.concatenate([FA, FA + len(A)])
+    frames = []
+    for i in range(8):
+        z = 0.009 - 0.003 * i
+        W = np.concatenate([A, A + [0.031, 0.043, z]])
+        W[len(A):, 2] += 0.002 * np.sin(7 * W[len(A):, 0])
+        write_obj(tmp_path / ("f%d.obj" % i), W, F)
+        frames.append(W)
+    proc = subprocess.run([exe, "track", "--quiet", "--jsonl", "-", "--frames"]
+                          + [str(tmp_path / ("f%d.obj" % i)) for i in range(8)],
+                          stdout=subprocess.PIPE, timeout=300)
+    want = [json.loads(line) for line in proc.stdout.decode().splitlines() if line.strip()]
+    mesh = selfcol.Mesh(frames[0], F)
+    h = selfcol.Hierarchy(mesh)
+    d = 0.1 * mesh.mean_edge_length()
+    store = selfcol.Store()
+    keys = ("contacts", "regions", "new", "kept", "remnant", "dropped", "flipped", "corrected",
+            "corrected_regions", "interferences", "crossed_regions")
+    rename = {"new": "new_contacts"}
+    seen_flip = False
+    for i, W in enumerate(frames):
+        mesh.set_positions(W)
+        h.refit()
+        c = h.self_collide(d)
+        st = store.update(c)
+        assert want[i]["distance"] == d
+        assert {k: st[rename.get(k, k)] for k in keys} == {k: want[i][k] for k in keys}
+        assert c.counts == want[i]["detected"]
+        seen_flip |= st["flipped"] > 0
+    assert len(want) == 8 and seen_flip
