@@ -175,6 +175,7 @@ typedef struct selfcol_sweep_query_stats {
     uint64_t ee_candidates; uint64_t separated; uint64_t narrow_boxes; uint64_t hits;
     uint64_t initial; uint64_t unresolved;
     double broad_seconds; double narrow_seconds; double total_seconds;
+    uint64_t patches_culled; uint64_t cull_tests; double cull_seconds;
 } selfcol_sweep_query_stats;
 int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version);
 int selfcol_sweep_create(selfcol_sweep **out, const selfcol_allocator *allocator);

@@ -565,7 +565,10 @@ class Hierarchy:
     def self_sweep(self, start: Any, separation: float = 0.0, method: Union[str, int] = "bvh",
                    kinds: KindsArg = "vf,ee", mode: str = "all", threads: int = 1) -> "Sweep":
         """Continuous self-query over one step, from ``start`` (t = 0) to the
-        mesh's current positions (t = 1) (selfcol_hierarchy_self_sweep)."""
+        mesh's current positions (t = 1) (selfcol_hierarchy_self_sweep).
+        ``method``: "bvh" (default), "exact" (BVH and the curvature criterion
+        over the step: the same true collisions, fewer candidates where
+        patches move smoothly) or "exhaustive" (the reference)."""
         S = _as_double_positions(start, self.mesh.vertex_count, "start")
         opts = _sweep_options(separation, method, kinds, mode, threads)
         sw = _new_sweep()
@@ -606,7 +609,7 @@ class Hierarchy:
 # Continuous queries
 
 
-_SWEEP_METHODS = {"exhaustive": 0, "bvh": 1}
+_SWEEP_METHODS = {"exhaustive": 0, "bvh": 1, "exact": 4}
 _SWEEP_MODES = {"all": 0, "earliest": 1}
 
 

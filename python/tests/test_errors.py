@@ -132,7 +132,7 @@ def test_sweep_errors():
     with pytest.raises(selfcol.InvalidArgument):
         h.self_sweep(V[:-1])
     with pytest.raises(selfcol.InvalidArgument):
-        h.self_sweep(V, method="exact")
+        h.self_sweep(V, method="seed")
     with pytest.raises(selfcol.InvalidArgument):
         h.self_sweep(V, mode="soon")
     with pytest.raises(selfcol.InvalidArgument):

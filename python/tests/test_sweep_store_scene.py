@@ -44,6 +44,21 @@ def test_self_sweep_free_step():
     assert np.array_equal(h.self_sweep(V2, method="exhaustive").hits, s2.hits)
 
 
+def test_self_sweep_exact_method():
+    # EXACT adds the curvature criterion over the step: the same hits as BVH
+    # on two sheets passing through each other, and its counters.
+    V, F = grid(6, 6)
+    V0 = np.concatenate([V, V + [0.05, 0.05, 0.2]])
+    V1 = np.concatenate([V, V + [0.05, 0.05, -0.2]])
+    F2 = np.concatenate([F, F + len(V)])
+    bvh = selfcol.self_sweep(V0, V1, F2, method="bvh")
+    exact = selfcol.self_sweep(V0, V1, F2, method="exact")
+    assert len(bvh) > 0 and np.array_equal(exact.hits, bvh.hits)
+    assert exact.free_fraction == bvh.free_fraction
+    assert exact.stats["patches_culled"] >= 1 and bvh.stats["patches_culled"] == 0
+    assert exact.stats["candidates"] < bvh.stats["candidates"]
+
+
 def test_store_across_frames():
     V, F = folded()
     m = selfcol.Mesh(V, F)
