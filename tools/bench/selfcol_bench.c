@@ -6,7 +6,7 @@
 // of its case alone; tools/bench/run.sh runs the cases of a subset one after
 // the other and collects the CSV rows.
 //
-// For each case: the mesh is generated (tools/scenes/scenes.c) or read
+// For each case: the mesh is generated (tools/meshio/fixtures.c) or read
 // (real frames from the Sample-Scalable-CCD-Data layout), the hierarchy is
 // built once, and for each detection distance d = 0.1 and 0.5 x mean edge
 // every method runs on the same mesh and d: EXHAUSTIVE (small sizes only), BVH,
@@ -35,8 +35,7 @@
 #include <selfcol/selfcol.h>
 
 #include "bench_bullet.h"
-#include "ply.h"
-#include "scenes.h"
+#include "fixtures.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -54,62 +53,62 @@ enum { SMOKE = 1, DEFAULT = 2, FULL = 4, ALL = SMOKE | DEFAULT | FULL, BIG = DEF
 // ---------------------------------------------------------------------------
 // Scenes
 
-typedef int (*generator)(scene *s, const double *p, const char *data_dir, char *note, size_t n);
+typedef int (*generator)(fixture *s, const double *p, const char *data_dir, char *note, size_t n);
 
-static int gen_flat(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_flat(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_grid(s, (unsigned)p[0], (unsigned)p[0], 1.0);
+    return fixture_grid(s, (unsigned)p[0], (unsigned)p[0], 1.0);
 }
-static int gen_wrinkled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_wrinkled(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_wrinkled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], p[2]);
+    return fixture_wrinkled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], p[2]);
 }
-static int gen_crumpled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_crumpled(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0);
+    return fixture_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0);
 }
 // The crumpled sheet as a 1 m cloth (edges of 1 cm), left unscaled: the row
 // that shows Bullet's size dead zone (see the `scale` rule in run_case).
-static int gen_crumpled_1m(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_crumpled_1m(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    if (scene_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0) != 0)
+    if (fixture_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0) != 0)
         return -1;
     for (size_t i = 0; i < 3 * s->vertex_count; ++i)
         s->positions[i] /= p[0];
     return 0;
 }
-static int gen_hairpin(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_hairpin(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_hairpin(s, (unsigned)p[0], p[1]);
+    return fixture_hairpin(s, (unsigned)p[0], p[1]);
 }
-static int gen_zfold(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_zfold(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_zfold(s, (unsigned)p[0], (unsigned)p[1], p[2], (unsigned)p[3], p[4]);
+    return fixture_zfold(s, (unsigned)p[0], (unsigned)p[1], p[2], (unsigned)p[3], p[4]);
 }
-static int gen_ramp(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_ramp(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_ramp(s, (unsigned)p[0], (unsigned)p[1], p[2], p[3], p[4]);
+    return fixture_ramp(s, (unsigned)p[0], (unsigned)p[1], p[2], p[3], p[4]);
 }
-static int gen_rolled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_rolled(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_rolled(s, (unsigned)p[0], p[1], p[2], p[3], p[4]);
+    return fixture_rolled(s, (unsigned)p[0], p[1], p[2], p[3], p[4]);
 }
 // Radius 2^level keeps the edges near unit length at every level.
-static int gen_icosphere(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_icosphere(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_icosphere(s, (unsigned)p[0], ldexp(1.0, (int)p[0]));
+    return fixture_icosphere(s, (unsigned)p[0], ldexp(1.0, (int)p[0]));
 }
-static int gen_uv_sphere(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_uv_sphere(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_uv_sphere(s, (unsigned)p[0], (unsigned)p[1], p[2]);
+    return fixture_uv_sphere(s, (unsigned)p[0], (unsigned)p[1], p[2]);
 }
-static int gen_sheet_pair(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_sheet_pair(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    scene b;
-    if (scene_sheet_pair(s, &b, (unsigned)p[0], (unsigned)p[1], p[2], p[3]) != 0)
+    fixture b;
+    if (fixture_sheet_pair(s, &b, (unsigned)p[0], (unsigned)p[1], p[2], p[3]) != 0)
         return -1;
-    int rc = scene_append(s, &b);
-    scene_free(&b);
+    int rc = fixture_append(s, &b);
+    fixture_free(&b);
     return rc;
 }
 
@@ -119,61 +118,10 @@ static int gen_sheet_pair(scene *s, const double *p, const char *dd, char *note,
 // accepted too). Returns 1 when the file is absent (the case is skipped).
 static const char *frame_scene_names[] = {"cloth-ball", "cloth-funnel", "rod-twist"};
 
-static int read_obj(const char *path, scene *s) {
-    FILE *f = fopen(path, "r");
-    if (f == NULL)
-        return -1;
-    size_t vcap = 1024, tcap = 1024, nv = 0, nt = 0;
-    double *v = malloc(3 * vcap * sizeof *v);
-    uint32_t *t = malloc(3 * tcap * sizeof *t);
-    char line[4096];
-    int rc = (v && t) ? 0 : -1;
-    while (rc == 0 && fgets(line, sizeof line, f)) {
-        if (line[0] == 'v' && line[1] == ' ') {
-            if (nv == vcap && (v = realloc(v, 3 * (vcap *= 2) * sizeof *v)) == NULL)
-                rc = -1;
-            else if (sscanf(line + 2, "%lf %lf %lf", v + 3 * nv, v + 3 * nv + 1, v + 3 * nv + 2) ==
-                     3)
-                nv++;
-        } else if (line[0] == 'f' && line[1] == ' ') {
-            long idx[64];
-            int k = 0;
-            for (char *tok = strtok(line + 2, " \t\r\n"); tok && k < 64;
-                 tok = strtok(NULL, " \t\r\n"))
-                idx[k++] = strtol(tok, NULL, 10);
-            for (int i = 1; rc == 0 && i + 1 < k; ++i) {
-                if (nt == tcap && (t = realloc(t, 3 * (tcap *= 2) * sizeof *t)) == NULL) {
-                    rc = -1;
-                    break;
-                }
-                long c[3] = {idx[0], idx[i], idx[i + 1]};
-                for (int j = 0; j < 3; ++j) {
-                    long q = c[j] < 0 ? (long)nv + c[j] : c[j] - 1;
-                    if (q < 0 || q >= (long)nv)
-                        rc = -1;
-                    t[3 * nt + j] = (uint32_t)q;
-                }
-                nt++;
-            }
-        }
-    }
-    fclose(f);
-    if (rc != 0 || nt == 0) {
-        free(v);
-        free(t);
-        return -1;
-    }
-    s->vertex_count = nv;
-    s->triangle_count = nt;
-    s->positions = v;
-    s->triangles = t;
-    return 0;
-}
-
-static int gen_frame(scene *s, const double *p, const char *data_dir, char *note, size_t n) {
+static int gen_frame(fixture *s, const double *p, const char *data_dir, char *note, size_t n) {
     const char *name = frame_scene_names[(int)p[0]];
     unsigned frame = (unsigned)p[1];
-    char path[4096], err[256];
+    char path[4096], err[640];
     // Frames are named <N>.ply (cloth-funnel) or <scene_with_underscores><N>.ply
     // (cloth-ball: cloth_ball92.ply) in the public dataset; try both.
     char prefix[64];
@@ -189,9 +137,9 @@ static int gen_frame(scene *s, const double *p, const char *data_dir, char *note
         if (f == NULL)
             continue;
         fclose(f);
-        int rc = i % 2 == 0 ? ply_read(path, s, err, sizeof err) : read_obj(path, s);
+        int rc = fixture_read(path, s, err, sizeof err); // PLY or OBJ (tools/meshio)
         if (rc != 0)
-            fprintf(stderr, "selfcol-bench: %s: %s\n", path, i % 2 == 0 ? err : "unreadable OBJ");
+            fprintf(stderr, "selfcol-bench: %s\n", err);
         snprintf(note, n, "frame %s", path);
         return rc;
     }
@@ -645,7 +593,7 @@ static double median_build(const selfcol_mesh *mesh, unsigned reps, selfcol_hier
 static int run_case(const bench_case *bc, unsigned subset, const char *subset_name,
                     const char *data_dir) {
     limits lim = limits_of(subset);
-    scene s;
+    fixture s;
     memset(&s, 0, sizeof s);
     char note[512] = "";
     int g = bc->gen(&s, bc->p, data_dir, note, sizeof note);
@@ -662,7 +610,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     // its hierarchy are made on the earlier frame, as a simulation would, then
     // refit once to this frame; d comes from the earlier frame (a sequence's
     // d is its first frame's, as in selfcol-cli).
-    scene prev;
+    fixture prev;
     memset(&prev, 0, sizeof prev);
     const int refit_case = bc->gen == gen_frame && bc->p[2] > 0;
     if (refit_case) {
@@ -673,8 +621,8 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
             memcmp(prev.triangles, s.triangles, 3 * s.triangle_count * sizeof *s.triangles) != 0) {
             fprintf(stderr, "selfcol-bench: %s skipped (%s: not the same topology or absent)\n",
                     bc->name, prev_note);
-            scene_free(&prev);
-            scene_free(&s);
+            fixture_free(&prev);
+            fixture_free(&s);
             return 0;
         }
     }
@@ -683,8 +631,8 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
                                  s.triangle_count, s.triangles, NULL);
     if (rc != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: %s: mesh: %s\n", bc->name, selfcol_status_string(rc));
-        scene_free(&prev);
-        scene_free(&s);
+        fixture_free(&prev);
+        fixture_free(&s);
         return 1;
     }
     context cx;
@@ -714,8 +662,8 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
         if (rc != SELFCOL_OK) {
             fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
             selfcol_mesh_destroy(mesh);
-            scene_free(&prev);
-            scene_free(&s);
+            fixture_free(&prev);
+            fixture_free(&s);
             return 1;
         }
     }
@@ -727,8 +675,8 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     if (h == NULL || selfcol_contacts_create(&c, NULL) != SELFCOL_OK) {
         selfcol_hierarchy_destroy(h);
         selfcol_mesh_destroy(mesh);
-        scene_free(&prev);
-        scene_free(&s);
+        fixture_free(&prev);
+        fixture_free(&s);
         return 1;
     }
     size_t hier_bytes = selfcol_hierarchy_byte_count(h);
@@ -736,7 +684,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
         fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
         status_of_setup = 1;
     }
-    scene_free(&prev);
+    fixture_free(&prev);
 
     // Refit: positions unchanged, the cost of a frame's refit all the same.
     double refit_t[MAX_REPS];
@@ -870,7 +818,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     selfcol_contacts_destroy(c);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(mesh);
-    scene_free(&s);
+    fixture_free(&s);
     return status;
 }
 
@@ -882,7 +830,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
 // EF contacts are written too (kind 2): the reference runner counts them
 // as misses when it reports no crossings.
 static int dump_case(const bench_case *bc, const char *data_dir, const char *dir) {
-    scene s;
+    fixture s;
     memset(&s, 0, sizeof s);
     char note[512] = "", path[4096];
     int g = bc->gen(&s, bc->p, data_dir, note, sizeof note);
@@ -955,7 +903,7 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
     selfcol_contacts_destroy(c);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(mesh);
-    scene_free(&s);
+    fixture_free(&s);
     return rc == SELFCOL_OK ? 0 : 1;
 }
 
@@ -966,7 +914,7 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
 // settings of the EXACT rows), default store options (remnance 4,
 // consistency on). Two kinds of case:
 //   sequence (p = grid n, seed, frames, step): the crumpled n x n sheet
-//     (scene_crumpled, amplitude 5) with its crumple growing frame to frame:
+//     (fixture_crumpled, amplitude 5) with its crumple growing frame to frame:
 //     frame f = 0 .. frames - 1 has the positions grid + (1 + step f) x
 //     (crumpled - grid), i.e. the crumpled sheet of amplitude 5 (1 + step f),
 //     one topology. Each run updates a fresh store with every frame in order
@@ -1141,7 +1089,7 @@ static void store_options(selfcol_query_options *o, double d) {
 }
 
 static void store_context(context *cx, const store_case *sc, const char *subset_name,
-                          const scene *s, const selfcol_mesh *mesh, double scale) {
+                          const fixture *s, const selfcol_mesh *mesh, double scale) {
     memset(cx, 0, sizeof *cx);
     cx->subset = subset_name;
     cx->case_name = sc->name;
@@ -1167,7 +1115,7 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     const unsigned n = (unsigned)sc->p[0], seed = (unsigned)sc->p[1], frames = (unsigned)sc->p[2];
     const double step = sc->p[3];
     const unsigned runs = lim.store_runs;
-    scene s, g;
+    fixture s, g;
     memset(&s, 0, sizeof s);
     memset(&g, 0, sizeof g);
     selfcol_mesh *mesh = NULL;
@@ -1179,7 +1127,7 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     double *pos = NULL;
     int rc = frames >= 3 && first && steady ? SELFCOL_OK : SELFCOL_ENOMEM;
     if (rc == SELFCOL_OK &&
-        (scene_crumpled(&s, n, n, seed, 5.0) != 0 || scene_grid(&g, n, n, 1.0) != 0))
+        (fixture_crumpled(&s, n, n, seed, 5.0) != 0 || fixture_grid(&g, n, n, 1.0) != 0))
         rc = SELFCOL_ENOMEM;
     if (rc == SELFCOL_OK && (pos = malloc(3 * s.vertex_count * sizeof *pos)) == NULL)
         rc = SELFCOL_ENOMEM;
@@ -1255,8 +1203,8 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     free(pos);
     free(first);
     free(steady);
-    scene_free(&s);
-    scene_free(&g);
+    fixture_free(&s);
+    fixture_free(&g);
     return status;
 }
 
@@ -1264,7 +1212,7 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
                           const char *data_dir) {
     const limits lim = limits_of(subset);
     const unsigned reps = lim.reps;
-    scene a, b;
+    fixture a, b;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
     char note_a[512] = "", note_b[512] = "";
@@ -1277,8 +1225,8 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
         fprintf(stderr,
                 "selfcol-bench: %s skipped (%s%s%s: absent, unreadable or not one topology)\n",
                 sc->name, note_a, note_b[0] ? "; " : "", note_b);
-        scene_free(&a);
-        scene_free(&b);
+        fixture_free(&a);
+        fixture_free(&b);
         return ga < 0 || gb < 0 ? 1 : 0;
     }
     selfcol_mesh *mesh = NULL;
@@ -1399,8 +1347,8 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
     selfcol_contacts_destroy(cb);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(mesh);
-    scene_free(&a);
-    scene_free(&b);
+    fixture_free(&a);
+    fixture_free(&b);
     return status;
 }
 

@@ -87,8 +87,8 @@ typedef struct check_state {
     cli_run_info info;
     cli_progress *progress; /* cleared before each summary line */
     long frames_checked, frames_intersecting, frames_near;
-    cli_array intersecting_frames; /* long: frame numbers with interferences */
-    int found;                     /* exit status 1 */
+    meshio_array intersecting_frames; /* long: frame numbers with interferences */
+    int found;                        /* exit status 1 */
     /* --continuous */
     selfcol_sweep *sweep;
     double *previous; /* the positions of the frame before the current one */
@@ -108,7 +108,7 @@ static void print_summary_header(check_state *st, cli_part *const *parts, int co
         const cli_part *p = parts[i];
         fprintf(s, "  %s%s %s: %zu vertices (%zu welded), %zu triangles, %zu edges\n",
                 count > 1 ? (i == 0 ? "mesh 1, " : "mesh 2, ") : "",
-                cli_format_name(p->file.format), p->file.format_detail, p->file.vertex_count,
+                meshio_format_name(p->file.format), p->file.format_detail, p->file.vertex_count,
                 p->merged_vertices, p->file.triangle_count,
                 selfcol_mesh_count(p->mesh, SELFCOL_MESH_EDGES));
     }
@@ -162,7 +162,7 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
     int intersects = st->sets.ef.count > 0;
     st->frames_checked++;
     st->frames_intersecting += intersects;
-    if (intersects && cli_array_reserve(&st->intersecting_frames, 1) == 0)
+    if (intersects && meshio_array_reserve(&st->intersecting_frames, 1) == 0)
         ((long *)st->intersecting_frames.data)[st->intersecting_frames.count++] = frame;
     st->frames_near += proximities > 0;
     if (intersects || (o->fail_on_proximity && proximities > 0))
@@ -267,7 +267,7 @@ void cli_print_weld_warning(FILE *out, size_t split_frames) {
                 split_frames);
 }
 
-void cli_print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
+void cli_print_frame_list(FILE *out, const meshio_array *frames, const long *sequence,
                           long sequence_count) {
     const long *f = frames->data;
     if (frames->count == 0)
@@ -305,7 +305,7 @@ static double combined_mean_edge(cli_part *const *parts, int count) {
 // Positions of a later frame: same vertex count and triangles as frame 0.
 int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress,
                         size_t *split_groups, cli_error *err) {
-    cli_mesh next;
+    meshio_mesh next;
     if (cli_read_mesh(path, &next, err, progress) != 0)
         return -1;
     int status = 0;
@@ -335,7 +335,7 @@ int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress
             }
         }
     }
-    cli_mesh_free(&next);
+    meshio_mesh_free(&next);
     return status;
 }
 

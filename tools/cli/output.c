@@ -3,8 +3,9 @@
 
 // From library contacts to the output contract: index arrays in file
 // indices (sorted, the second mesh's indices after the first's), the
-// intersecting triangle pairs derived from the EF interferences, and the JSON,
-// CSV and coloured-PLY writers, and opening and closing the commands' output files.
+// intersecting triangle pairs derived from the EF interferences, the JSON and
+// CSV writers, the colours of --mark's PLY (written by selfcol_meshio), and
+// opening and closing the commands' output files.
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
@@ -33,9 +34,9 @@ void cli_sets_free(cli_sets *sets) {
     memset(sets, 0, sizeof *sets);
 }
 
-static int push(cli_array *array, uint32_t k0, uint32_t k1, uint32_t k2, uint32_t k3,
+static int push(meshio_array *array, uint32_t k0, uint32_t k1, uint32_t k2, uint32_t k3,
                 double distance) {
-    if (cli_array_reserve(array, 1))
+    if (meshio_array_reserve(array, 1))
         return -1;
     cli_item *item = (cli_item *)array->data + array->count++;
     item->k[0] = k0;
@@ -154,7 +155,7 @@ static int item_compare(const void *a, const void *b) {
     return 0;
 }
 
-static void sort_items(cli_array *array) {
+static void sort_items(meshio_array *array) {
     if (array->count > 1)
         qsort(array->data, array->count, sizeof(cli_item), item_compare);
 }
@@ -187,7 +188,7 @@ void cli_json_string(FILE *out, const char *s) {
     fputc('"', out);
 }
 
-static void json_array(FILE *out, const char *key, const cli_array *array, int width) {
+static void json_array(FILE *out, const char *key, const meshio_array *array, int width) {
     fprintf(out, ",\"%s\":[", key);
     const cli_item *items = array->data;
     for (size_t i = 0; i < array->count; ++i) {
@@ -245,7 +246,7 @@ void cli_write_csv_header(FILE *out) {
     fputs("frame,kind,i0,i1,i2,i3,distance\n", out);
 }
 
-static void csv_rows(FILE *out, long frame, const char *kind, const cli_array *array, int width,
+static void csv_rows(FILE *out, long frame, const char *kind, const meshio_array *array, int width,
                      int with_distance) {
     const cli_item *items = array->data;
     for (size_t i = 0; i < array->count; ++i) {
@@ -282,39 +283,32 @@ int cli_write_marked_ply(const char *path, const double *positions, size_t verte
     // Vertex colours too: Blender's importer reads only those; a vertex takes
     // the most severe class of its triangles.
     unsigned char *vertex_class = calloc(vertex_count + 1, 1);
-    if (vertex_class == NULL)
+    unsigned char *vertex_rgb = malloc(3 * vertex_count + 1);
+    unsigned char *triangle_rgb = malloc(3 * triangle_count + 1);
+    if (vertex_class == NULL || vertex_rgb == NULL || triangle_rgb == NULL) {
+        free(vertex_class);
+        free(vertex_rgb);
+        free(triangle_rgb);
         return cli_fail(err, "%s: out of memory", path);
-    for (size_t t = 0; t < triangle_count; ++t)
+    }
+    for (size_t t = 0; t < triangle_count; ++t) {
         for (int k = 0; k < 3; ++k)
             if (vertex_class[triangles[3 * t + k]] < classes[t])
                 vertex_class[triangles[3 * t + k]] = classes[t];
-    FILE *f = fopen(path, "w");
-    if (f == NULL) {
-        free(vertex_class);
-        return cli_fail(err, "%s: cannot write: %s", path, strerror(errno));
+        memcpy(triangle_rgb + 3 * t, class_colours[classes[t]], 3);
     }
-    fprintf(f,
-            "ply\nformat ascii 1.0\ncomment selfcol-cli %s: red faces intersect, orange faces "
-            "are within the detection distance\nelement vertex %zu\nproperty double x\n"
-            "property double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
-            "property uchar blue\nelement face %zu\nproperty list uchar uint vertex_indices\n"
-            "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n",
-            selfcol_version_string(), vertex_count, triangle_count);
-    for (size_t v = 0; v < vertex_count; ++v) {
-        const unsigned char *c = class_colours[vertex_class[v]];
-        fprintf(f, "%.17g %.17g %.17g %u %u %u\n", positions[3 * v], positions[3 * v + 1],
-                positions[3 * v + 2], c[0], c[1], c[2]);
-    }
-    for (size_t t = 0; t < triangle_count; ++t) {
-        const unsigned char *c = class_colours[classes[t]];
-        fprintf(f, "3 %u %u %u %u %u %u\n", (unsigned)triangles[3 * t],
-                (unsigned)triangles[3 * t + 1], (unsigned)triangles[3 * t + 2], c[0], c[1], c[2]);
-    }
+    for (size_t v = 0; v < vertex_count; ++v)
+        memcpy(vertex_rgb + 3 * v, class_colours[vertex_class[v]], 3);
+    char comment[160];
+    snprintf(comment, sizeof comment,
+             "selfcol-cli %s: red faces intersect, orange faces are within the detection distance",
+             selfcol_version_string());
+    int status = meshio_write_coloured_ply(path, positions, vertex_count, vertex_rgb, triangles,
+                                           triangle_count, triangle_rgb, comment, err);
     free(vertex_class);
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-        return cli_fail(err, "%s: write error", path);
-    return 0;
+    free(vertex_rgb);
+    free(triangle_rgb);
+    return status;
 }
 
 // ---------------------------------------------------------------------------

@@ -9,9 +9,10 @@
 // against the buffer, and element counts are checked against the file size
 // before anything is allocated, so a hostile header cannot exhaust memory.
 #define _POSIX_C_SOURCE 200809L
-#include "cli.h"
+#include "internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -70,7 +71,7 @@ typedef struct ply_reader {
     const unsigned char *p, *end; /* body cursor */
     long line;                    /* ASCII body: current line */
     ply_encoding encoding;
-    cli_error *err;
+    meshio_error *err;
 } ply_reader;
 
 // Header: one keyword line at a time. Splits the line into at most 6 words.
@@ -103,17 +104,17 @@ static ply_type parse_type(const char *word) {
 // Parses the header; on success *body is the first byte after "end_header\n".
 static int parse_header(const char *name, const unsigned char *data, size_t size,
                         ply_element *elements, int *element_count, ply_encoding *encoding,
-                        size_t *body, long *body_line, cli_error *err) {
+                        size_t *body, long *body_line, meshio_error *err) {
     size_t pos = 0;
     long line = 0;
     int have_format = 0;
     *element_count = 0;
     for (;;) {
         if (pos >= size)
-            return cli_fail(err, "%s: PLY header has no 'end_header'", name);
+            return meshio_fail(err, "%s: PLY header has no 'end_header'", name);
         const unsigned char *nl = memchr(data + pos, '\n', size - pos);
         if (nl == NULL)
-            return cli_fail(err, "%s: PLY header has no 'end_header'", name);
+            return meshio_fail(err, "%s: PLY header has no 'end_header'", name);
         const char *text = (const char *)data + pos;
         size_t length = (size_t)(nl - (data + pos));
         pos += length + 1;
@@ -122,14 +123,14 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
         int n = split_words(text, length, words);
         if (line == 1) {
             if (n != 1 || strcmp(words[0], "ply") != 0)
-                return cli_fail(err, "%s:1: not a PLY file (expected 'ply')", name);
+                return meshio_fail(err, "%s:1: not a PLY file (expected 'ply')", name);
             continue;
         }
         if (n == 0 || strcmp(words[0], "comment") == 0 || strcmp(words[0], "obj_info") == 0)
             continue;
         if (strcmp(words[0], "format") == 0) {
             if (n < 3 || strcmp(words[2], "1.0") != 0)
-                return cli_fail(err, "%s:%ld: expected 'format <encoding> 1.0'", name, line);
+                return meshio_fail(err, "%s:%ld: expected 'format <encoding> 1.0'", name, line);
             if (strcmp(words[1], "ascii") == 0)
                 *encoding = PLY_ASCII;
             else if (strcmp(words[1], "binary_little_endian") == 0)
@@ -137,27 +138,28 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
             else if (strcmp(words[1], "binary_big_endian") == 0)
                 *encoding = PLY_BINARY_BE;
             else
-                return cli_fail(err, "%s:%ld: unknown PLY format '%s'", name, line, words[1]);
+                return meshio_fail(err, "%s:%ld: unknown PLY format '%s'", name, line, words[1]);
             have_format = 1;
         } else if (strcmp(words[0], "element") == 0) {
             if (n != 3)
-                return cli_fail(err, "%s:%ld: expected 'element <name> <count>'", name, line);
+                return meshio_fail(err, "%s:%ld: expected 'element <name> <count>'", name, line);
             if (*element_count == MAX_ELEMENTS)
-                return cli_fail(err, "%s:%ld: more than %d elements", name, line, MAX_ELEMENTS);
+                return meshio_fail(err, "%s:%ld: more than %d elements", name, line, MAX_ELEMENTS);
             char *tail;
             unsigned long long count = strtoull(words[2], &tail, 10);
             if (*tail != '\0' || words[2][0] == '-' || tail == words[2])
-                return cli_fail(err, "%s:%ld: bad element count '%s'", name, line, words[2]);
+                return meshio_fail(err, "%s:%ld: bad element count '%s'", name, line, words[2]);
             ply_element *e = &elements[(*element_count)++];
             memset(e, 0, sizeof *e);
             memcpy(e->name, words[1], sizeof e->name);
             e->count = count;
         } else if (strcmp(words[0], "property") == 0) {
             if (*element_count == 0)
-                return cli_fail(err, "%s:%ld: 'property' before any 'element'", name, line);
+                return meshio_fail(err, "%s:%ld: 'property' before any 'element'", name, line);
             ply_element *e = &elements[*element_count - 1];
             if (e->property_count == MAX_PROPERTIES)
-                return cli_fail(err, "%s:%ld: more than %d properties", name, line, MAX_PROPERTIES);
+                return meshio_fail(err, "%s:%ld: more than %d properties", name, line,
+                                   MAX_PROPERTIES);
             ply_property *prop = &e->properties[e->property_count++];
             const char *prop_name;
             if (n == 5 && strcmp(words[1], "list") == 0) {
@@ -166,15 +168,15 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
                 prop_name = words[4];
                 if (prop->count_type == PLY_NONE || prop->type == PLY_NONE ||
                     !type_is_integer(prop->count_type))
-                    return cli_fail(err, "%s:%ld: bad list property types", name, line);
+                    return meshio_fail(err, "%s:%ld: bad list property types", name, line);
             } else if (n == 3) {
                 prop->type = parse_type(words[1]);
                 prop_name = words[2];
                 if (prop->type == PLY_NONE)
-                    return cli_fail(err, "%s:%ld: unknown property type '%s'", name, line,
-                                    words[1]);
+                    return meshio_fail(err, "%s:%ld: unknown property type '%s'", name, line,
+                                       words[1]);
             } else {
-                return cli_fail(err, "%s:%ld: expected 'property <type> <name>'", name, line);
+                return meshio_fail(err, "%s:%ld: expected 'property <type> <name>'", name, line);
             }
             int is_list = prop->count_type != PLY_NONE;
             if (strcmp(e->name, "vertex") == 0 && !is_list) {
@@ -188,18 +190,18 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
                        (strcmp(prop_name, "vertex_indices") == 0 ||
                         strcmp(prop_name, "vertex_index") == 0)) {
                 if (!type_is_integer(prop->type))
-                    return cli_fail(err, "%s:%ld: face indices must have an integer type", name,
-                                    line);
+                    return meshio_fail(err, "%s:%ld: face indices must have an integer type", name,
+                                       line);
                 prop->role = ROLE_INDICES;
             }
         } else if (strcmp(words[0], "end_header") == 0) {
             break;
         } else {
-            return cli_fail(err, "%s:%ld: unknown PLY header line '%s'", name, line, words[0]);
+            return meshio_fail(err, "%s:%ld: unknown PLY header line '%s'", name, line, words[0]);
         }
     }
     if (!have_format)
-        return cli_fail(err, "%s: PLY header has no 'format' line", name);
+        return meshio_fail(err, "%s: PLY header has no 'format' line", name);
     *body = pos;
     *body_line = line + 1;
     return 0;
@@ -255,8 +257,8 @@ static int read_value(ply_reader *r, const ply_element *e, uint64_t record, ply_
         size_t n = type_size(t);
         if ((size_t)(r->end - r->p) < n) {
             location(r, e, record, where, sizeof where);
-            return cli_fail(r->err, "%s: file truncated (binary data ends inside this record)",
-                            where);
+            return meshio_fail(r->err, "%s: file truncated (binary data ends inside this record)",
+                               where);
         }
         *out = decode(t, r->p, r->encoding == PLY_BINARY_BE);
         r->p += n;
@@ -276,7 +278,7 @@ static int read_value(ply_reader *r, const ply_element *e, uint64_t record, ply_
     r->p = p;
     if (p >= r->end) {
         location(r, e, record, where, sizeof where);
-        return cli_fail(r->err, "%s: file ends inside this record", where);
+        return meshio_fail(r->err, "%s: file ends inside this record", where);
     }
     char *tail;
     double x;
@@ -291,8 +293,8 @@ static int read_value(ply_reader *r, const ply_element *e, uint64_t record, ply_
     if ((const unsigned char *)tail == p ||
         !(*tail == ' ' || *tail == '\t' || *tail == '\r' || *tail == '\n' || *tail == '\0')) {
         location(r, e, record, where, sizeof where);
-        return cli_fail(r->err, "%s: expected a%s number", where,
-                        type_is_integer(t) ? "n integer" : "");
+        return meshio_fail(r->err, "%s: expected a%s number", where,
+                           type_is_integer(t) ? "n integer" : "");
     }
     r->p = (const unsigned char *)tail;
     *out = x;
@@ -312,11 +314,11 @@ static uint64_t min_record_size(const ply_element *e, ply_encoding encoding) {
     return bytes;
 }
 
-int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_mesh *mesh,
-                  cli_error *err, cli_progress *progress) {
+int meshio_parse_ply(const char *name, const unsigned char *data, size_t size, meshio_mesh *mesh,
+                     meshio_error *err, const meshio_progress *progress) {
     ply_element *elements = calloc(MAX_ELEMENTS, sizeof *elements);
     if (elements == NULL)
-        return cli_fail(err, "%s: out of memory", name);
+        return meshio_fail(err, "%s: out of memory", name);
     int element_count = 0;
     ply_reader r;
     memset(&r, 0, sizeof r);
@@ -326,8 +328,8 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
     int status =
         parse_header(name, data, size, elements, &element_count, &r.encoding, &body, &r.line, err);
     double *positions = NULL;
-    cli_array triangles = {NULL, 0, 0, sizeof(uint32_t)};
-    cli_array polygon = {NULL, 0, 0, sizeof(uint32_t)};
+    meshio_array triangles = {NULL, 0, 0, sizeof(uint32_t)};
+    meshio_array polygon = {NULL, 0, 0, sizeof(uint32_t)};
     uint64_t vertex_count = 0, face_count = 0;
     int have_vertex = 0, have_faces = 0;
     ply_type coordinate_type = PLY_NONE;
@@ -335,15 +337,15 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
         const ply_element *e = &elements[i];
         if (status == 0 && ((have_vertex && strcmp(e->name, "vertex") == 0) ||
                             (have_faces && strcmp(e->name, "face") == 0)))
-            status = cli_fail(err, "%s: element '%s' declared twice", name, e->name);
+            status = meshio_fail(err, "%s: element '%s' declared twice", name, e->name);
         uint64_t min_size = min_record_size(e, r.encoding);
         if (status != 0)
             break;
         if (min_size > 0 && e->count > (uint64_t)(size - body) / min_size)
-            status = cli_fail(err,
-                              "%s: element '%s' declares %llu records, more than the file can "
-                              "hold (truncated file?)",
-                              name, e->name, (unsigned long long)e->count);
+            status = meshio_fail(err,
+                                 "%s: element '%s' declares %llu records, more than the file can "
+                                 "hold (truncated file?)",
+                                 name, e->name, (unsigned long long)e->count);
         if (strcmp(e->name, "vertex") == 0) {
             int roles = 0;
             for (int k = 0; k < e->property_count; ++k) {
@@ -353,7 +355,7 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
             }
             if (status == 0 && (roles & (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z)) !=
                                    (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z))
-                status = cli_fail(err, "%s: element 'vertex' lacks an x, y or z property", name);
+                status = meshio_fail(err, "%s: element 'vertex' lacks an x, y or z property", name);
             have_vertex = 1;
             vertex_count = e->count;
         }
@@ -362,22 +364,22 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
             for (int k = 0; k < e->property_count; ++k)
                 found |= e->properties[k].role == ROLE_INDICES;
             if (status == 0 && !found)
-                status = cli_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
+                status = meshio_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
             have_faces = 1;
             face_count = e->count;
         }
     }
     if (status == 0 && !have_vertex)
-        status = cli_fail(err, "%s: no 'vertex' element", name);
+        status = meshio_fail(err, "%s: no 'vertex' element", name);
     if (status == 0 && !have_faces)
-        status = cli_fail(err, "%s: no 'face' element", name);
+        status = meshio_fail(err, "%s: no 'face' element", name);
     if (status == 0 && vertex_count >= (uint64_t)UINT32_MAX - 1)
-        status =
-            cli_fail(err, "%s: too many vertices (%llu)", name, (unsigned long long)vertex_count);
+        status = meshio_fail(err, "%s: too many vertices (%llu)", name,
+                             (unsigned long long)vertex_count);
     if (status == 0) {
         positions = malloc((size_t)vertex_count * 3 * sizeof *positions + 1);
-        if (positions == NULL || cli_array_reserve(&triangles, 3 * (size_t)face_count))
-            status = cli_fail(err, "%s: out of memory", name);
+        if (positions == NULL || meshio_array_reserve(&triangles, 3 * (size_t)face_count))
+            status = meshio_fail(err, "%s: out of memory", name);
     }
     r.p = data + body;
     r.end = data + size;
@@ -399,7 +401,7 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
                         if (!isfinite(x)) {
                             char where[256];
                             location(&r, e, rec, where, sizeof where);
-                            status = cli_fail(err, "%s: NaN or infinite coordinate", where);
+                            status = meshio_fail(err, "%s: NaN or infinite coordinate", where);
                         }
                         positions[3 * rec + (uint64_t)(prop->role - ROLE_X)] = x;
                     }
@@ -412,13 +414,13 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
                 char where[256];
                 if (count < 0) {
                     location(&r, e, rec, where, sizeof where);
-                    status = cli_fail(err, "%s: negative list length", where);
+                    status = meshio_fail(err, "%s: negative list length", where);
                     break;
                 }
                 if (prop->role == ROLE_INDICES && count < 3) {
                     location(&r, e, rec, where, sizeof where);
-                    status = cli_fail(err, "%s: face with %.0f vertices (at least 3 needed)", where,
-                                      count);
+                    status = meshio_fail(err, "%s: face with %.0f vertices (at least 3 needed)",
+                                         where, count);
                     break;
                 }
                 polygon.count = 0;
@@ -428,18 +430,19 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
                         continue;
                     if (!(x >= 0 && x < (double)vertex_count)) {
                         location(&r, e, rec, where, sizeof where);
-                        status = cli_fail(err, "%s: vertex index %.0f out of range (%llu vertices)",
-                                          where, x, (unsigned long long)vertex_count);
-                    } else if (cli_array_reserve(&polygon, 1)) {
-                        status = cli_fail(err, "%s: out of memory", name);
+                        status =
+                            meshio_fail(err, "%s: vertex index %.0f out of range (%llu vertices)",
+                                        where, x, (unsigned long long)vertex_count);
+                    } else if (meshio_array_reserve(&polygon, 1)) {
+                        status = meshio_fail(err, "%s: out of memory", name);
                     } else {
                         ((uint32_t *)polygon.data)[polygon.count++] = (uint32_t)x;
                     }
                 }
                 if (status == 0 && prop->role == ROLE_INDICES) {
                     size_t n = polygon.count;
-                    if (cli_array_reserve(&triangles, 3 * (n - 2))) {
-                        status = cli_fail(err, "%s: out of memory", name);
+                    if (meshio_array_reserve(&triangles, 3 * (n - 2))) {
+                        status = meshio_fail(err, "%s: out of memory", name);
                         break;
                     }
                     const uint32_t *pv = polygon.data;
@@ -453,7 +456,7 @@ int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_
                 }
             }
             if ((++done_records & 0xFFFF) == 0)
-                cli_progress_update(progress, name, (double)done_records, (double)total_records);
+                meshio_report(progress, name, (double)done_records, (double)total_records);
         }
     }
     free(elements);
