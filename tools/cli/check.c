@@ -190,8 +190,10 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
 }
 
 // --continuous: the continuous self-query of the step from frame `from` (the
-// positions in st->previous) to frame `to` (the mesh's current positions).
-static int check_step(check_state *st, cli_part *part, long from, long to, cli_error *err) {
+// positions in st->previous, read from from_file) to frame `to` (the mesh's
+// current positions, read from to_file).
+static int check_step(check_state *st, cli_part *part, long from, long to, const char *from_file,
+                      const char *to_file, cli_error *err) {
     const cli_options *o = st->o;
     selfcol_sweep_options so;
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
@@ -216,6 +218,23 @@ static int check_step(check_state *st, cli_part *part, long from, long to, cli_e
     st->earliest = stats.free_fraction < st->earliest ? stats.free_fraction : st->earliest;
     if (n > 0)
         st->found = 1;
+    if (st->json) {
+        cli_step_info info;
+        info.from_file = from_file;
+        info.to_file = to_file;
+        info.from = from;
+        info.to = to;
+        info.separation = so.separation;
+        info.method = so.method == SELFCOL_METHOD_EXHAUSTIVE ? "exhaustive" : "bvh";
+        info.vertices = st->info.vertices;
+        info.triangles = st->info.triangles;
+        info.edges = st->info.edges;
+        info.merged_vertices = st->info.merged_vertices;
+        info.seconds_load = st->info.seconds_load;
+        info.seconds_refit = st->info.seconds_refit;
+        if (cli_write_step_json(st->json, &info, hits, n, &stats) != 0)
+            return cli_fail(err, "out of memory");
+    }
     if (st->csv)
         for (size_t i = 0; i < n; ++i)
             fprintf(st->csv, "%ld,%ld,%s,%u,%u,%.17g,%u\n", from, to,
@@ -356,11 +375,10 @@ int cli_command_check(const cli_options *o) {
                                "--continuous checks the steps between frames: give them with "
                                "--frames or --range%s",
                                "");
-    if (o->continuous && (o->json || o->mark || o->png))
-        return cli_usage_error("check ", "--continuous writes no %s (only the summary and --csv)",
-                               o->json   ? "--json"
-                               : o->mark ? "--mark"
-                                         : "--png");
+    if (o->continuous && (o->mark || o->png))
+        return cli_usage_error("check ",
+                               "--continuous writes no %s (only the summary, --json and --csv)",
+                               o->mark ? "--mark" : "--png");
     cli_options local = *o;
     local.frames = sequence;
     o = &local;
@@ -499,8 +517,8 @@ int cli_command_check(const cli_options *o) {
             }
             cli_progress_update(&progress, "frames", (double)f, (double)frame_count);
             if (o->continuous) {
-                if (f > 0 &&
-                    check_step(&st, parts[0], frame_numbers[f - 1], frame_numbers[f], &err) != 0)
+                if (f > 0 && check_step(&st, parts[0], frame_numbers[f - 1], frame_numbers[f],
+                                        frame_names[f - 1], frame_names[f], &err) != 0)
                     goto done;
                 continue;
             }

@@ -102,6 +102,24 @@ typedef struct cli_run_info {
 } cli_run_info;
 
 void cli_write_json(FILE *out, const cli_run_info *info, const cli_sets *sets);
+
+/** Describes one step of check --continuous for its JSON object. */
+typedef struct cli_step_info {
+    const char *from_file, *to_file;
+    long from, to;     /* frame numbers */
+    double separation; /* 0: touching */
+    const char *method;
+    size_t vertices, triangles, edges, merged_vertices;
+    double seconds_load, seconds_refit;
+} cli_step_info;
+
+/**
+ * Writes one step's colliding pairs as one JSON line: "vf" [v, t, toi,
+ * flags] and "ee" [a0, a1, b0, b1, toi, flags] in file indices, sorted as
+ * the discrete check's records. Returns 0 or -1 (out of memory).
+ */
+int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_sweep_hit *hits,
+                        size_t count, const selfcol_sweep_query_stats *stats);
 void cli_write_csv_header(FILE *out);
 void cli_write_csv(FILE *out, long frame, const cli_sets *sets);
 /** Prints a JSON string literal (quotes and escapes included). */

@@ -242,6 +242,93 @@ void cli_write_json(FILE *out, const cli_run_info *info, const cli_sets *sets) {
             info->seconds_refit, info->seconds_query, s->broad_seconds, s->narrow_seconds);
 }
 
+// check --continuous: a colliding pair as its JSON record.
+typedef struct step_record {
+    uint32_t k[4]; /* VF: v, t; EE: a0 < a1, b0 < b1, (a0, a1) < (b0, b1) */
+    uint32_t flags;
+    double toi;
+} step_record;
+
+static int step_record_compare(const void *a, const void *b) {
+    const step_record *x = a, *y = b;
+    for (int k = 0; k < 4; ++k)
+        if (x->k[k] != y->k[k])
+            return x->k[k] < y->k[k] ? -1 : 1;
+    return 0;
+}
+
+static void step_records(FILE *out, const char *key, step_record *records, size_t count,
+                         int width) {
+    if (count > 1)
+        qsort(records, count, sizeof *records, step_record_compare);
+    fprintf(out, ",\"%s\":[", key);
+    for (size_t i = 0; i < count; ++i) {
+        fputs(i ? ",[" : "[", out);
+        for (int k = 0; k < width; ++k)
+            fprintf(out, "%u,", (unsigned)records[i].k[k]);
+        fprintf(out, "%.17g,%u]", records[i].toi, (unsigned)records[i].flags);
+    }
+    fputc(']', out);
+}
+
+int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_sweep_hit *hits,
+                        size_t count, const selfcol_sweep_query_stats *stats) {
+    step_record *records = malloc(count * sizeof *records + 1);
+    if (records == NULL)
+        return -1;
+    size_t vf = 0, ee = count; // VF records from the front, EE from the back
+    for (size_t i = 0; i < count; ++i) {
+        const selfcol_sweep_hit *h = &hits[i];
+        step_record r;
+        memset(&r, 0, sizeof r);
+        r.flags = h->flags;
+        r.toi = h->toi;
+        if (h->kind == SELFCOL_CONTACT_VF) {
+            r.k[0] = h->a[0];
+            r.k[1] = h->second;
+            records[vf++] = r;
+            continue;
+        }
+        uint32_t a0 = h->a[0] < h->a[1] ? h->a[0] : h->a[1];
+        uint32_t a1 = h->a[0] < h->a[1] ? h->a[1] : h->a[0];
+        uint32_t b0 = h->b[0] < h->b[1] ? h->b[0] : h->b[1];
+        uint32_t b1 = h->b[0] < h->b[1] ? h->b[1] : h->b[0];
+        int swap = b0 < a0 || (b0 == a0 && b1 < a1);
+        r.k[0] = swap ? b0 : a0;
+        r.k[1] = swap ? b1 : a1;
+        r.k[2] = swap ? a0 : b0;
+        r.k[3] = swap ? a1 : b1;
+        records[--ee] = r;
+    }
+    fprintf(out, "{\"selfcol_version\":");
+    cli_json_string(out, selfcol_version_string());
+    fprintf(out, ",\"files\":[");
+    cli_json_string(out, info->from_file);
+    fputc(',', out);
+    cli_json_string(out, info->to_file);
+    fprintf(out, "],\"step\":{\"from\":%ld,\"to\":%ld}", info->from, info->to);
+    fprintf(out, ",\"separation\":%.17g,\"method\":\"%s\"", info->separation, info->method);
+    fprintf(out, ",\"counts\":{\"vf\":%zu,\"ee\":%zu},\"free_fraction\":%.17g", vf, count - vf,
+            stats->free_fraction);
+    step_records(out, "vf", records, vf, 2);
+    step_records(out, "ee", records + vf, count - vf, 4);
+    fprintf(out,
+            ",\"stats\":{\"vertices\":%zu,\"welded_vertices\":%zu,\"triangles\":%zu,"
+            "\"edges\":%zu,\"candidates\":%llu,\"vf_candidates\":%llu,\"ee_candidates\":%llu,"
+            "\"initial\":%llu,\"unresolved\":%llu,",
+            info->vertices, info->merged_vertices, info->triangles, info->edges,
+            (unsigned long long)stats->candidates, (unsigned long long)stats->vf_candidates,
+            (unsigned long long)stats->ee_candidates, (unsigned long long)stats->initial,
+            (unsigned long long)stats->unresolved);
+    fprintf(out,
+            "\"seconds\":{\"load\":%.6f,\"refit\":%.6f,\"query\":%.6f,\"broad\":%.6f,"
+            "\"narrow\":%.6f}}}\n",
+            info->seconds_load, info->seconds_refit, stats->total_seconds, stats->broad_seconds,
+            stats->narrow_seconds);
+    free(records);
+    return 0;
+}
+
 void cli_write_csv_header(FILE *out) {
     fputs("frame,kind,i0,i1,i2,i3,distance\n", out);
 }
