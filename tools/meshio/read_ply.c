@@ -314,6 +314,169 @@ static uint64_t min_record_size(const ply_element *e, ply_encoding encoding) {
     return bytes;
 }
 
+// What the header says the body holds: the counts of the vertex and face
+// elements and the coordinates' type.
+typedef struct ply_layout {
+    uint64_t vertex_count, face_count;
+    ply_type coordinate_type;
+} ply_layout;
+
+// Checks the declared elements against what a mesh needs and what the body
+// (body_size bytes) can hold. Returns 0, or -1 with the error set.
+static int check_elements(const char *name, const ply_element *elements, int element_count,
+                          ply_encoding encoding, size_t body_size, ply_layout *layout,
+                          meshio_error *err) {
+    int have_vertex = 0, have_faces = 0;
+    memset(layout, 0, sizeof *layout);
+    layout->coordinate_type = PLY_NONE;
+    for (int i = 0; i < element_count; ++i) {
+        const ply_element *e = &elements[i];
+        if ((have_vertex && strcmp(e->name, "vertex") == 0) ||
+            (have_faces && strcmp(e->name, "face") == 0))
+            return meshio_fail(err, "%s: element '%s' declared twice", name, e->name);
+        uint64_t min_size = min_record_size(e, encoding);
+        if (min_size > 0 && e->count > (uint64_t)body_size / min_size)
+            return meshio_fail(err,
+                               "%s: element '%s' declares %llu records, more than the file can "
+                               "hold (truncated file?)",
+                               name, e->name, (unsigned long long)e->count);
+        if (strcmp(e->name, "vertex") == 0) {
+            int roles = 0;
+            for (int k = 0; k < e->property_count; ++k) {
+                roles |= 1 << e->properties[k].role;
+                if (e->properties[k].role == ROLE_X)
+                    layout->coordinate_type = e->properties[k].type;
+            }
+            if ((roles & (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z)) !=
+                (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z))
+                return meshio_fail(err, "%s: element 'vertex' lacks an x, y or z property", name);
+            have_vertex = 1;
+            layout->vertex_count = e->count;
+        }
+        if (strcmp(e->name, "face") == 0) {
+            int found = 0;
+            for (int k = 0; k < e->property_count; ++k)
+                found |= e->properties[k].role == ROLE_INDICES;
+            if (!found)
+                return meshio_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
+            have_faces = 1;
+            layout->face_count = e->count;
+        }
+    }
+    if (!have_vertex)
+        return meshio_fail(err, "%s: no 'vertex' element", name);
+    if (!have_faces)
+        return meshio_fail(err, "%s: no 'face' element", name);
+    if (layout->vertex_count >= (uint64_t)UINT32_MAX - 1)
+        return meshio_fail(err, "%s: too many vertices (%llu)", name,
+                           (unsigned long long)layout->vertex_count);
+    return 0;
+}
+
+// The mesh being read from the body.
+typedef struct ply_target {
+    double *positions;
+    uint64_t vertex_count;
+    meshio_array triangles; /* uint32_t */
+    meshio_array polygon;   /* uint32_t, the face being read */
+} ply_target;
+
+// Reads one list property of record `rec` of e; the vertex indices of a face
+// are checked and fan-triangulated into t. Returns 0, or -1 with the error set.
+static int read_list(ply_reader *r, const ply_element *e, uint64_t rec, const ply_property *prop,
+                     ply_target *t) {
+    double count, x;
+    char where[256];
+    if (read_value(r, e, rec, prop->count_type, &count) != 0)
+        return -1;
+    if (count < 0) {
+        location(r, e, rec, where, sizeof where);
+        return meshio_fail(r->err, "%s: negative list length", where);
+    }
+    if (prop->role == ROLE_INDICES && count < 3) {
+        location(r, e, rec, where, sizeof where);
+        return meshio_fail(r->err, "%s: face with %.0f vertices (at least 3 needed)", where, count);
+    }
+    t->polygon.count = 0;
+    for (uint64_t j = 0; j < (uint64_t)count; ++j) {
+        if (read_value(r, e, rec, prop->type, &x) != 0)
+            return -1;
+        if (prop->role != ROLE_INDICES)
+            continue;
+        if (!(x >= 0 && x < (double)t->vertex_count)) {
+            location(r, e, rec, where, sizeof where);
+            return meshio_fail(r->err, "%s: vertex index %.0f out of range (%llu vertices)", where,
+                               x, (unsigned long long)t->vertex_count);
+        }
+        if (meshio_array_reserve(&t->polygon, 1))
+            return meshio_fail(r->err, "%s: out of memory", r->name);
+        ((uint32_t *)t->polygon.data)[t->polygon.count++] = (uint32_t)x;
+    }
+    if (prop->role != ROLE_INDICES)
+        return 0;
+    size_t n = t->polygon.count;
+    if (meshio_array_reserve(&t->triangles, 3 * (n - 2)))
+        return meshio_fail(r->err, "%s: out of memory", r->name);
+    const uint32_t *pv = t->polygon.data;
+    uint32_t *out = (uint32_t *)t->triangles.data + t->triangles.count;
+    for (size_t j = 1; j + 1 < n; ++j) { // fan triangulation
+        *out++ = pv[0];
+        *out++ = pv[j];
+        *out++ = pv[j + 1];
+    }
+    t->triangles.count += 3 * (n - 2);
+    return 0;
+}
+
+// Reads record `rec` of e: its coordinates (vertex) into t->positions, its
+// face lists into t->triangles; other values are read and dropped.
+static int read_record(ply_reader *r, const ply_element *e, uint64_t rec, int is_vertex,
+                       ply_target *t) {
+    for (int k = 0; k < e->property_count; ++k) {
+        const ply_property *prop = &e->properties[k];
+        if (prop->count_type != PLY_NONE) {
+            if (read_list(r, e, rec, prop, t) != 0)
+                return -1;
+            continue;
+        }
+        double x;
+        if (read_value(r, e, rec, prop->type, &x) != 0)
+            return -1;
+        if (is_vertex && prop->role != ROLE_SKIP) {
+            if (!isfinite(x)) {
+                char where[256];
+                location(r, e, rec, where, sizeof where);
+                return meshio_fail(r->err, "%s: NaN or infinite coordinate", where);
+            }
+            t->positions[3 * rec + (uint64_t)(prop->role - ROLE_X)] = x;
+        }
+    }
+    return 0;
+}
+
+// Reads every record of every element, reporting progress every 65536
+// records (the record that fails included).
+static int read_body(ply_reader *r, const ply_element *elements, int element_count, ply_target *t,
+                     const meshio_progress *progress) {
+    uint64_t total_records = 0, done_records = 0;
+    for (int i = 0; i < element_count; ++i)
+        total_records += elements[i].count;
+    for (int i = 0; i < element_count; ++i) {
+        const ply_element *e = &elements[i];
+        if (e->property_count == 0)
+            continue; // no data at all, whatever its count says
+        int is_vertex = strcmp(e->name, "vertex") == 0;
+        for (uint64_t rec = 0; rec < e->count; ++rec) {
+            int status = read_record(r, e, rec, is_vertex, t);
+            if ((++done_records & 0xFFFF) == 0)
+                meshio_report(progress, r->name, (double)done_records, (double)total_records);
+            if (status != 0)
+                return -1;
+        }
+    }
+    return 0;
+}
+
 int meshio_parse_ply(const char *name, const unsigned char *data, size_t size, meshio_mesh *mesh,
                      meshio_error *err, const meshio_progress *progress) {
     ply_element *elements = calloc(MAX_ELEMENTS, sizeof *elements);
@@ -325,156 +488,40 @@ int meshio_parse_ply(const char *name, const unsigned char *data, size_t size, m
     r.name = name;
     r.err = err;
     size_t body = 0;
+    ply_layout layout;
+    ply_target t = {NULL, 0, {NULL, 0, 0, sizeof(uint32_t)}, {NULL, 0, 0, sizeof(uint32_t)}};
     int status =
         parse_header(name, data, size, elements, &element_count, &r.encoding, &body, &r.line, err);
-    double *positions = NULL;
-    meshio_array triangles = {NULL, 0, 0, sizeof(uint32_t)};
-    meshio_array polygon = {NULL, 0, 0, sizeof(uint32_t)};
-    uint64_t vertex_count = 0, face_count = 0;
-    int have_vertex = 0, have_faces = 0;
-    ply_type coordinate_type = PLY_NONE;
-    for (int i = 0; status == 0 && i < element_count; ++i) {
-        const ply_element *e = &elements[i];
-        if (status == 0 && ((have_vertex && strcmp(e->name, "vertex") == 0) ||
-                            (have_faces && strcmp(e->name, "face") == 0)))
-            status = meshio_fail(err, "%s: element '%s' declared twice", name, e->name);
-        uint64_t min_size = min_record_size(e, r.encoding);
-        if (status != 0)
-            break;
-        if (min_size > 0 && e->count > (uint64_t)(size - body) / min_size)
-            status = meshio_fail(err,
-                                 "%s: element '%s' declares %llu records, more than the file can "
-                                 "hold (truncated file?)",
-                                 name, e->name, (unsigned long long)e->count);
-        if (strcmp(e->name, "vertex") == 0) {
-            int roles = 0;
-            for (int k = 0; k < e->property_count; ++k) {
-                roles |= 1 << e->properties[k].role;
-                if (e->properties[k].role == ROLE_X)
-                    coordinate_type = e->properties[k].type;
-            }
-            if (status == 0 && (roles & (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z)) !=
-                                   (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z))
-                status = meshio_fail(err, "%s: element 'vertex' lacks an x, y or z property", name);
-            have_vertex = 1;
-            vertex_count = e->count;
-        }
-        if (strcmp(e->name, "face") == 0) {
-            int found = 0;
-            for (int k = 0; k < e->property_count; ++k)
-                found |= e->properties[k].role == ROLE_INDICES;
-            if (status == 0 && !found)
-                status = meshio_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
-            have_faces = 1;
-            face_count = e->count;
-        }
-    }
-    if (status == 0 && !have_vertex)
-        status = meshio_fail(err, "%s: no 'vertex' element", name);
-    if (status == 0 && !have_faces)
-        status = meshio_fail(err, "%s: no 'face' element", name);
-    if (status == 0 && vertex_count >= (uint64_t)UINT32_MAX - 1)
-        status = meshio_fail(err, "%s: too many vertices (%llu)", name,
-                             (unsigned long long)vertex_count);
+    if (status == 0)
+        status =
+            check_elements(name, elements, element_count, r.encoding, size - body, &layout, err);
     if (status == 0) {
-        positions = malloc((size_t)vertex_count * 3 * sizeof *positions + 1);
-        if (positions == NULL || meshio_array_reserve(&triangles, 3 * (size_t)face_count))
+        t.vertex_count = layout.vertex_count;
+        t.positions = malloc((size_t)layout.vertex_count * 3 * sizeof *t.positions + 1);
+        if (t.positions == NULL ||
+            meshio_array_reserve(&t.triangles, 3 * (size_t)layout.face_count))
             status = meshio_fail(err, "%s: out of memory", name);
     }
     r.p = data + body;
     r.end = data + size;
-    uint64_t total_records = 0, done_records = 0;
-    for (int i = 0; i < element_count; ++i)
-        total_records += elements[i].count;
-    for (int i = 0; status == 0 && i < element_count; ++i) {
-        const ply_element *e = &elements[i];
-        if (e->property_count == 0)
-            continue; // no data at all, whatever its count says
-        int is_vertex = strcmp(e->name, "vertex") == 0;
-        for (uint64_t rec = 0; status == 0 && rec < e->count; ++rec) {
-            for (int k = 0; status == 0 && k < e->property_count; ++k) {
-                const ply_property *prop = &e->properties[k];
-                double x;
-                if (prop->count_type == PLY_NONE) {
-                    status = read_value(&r, e, rec, prop->type, &x);
-                    if (status == 0 && is_vertex && prop->role != ROLE_SKIP) {
-                        if (!isfinite(x)) {
-                            char where[256];
-                            location(&r, e, rec, where, sizeof where);
-                            status = meshio_fail(err, "%s: NaN or infinite coordinate", where);
-                        }
-                        positions[3 * rec + (uint64_t)(prop->role - ROLE_X)] = x;
-                    }
-                    continue;
-                }
-                double count;
-                status = read_value(&r, e, rec, prop->count_type, &count);
-                if (status != 0)
-                    break;
-                char where[256];
-                if (count < 0) {
-                    location(&r, e, rec, where, sizeof where);
-                    status = meshio_fail(err, "%s: negative list length", where);
-                    break;
-                }
-                if (prop->role == ROLE_INDICES && count < 3) {
-                    location(&r, e, rec, where, sizeof where);
-                    status = meshio_fail(err, "%s: face with %.0f vertices (at least 3 needed)",
-                                         where, count);
-                    break;
-                }
-                polygon.count = 0;
-                for (uint64_t j = 0; status == 0 && j < (uint64_t)count; ++j) {
-                    status = read_value(&r, e, rec, prop->type, &x);
-                    if (status != 0 || prop->role != ROLE_INDICES)
-                        continue;
-                    if (!(x >= 0 && x < (double)vertex_count)) {
-                        location(&r, e, rec, where, sizeof where);
-                        status =
-                            meshio_fail(err, "%s: vertex index %.0f out of range (%llu vertices)",
-                                        where, x, (unsigned long long)vertex_count);
-                    } else if (meshio_array_reserve(&polygon, 1)) {
-                        status = meshio_fail(err, "%s: out of memory", name);
-                    } else {
-                        ((uint32_t *)polygon.data)[polygon.count++] = (uint32_t)x;
-                    }
-                }
-                if (status == 0 && prop->role == ROLE_INDICES) {
-                    size_t n = polygon.count;
-                    if (meshio_array_reserve(&triangles, 3 * (n - 2))) {
-                        status = meshio_fail(err, "%s: out of memory", name);
-                        break;
-                    }
-                    const uint32_t *pv = polygon.data;
-                    uint32_t *t = (uint32_t *)triangles.data + triangles.count;
-                    for (size_t j = 1; j + 1 < n; ++j) { // fan triangulation
-                        *t++ = pv[0];
-                        *t++ = pv[j];
-                        *t++ = pv[j + 1];
-                    }
-                    triangles.count += 3 * (n - 2);
-                }
-            }
-            if ((++done_records & 0xFFFF) == 0)
-                meshio_report(progress, name, (double)done_records, (double)total_records);
-        }
-    }
+    if (status == 0)
+        status = read_body(&r, elements, element_count, &t, progress);
     free(elements);
-    free(polygon.data);
+    free(t.polygon.data);
     if (status != 0) {
-        free(positions);
-        free(triangles.data);
+        free(t.positions);
+        free(t.triangles.data);
         return -1;
     }
     static const char *details[3][2] = {
         {"ascii", "ascii"},
         {"binary little endian, float32", "binary little endian, float64"},
         {"binary big endian, float32", "binary big endian, float64"}};
-    mesh->vertex_count = (size_t)vertex_count;
-    mesh->positions = positions;
-    mesh->triangle_count = triangles.count / 3;
-    mesh->triangles = triangles.data;
-    mesh->face_count = (size_t)face_count;
-    mesh->format_detail = details[r.encoding][coordinate_type == PLY_F64];
+    mesh->vertex_count = (size_t)layout.vertex_count;
+    mesh->positions = t.positions;
+    mesh->triangle_count = t.triangles.count / 3;
+    mesh->triangles = t.triangles.data;
+    mesh->face_count = (size_t)layout.face_count;
+    mesh->format_detail = details[r.encoding][layout.coordinate_type == PLY_F64];
     return 0;
 }
