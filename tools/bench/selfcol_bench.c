@@ -590,233 +590,285 @@ static double median_build(const selfcol_mesh *mesh, unsigned reps, selfcol_hier
     return summarize(times, n).med;
 }
 
-static int run_case(const bench_case *bc, unsigned subset, const char *subset_name,
-                    const char *data_dir) {
-    limits lim = limits_of(subset);
-    fixture s;
-    memset(&s, 0, sizeof s);
-    char note[512] = "";
-    int g = bc->gen(&s, bc->p, data_dir, note, sizeof note);
+// Generates or reads the case's mesh into s and, for a refit case (p[2] =
+// an earlier frame of the same scene), the earlier frame into prev (else
+// prev is left empty). Returns 0, 1 when the case is skipped, -1 when it
+// fails (both said on stderr).
+static int load_case(const bench_case *bc, const char *data_dir, fixture *s, fixture *prev,
+                     char *note, size_t note_size, int *refit_case) {
+    memset(s, 0, sizeof *s);
+    memset(prev, 0, sizeof *prev);
+    int g = bc->gen(s, bc->p, data_dir, note, note_size);
     if (g == 1) {
         fprintf(stderr, "selfcol-bench: %s skipped (%s)\n", bc->name, note);
-        return 0;
+        return 1;
     }
     if (g != 0) {
         fprintf(stderr, "selfcol-bench: %s: cannot generate or read the scene\n", bc->name);
-        return 1;
+        return -1;
     }
-
-    // A refit case (p[2] = an earlier frame of the same scene): the mesh and
-    // its hierarchy are made on the earlier frame, as a simulation would, then
-    // refit once to this frame; d comes from the earlier frame (a sequence's
-    // d is its first frame's, as in selfcol-cli).
-    fixture prev;
-    memset(&prev, 0, sizeof prev);
-    const int refit_case = bc->gen == gen_frame && bc->p[2] > 0;
-    if (refit_case) {
+    // A refit case: the mesh and its hierarchy are made on the earlier frame,
+    // as a simulation would, then refit once to this frame; d comes from the
+    // earlier frame (a sequence's d is its first frame's, as in selfcol-cli).
+    *refit_case = bc->gen == gen_frame && bc->p[2] > 0;
+    if (*refit_case) {
         const double pp[6] = {bc->p[0], bc->p[2], 0, 0, 0, 0};
         char prev_note[512];
-        if (gen_frame(&prev, pp, data_dir, prev_note, sizeof prev_note) != 0 ||
-            prev.vertex_count != s.vertex_count || prev.triangle_count != s.triangle_count ||
-            memcmp(prev.triangles, s.triangles, 3 * s.triangle_count * sizeof *s.triangles) != 0) {
+        if (gen_frame(prev, pp, data_dir, prev_note, sizeof prev_note) != 0 ||
+            prev->vertex_count != s->vertex_count || prev->triangle_count != s->triangle_count ||
+            memcmp(prev->triangles, s->triangles, 3 * s->triangle_count * sizeof *s->triangles) !=
+                0) {
             fprintf(stderr, "selfcol-bench: %s skipped (%s: not the same topology or absent)\n",
                     bc->name, prev_note);
-            fixture_free(&prev);
-            fixture_free(&s);
-            return 0;
+            fixture_free(prev);
+            fixture_free(s);
+            return 1;
         }
     }
+    return 0;
+}
+
+// The case's library mesh (on the earlier frame for a refit case) and the
+// mesh columns of cx. Bullet rejects triangles with edges under ~1.8 cm (an
+// absolute epsilon on a length^4); short-edged meshes are scaled by powers
+// of 10 until the mean edge is at least 5 cm (a 1 m cloth of 20k faces:
+// x10), for selfcol and Bullet alike (s and prev are scaled in place). Raw
+// cases keep their size to show what happens. Returns the mesh, or NULL
+// (said on stderr).
+static selfcol_mesh *make_mesh(const bench_case *bc, fixture *s, fixture *prev, int refit_case,
+                               context *cx) {
     selfcol_mesh *mesh = NULL;
-    int rc = selfcol_mesh_create(&mesh, s.vertex_count, refit_case ? prev.positions : s.positions,
-                                 s.triangle_count, s.triangles, NULL);
+    int rc =
+        selfcol_mesh_create(&mesh, s->vertex_count, refit_case ? prev->positions : s->positions,
+                            s->triangle_count, s->triangles, NULL);
     if (rc != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: %s: mesh: %s\n", bc->name, selfcol_status_string(rc));
+        return NULL;
+    }
+    cx->triangles = s->triangle_count;
+    cx->vertices = s->vertex_count;
+    cx->edges = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
+    cx->mean_edge = selfcol_mesh_mean_edge_length(mesh);
+    cx->scale = 1.0;
+    while (!bc->raw && cx->mean_edge * cx->scale < 0.05)
+        cx->scale *= 10.0;
+    if (cx->scale == 1.0)
+        return mesh;
+    for (size_t i = 0; i < 3 * s->vertex_count; ++i)
+        s->positions[i] *= cx->scale;
+    for (size_t i = 0; refit_case && i < 3 * prev->vertex_count; ++i)
+        prev->positions[i] *= cx->scale;
+    rc = selfcol_mesh_set_positions(mesh, refit_case ? prev->positions : s->positions,
+                                    s->vertex_count);
+    cx->mean_edge *= cx->scale;
+    if (rc != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
+        selfcol_mesh_destroy(mesh);
+        return NULL;
+    }
+    return mesh;
+}
+
+// Refit: positions unchanged, the cost of a frame's refit all the same.
+static timing time_refit(selfcol_hierarchy *h, unsigned reps) {
+    double refit_t[MAX_REPS];
+    selfcol_hierarchy_refit(h);
+    for (unsigned i = 0; i < reps; ++i) {
+        double t0 = now();
+        selfcol_hierarchy_refit(h);
+        refit_t[i] = now() - t0;
+    }
+    return summarize(refit_t, reps);
+}
+
+// What the rows of one case share.
+typedef struct case_run {
+    const bench_case *bc;
+    limits lim;
+    context cx;
+    const char *note; /* "frame PATH" for real frames */
+    selfcol_hierarchy *h;
+    selfcol_contacts *c;
+    double build_s;
+    size_t hier_bytes;
+    timing refit;
+    bench_bullet *bb; /* NULL: no Bullet rows */
+    double bullet_build_s;
+    size_t bullet_bytes;
+} case_run;
+
+#ifdef SELFCOL_BENCH_BULLET
+// Bullet: one body and one face-tree build per case, reused for both d.
+static void make_bullet_body(case_run *run, const fixture *s, const selfcol_mesh *mesh) {
+    const char *name = run->bc->name;
+    size_t pieces = edge_pieces(mesh);
+    if (s->triangle_count <= run->lim.bullet && pieces != 1)
+        fprintf(stderr,
+                "selfcol-bench: %s: no Bullet rows: %zu edge-connected pieces (Bullet 3.24's "
+                "initializeFaceTree never terminates on more than one)\n",
+                name, pieces);
+    if (s->triangle_count <= run->lim.bullet && pieces == 1) {
+        fprintf(stderr, "selfcol-bench: %s: Bullet face-tree build (%zu faces)...\n", name,
+                s->triangle_count);
+        run->bb = bench_bullet_create(s->vertex_count, s->positions, s->triangle_count,
+                                      s->triangles, run->cx.edges, selfcol_mesh_edges(mesh),
+                                      &run->bullet_build_s, &run->bullet_bytes);
+        if (run->bb == NULL)
+            fprintf(stderr, "selfcol-bench: %s: Bullet body failed\n", name);
+    }
+}
+#endif
+
+// One method of a case at run->cx.d.
+typedef struct method_spec {
+    uint32_t method, narrow, kinds;
+    unsigned threads;
+    int run;
+} method_spec;
+
+// Runs one method and prints its row, its contacts compared with the
+// reference: the first method run becomes the reference (*ref, *ref_name).
+// Returns 0 or 1.
+static int method_row(case_run *run, const method_spec *m, keyset *ref, const char **ref_name) {
+    context *cx = &run->cx;
+    row r;
+    memset(&r, 0, sizeof r);
+    keyset got = {NULL, 0};
+    fprintf(stderr, "selfcol-bench: %s d=%.1fx %s%s (%u thread(s))\n", run->bc->name, cx->d_factor,
+            method_name(m->method), m->narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "",
+            m->threads);
+    if (run_method(run->h, run->c, m->method, m->narrow, m->kinds, cx->d, m->threads, run->lim.reps,
+                   &r, &got) != 0)
+        return 1;
+    if (*ref_name == NULL) {
+        // The first method run is the reference: EXHAUSTIVE if it ran, else
+        // EXACT (proven equal on the smaller rows).
+        *ref = got;
+        *ref_name = method_name(m->method);
+        got.k = malloc((ref->n ? ref->n : 1) * sizeof(key));
+        if (got.k == NULL)
+            return 1;
+        memcpy(got.k, ref->k, ref->n * sizeof(key));
+        got.n = ref->n;
+    }
+    const int vf_only = m->kinds == SELFCOL_KIND_VF;
+    r.method = vf_only ? "EXACT-VF" : method_name(m->method);
+    r.narrow = m->narrow == SELFCOL_NARROW_LIBCCD ? "libccd" : "closed-form";
+    r.reference = *ref_name;
+    r.refit = run->refit;
+    r.build_ms = 1e3 * run->build_s;
+    r.struct_bytes = m->method == SELFCOL_METHOD_EXHAUSTIVE ? 0 : run->hier_bytes;
+    // The reference is sorted by kind, VF first: its VF set is a prefix.
+    keyset ref_used = *ref;
+    if (vf_only)
+        for (ref_used.n = 0; ref_used.n < ref->n && ref->k[ref_used.n].kind == SELFCOL_CONTACT_VF;)
+            ref_used.n++;
+    count_kinds(&got, r.found);
+    count_kinds(&ref_used, r.ref);
+    compare(&ref_used, &got, r.miss, r.extra);
+    if (m->method == SELFCOL_METHOD_EXHAUSTIVE) {
+        // No hierarchy: its frame is the query alone.
+        r.refit.med = r.refit.min = r.refit.max = 0.0;
+        r.build_ms = 0.0;
+    }
+    if (strncmp(run->note, "frame", 5) == 0)
+        snprintf(r.note, sizeof r.note, "%.255s", run->note);
+    cx->peak_rss_kb = peak_rss_kb();
+    print_row(cx, &r);
+    free(got.k);
+    return 0;
+}
+
+// The rows of a case at d = factor x mean edge: every method that runs at
+// its size, then Bullet's. Returns 0 or 1.
+static int rows_at_distance(case_run *run, double factor) {
+    context *cx = &run->cx;
+    cx->d_factor = factor;
+    cx->d = factor * cx->mean_edge;
+    const size_t triangles = cx->triangles;
+    // EXACT-VF asks for vertex-triangle proximities only: the work Bullet
+    // does (it has no edge-edge test and reports no crossing), so that the
+    // two compare like for like; it is held to the reference's VF set alone.
+    // EXACT on two threads too, from 20k triangles (below, a query takes a
+    // few milliseconds and one thread is the setting that matters).
+    const int exhaustive = triangles <= run->lim.exhaustive;
+    const int two_threads = triangles >= 20000;
+    const method_spec methods[] = {
+        {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, exhaustive},
+        {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 2, two_threads},
+        {SELFCOL_METHOD_BVH, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_SEED, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_CONE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_BVH, SELFCOL_NARROW_LIBCCD, SELFCOL_KIND_ALL, 1,
+         triangles <= run->lim.libccd},
+        {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_VF, 1, 1},
+    };
+    keyset ref = {NULL, 0};
+    const char *ref_name = NULL;
+    int status = 0;
+    for (size_t mi = 0; mi < sizeof methods / sizeof methods[0] && status == 0; ++mi)
+        if (methods[mi].run)
+            status = method_row(run, &methods[mi], &ref, &ref_name);
+    if (status == 0 && run->bb != NULL) {
+        fprintf(stderr, "selfcol-bench: %s d=%.1fx Bullet\n", run->bc->name, cx->d_factor);
+        bullet_rows(run->bb, cx, &ref, ref_name, 1e3 * run->bullet_build_s, run->bullet_bytes,
+                    run->lim.reps);
+    }
+    // Future rows (the Bullet adapter) go here: same mesh, same d, compared
+    // with the same reference. The contact store has cases of its own
+    // (store_cases): it needs a sequence of frames.
+    free(ref.k);
+    return status;
+}
+
+static int run_case(const bench_case *bc, unsigned subset, const char *subset_name,
+                    const char *data_dir) {
+    case_run run;
+    memset(&run, 0, sizeof run);
+    run.bc = bc;
+    run.lim = limits_of(subset);
+    fixture s, prev;
+    char note[512] = "";
+    int refit_case = 0;
+    int loaded = load_case(bc, data_dir, &s, &prev, note, sizeof note, &refit_case);
+    if (loaded != 0)
+        return loaded < 0 ? 1 : 0;
+    run.note = note;
+    run.cx.subset = subset_name;
+    run.cx.case_name = bc->name;
+    run.cx.scene_name = bc->scene;
+    selfcol_mesh *mesh = make_mesh(bc, &s, &prev, refit_case, &run.cx);
+    if (mesh == NULL) {
         fixture_free(&prev);
         fixture_free(&s);
         return 1;
     }
-    context cx;
-    memset(&cx, 0, sizeof cx);
-    cx.subset = subset_name;
-    cx.case_name = bc->name;
-    cx.scene_name = bc->scene;
-    cx.triangles = s.triangle_count;
-    cx.vertices = s.vertex_count;
-    cx.edges = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
-    cx.mean_edge = selfcol_mesh_mean_edge_length(mesh);
-    // Bullet rejects triangles with edges under ~1.8 cm (an absolute epsilon
-    // on a length^4); short-edged meshes are scaled by powers of 10 until the
-    // mean edge is at least 5 cm (a 1 m cloth of 20k faces: x10), for selfcol
-    // and Bullet alike. Raw cases keep their size to show what happens.
-    cx.scale = 1.0;
-    while (!bc->raw && cx.mean_edge * cx.scale < 0.05)
-        cx.scale *= 10.0;
-    if (cx.scale != 1.0) {
-        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
-            s.positions[i] *= cx.scale;
-        for (size_t i = 0; refit_case && i < 3 * prev.vertex_count; ++i)
-            prev.positions[i] *= cx.scale;
-        rc = selfcol_mesh_set_positions(mesh, refit_case ? prev.positions : s.positions,
-                                        s.vertex_count);
-        cx.mean_edge *= cx.scale;
-        if (rc != SELFCOL_OK) {
-            fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
-            selfcol_mesh_destroy(mesh);
-            fixture_free(&prev);
-            fixture_free(&s);
-            return 1;
-        }
-    }
-
-    int status_of_setup = 0;
-    selfcol_hierarchy *h = NULL;
-    double build_s = median_build(mesh, subset == SMOKE ? 1 : 3, &h);
-    selfcol_contacts *c = NULL;
-    if (h == NULL || selfcol_contacts_create(&c, NULL) != SELFCOL_OK) {
-        selfcol_hierarchy_destroy(h);
+    run.build_s = median_build(mesh, subset == SMOKE ? 1 : 3, &run.h);
+    if (run.h == NULL || selfcol_contacts_create(&run.c, NULL) != SELFCOL_OK) {
+        selfcol_hierarchy_destroy(run.h);
         selfcol_mesh_destroy(mesh);
         fixture_free(&prev);
         fixture_free(&s);
         return 1;
     }
-    size_t hier_bytes = selfcol_hierarchy_byte_count(h);
+    run.hier_bytes = selfcol_hierarchy_byte_count(run.h);
+    int status = 0;
     if (refit_case && selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count) != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
-        status_of_setup = 1;
+        status = 1;
     }
     fixture_free(&prev);
-
-    // Refit: positions unchanged, the cost of a frame's refit all the same.
-    double refit_t[MAX_REPS];
-    selfcol_hierarchy_refit(h);
-    for (unsigned i = 0; i < lim.reps; ++i) {
-        double t0 = now();
-        selfcol_hierarchy_refit(h);
-        refit_t[i] = now() - t0;
-    }
-    timing refit = summarize(refit_t, lim.reps);
-
-    // Bullet: one body and one face-tree build per case, reused for both d.
-    bench_bullet *bb = NULL;
-    double bullet_build_s = 0.0;
-    size_t bullet_bytes = 0;
+    run.refit = time_refit(run.h, run.lim.reps);
 #ifdef SELFCOL_BENCH_BULLET
-    size_t pieces = edge_pieces(mesh);
-    if (s.triangle_count <= lim.bullet && pieces != 1)
-        fprintf(stderr,
-                "selfcol-bench: %s: no Bullet rows: %zu edge-connected pieces (Bullet 3.24's "
-                "initializeFaceTree never terminates on more than one)\n",
-                bc->name, pieces);
-    if (s.triangle_count <= lim.bullet && pieces == 1) {
-        fprintf(stderr, "selfcol-bench: %s: Bullet face-tree build (%zu faces)...\n", bc->name,
-                s.triangle_count);
-        bb =
-            bench_bullet_create(s.vertex_count, s.positions, s.triangle_count, s.triangles,
-                                cx.edges, selfcol_mesh_edges(mesh), &bullet_build_s, &bullet_bytes);
-        if (bb == NULL)
-            fprintf(stderr, "selfcol-bench: %s: Bullet body failed\n", bc->name);
-    }
+    make_bullet_body(&run, &s, mesh);
 #endif
-
     const double factors[2] = {0.1, 0.5};
-    int status = status_of_setup;
-    for (int fi = 0; fi < 2 && status == 0; ++fi) {
-        cx.d_factor = factors[fi];
-        cx.d = factors[fi] * cx.mean_edge;
-        keyset ref = {NULL, 0};
-        const char *ref_name = NULL;
-        const int exhaustive = s.triangle_count <= lim.exhaustive;
-        // EXACT-VF asks for vertex-triangle proximities only: the work
-        // Bullet does (it has no edge-edge test and reports no crossing), so
-        // that the two compare like for like; it is held to the reference's
-        // VF set alone.
-        // EXACT on two threads too, from 20k triangles (below, a query
-        // takes a few milliseconds and one thread is the setting that matters).
-        const int two_threads = s.triangle_count >= 20000;
-        const struct {
-            uint32_t method, narrow, kinds;
-            unsigned threads;
-            int run;
-        } methods[] = {
-            {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1,
-             exhaustive},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 2, two_threads},
-            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_SEED, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_CONE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_LIBCCD, SELFCOL_KIND_ALL, 1,
-             s.triangle_count <= lim.libccd},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_VF, 1, 1},
-        };
-        for (size_t mi = 0; mi < sizeof methods / sizeof methods[0] && status == 0; ++mi) {
-            if (!methods[mi].run)
-                continue;
-            row r;
-            memset(&r, 0, sizeof r);
-            keyset got = {NULL, 0};
-            fprintf(stderr, "selfcol-bench: %s d=%.1fx %s%s (%u thread(s))\n", bc->name,
-                    cx.d_factor, method_name(methods[mi].method),
-                    methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "",
-                    methods[mi].threads);
-            if (run_method(h, c, methods[mi].method, methods[mi].narrow, methods[mi].kinds, cx.d,
-                           methods[mi].threads, lim.reps, &r, &got) != 0) {
-                status = 1;
-                break;
-            }
-            if (ref_name == NULL) {
-                // The first method run is the reference: EXHAUSTIVE if it
-                // ran, else EXACT (proven equal on the smaller rows).
-                ref = got;
-                ref_name = method_name(methods[mi].method);
-                got.k = malloc((ref.n ? ref.n : 1) * sizeof(key));
-                if (got.k == NULL) {
-                    status = 1;
-                    break;
-                }
-                memcpy(got.k, ref.k, ref.n * sizeof(key));
-                got.n = ref.n;
-            }
-            const int vf_only = methods[mi].kinds == SELFCOL_KIND_VF;
-            r.method = vf_only ? "EXACT-VF" : method_name(methods[mi].method);
-            r.narrow = methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? "libccd" : "closed-form";
-            r.reference = ref_name;
-            r.refit = refit;
-            r.build_ms = 1e3 * build_s;
-            r.struct_bytes = methods[mi].method == SELFCOL_METHOD_EXHAUSTIVE ? 0 : hier_bytes;
-            // The reference is sorted by kind, VF first: its VF set is a prefix.
-            keyset ref_used = ref;
-            if (vf_only)
-                for (ref_used.n = 0;
-                     ref_used.n < ref.n && ref.k[ref_used.n].kind == SELFCOL_CONTACT_VF;)
-                    ref_used.n++;
-            count_kinds(&got, r.found);
-            count_kinds(&ref_used, r.ref);
-            compare(&ref_used, &got, r.miss, r.extra);
-            if (methods[mi].method == SELFCOL_METHOD_EXHAUSTIVE) {
-                // No hierarchy: its frame is the query alone.
-                r.refit.med = r.refit.min = r.refit.max = 0.0;
-                r.build_ms = 0.0;
-            }
-            if (strncmp(note, "frame", 5) == 0)
-                snprintf(r.note, sizeof r.note, "%.255s", note);
-            cx.peak_rss_kb = peak_rss_kb();
-            print_row(&cx, &r);
-            free(got.k);
-        }
-        if (status == 0 && bb != NULL) {
-            fprintf(stderr, "selfcol-bench: %s d=%.1fx Bullet\n", bc->name, cx.d_factor);
-            bullet_rows(bb, &cx, &ref, ref_name, 1e3 * bullet_build_s, bullet_bytes, lim.reps);
-        }
-        // Future rows (the Bullet adapter) go here: same mesh, same d,
-        // compared with the same reference. The contact store has cases of
-        // its own (store_cases): it needs a sequence of frames.
-        free(ref.k);
-    }
-
-    bench_bullet_destroy(bb);
-    selfcol_contacts_destroy(c);
-    selfcol_hierarchy_destroy(h);
+    for (int fi = 0; fi < 2 && status == 0; ++fi)
+        status = rows_at_distance(&run, factors[fi]);
+    bench_bullet_destroy(run.bb);
+    selfcol_contacts_destroy(run.c);
+    selfcol_hierarchy_destroy(run.h);
     selfcol_mesh_destroy(mesh);
     fixture_free(&s);
     return status;
