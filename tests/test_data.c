@@ -22,8 +22,7 @@
 #include <selfcol/selfcol.h>
 
 #include "contact_keys.h"
-#include "ply.h"
-#include "scenes.h"
+#include "fixtures.h"
 
 // Set when a test found no data to check (and skipped).
 static int data_skipped;
@@ -45,7 +44,7 @@ static void put(FILE *f, const void *v, size_t size, int big_endian) {
 // format 0: ascii; 1: binary little endian (float, uchar/int list); 2: binary
 // big endian (double, uchar/uint list). Cells are written as quads so the
 // reader's fan triangulation is exercised.
-static void write_ply(const char *path, const scene *g, unsigned nx, unsigned ny, int format) {
+static void write_ply(const char *path, const fixture *g, unsigned nx, unsigned ny, int format) {
     FILE *f = fopen(path, "wb");
     assert_non_null(f);
     const char *fmt[] = {"ascii", "binary_little_endian", "binary_big_endian"};
@@ -92,28 +91,28 @@ static void write_ply(const char *path, const scene *g, unsigned nx, unsigned ny
 static void test_data_ply_reader_round_trips_every_encoding(void **state) {
     (void)state;
     const unsigned nx = 5, ny = 3;
-    scene g;
-    assert_int_equal(scene_grid(&g, nx, ny, 0.25), 0); // exact in float too
+    fixture g;
+    assert_int_equal(fixture_grid(&g, nx, ny, 0.25), 0); // exact in float too
     for (int format = 0; format < 3; ++format) {
         char path[] = "/tmp/selfcol_test_data_XXXXXX";
         int fd = mkstemp(path);
         assert_true(fd >= 0);
         write_ply(path, &g, nx, ny, format);
-        scene r;
+        fixture r;
         char err[256];
-        assert_int_equal(ply_read(path, &r, err, sizeof err), 0);
+        assert_int_equal(fixture_read(path, &r, err, sizeof err), 0);
         remove(path);
         assert_int_equal(r.vertex_count, g.vertex_count);
         assert_memory_equal(r.positions, g.positions, 3 * g.vertex_count * sizeof(double));
         // Quad (a,b,c,d) fans into (a,b,c), (a,c,d): the grid's own split.
         assert_int_equal(r.triangle_count, g.triangle_count);
         assert_memory_equal(r.triangles, g.triangles, 3 * g.triangle_count * sizeof(uint32_t));
-        scene_free(&r);
+        fixture_free(&r);
     }
-    scene r;
+    fixture r;
     char err[256];
-    assert_int_equal(ply_read("/nonexistent/file.ply", &r, err, sizeof err), -1);
-    scene_free(&g);
+    assert_int_equal(fixture_read("/nonexistent/file.ply", &r, err, sizeof err), -1);
+    fixture_free(&g);
 }
 
 // Contact keys of one query (caller frees).
@@ -125,7 +124,7 @@ static contact_key *query_keys(selfcol_hierarchy *h, selfcol_contacts *c,
 
 // Real meshes: the reference must be invariant under renumbering, and every
 // proximity it reports is below d.
-static void check_real_mesh(const char *path, const scene *s) {
+static void check_real_mesh(const char *path, const fixture *s) {
     selfcol_mesh *m = NULL;
     selfcol_hierarchy *h = NULL;
     selfcol_contacts *c = NULL;
@@ -171,7 +170,7 @@ static void check_real_mesh(const char *path, const scene *s) {
         selfcol_contacts_data(c, &rec, &n0);
     }
 
-    scene shuffled = *s;
+    fixture shuffled = *s;
     shuffled.positions = malloc(3 * s->vertex_count * sizeof(double));
     shuffled.triangles = malloc(3 * s->triangle_count * sizeof(uint32_t));
     assert_non_null(shuffled.positions);
@@ -179,7 +178,7 @@ static void check_real_mesh(const char *path, const scene *s) {
     memcpy(shuffled.positions, s->positions, 3 * s->vertex_count * sizeof(double));
     memcpy(shuffled.triangles, s->triangles, 3 * s->triangle_count * sizeof(uint32_t));
     uint32_t *map = NULL;
-    assert_int_equal(scene_shuffle(&shuffled, 99, &map), 0);
+    assert_int_equal(fixture_shuffle(&shuffled, 99, &map), 0);
     const uint32_t zero[2] = {0, 0};
     contact_key *before = malloc((n0 + 1) * sizeof *before);
     assert_non_null(before);
@@ -201,7 +200,7 @@ static void check_real_mesh(const char *path, const scene *s) {
     free(before);
     free(after);
     free(map);
-    scene_free(&shuffled);
+    fixture_free(&shuffled);
     selfcol_hierarchy_destroy(h2);
     selfcol_mesh_destroy(m2);
     selfcol_contacts_destroy(c);
@@ -226,9 +225,9 @@ static void test_data_ipc_toolkit_meshes_when_present(void **state) {
             continue;
         char path[4096];
         snprintf(path, sizeof path, "%s/%s", dir_path, entry->d_name);
-        scene s;
+        fixture s;
         char err[512];
-        if (ply_read(path, &s, err, sizeof err) != 0) {
+        if (fixture_read(path, &s, err, sizeof err) != 0) {
             print_message("%s (not a triangle mesh this reader handles)\n", err);
             continue;
         }
@@ -237,7 +236,7 @@ static void test_data_ipc_toolkit_meshes_when_present(void **state) {
             check_real_mesh(path, &s);
             checked++;
         }
-        scene_free(&s);
+        fixture_free(&s);
     }
     closedir(dir);
     print_message("%d ipc-toolkit meshes checked\n", checked);
@@ -285,9 +284,9 @@ static void test_data_simulation_frames_when_present(void **state) {
         for (size_t f = 0; f < count && f < 2; ++f) {
             char path[8192];
             snprintf(path, sizeof path, "%s/%s", dir_path, names[f]);
-            scene s;
+            fixture s;
             char err[512];
-            if (ply_read(path, &s, err, sizeof err) != 0) {
+            if (fixture_read(path, &s, err, sizeof err) != 0) {
                 print_message("%s\n", err);
                 break;
             }
@@ -323,7 +322,7 @@ static void test_data_simulation_frames_when_present(void **state) {
                           s.triangle_count <= 20000 ? " = EXHAUSTIVE" : "");
             free(bvh);
             free(exact);
-            scene_free(&s);
+            fixture_free(&s);
             checked++;
         }
         for (size_t k = 0; k < count; ++k)
@@ -449,14 +448,14 @@ static void test_data_sweep_finds_every_collision_of_real_steps_when_present(voi
 #endif
     for (size_t si = 0; si < step_count; ++si) {
         char path[4096], err[512];
-        scene s0, s1;
+        fixture s0, s1;
         snprintf(path, sizeof path, "%s/sample-scalable-ccd-data/%s/frames/%s",
                  SELFCOL_SHARED_DATA_DIR, steps[si].scene, steps[si].frame0);
-        if (ply_read(path, &s0, err, sizeof err) != 0)
+        if (fixture_read(path, &s0, err, sizeof err) != 0)
             continue;
         snprintf(path, sizeof path, "%s/sample-scalable-ccd-data/%s/frames/%s",
                  SELFCOL_SHARED_DATA_DIR, steps[si].scene, steps[si].frame1);
-        assert_int_equal(ply_read(path, &s1, err, sizeof err), 0);
+        assert_int_equal(fixture_read(path, &s1, err, sizeof err), 0);
         assert_int_equal(s0.vertex_count, s1.vertex_count);
         selfcol_mesh *m;
         selfcol_hierarchy *h;
@@ -551,8 +550,8 @@ static void test_data_sweep_finds_every_collision_of_real_steps_when_present(voi
         free(edge_of);
         selfcol_hierarchy_destroy(h);
         selfcol_mesh_destroy(m);
-        scene_free(&s0);
-        scene_free(&s1);
+        fixture_free(&s0);
+        fixture_free(&s1);
         checked++;
     }
     selfcol_sweep_destroy(result);

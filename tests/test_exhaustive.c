@@ -18,7 +18,7 @@
 #include <selfcol/selfcol.h>
 
 #include "contact_keys.h"
-#include "scenes.h"
+#include "fixtures.h"
 #include "test_alloc.h"
 #include "world.h"
 
@@ -46,8 +46,8 @@ static size_t count_kind(const selfcol_contact *c, size_t n, uint32_t kind) {
 static void test_exhaustive_flat_grid_has_no_contacts_below_half_diagonal(void **state) {
     (void)state;
     const double h = 0.25;
-    scene g;
-    assert_int_equal(scene_grid(&g, 8, 6, h), 0);
+    fixture g;
+    assert_int_equal(fixture_grid(&g, 8, 6, h), 0);
     world w;
     world_make(&w, &g);
     size_t n;
@@ -65,7 +65,7 @@ static void test_exhaustive_flat_grid_has_no_contacts_below_half_diagonal(void *
     for (size_t i = 0; i < n; ++i)
         assert_true(fabs(c[i].distance - h / sqrt(2.0)) < 1e-12);
     world_free(&w);
-    scene_free(&g);
+    fixture_free(&g);
 }
 
 static int has_corner(const uint32_t *tri, uint32_t v) {
@@ -85,8 +85,8 @@ static void test_exhaustive_hairpin_matches_hand_derived_pairs(void **state) {
     (void)state;
     const unsigned n = 6;
     const double gap = 0.1, d = 0.11;
-    scene s;
-    assert_int_equal(scene_hairpin(&s, n, gap), 0);
+    fixture s;
+    assert_int_equal(fixture_hairpin(&s, n, gap), 0);
     world w;
     world_make(&w, &s);
     size_t count;
@@ -96,9 +96,9 @@ static void test_exhaustive_hairpin_matches_hand_derived_pairs(void **state) {
     // VF: far vertices.
     size_t checked_vf = 0;
     for (uint32_t v = 0; v < s.vertex_count; ++v) {
-        if (hairpin_column(n, v) > n - 2)
+        if (fixture_hairpin_column(n, v) > n - 2)
             continue;
-        uint32_t twin = hairpin_twin(n, v);
+        uint32_t twin = fixture_hairpin_twin(n, v);
         for (uint32_t t = 0; t < s.triangle_count; ++t) {
             int expected = has_corner(s.triangles + 3 * t, twin);
             int found = 0;
@@ -126,13 +126,13 @@ static void test_exhaustive_hairpin_matches_hand_derived_pairs(void **state) {
     size_t checked_ee = 0;
     for (uint32_t e = 0; e < E; ++e) {
         const uint32_t *ev = edges + 2 * e;
-        if (hairpin_column(n, ev[0]) > n - 2 || hairpin_column(n, ev[1]) > n - 2)
+        if (fixture_hairpin_column(n, ev[0]) > n - 2 || fixture_hairpin_column(n, ev[1]) > n - 2)
             continue;
         for (uint32_t f = 0; f < E; ++f) {
             const uint32_t *fv = edges + 2 * f;
             int same_layer = (ev[0] < 2 * (n + 1)) == (fv[0] < 2 * (n + 1)) &&
                              (fv[0] < 2 * (n + 1)) == (fv[1] < 2 * (n + 1));
-            uint32_t twin[2] = {hairpin_twin(n, fv[0]), hairpin_twin(n, fv[1])};
+            uint32_t twin[2] = {fixture_hairpin_twin(n, fv[0]), fixture_hairpin_twin(n, fv[1])};
             int expected = !same_layer && (fv[0] < 2 * (n + 1)) == (fv[1] < 2 * (n + 1)) &&
                            edges_touch(ev, twin);
             int found = 0;
@@ -161,7 +161,7 @@ static void test_exhaustive_hairpin_matches_hand_derived_pairs(void **state) {
     assert_true(st.vf_tests >= st.vf_contacts && st.candidate_pairs >= st.vf_tests);
     assert_true(st.total_seconds >= 0.0);
     world_free(&w);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // Two unit squares crossing: A in z = 0 split along (0,2); B in x = 0.1 split
@@ -176,7 +176,7 @@ static const uint32_t squares_triangles[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7}
 
 static void test_exhaustive_crossing_squares_report_the_crossing_edges(void **state) {
     (void)state;
-    scene s = {8, 4, (double *)squares_positions, (uint32_t *)squares_triangles};
+    fixture s = {8, 4, (double *)squares_positions, (uint32_t *)squares_triangles};
     world w;
     world_make(&w, &s);
     size_t n;
@@ -275,8 +275,8 @@ static void test_exhaustive_two_meshes_match_the_combined_self_query(void **stat
 
 static void test_exhaustive_kinds_mask_selects_contact_kinds(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_hairpin(&s, 4, 0.1), 0);
+    fixture s;
+    assert_int_equal(fixture_hairpin(&s, 4, 0.1), 0);
     world w;
     world_make(&w, &s);
     selfcol_query_options q;
@@ -299,13 +299,13 @@ static void test_exhaustive_kinds_mask_selects_contact_kinds(void **state) {
     assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_count(w.contacts), 0);
     world_free(&w);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 static void test_exhaustive_rejects_bad_query_options(void **state) {
     (void)state;
-    scene g;
-    assert_int_equal(scene_grid(&g, 2, 2, 1.0), 0);
+    fixture g;
+    assert_int_equal(fixture_grid(&g, 2, 2, 1.0), 0);
     world w;
     world_make(&w, &g);
     selfcol_query_options q;
@@ -357,7 +357,7 @@ static void test_exhaustive_rejects_bad_query_options(void **state) {
             assert_int_equal(bytes[i], 0xab);
     }
     world_free(&w);
-    scene_free(&g);
+    fixture_free(&g);
 }
 
 // Allocation failure inside a query (scratch boxes, growth of the records):
@@ -365,8 +365,8 @@ static void test_exhaustive_rejects_bad_query_options(void **state) {
 // available succeeds and finds the same contacts as an unconstrained run.
 static void test_exhaustive_query_survives_allocation_failure(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_hairpin(&s, 12, 0.1), 0);
+    fixture s;
+    assert_int_equal(fixture_hairpin(&s, 12, 0.1), 0);
     world w;
     world_make(&w, &s);
     size_t expected;
@@ -412,15 +412,15 @@ static void test_exhaustive_query_survives_allocation_failure(void **state) {
     }
     assert_true(failures >= 3); // handle, scratch, first and later record blocks
     world_free(&w);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // Statistics: for a self query, the VF candidates are exactly the pairs
 // (referenced vertex, triangle not incident to it).
 static void test_exhaustive_counts_candidate_pairs(void **state) {
     (void)state;
-    scene g;
-    assert_int_equal(scene_grid(&g, 5, 4, 1.0), 0);
+    fixture g;
+    assert_int_equal(fixture_grid(&g, 5, 4, 1.0), 0);
     world w;
     world_make(&w, &g);
     selfcol_query_options q;
@@ -442,7 +442,7 @@ static void test_exhaustive_counts_candidate_pairs(void **state) {
     assert_int_equal(st.candidate_pairs, expected);
     assert_int_equal(st.ee_tests + st.ef_tests, 0);
     world_free(&w);
-    scene_free(&g);
+    fixture_free(&g);
 }
 
 // Keys of the contacts currently in w (see contact_keys.h); caller frees.
@@ -465,8 +465,8 @@ static void test_exhaustive_is_invariant_under_renumbering(void **state) {
     (void)state;
     size_t total_ef = 0;
     for (unsigned seed = 1; seed <= 3; ++seed) {
-        scene s;
-        assert_int_equal(scene_crumpled(&s, 14, 10, seed, 5.0), 0);
+        fixture s;
+        assert_int_equal(fixture_crumpled(&s, 14, 10, seed, 5.0), 0);
         world w;
         world_make(&w, &s);
         const double d = (seed == 2 ? 0.5 : 0.1) * selfcol_mesh_mean_edge_length(w.mesh);
@@ -475,7 +475,7 @@ static void test_exhaustive_is_invariant_under_renumbering(void **state) {
         // The mesh holds its own copy, so the scene can be renumbered now;
         // the original contacts are then keyed in the new numbering.
         uint32_t *new_of_old = NULL;
-        assert_int_equal(scene_shuffle(&s, seed, &new_of_old), 0);
+        assert_int_equal(fixture_shuffle(&s, seed, &new_of_old), 0);
         contact_key *before = keys_of(w.contacts, new_of_old, 0, &n0);
         world_free(&w);
         world_make(&w, &s);
@@ -488,7 +488,7 @@ static void test_exhaustive_is_invariant_under_renumbering(void **state) {
         free(after);
         free(new_of_old);
         world_free(&w);
-        scene_free(&s);
+        fixture_free(&s);
     }
     assert_true(total_ef > 0); // the crumpled sheets really cross themselves
 }
@@ -498,13 +498,13 @@ static void test_exhaustive_is_invariant_under_renumbering(void **state) {
 // shared-vertex exclusions) and the two-mesh path (without them) must agree.
 static void test_exhaustive_self_of_union_is_selves_plus_between(void **state) {
     (void)state;
-    scene a, b, u;
-    assert_int_equal(scene_crumpled(&a, 12, 9, 7, 5.0), 0);
-    assert_int_equal(scene_crumpled(&b, 9, 12, 8, 5.0), 0);
+    fixture a, b, u;
+    assert_int_equal(fixture_crumpled(&a, 12, 9, 7, 5.0), 0);
+    assert_int_equal(fixture_crumpled(&b, 9, 12, 8, 5.0), 0);
     const double shift[3] = {2.5, 1.5, 0.5};
-    scene_translate(&b, shift);
-    assert_int_equal(scene_crumpled(&u, 12, 9, 7, 5.0), 0);
-    assert_int_equal(scene_append(&u, &b), 0);
+    fixture_translate(&b, shift);
+    assert_int_equal(fixture_crumpled(&u, 12, 9, 7, 5.0), 0);
+    assert_int_equal(fixture_append(&u, &b), 0);
     world wa, wb, wu;
     world_make(&wa, &a);
     world_make(&wb, &b);
@@ -546,9 +546,9 @@ static void test_exhaustive_self_of_union_is_selves_plus_between(void **state) {
     world_free(&wa);
     world_free(&wb);
     world_free(&wu);
-    scene_free(&a);
-    scene_free(&b);
-    scene_free(&u);
+    fixture_free(&a);
+    fixture_free(&b);
+    fixture_free(&u);
 }
 
 int main(void) {

@@ -28,7 +28,7 @@
 #include <selfcol/selfcol.h>
 
 #include "contact_keys.h"
-#include "scenes.h"
+#include "fixtures.h"
 #include "test_alloc.h"
 #include "world.h"
 
@@ -151,7 +151,7 @@ typedef struct outcome {
 
 // The contract on one scene (see the file comment); prints one line per
 // distance: contact counts, SEED and CONE misses.
-static outcome check_scene(const char *name, const scene *s) {
+static outcome check_scene(const char *name, const fixture *s) {
     outcome out;
     memset(&out, 0, sizeof out);
     world w;
@@ -209,9 +209,9 @@ static outcome check_scene(const char *name, const scene *s) {
 }
 
 // check_scene, then frees the scene.
-static outcome check_and_free(const char *name, scene *s) {
+static outcome check_and_free(const char *name, fixture *s) {
     outcome out = check_scene(name, s);
-    scene_free(s);
+    fixture_free(s);
     return out;
 }
 
@@ -231,16 +231,16 @@ static void test_hierarchy_flat_sheet_all_methods_find_nothing(void **state) {
     (void)state;
     const unsigned sizes[2][2] = {{12, 9}, {24, 20}};
     for (int i = 0; i < 2; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(scene_grid(&s, sizes[i][0], sizes[i][1], 1.0), 0);
+        assert_int_equal(fixture_grid(&s, sizes[i][0], sizes[i][1], 1.0), 0);
         snprintf(name, sizeof name, "flat %ux%u", sizes[i][0], sizes[i][1]);
         outcome o = check_and_free(name, &s);
         assert_nothing_to_miss(&o);
     }
     // SEED and CONE stop at the root: one node visited, culled by curvature.
-    scene s;
-    assert_int_equal(scene_grid(&s, 16, 16, 1.0), 0);
+    fixture s;
+    assert_int_equal(fixture_grid(&s, 16, 16, 1.0), 0);
     world w;
     world_make(&w, &s);
     for (uint32_t method = SELFCOL_METHOD_SEED; method <= SELFCOL_METHOD_CONE; ++method) {
@@ -254,7 +254,7 @@ static void test_hierarchy_flat_sheet_all_methods_find_nothing(void **state) {
         assert_int_equal(st.triangle_pairs, 0);
     }
     world_free(&w);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // A gently wrinkled sheet is a height field over the unit grid: projecting
@@ -269,10 +269,10 @@ static void test_hierarchy_wrinkled_sheet_all_methods_find_nothing(void **state)
         double amplitude;
     } cases[] = {{16, 12, 1, 0.5}, {24, 20, 2, 1.0}, {30, 8, 3, 0.8}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
         assert_int_equal(
-            scene_wrinkled(&s, cases[i].nx, cases[i].ny, cases[i].seed, cases[i].amplitude), 0);
+            fixture_wrinkled(&s, cases[i].nx, cases[i].ny, cases[i].seed, cases[i].amplitude), 0);
         snprintf(name, sizeof name, "wrinkled %ux%u s%u a%.1f", cases[i].nx, cases[i].ny,
                  cases[i].seed, cases[i].amplitude);
         outcome o = check_and_free(name, &s);
@@ -285,9 +285,9 @@ static void test_hierarchy_wrinkled_sheet_all_methods_find_nothing(void **state)
 static void test_hierarchy_icosphere_all_methods_find_nothing(void **state) {
     (void)state;
     for (unsigned level = 1; level <= 3; ++level) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(scene_icosphere(&s, level, 2.0), 0);
+        assert_int_equal(fixture_icosphere(&s, level, 2.0), 0);
         assert_int_equal(s.triangle_count, 20u << (2 * level));
         snprintf(name, sizeof name, "icosphere level %u", level);
         outcome o = check_and_free(name, &s);
@@ -309,8 +309,8 @@ static void test_hierarchy_exact_proves_closed_spheres_free(void **state) {
     (void)state;
     for (unsigned level = 3; level <= 5; ++level) {
         for (int turned = 0; turned < 2; ++turned) {
-            scene s;
-            assert_int_equal(scene_icosphere(&s, level, 2.0), 0);
+            fixture s;
+            assert_int_equal(fixture_icosphere(&s, level, 2.0), 0);
             if (turned) {
                 // Rotation by 0.7 rad about the unit axis (1, 2, 2) / 3.
                 const double k[3] = {1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0}, c = cos(0.7), sn = sin(0.7);
@@ -348,7 +348,7 @@ static void test_hierarchy_exact_proves_closed_spheres_free(void **state) {
                 assert_true(st.nodes_visited < 40u * level * level);
             }
             world_free(&w);
-            scene_free(&s);
+            fixture_free(&s);
         }
     }
 }
@@ -364,11 +364,11 @@ static void test_hierarchy_spiral_ramp_seed_misses_contacts(void **state) {
         double r_in, pitch, gmin;
     } cases[] = {{3, 28, 3.0, 1.0, -0.3}, {4, 36, 4.0, 1.2, -0.5}, {2, 20, 2.5, 0.8, -0.2}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(
-            scene_ramp(&s, cases[i].nr, cases[i].na, cases[i].r_in, cases[i].pitch, cases[i].gmin),
-            0);
+        assert_int_equal(fixture_ramp(&s, cases[i].nr, cases[i].na, cases[i].r_in, cases[i].pitch,
+                                      cases[i].gmin),
+                         0);
         snprintf(name, sizeof name, "ramp %ux%u r%.1f p%.1f g%.1f", cases[i].nr, cases[i].na,
                  cases[i].r_in, cases[i].pitch, cases[i].gmin);
         outcome o = check_and_free(name, &s);
@@ -386,9 +386,9 @@ static void test_hierarchy_bvh_exact_on_crumpled_sheets(void **state) {
     const unsigned cases[][3] = {{14, 10, 1}, {14, 10, 2}, {20, 14, 3}};
     size_t ef = 0;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(scene_crumpled(&s, cases[i][0], cases[i][1], cases[i][2], 5.0), 0);
+        assert_int_equal(fixture_crumpled(&s, cases[i][0], cases[i][1], cases[i][2], 5.0), 0);
         snprintf(name, sizeof name, "crumpled %ux%u s%u", cases[i][0], cases[i][1], cases[i][2]);
         outcome o = check_and_free(name, &s);
         ef += o.ef[0];
@@ -397,22 +397,22 @@ static void test_hierarchy_bvh_exact_on_crumpled_sheets(void **state) {
     assert_true(ef > 0);
     // The same surface renumbered: another hierarchy (the build depends on
     // the order), the same contract.
-    scene s;
+    fixture s;
     uint32_t *map = NULL;
-    assert_int_equal(scene_crumpled(&s, 14, 10, 2, 5.0), 0);
-    assert_int_equal(scene_shuffle(&s, 9, &map), 0);
+    assert_int_equal(fixture_crumpled(&s, 14, 10, 2, 5.0), 0);
+    assert_int_equal(fixture_shuffle(&s, 9, &map), 0);
     free(map);
     check_and_free("crumpled 14x10 s2 shuffled", &s);
     // Far from the origin: the node boxes are floats rounded outward; a
     // translation by 1e5 must not lose anything.
-    assert_int_equal(scene_crumpled(&s, 14, 10, 1, 5.0), 0);
+    assert_int_equal(fixture_crumpled(&s, 14, 10, 1, 5.0), 0);
     const double far[3] = {1.0e5, -3.0e4, 7.0e3};
-    scene_translate(&s, far);
+    fixture_translate(&s, far);
     check_and_free("crumpled 14x10 s1 at 1e5", &s);
 }
 
 // Appends triangles to a scene (its arrays are malloc'd).
-static void add_triangles(scene *s, const uint32_t *tris, size_t n) {
+static void add_triangles(fixture *s, const uint32_t *tris, size_t n) {
     uint32_t *t = realloc(s->triangles, 3 * (s->triangle_count + n) * sizeof(uint32_t));
     assert_non_null(t);
     memcpy(t + 3 * s->triangle_count, tris, 3 * n * sizeof(uint32_t));
@@ -427,9 +427,9 @@ static void test_hierarchy_bvh_exact_on_degenerate_input(void **state) {
     (void)state;
     for (int crumple = 0; crumple < 2; ++crumple) {
         const unsigned nx = 12, ny = 9;
-        scene s;
-        assert_int_equal(crumple ? scene_crumpled(&s, nx, ny, 6, 5.0) : scene_grid(&s, nx, ny, 1.0),
-                         0);
+        fixture s;
+        assert_int_equal(
+            crumple ? fixture_crumpled(&s, nx, ny, 6, 5.0) : fixture_grid(&s, nx, ny, 1.0), 0);
         // Vertex (i, j) is i (ny + 1) + j.
 #define V(i, j) ((uint32_t)((i) * (ny + 1) + (j)))
         const uint32_t extra[][3] = {
@@ -454,8 +454,8 @@ static void test_hierarchy_bvh_exact_on_degenerate_input(void **state) {
 // report it in CI; the mesh's memory is freed and poisoned here).
 static void test_hierarchy_destroy_after_its_mesh(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_crumpled(&s, 10, 10, 3, 5.0), 0);
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 10, 10, 3, 5.0), 0);
     selfcol_mesh *mesh = NULL;
     assert_int_equal(selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
                                          s.triangles, NULL),
@@ -466,12 +466,12 @@ static void test_hierarchy_destroy_after_its_mesh(void **state) {
     selfcol_mesh_destroy(mesh);
     assert_int_equal(selfcol_hierarchy_byte_count(h), bytes);
     selfcol_hierarchy_destroy(h);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // A "book": k pages (triangles) sharing the spine edge (0, 1), fanned around
 // it; with copies, every page is the same triangle (k copies of one triangle).
-static void make_book(scene *s, unsigned k, int copies) {
+static void make_book(fixture *s, unsigned k, int copies) {
     s->vertex_count = copies ? 3 : 2 + (size_t)k;
     s->triangle_count = k;
     s->positions = malloc(3 * s->vertex_count * sizeof(double));
@@ -503,7 +503,7 @@ static void test_hierarchy_book_of_pages_builds_in_linear_memory(void **state) {
     (void)state;
     for (int copies = 0; copies < 2; ++copies) {
         const unsigned k = 3000;
-        scene s;
+        fixture s;
         make_book(&s, k, copies);
         selfcol_mesh *mesh = NULL;
         assert_int_equal(selfcol_mesh_create(&mesh, s.vertex_count, s.positions, s.triangle_count,
@@ -524,9 +524,9 @@ static void test_hierarchy_book_of_pages_builds_in_linear_memory(void **state) {
         selfcol_hierarchy_destroy(h);
         selfcol_mesh_destroy(mesh);
         assert_int_equal(st.live, 0);
-        scene_free(&s);
+        fixture_free(&s);
     }
-    scene s;
+    fixture s;
     make_book(&s, 40, 0);
     check_and_free("book of 40 pages", &s);
     make_book(&s, 12, 1);
@@ -542,7 +542,7 @@ static void test_hierarchy_book_of_pages_builds_in_linear_memory(void **state) {
 static void test_hierarchy_duplicate_triangles_collapse_into_the_first(void **state) {
     (void)state;
     const unsigned k = 2000;
-    scene s;
+    fixture s;
     make_book(&s, k, 1); // triangle (0, 1, 2) k times
     // A free edge (3, 4) through the copies' plane, and a triangle of it.
     const double extra[9] = {0.3, -1.0, 0.5, 0.3, 1.0, 0.5, 0.3, 0.0, -1.0};
@@ -599,7 +599,7 @@ static void test_hierarchy_duplicate_triangles_collapse_into_the_first(void **st
     selfcol_contacts_destroy(ref);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(mesh);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 static void test_hierarchy_bvh_exact_on_hairpins(void **state) {
@@ -609,9 +609,9 @@ static void test_hierarchy_bvh_exact_on_hairpins(void **state) {
         double gap;
     } cases[] = {{8, 0.05}, {20, 0.3}, {40, 0.1}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(scene_hairpin(&s, cases[i].n, cases[i].gap), 0);
+        assert_int_equal(fixture_hairpin(&s, cases[i].n, cases[i].gap), 0);
         snprintf(name, sizeof name, "hairpin %u gap %.2f", cases[i].n, cases[i].gap);
         outcome o = check_and_free(name, &s);
         assert_true(o.total[1] > 0);
@@ -628,10 +628,10 @@ static void test_hierarchy_bvh_exact_on_z_folds(void **state) {
     } cases[] = {
         {10, 3, 1, 0.08, 0.0}, {12, 5, 4, 0.3, 0.0}, {10, 4, 1, 0.1, 0.25}, {14, 3, 3, 0.2, 0.5}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(scene_zfold(&s, cases[i].n, cases[i].w, cases[i].gap,
-                                     cases[i].fold_segments, cases[i].dip),
+        assert_int_equal(fixture_zfold(&s, cases[i].n, cases[i].w, cases[i].gap,
+                                       cases[i].fold_segments, cases[i].dip),
                          0);
         snprintf(name, sizeof name, "zfold %ux%u f%u gap %.2f dip %.2f", cases[i].n, cases[i].w,
                  cases[i].fold_segments, cases[i].gap, cases[i].dip);
@@ -649,11 +649,11 @@ static void test_hierarchy_bvh_exact_on_rolled_sheets(void **state) {
         double turns, r0, gap0, gap1;
     } cases[] = {{8, 1.5, 2.0, 0.04, 0.6}, {6, 2.25, 2.5, -0.15, 0.5}, {12, 1.25, 3.0, 0.02, 0.3}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(
-            scene_rolled(&s, cases[i].w, cases[i].turns, cases[i].r0, cases[i].gap0, cases[i].gap1),
-            0);
+        assert_int_equal(fixture_rolled(&s, cases[i].w, cases[i].turns, cases[i].r0, cases[i].gap0,
+                                        cases[i].gap1),
+                         0);
         snprintf(name, sizeof name, "rolled w%u t%.2f gap %.2f..%.2f", cases[i].w, cases[i].turns,
                  cases[i].gap0, cases[i].gap1);
         outcome o = check_and_free(name, &s);
@@ -669,9 +669,9 @@ static void test_hierarchy_bvh_exact_on_uv_spheres(void **state) {
     (void)state;
     const unsigned cases[][2] = {{8, 12}, {12, 24}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(scene_uv_sphere(&s, cases[i][0], cases[i][1], 2.0), 0);
+        assert_int_equal(fixture_uv_sphere(&s, cases[i][0], cases[i][1], 2.0), 0);
         snprintf(name, sizeof name, "uv sphere %ux%u", cases[i][0], cases[i][1]);
         check_and_free(name, &s);
     }
@@ -686,13 +686,13 @@ static void test_hierarchy_bvh_exact_on_two_sheet_components(void **state) {
         double angle, offset;
     } cases[] = {{10, 1, PI / 3.0, 0.0}, {14, 2, 0.0, 0.12}, {8, 3, 0.2, 0.1}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene a, b;
+        fixture a, b;
         char name[64];
         assert_int_equal(
-            scene_sheet_pair(&a, &b, cases[i].n, cases[i].seed, cases[i].angle, cases[i].offset),
+            fixture_sheet_pair(&a, &b, cases[i].n, cases[i].seed, cases[i].angle, cases[i].offset),
             0);
-        assert_int_equal(scene_append(&a, &b), 0);
-        scene_free(&b);
+        assert_int_equal(fixture_append(&a, &b), 0);
+        fixture_free(&b);
         snprintf(name, sizeof name, "sheet pair %u s%u a%.2f o%.2f", cases[i].n, cases[i].seed,
                  cases[i].angle, cases[i].offset);
         outcome o = check_and_free(name, &a);
@@ -704,14 +704,14 @@ static void test_hierarchy_bvh_exact_on_two_sheet_components(void **state) {
 // nothing to find; crumpled, the contract.
 static void test_hierarchy_bvh_exact_on_holed_sheets(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_holed(&s, 14, 12, 3.5, 1, 0.0), 0);
+    fixture s;
+    assert_int_equal(fixture_holed(&s, 14, 12, 3.5, 1, 0.0), 0);
     outcome o = check_and_free("holed 14x12 flat", &s);
     assert_nothing_to_miss(&o);
-    assert_int_equal(scene_holed(&s, 14, 12, 3.5, 1, 5.0), 0);
+    assert_int_equal(fixture_holed(&s, 14, 12, 3.5, 1, 5.0), 0);
     o = check_and_free("holed 14x12 crumpled s1", &s);
     assert_true(o.total[1] > 0);
-    assert_int_equal(scene_holed(&s, 20, 16, 5.0, 2, 4.0), 0);
+    assert_int_equal(fixture_holed(&s, 20, 16, 5.0, 2, 4.0), 0);
     o = check_and_free("holed 20x16 crumpled s2", &s);
     assert_true(o.total[1] > 0);
 }
@@ -725,10 +725,10 @@ static void test_hierarchy_bvh_exact_on_moebius_bands(void **state) {
         double squash;
     } cases[] = {{40, 4, 1, 1.0}, {48, 4, 1, 0.1}, {60, 6, 3, 0.08}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
+        fixture s;
         char name[64];
-        assert_int_equal(scene_moebius(&s, cases[i].nu, cases[i].nv, 6.0, 2.0, cases[i].half_twists,
-                                       cases[i].squash),
+        assert_int_equal(fixture_moebius(&s, cases[i].nu, cases[i].nv, 6.0, 2.0,
+                                         cases[i].half_twists, cases[i].squash),
                          0);
         snprintf(name, sizeof name, "moebius %ux%u t%u sq%.2f", cases[i].nu, cases[i].nv,
                  cases[i].half_twists, cases[i].squash);
@@ -742,8 +742,8 @@ static void test_hierarchy_bvh_exact_on_moebius_bands(void **state) {
 // where boxes that merely touch must not be culled).
 static void test_hierarchy_bvh_exact_per_kind_and_at_zero_distance(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_crumpled(&s, 12, 10, 4, 5.0), 0);
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 12, 10, 4, 5.0), 0);
     world w;
     world_make(&w, &s);
     const double d = 0.3 * selfcol_mesh_mean_edge_length(w.mesh);
@@ -764,13 +764,13 @@ static void test_hierarchy_bvh_exact_per_kind_and_at_zero_distance(void **state)
         free(bvh);
     }
     world_free(&w);
-    scene_free(&s);
+    fixture_free(&s);
 
     // d = 0 on the crossing scenes.
-    scene scenes[3];
-    assert_int_equal(scene_crumpled(&scenes[0], 14, 10, 1, 5.0), 0);
-    assert_int_equal(scene_ramp(&scenes[1], 3, 28, 3.0, 1.0, -0.3), 0);
-    assert_int_equal(scene_zfold(&scenes[2], 10, 4, 0.1, 1, 0.25), 0);
+    fixture scenes[3];
+    assert_int_equal(fixture_crumpled(&scenes[0], 14, 10, 1, 5.0), 0);
+    assert_int_equal(fixture_ramp(&scenes[1], 3, 28, 3.0, 1.0, -0.3), 0);
+    assert_int_equal(fixture_zfold(&scenes[2], 10, 4, 0.1, 1, 0.25), 0);
     for (int i = 0; i < 3; ++i) {
         world_make(&w, &scenes[i]);
         size_t n_ref, n_bvh;
@@ -781,14 +781,14 @@ static void test_hierarchy_bvh_exact_per_kind_and_at_zero_distance(void **state)
         free(ref);
         free(bvh);
         world_free(&w);
-        scene_free(&scenes[i]);
+        fixture_free(&scenes[i]);
     }
 }
 
 // Two separate meshes: every method against EXHAUSTIVE. Between two meshes
 // no patch of one is adjacent to a patch of the other, so SEED and CONE can
 // cull nothing but boxes: they must be exact too.
-static void check_pair(const char *name, const scene *sa, const scene *sb) {
+static void check_pair(const char *name, const fixture *sa, const fixture *sb) {
     world a, b;
     world_make(&a, sa);
     world_make(&b, sb);
@@ -835,39 +835,39 @@ static void check_pair(const char *name, const scene *sa, const scene *sb) {
 
 static void test_hierarchy_collide_two_meshes_matches_exhaustive(void **state) {
     (void)state;
-    scene cloth, sphere;
-    assert_int_equal(scene_draped_cloth(&cloth, 12, 3.0, 2.0, 0.05, 0.12), 0);
-    assert_int_equal(scene_icosphere(&sphere, 2, 2.0), 0);
+    fixture cloth, sphere;
+    assert_int_equal(fixture_draped_cloth(&cloth, 12, 3.0, 2.0, 0.05, 0.12), 0);
+    assert_int_equal(fixture_icosphere(&sphere, 2, 2.0), 0);
     check_pair("cloth over sphere", &cloth, &sphere);
     check_pair("sphere under cloth", &sphere, &cloth);
-    scene_free(&cloth);
-    scene_free(&sphere);
-    assert_int_equal(scene_draped_cloth(&cloth, 20, 3.0, 2.5, 0.02, 0.06), 0);
-    assert_int_equal(scene_icosphere(&sphere, 3, 2.5), 0);
+    fixture_free(&cloth);
+    fixture_free(&sphere);
+    assert_int_equal(fixture_draped_cloth(&cloth, 20, 3.0, 2.5, 0.02, 0.06), 0);
+    assert_int_equal(fixture_icosphere(&sphere, 3, 2.5), 0);
     check_pair("fine cloth over sphere", &cloth, &sphere);
-    scene_free(&cloth);
-    scene_free(&sphere);
+    fixture_free(&cloth);
+    fixture_free(&sphere);
 
-    scene a, b;
-    assert_int_equal(scene_crumpled(&a, 12, 9, 7, 5.0), 0);
-    assert_int_equal(scene_crumpled(&b, 9, 12, 8, 5.0), 0);
+    fixture a, b;
+    assert_int_equal(fixture_crumpled(&a, 12, 9, 7, 5.0), 0);
+    assert_int_equal(fixture_crumpled(&b, 9, 12, 8, 5.0), 0);
     const double shift[3] = {2.5, 1.5, 0.5};
-    scene_translate(&b, shift);
+    fixture_translate(&b, shift);
     check_pair("two crumpled sheets", &a, &b);
-    scene_free(&a);
-    scene_free(&b);
-    assert_int_equal(scene_sheet_pair(&a, &b, 10, 4, PI / 3.0, 0.0), 0);
+    fixture_free(&a);
+    fixture_free(&b);
+    assert_int_equal(fixture_sheet_pair(&a, &b, 10, 4, PI / 3.0, 0.0), 0);
     check_pair("two crossing sheets", &a, &b);
-    scene_free(&a);
-    scene_free(&b);
+    fixture_free(&a);
+    fixture_free(&b);
 }
 
 // Moving one of two meshes makes collide stale until that mesh's hierarchy
 // is refit; EXHAUSTIVE needs no hierarchy state and always runs.
 static void test_hierarchy_collide_is_stale_until_both_are_refit(void **state) {
     (void)state;
-    scene sa, sb;
-    assert_int_equal(scene_sheet_pair(&sa, &sb, 8, 5, 0.0, 0.2), 0);
+    fixture sa, sb;
+    assert_int_equal(fixture_sheet_pair(&sa, &sb, 8, 5, 0.0, 0.2), 0);
     world a, b;
     world_make(&a, &sa);
     world_make(&b, &sb);
@@ -876,7 +876,7 @@ static void test_hierarchy_collide_is_stale_until_both_are_refit(void **state) {
     assert_int_equal(selfcol_hierarchy_collide(a.hierarchy, b.hierarchy, a.contacts, &q),
                      SELFCOL_OK);
     const double lift[3] = {0.0, 0.0, -0.15};
-    scene_translate(&sb, lift);
+    fixture_translate(&sb, lift);
     assert_int_equal(selfcol_mesh_set_positions(b.mesh, sb.positions, sb.vertex_count), SELFCOL_OK);
     for (uint32_t m = SELFCOL_METHOD_BVH; m <= SELFCOL_METHOD_CONE; ++m) {
         q.method = m;
@@ -905,8 +905,8 @@ static void test_hierarchy_collide_is_stale_until_both_are_refit(void **state) {
     free(bvh);
     world_free(&a);
     world_free(&b);
-    scene_free(&sa);
-    scene_free(&sb);
+    fixture_free(&sa);
+    fixture_free(&sb);
 }
 
 // A frame sequence: a sheet built flat, then crumpled more and more (and
@@ -918,15 +918,15 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
     const unsigned nx = 14, ny = 10, seed = 5;
     const double amplitudes[] = {0.0, 1.0, 2.5, 5.0, 7.0, 3.0};
     const size_t frames = sizeof amplitudes / sizeof amplitudes[0];
-    scene s;
-    assert_int_equal(scene_crumpled(&s, nx, ny, seed, amplitudes[0]), 0);
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, nx, ny, seed, amplitudes[0]), 0);
     world w;
     world_make(&w, &s);
-    scene_free(&s);
+    fixture_free(&s);
     size_t total = 0;
     for (size_t f = 0; f < frames; ++f) {
-        scene frame;
-        assert_int_equal(scene_crumpled(&frame, nx, ny, seed, amplitudes[f]), 0);
+        fixture frame;
+        assert_int_equal(fixture_crumpled(&frame, nx, ny, seed, amplitudes[f]), 0);
         if (f > 0) {
             if (f == 3) { // the float entry point makes it stale too
                 float *xyz = malloc(3 * frame.vertex_count * sizeof(float));
@@ -1002,7 +1002,7 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
                              SELFCOL_OK);
             assert_int_equal(selfcol_contacts_count(w.contacts), 0); // flat: nothing
         }
-        scene_free(&frame);
+        fixture_free(&frame);
     }
     assert_true(total > 0);
     assert_int_equal(selfcol_hierarchy_refit(NULL), SELFCOL_EINVAL);
@@ -1016,12 +1016,12 @@ static void test_hierarchy_refit_after_set_positions_frame_sequence(void **state
 // with unreferenced vertices.
 static void test_hierarchy_create_survives_every_allocation_failure(void **state) {
     (void)state;
-    scene scenes[3], b;
-    assert_int_equal(scene_crumpled(&scenes[0], 14, 12, 3, 2.0), 0);
-    assert_int_equal(scene_sheet_pair(&scenes[1], &b, 8, 1, PI / 3.0, 0.0), 0);
-    assert_int_equal(scene_append(&scenes[1], &b), 0);
-    scene_free(&b);
-    assert_int_equal(scene_holed(&scenes[2], 12, 10, 3.0, 2, 1.0), 0);
+    fixture scenes[3], b;
+    assert_int_equal(fixture_crumpled(&scenes[0], 14, 12, 3, 2.0), 0);
+    assert_int_equal(fixture_sheet_pair(&scenes[1], &b, 8, 1, PI / 3.0, 0.0), 0);
+    assert_int_equal(fixture_append(&scenes[1], &b), 0);
+    fixture_free(&b);
+    assert_int_equal(fixture_holed(&scenes[2], 12, 10, 3.0, 2, 1.0), 0);
     int wrong_sizes = 0;
     for (int i = 0; i < 3; ++i) {
         selfcol_mesh *mesh = NULL;
@@ -1077,7 +1077,7 @@ static void test_hierarchy_create_survives_every_allocation_failure(void **state
         assert_true(failures >= 10); // the build's scratch arrays, graph rounds, tree, lists
         wrong_sizes += wrong_size_at != 0;
         selfcol_mesh_destroy(mesh);
-        scene_free(&scenes[i]);
+        fixture_free(&scenes[i]);
     }
     if (wrong_sizes != 0)
         fail_msg("in %d of 3 scenes an allocation failure makes selfcol_hierarchy_create free a "
@@ -1095,8 +1095,8 @@ static size_t ceil_log2(size_t n) {
 // The hierarchy's shape and memory, through the public counts.
 static void test_hierarchy_structure_and_memory_on_4000_triangle_sheet(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_wrinkled(&s, 50, 40, 7, 1.0), 0);
+    fixture s;
+    assert_int_equal(fixture_wrinkled(&s, 50, 40, 7, 1.0), 0);
     assert_int_equal(s.triangle_count, 4000);
     world w;
     world_make(&w, &s);
@@ -1132,7 +1132,7 @@ static void test_hierarchy_structure_and_memory_on_4000_triangle_sheet(void **st
     assert_int_equal(selfcol_contacts_stats(w.contacts, &st), SELFCOL_OK);
     assert_int_equal(st.nodes_visited, 1);
     world_free(&w);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // Small and disconnected meshes: one triangle is one leaf; triangles with
@@ -1164,7 +1164,7 @@ static void test_hierarchy_structure_of_small_and_disconnected_meshes(void **sta
         for (uint32_t c = 0; c < 3; ++c)
             tri[3 * i + c] = 3 * i + c;
     }
-    scene s = {3 * K, K, pos, tri};
+    fixture s = {3 * K, K, pos, tri};
     world w;
     world_make(&w, &s);
     const size_t nodes = selfcol_hierarchy_count(w.hierarchy, SELFCOL_HIERARCHY_NODES);
@@ -1191,8 +1191,8 @@ static void test_hierarchy_structure_of_small_and_disconnected_meshes(void **sta
 // every call).
 static void test_hierarchy_steady_state_frames_allocate_nothing(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_crumpled(&s, 16, 12, 4, 5.0), 0);
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 16, 12, 4, 5.0), 0);
     test_allocator_state hs = {0}, cs = {0};
     selfcol_hierarchy_options hopts;
     selfcol_hierarchy_options_init(&hopts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
@@ -1230,7 +1230,7 @@ static void test_hierarchy_steady_state_frames_allocate_nothing(void **state) {
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(m);
     assert_int_equal(hs.live + cs.live, 0);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 int main(void) {

@@ -15,7 +15,7 @@
 
 #include <selfcol/selfcol.h>
 
-#include "scenes.h"
+#include "fixtures.h"
 #include "test_alloc.h"
 
 // Two triangles sharing edge (1, 2): a unit square.
@@ -327,8 +327,8 @@ static void test_mesh_grid_topology_matches_formula(void **state) {
     const unsigned sizes[][2] = {{1, 1}, {3, 7}, {40, 25}};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; ++s) {
         unsigned nx = sizes[s][0], ny = sizes[s][1];
-        scene g;
-        assert_int_equal(scene_grid(&g, nx, ny, 0.5), 0);
+        fixture g;
+        assert_int_equal(fixture_grid(&g, nx, ny, 0.5), 0);
         selfcol_mesh *m = NULL;
         assert_int_equal(selfcol_mesh_create(&m, g.vertex_count, g.positions, g.triangle_count,
                                              g.triangles, NULL),
@@ -358,11 +358,11 @@ static void test_mesh_grid_topology_matches_formula(void **state) {
             }
         }
         selfcol_mesh_destroy(m);
-        scene_free(&g);
+        fixture_free(&g);
     }
 }
 
-static selfcol_mesh *mesh_of(const scene *g) {
+static selfcol_mesh *mesh_of(const fixture *g) {
     selfcol_mesh *m = NULL;
     assert_int_equal(selfcol_mesh_create(&m, g->vertex_count, g->positions, g->triangle_count,
                                          g->triangles, NULL),
@@ -370,7 +370,7 @@ static selfcol_mesh *mesh_of(const scene *g) {
     return m;
 }
 
-static void expect_loops_and_misoriented(const scene *g, size_t loops, size_t misoriented) {
+static void expect_loops_and_misoriented(const fixture *g, size_t loops, size_t misoriented) {
     selfcol_mesh *m = mesh_of(g);
     assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_LOOPS), loops);
     assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_MISORIENTED_EDGES), misoriented);
@@ -384,8 +384,8 @@ static void expect_loops_and_misoriented(const scene *g, size_t loops, size_t mi
 // flipping the whole grid misorients none.
 static void test_mesh_boundary_loops_and_orientation(void **state) {
     (void)state;
-    scene g, other;
-    assert_int_equal(scene_grid(&g, 6, 4, 1.0), 0);
+    fixture g, other;
+    assert_int_equal(fixture_grid(&g, 6, 4, 1.0), 0);
     expect_loops_and_misoriented(&g, 1, 0);
     // Flip one interior triangle (its three edges each have two triangles).
     uint32_t *t = &g.triangles[3 * 13];
@@ -404,33 +404,33 @@ static void test_mesh_boundary_loops_and_orientation(void **state) {
     }
     expect_loops_and_misoriented(&g, 1, 0);
     // Two grids side by side: two loops.
-    assert_int_equal(scene_grid(&other, 3, 3, 1.0), 0);
+    assert_int_equal(fixture_grid(&other, 3, 3, 1.0), 0);
     const double offset[3] = {100.0, 0.0, 0.0};
-    scene_translate(&other, offset);
-    assert_int_equal(scene_append(&g, &other), 0);
+    fixture_translate(&other, offset);
+    assert_int_equal(fixture_append(&g, &other), 0);
     expect_loops_and_misoriented(&g, 2, 0);
-    scene_free(&g);
-    scene_free(&other);
+    fixture_free(&g);
+    fixture_free(&other);
 
-    assert_int_equal(scene_holed(&g, 12, 12, 3.0, 1, 0.0), 0);
+    assert_int_equal(fixture_holed(&g, 12, 12, 3.0, 1, 0.0), 0);
     expect_loops_and_misoriented(&g, 2, 0);
-    scene_free(&g);
-    assert_int_equal(scene_icosphere(&g, 2, 1.0), 0);
+    fixture_free(&g);
+    assert_int_equal(fixture_icosphere(&g, 2, 1.0), 0);
     expect_loops_and_misoriented(&g, 0, 0);
-    scene_free(&g);
+    fixture_free(&g);
 
     // A Moebius band: one boundary loop; at least one misoriented edge
     // wherever the seam is (a one-sided surface has no consistent orientation).
-    assert_int_equal(scene_moebius(&g, 40, 4, 5.0, 1.0, 1, 1.0), 0);
+    assert_int_equal(fixture_moebius(&g, 40, 4, 5.0, 1.0, 1, 1.0), 0);
     selfcol_mesh *m = mesh_of(&g);
     assert_int_equal(selfcol_mesh_count(m, SELFCOL_MESH_BOUNDARY_LOOPS), 1);
     assert_true(selfcol_mesh_count(m, SELFCOL_MESH_MISORIENTED_EDGES) >= 1);
     selfcol_mesh_destroy(m);
-    scene_free(&g);
+    fixture_free(&g);
     // Two half-twists: an orientable band with two boundary loops.
-    assert_int_equal(scene_moebius(&g, 40, 4, 5.0, 1.0, 2, 1.0), 0);
+    assert_int_equal(fixture_moebius(&g, 40, 4, 5.0, 1.0, 2, 1.0), 0);
     expect_loops_and_misoriented(&g, 2, 0);
-    scene_free(&g);
+    fixture_free(&g);
 
     // A bowtie (two triangles sharing one vertex): boundary edges sharing a
     // vertex are one set, so one loop (documented).
@@ -484,8 +484,8 @@ static void test_mesh_fan_has_expected_edges(void **state) {
 // allocated.
 static void test_mesh_create_survives_every_allocation_failure(void **state) {
     (void)state;
-    scene g;
-    assert_int_equal(scene_grid(&g, 6, 5, 1.0), 0);
+    fixture g;
+    assert_int_equal(fixture_grid(&g, 6, 5, 1.0), 0);
     long failures = 0;
     for (long n = 1;; ++n) {
         test_allocator_state st = {0};
@@ -510,7 +510,7 @@ static void test_mesh_create_survives_every_allocation_failure(void **state) {
         failures++;
     }
     assert_true(failures >= 10); // every array of the topology was exercised
-    scene_free(&g);
+    fixture_free(&g);
 }
 
 int main(void) {

@@ -22,7 +22,7 @@
 
 #include <selfcol/selfcol.h>
 
-#include "scenes.h"
+#include "fixtures.h"
 #include "test_alloc.h"
 
 // A store's records, copied into a new array (the caller frees it); the
@@ -36,7 +36,7 @@ static selfcol_store_contact *copy_records(const selfcol_store *store, size_t *c
     return c;
 }
 
-static selfcol_mesh *mesh_of(const scene *s) {
+static selfcol_mesh *mesh_of(const fixture *s) {
     selfcol_mesh *m = NULL;
     assert_int_equal(selfcol_mesh_create(&m, s->vertex_count, s->positions, s->triangle_count,
                                          s->triangles, NULL),
@@ -86,18 +86,18 @@ static const selfcol_store *store_of(const selfcol_scene *sc, uint32_t a, uint32
 
 static void test_pairs_by_kind(void **state) {
     (void)state;
-    scene g[6];
+    fixture g[6];
     memset(g, 0, sizeof g);
     for (int i = 0; i < 4; ++i) {
-        assert_int_equal(scene_grid(&g[i], 4, 4, 1.0), 0);
+        assert_int_equal(fixture_grid(&g[i], 4, 4, 1.0), 0);
         const double off[3] = {0.0, 0.0, 0.3 * i};
-        scene_translate(&g[i], off);
+        fixture_translate(&g[i], off);
     }
-    assert_int_equal(scene_icosphere(&g[4], 1, 1.0), 0);
-    assert_int_equal(scene_icosphere(&g[5], 1, 1.0), 0);
+    assert_int_equal(fixture_icosphere(&g[4], 1, 1.0), 0);
+    assert_int_equal(fixture_icosphere(&g[5], 1, 1.0), 0);
     const double aside[3] = {-10.0, 0.0, 0.0}, far[3] = {100.0, 0.0, 0.0};
-    scene_translate(&g[4], aside);
-    scene_translate(&g[5], far);
+    fixture_translate(&g[4], aside);
+    fixture_translate(&g[5], far);
     selfcol_mesh *m[6];
     for (int i = 0; i < 6; ++i)
         m[i] = mesh_of(&g[i]);
@@ -141,7 +141,7 @@ static void test_pairs_by_kind(void **state) {
     selfcol_scene_destroy(sc);
     for (int i = 0; i < 6; ++i) {
         selfcol_mesh_destroy(m[i]);
-        scene_free(&g[i]);
+        fixture_free(&g[i]);
     }
 }
 
@@ -150,18 +150,18 @@ static void test_pairs_by_kind(void **state) {
 // gives the sides without a vote; moving the floor's mesh is refused.
 static void test_static_never_refit(void **state) {
     (void)state;
-    scene floor_s = {0}, cloth_s = {0};
-    assert_int_equal(scene_grid(&floor_s, 6, 6, 1.0), 0);
-    assert_int_equal(scene_grid(&cloth_s, 8, 8, 0.5), 0);
+    fixture floor_s = {0}, cloth_s = {0};
+    assert_int_equal(fixture_grid(&floor_s, 6, 6, 1.0), 0);
+    assert_int_equal(fixture_grid(&cloth_s, 8, 8, 0.5), 0);
     const double up[3] = {1.2, 1.1, 0.2};
-    scene_translate(&cloth_s, up);
+    fixture_translate(&cloth_s, up);
     selfcol_mesh *floor_m = mesh_of(&floor_s), *cloth_m = mesh_of(&cloth_s);
     selfcol_scene *sc = make_scene(0.1, NULL);
     const uint32_t cloth = add(sc, cloth_m, SELFCOL_SURFACE_CLOTH, -1, 0);
     const uint32_t fl = add(sc, floor_m, SELFCOL_SURFACE_STATIC, -1, +1);
     for (int frame = 0; frame < 3; ++frame) {
         const double down[3] = {0.0, 0.0, -0.06};
-        scene_translate(&cloth_s, down);
+        fixture_translate(&cloth_s, down);
         assert_int_equal(
             selfcol_mesh_set_positions(cloth_m, cloth_s.positions, cloth_s.vertex_count),
             SELFCOL_OK);
@@ -195,7 +195,7 @@ static void test_static_never_refit(void **state) {
     assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
     // The floor moves: refused, nothing updated.
     const double lift[3] = {0.0, 0.0, 0.01};
-    scene_translate(&floor_s, lift);
+    fixture_translate(&floor_s, lift);
     assert_int_equal(selfcol_mesh_set_positions(floor_m, floor_s.positions, floor_s.vertex_count),
                      SELFCOL_OK);
     assert_int_equal(selfcol_scene_update(sc), SELFCOL_ESTALE);
@@ -203,7 +203,7 @@ static void test_static_never_refit(void **state) {
     // floor drops below the cloth's reach: the pair's contacts age out by
     // remnance, the store is the same one.
     const double drop[3] = {0.0, 0.0, -1.0};
-    scene_translate(&floor_s, drop);
+    fixture_translate(&floor_s, drop);
     assert_int_equal(selfcol_mesh_set_positions(floor_m, floor_s.positions, floor_s.vertex_count),
                      SELFCOL_OK);
     assert_int_equal(selfcol_scene_update(sc), SELFCOL_ESTALE);
@@ -219,8 +219,8 @@ static void test_static_never_refit(void **state) {
     selfcol_scene_destroy(sc);
     selfcol_mesh_destroy(cloth_m);
     selfcol_mesh_destroy(floor_m);
-    scene_free(&cloth_s);
-    scene_free(&floor_s);
+    fixture_free(&cloth_s);
+    fixture_free(&floor_s);
 }
 
 // Removing a surface destroys its pairs' stores only: the others keep their
@@ -228,13 +228,13 @@ static void test_static_never_refit(void **state) {
 // (the Bullet adapter's attach and detach rely on this).
 static void test_remove_surface_keeps_the_other_stores(void **state) {
     (void)state;
-    scene low = {0}, high = {0}, far_s = {0};
-    assert_int_equal(scene_grid(&low, 6, 6, 1.0), 0);
-    assert_int_equal(scene_grid(&high, 6, 6, 1.0), 0);
-    assert_int_equal(scene_grid(&far_s, 4, 4, 1.0), 0);
+    fixture low = {0}, high = {0}, far_s = {0};
+    assert_int_equal(fixture_grid(&low, 6, 6, 1.0), 0);
+    assert_int_equal(fixture_grid(&high, 6, 6, 1.0), 0);
+    assert_int_equal(fixture_grid(&far_s, 4, 4, 1.0), 0);
     const double lift[3] = {0.13, 0.07, 0.05}, away[3] = {10.0, 0.0, 0.0};
-    scene_translate(&high, lift);
-    scene_translate(&far_s, away);
+    fixture_translate(&high, lift);
+    fixture_translate(&far_s, away);
     selfcol_mesh *ml = mesh_of(&low), *mh = mesh_of(&high), *mf = mesh_of(&far_s);
     selfcol_scene *sc = make_scene(0.1, NULL);
     const uint32_t l = add(sc, ml, SELFCOL_SURFACE_CLOTH, -1, 0);
@@ -259,7 +259,7 @@ static void test_remove_surface_keeps_the_other_stores(void **state) {
     // store remembers the sides, so the contacts flip (a rebuilt scene would
     // have forgotten them).
     const double through[3] = {0.0, 0.0, -0.1};
-    scene_translate(&high, through);
+    fixture_translate(&high, through);
     assert_int_equal(selfcol_mesh_set_positions(mh, high.positions, high.vertex_count), SELFCOL_OK);
     assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
     selfcol_store_update_stats ss;
@@ -268,9 +268,9 @@ static void test_remove_surface_keeps_the_other_stores(void **state) {
     assert_true(ss.flipped > 0);
     assert_true(ss.kept > 0);
 
-    scene again = {0};
-    assert_int_equal(scene_grid(&again, 3, 3, 1.0), 0);
-    scene_translate(&again, away);
+    fixture again = {0};
+    assert_int_equal(fixture_grid(&again, 3, 3, 1.0), 0);
+    fixture_translate(&again, away);
     selfcol_mesh *ma = mesh_of(&again);
     assert_int_equal(add(sc, ma, SELFCOL_SURFACE_CLOTH, -1, 0), 3); // ids are never reused
     assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
@@ -281,15 +281,15 @@ static void test_remove_surface_keeps_the_other_stores(void **state) {
     selfcol_mesh_destroy(ml);
     selfcol_mesh_destroy(mh);
     selfcol_mesh_destroy(ma);
-    scene_free(&low);
-    scene_free(&high);
-    scene_free(&far_s);
-    scene_free(&again);
+    fixture_free(&low);
+    fixture_free(&high);
+    fixture_free(&far_s);
+    fixture_free(&again);
 }
 
 // 1 when p lies strictly inside the convex closed mesh (below every face
 // plane, counter-clockwise outward).
-static int inside_convex(const scene *s, const double p[3]) {
+static int inside_convex(const fixture *s, const double p[3]) {
     for (size_t t = 0; t < s->triangle_count; ++t) {
         const double *a = s->positions + 3 * s->triangles[3 * t];
         const double *b = s->positions + 3 * s->triangles[3 * t + 1];
@@ -315,17 +315,17 @@ static int inside_convex(const scene *s, const double p[3]) {
 // changes nothing.
 static void run_body(int inward, int as_cloth, double *signed_out, size_t *count_out,
                      uint64_t *voted_out, int *inside_wrong_out) {
-    scene sphere = {0}, cap = {0};
-    assert_int_equal(scene_icosphere(&sphere, 3, 1.0), 0);
+    fixture sphere = {0}, cap = {0};
+    assert_int_equal(fixture_icosphere(&sphere, 3, 1.0), 0);
     if (inward)
         for (size_t t = 0; t < sphere.triangle_count; ++t) {
             uint32_t tmp = sphere.triangles[3 * t + 1];
             sphere.triangles[3 * t + 1] = sphere.triangles[3 * t + 2];
             sphere.triangles[3 * t + 2] = tmp;
         }
-    assert_int_equal(scene_grid(&cap, 12, 12, 0.04), 0);
+    assert_int_equal(fixture_grid(&cap, 12, 12, 0.04), 0);
     const double place[3] = {-0.24, -0.24, 0.975};
-    scene_translate(&cap, place);
+    fixture_translate(&cap, place);
     selfcol_mesh *ms = mesh_of(&sphere), *mc = mesh_of(&cap);
     selfcol_scene *sc = make_scene(0.03, NULL);
     const uint32_t cloth = add(sc, mc, SELFCOL_SURFACE_CLOTH, 0, 0);
@@ -358,8 +358,8 @@ static void run_body(int inward, int as_cloth, double *signed_out, size_t *count
     selfcol_scene_destroy(sc);
     selfcol_mesh_destroy(ms);
     selfcol_mesh_destroy(mc);
-    scene_free(&sphere);
-    scene_free(&cap);
+    fixture_free(&sphere);
+    fixture_free(&cap);
 }
 
 static void test_body_never_voted(void **state) {
@@ -404,7 +404,7 @@ static void test_body_never_voted(void **state) {
 
 // A closed capsule along x (axis from -h to +h, radius r), outward, with
 // `segments` around and `rings` latitude steps per hemisphere.
-static void capsule_mesh(scene *s, double r, double h, unsigned segments, unsigned rings) {
+static void capsule_mesh(fixture *s, double r, double h, unsigned segments, unsigned rings) {
     const unsigned ring_count = 2 * rings; // latitude rings, poles apart
     s->vertex_count = 2 + (size_t)ring_count * segments;
     s->triangle_count = 2 * (size_t)segments * ring_count;
@@ -463,7 +463,7 @@ static double capsule_gap(double r, double h, const double p[3]) {
 static void test_capsule_collider_matches_triangulated_capsule(void **state) {
     (void)state;
     const double r = 0.5, h = 0.6, d = 0.02;
-    scene caps = {0}, cloth_s = {0};
+    fixture caps = {0}, cloth_s = {0};
     capsule_mesh(&caps, r, h, 96, 24);
     // The sagitta: how far inside the true surface the mesh's faces reach,
     // measured on a barycentric grid of every triangle.
@@ -481,7 +481,7 @@ static void test_capsule_collider_matches_triangulated_capsule(void **state) {
             }
     assert_true(sagitta > 0.0 && sagitta < 0.1 * d);
     // A rippled cloth over the capsule's top, touching and crossing it a little.
-    assert_int_equal(scene_grid(&cloth_s, 40, 16, 0.05), 0);
+    assert_int_equal(fixture_grid(&cloth_s, 40, 16, 0.05), 0);
     for (size_t v = 0; v < cloth_s.vertex_count; ++v) {
         double *p = cloth_s.positions + 3 * v;
         p[0] -= 1.0;
@@ -583,8 +583,8 @@ static void test_capsule_collider_matches_triangulated_capsule(void **state) {
     selfcol_scene_destroy(sc);
     selfcol_mesh_destroy(cloth_m);
     selfcol_mesh_destroy(caps_m);
-    scene_free(&cloth_s);
-    scene_free(&caps);
+    fixture_free(&cloth_s);
+    fixture_free(&caps);
 }
 
 // Duplicate triangles (hardening 0.3, item 6) are no contact's triangle,
@@ -593,8 +593,8 @@ static void test_capsule_collider_matches_triangulated_capsule(void **state) {
 // of the sheet alone, all naming first occurrences.
 static void test_collider_contacts_name_no_duplicate(void **state) {
     (void)state;
-    scene s = {0};
-    assert_int_equal(scene_grid(&s, 12, 12, 0.05), 0);
+    fixture s = {0};
+    assert_int_equal(fixture_grid(&s, 12, 12, 0.05), 0);
     const size_t n = s.triangle_count;
     uint32_t *tris = malloc(3 * 3 * n * sizeof *tris);
     memcpy(tris, s.triangles, 3 * n * sizeof *tris);
@@ -631,7 +631,7 @@ static void test_collider_contacts_name_no_duplicate(void **state) {
     selfcol_mesh_destroy(alone);
     selfcol_mesh_destroy(copied);
     free(tris);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // ---------------------------------------------------------------------------
@@ -683,9 +683,9 @@ static void test_errors(void **state) {
     sc = make_scene(0.1, NULL);
 
     // Surfaces.
-    scene grid = {0}, ball = {0};
-    assert_int_equal(scene_grid(&grid, 3, 3, 1.0), 0);
-    assert_int_equal(scene_icosphere(&ball, 1, 1.0), 0);
+    fixture grid = {0}, ball = {0};
+    assert_int_equal(fixture_grid(&grid, 3, 3, 1.0), 0);
+    assert_int_equal(fixture_icosphere(&ball, 1, 1.0), 0);
     selfcol_mesh *mg = mesh_of(&grid), *mb = mesh_of(&ball);
     selfcol_scene_surface_options so;
     selfcol_scene_surface_options_init(&so, SELFCOL_SURFACE_BODY,
@@ -781,8 +781,8 @@ static void test_errors(void **state) {
     selfcol_scene_destroy(NULL);
     selfcol_mesh_destroy(mg);
     selfcol_mesh_destroy(mb);
-    scene_free(&grid);
-    scene_free(&ball);
+    fixture_free(&grid);
+    fixture_free(&ball);
 }
 
 // ---------------------------------------------------------------------------
@@ -792,9 +792,9 @@ static void test_errors(void **state) {
 // updates with the allocator of `al`; returns the first error.
 static int run_scene(const selfcol_allocator *al, int frames, long *calls_after_three,
                      test_allocator_state *counter, uint64_t *contacts_out) {
-    scene cloth_s = {0}, ball = {0};
-    assert_int_equal(scene_draped_cloth(&cloth_s, 24, 1.2, 1.0, 0.01, 0.03), 0);
-    assert_int_equal(scene_icosphere(&ball, 2, 1.0), 0);
+    fixture cloth_s = {0}, ball = {0};
+    assert_int_equal(fixture_draped_cloth(&cloth_s, 24, 1.2, 1.0, 0.01, 0.03), 0);
+    assert_int_equal(fixture_icosphere(&ball, 2, 1.0), 0);
     selfcol_mesh *mc = mesh_of(&cloth_s), *mb = mesh_of(&ball);
     selfcol_scene_options o;
     selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
@@ -839,8 +839,8 @@ static int run_scene(const selfcol_allocator *al, int frames, long *calls_after_
     selfcol_scene_destroy(sc);
     selfcol_mesh_destroy(mc);
     selfcol_mesh_destroy(mb);
-    scene_free(&cloth_s);
-    scene_free(&ball);
+    fixture_free(&cloth_s);
+    fixture_free(&ball);
     return status;
 }
 

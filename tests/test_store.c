@@ -25,7 +25,7 @@
 
 #include <selfcol/selfcol.h>
 
-#include "scenes.h"
+#include "fixtures.h"
 #include "test_alloc.h"
 
 // One mesh, its hierarchy, a query result and a store, advanced frame by
@@ -332,14 +332,14 @@ static void test_stale_side_after_parting_and_turning_over(void **state) {
 // Two n x n unit grids, one at z = 0 and one at z = gap shifted by (0.31,
 // 0.17) (no coincident coordinates); vertex indices of the upper grid
 // start at (n + 1)^2.
-static void sheet_pair(scene *s, unsigned n, double gap) {
-    scene top;
-    assert_int_equal(scene_grid(s, n, n, 1.0), 0);
-    assert_int_equal(scene_grid(&top, n, n, 1.0), 0);
+static void sheet_pair(fixture *s, unsigned n, double gap) {
+    fixture top;
+    assert_int_equal(fixture_grid(s, n, n, 1.0), 0);
+    assert_int_equal(fixture_grid(&top, n, n, 1.0), 0);
     const double offset[3] = {0.31, 0.17, gap};
-    scene_translate(&top, offset);
-    assert_int_equal(scene_append(s, &top), 0);
-    scene_free(&top);
+    fixture_translate(&top, offset);
+    assert_int_equal(fixture_append(s, &top), 0);
+    fixture_free(&top);
 }
 
 // In the pair, is upper-grid vertex (i, j) inside the block [lo, hi]^2?
@@ -362,7 +362,7 @@ static void test_vote_corrects_a_patch_that_starts_crossed(void **state) {
     (void)state;
     const unsigned n = 10;
     for (int consistency = 1; consistency >= 0; --consistency) {
-        scene s;
+        fixture s;
         sheet_pair(&s, n, 0.05);
         for (uint32_t v = 0; v < s.vertex_count; ++v)
             if (in_block(n, v, 4, 5))
@@ -413,7 +413,7 @@ static void test_vote_corrects_a_patch_that_starts_crossed(void **state) {
         assert_int_equal(st.corrected, 0);
         assert_int_equal(st.flipped, 0);
         free_rig(&r);
-        scene_free(&s);
+        fixture_free(&s);
     }
 }
 
@@ -423,7 +423,7 @@ static void test_vote_corrects_a_patch_that_starts_crossed(void **state) {
 static void test_a_wrong_majority_wins(void **state) {
     (void)state;
     const unsigned n = 8;
-    scene s;
+    fixture s;
     sheet_pair(&s, n, -0.05);
     for (uint32_t v = 0; v < s.vertex_count; ++v)
         if (in_block(n, v, 3, 4))
@@ -442,7 +442,7 @@ static void test_a_wrong_majority_wins(void **state) {
         }
     assert_true(corrected_above > 0);
     free_rig(&r);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // An A-B-A wedge: triangle T1 in z = 0 and T2 folded back over it (z = 0.2
@@ -497,7 +497,7 @@ static void test_clean_sheets_closer_than_d_are_not_corrected(void **state) {
     const double gaps[] = {0.15, 0.05, 0.02, 0.005};
     for (size_t g = 0; g < sizeof gaps / sizeof gaps[0]; ++g)
         for (int tilted = 0; tilted < 2; ++tilted) {
-            scene s;
+            fixture s;
             sheet_pair(&s, 10, gaps[g]);
             if (tilted) // the upper sheet rises by 0.005 per unit along x
                 for (uint32_t v = (uint32_t)s.vertex_count / 2; v < s.vertex_count; ++v)
@@ -514,7 +514,7 @@ static void test_clean_sheets_closer_than_d_are_not_corrected(void **state) {
             for (size_t i = 0; i < count; ++i)
                 assert_int_equal(regions[i].votes_minority, 0);
             free_rig(&r);
-            scene_free(&s);
+            fixture_free(&s);
         }
 }
 
@@ -618,12 +618,12 @@ static void test_tie_among_held_contacts_keeps_the_first(void **state) {
 // region (union-find: no recursion however many contacts).
 static void test_regions(void **state) {
     (void)state;
-    scene a, b;
+    fixture a, b;
     sheet_pair(&a, 6, 0.05);
     sheet_pair(&b, 6, 0.05);
     const double far[3] = {50.0, 0.0, 0.0};
-    scene_translate(&b, far);
-    assert_int_equal(scene_append(&a, &b), 0);
+    fixture_translate(&b, far);
+    assert_int_equal(fixture_append(&a, &b), 0);
     rig r = make_rig(a.positions, a.vertex_count, a.triangles, a.triangle_count, NULL);
     advance(&r, NULL, 0.1);
     const selfcol_store_region *regions;
@@ -633,8 +633,8 @@ static void test_regions(void **state) {
     assert_int_equal(regions[0].contacts, regions[1].contacts);
     assert_int_equal(regions[0].flags, 0);
     free_rig(&r);
-    scene_free(&a);
-    scene_free(&b);
+    fixture_free(&a);
+    fixture_free(&b);
 
     sheet_pair(&a, 150, 0.05);
     r = make_rig(a.positions, a.vertex_count, a.triangles, a.triangle_count, NULL);
@@ -644,7 +644,7 @@ static void test_regions(void **state) {
     assert_true(regions[0].contacts > 100000);
     assert_int_equal(regions[0].votes_minority, 0);
     free_rig(&r);
-    scene_free(&a);
+    fixture_free(&a);
 }
 
 // Bad calls return an error and leave the store as it was.
@@ -671,8 +671,8 @@ static void test_errors_leave_the_store_unchanged(void **state) {
     assert_non_null(c);
     assert_int_equal(c->age, 0);
     // Records of a query on another mesh (more vertices) do not match.
-    scene big;
-    assert_int_equal(scene_crumpled(&big, 6, 6, 1, 3.0), 0);
+    fixture big;
+    assert_int_equal(fixture_crumpled(&big, 6, 6, 1, 3.0), 0);
     selfcol_mesh *bm = NULL;
     selfcol_hierarchy *bh = NULL;
     assert_int_equal(selfcol_mesh_create(&bm, big.vertex_count, big.positions, big.triangle_count,
@@ -707,7 +707,7 @@ static void test_errors_leave_the_store_unchanged(void **state) {
     selfcol_contacts_destroy(bc);
     selfcol_hierarchy_destroy(bh);
     selfcol_mesh_destroy(bm);
-    scene_free(&big);
+    fixture_free(&big);
     selfcol_mesh_destroy(other);
     free_rig(&r);
 }
@@ -764,7 +764,7 @@ static void test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh(void **state
     selfcol_mesh_options mo;
     selfcol_mesh_options_init(&mo, SELFCOL_MESH_OPTIONS_VERSION);
     mo.allocator = (selfcol_allocator){pool_alloc, pool_free, &pool};
-    scene big = {0}, small = {0};
+    fixture big = {0}, small = {0};
     sheet_pair(&big, 10, 0.02);
     sheet_pair(&small, 3, 0.02);
     selfcol_mesh *a = NULL, *b = NULL;
@@ -809,8 +809,8 @@ static void test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh(void **state
     selfcol_mesh_destroy(b);
     for (int i = 0; i < pool.count; ++i)
         free(pool.block[i]);
-    scene_free(&big);
-    scene_free(&small);
+    fixture_free(&big);
+    fixture_free(&small);
 }
 
 // A query at d on the rig's current positions, into `out` (the rig's store
@@ -850,9 +850,9 @@ static void assert_same_geometry(const selfcol_store_contact *c, const selfcol_c
 
 static void test_copied_records_are_the_query_records(void **state) {
     (void)state;
-    scene s, g;
-    assert_int_equal(scene_crumpled(&s, 16, 16, 1, 5.0), 0);
-    assert_int_equal(scene_grid(&g, 16, 16, 1.0), 0);
+    fixture s, g;
+    assert_int_equal(fixture_crumpled(&s, 16, 16, 1, 5.0), 0);
+    assert_int_equal(fixture_grid(&g, 16, 16, 1.0), 0);
     rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
     selfcol_contacts *wide;
     assert_int_equal(selfcol_contacts_create(&wide, NULL), SELFCOL_OK);
@@ -902,8 +902,8 @@ static void test_copied_records_are_the_query_records(void **state) {
     assert_true(interferences > 100);
     selfcol_contacts_destroy(wide);
     free_rig(&r);
-    scene_free(&s);
-    scene_free(&g);
+    fixture_free(&s);
+    fixture_free(&g);
 }
 
 static void test_copy_checks_its_range_and_the_meshes(void **state) {
@@ -961,9 +961,9 @@ static void test_copy_checks_its_range_and_the_meshes(void **state) {
 // grow from update to update (the arrays grow with slack): at most 200.
 static void test_bytes_per_contact(void **state) {
     (void)state;
-    scene s, g;
-    assert_int_equal(scene_crumpled(&s, 100, 100, 1, 5.0), 0);
-    assert_int_equal(scene_grid(&g, 100, 100, 1.0), 0);
+    fixture s, g;
+    assert_int_equal(fixture_crumpled(&s, 100, 100, 1, 5.0), 0);
+    assert_int_equal(fixture_grid(&g, 100, 100, 1.0), 0);
     rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
     double *pos = malloc(3 * s.vertex_count * sizeof *pos);
     assert_non_null(pos);
@@ -979,13 +979,13 @@ static void test_bytes_per_contact(void **state) {
     }
     free(pos);
     free_rig(&r);
-    scene_free(&s);
-    scene_free(&g);
+    fixture_free(&s);
+    fixture_free(&g);
 }
 
 static void test_memory(void **state) {
     (void)state;
-    scene s;
+    fixture s;
     sheet_pair(&s, 12, 0.05);
     test_allocator_state alloc = {0};
     selfcol_store_options o;
@@ -1035,7 +1035,7 @@ static void test_memory(void **state) {
         free_rig(&r);
         assert_int_equal(alloc.live, 0);
     }
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 int main(void) {

@@ -19,7 +19,7 @@
 
 #include <selfcol/selfcol.h>
 
-#include "scenes.h"
+#include "fixtures.h"
 #include "test_alloc.h"
 
 // A mesh at its t = 1 positions with a hierarchy; start holds t = 0.
@@ -270,10 +270,10 @@ static int hits_equal(const selfcol_sweep_hit *a, size_t na, const selfcol_sweep
 
 // A crumpled sheet whose amplitude jumps in one step (a fast crumple: the
 // layers pass through each other), plus a per-vertex jitter.
-static void crumple_step(scene *from, scene *to, unsigned n, unsigned seed, double a0, double a1,
-                         double jitter) {
-    assert_int_equal(scene_crumpled(from, n, n, seed, a0), 0);
-    assert_int_equal(scene_crumpled(to, n, n, seed, a1), 0);
+static void crumple_step(fixture *from, fixture *to, unsigned n, unsigned seed, double a0,
+                         double a1, double jitter) {
+    assert_int_equal(fixture_crumpled(from, n, n, seed, a0), 0);
+    assert_int_equal(fixture_crumpled(to, n, n, seed, a1), 0);
     assert_int_equal(from->vertex_count, to->vertex_count);
     srand(seed);
     for (size_t i = 0; i < 3 * to->vertex_count; ++i)
@@ -290,7 +290,7 @@ static void test_sweep_bvh_equals_exhaustive_on_random_steps(void **state) {
     size_t total_hits = 0;
     uint64_t max_passes = 0, total_culled = 0;
     for (unsigned seed = 1; seed <= 4; ++seed) {
-        scene from, to;
+        fixture from, to;
         crumple_step(&from, &to, 12, seed, 1.5 + 0.5 * seed, 3.0 + seed, 0.4);
         step s;
         step_make(&s, to.vertex_count, from.positions, to.positions, to.triangle_count,
@@ -339,8 +339,8 @@ static void test_sweep_bvh_equals_exhaustive_on_random_steps(void **state) {
             free(copy);
         }
         step_free(&s);
-        scene_free(&from);
-        scene_free(&to);
+        fixture_free(&from);
+        fixture_free(&to);
     }
     assert_true(total_hits > 100); // the steps do collide
     assert_true(max_passes > 1);   // and EARLIEST did restart on them
@@ -448,7 +448,7 @@ static int hit_has(const selfcol_sweep_hit *h, size_t n, uint32_t kind, uint32_t
 // the continuous query finds pass-throughs that neither end shows.
 static void test_sweep_contains_both_ends_and_finds_pass_throughs(void **state) {
     (void)state;
-    scene from, to;
+    fixture from, to;
     crumple_step(&from, &to, 20, 7, 2.0, 5.0, 0.3);
     const double d = 0.1;
     step s;
@@ -498,8 +498,8 @@ static void test_sweep_contains_both_ends_and_finds_pass_throughs(void **state) 
     selfcol_contacts_destroy(c);
     selfcol_sweep_destroy(result);
     step_free(&s);
-    scene_free(&from);
-    scene_free(&to);
+    fixture_free(&from);
+    fixture_free(&to);
 }
 
 static void never_free(void *user, void *ptr, size_t size) {
@@ -617,7 +617,7 @@ static void test_sweep_empty_result_and_empty_mesh(void **state) {
 // leak; the next query with memory succeeds with the full answer.
 static void test_sweep_allocation_failures(void **state) {
     (void)state;
-    scene from, to;
+    fixture from, to;
     crumple_step(&from, &to, 10, 3, 2.0, 4.0, 0.3);
     step s;
     step_make(&s, to.vertex_count, from.positions, to.positions, to.triangle_count, to.triangles);
@@ -652,8 +652,8 @@ static void test_sweep_allocation_failures(void **state) {
     }
     assert_true(expected > 0);
     step_free(&s);
-    scene_free(&from);
-    scene_free(&to);
+    fixture_free(&from);
+    fixture_free(&to);
 }
 
 int main(void) {

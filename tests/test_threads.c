@@ -22,14 +22,14 @@
 #include <selfcol/selfcol.h>
 
 #include "contact_keys.h"
-#include "scenes.h"
+#include "fixtures.h"
 
 typedef struct built {
     selfcol_mesh *mesh;
     selfcol_hierarchy *hierarchy;
 } built;
 
-static built build(const scene *s) {
+static built build(const fixture *s) {
     built b = {NULL, NULL};
     assert_int_equal(selfcol_mesh_create(&b.mesh, s->vertex_count, s->positions, s->triangle_count,
                                          s->triangles, NULL),
@@ -128,33 +128,33 @@ static void check_scene(const built *a, const built *b, const char *name) {
 
 static void test_threads_give_the_records_and_counters_of_one_thread(void **state) {
     (void)state;
-    scene s;
+    fixture s;
     // A crumpled sheet (many small folds), a z-fold, a one-sided band
     // pressed until it crosses itself.
-    assert_int_equal(scene_crumpled(&s, 40, 40, 7, 5.0), 0);
+    assert_int_equal(fixture_crumpled(&s, 40, 40, 7, 5.0), 0);
     built b = build(&s);
     check_scene(&b, NULL, "crumpled 40x40");
     release(&b);
-    scene_free(&s);
-    assert_int_equal(scene_zfold(&s, 24, 6, 0.05, 4, 0.0), 0);
+    fixture_free(&s);
+    assert_int_equal(fixture_zfold(&s, 24, 6, 0.05, 4, 0.0), 0);
     b = build(&s);
     check_scene(&b, NULL, "z-fold");
     release(&b);
-    scene_free(&s);
-    assert_int_equal(scene_moebius(&s, 60, 6, 6.0, 2.0, 3, 0.08), 0);
+    fixture_free(&s);
+    assert_int_equal(fixture_moebius(&s, 60, 6, 6.0, 2.0, 3, 0.08), 0);
     b = build(&s);
     check_scene(&b, NULL, "squashed moebius band");
     release(&b);
-    scene_free(&s);
+    fixture_free(&s);
     // Two crossing sheets.
-    scene sa, sb;
-    assert_int_equal(scene_sheet_pair(&sa, &sb, 24, 5, 0.3, 0.0), 0);
+    fixture sa, sb;
+    assert_int_equal(fixture_sheet_pair(&sa, &sb, 24, 5, 0.3, 0.0), 0);
     built ba = build(&sa), bb = build(&sb);
     check_scene(&ba, &bb, "sheet pair");
     release(&ba);
     release(&bb);
-    scene_free(&sa);
-    scene_free(&sb);
+    fixture_free(&sa);
+    fixture_free(&sb);
 }
 
 // An allocator that fails at its Nth call and counts live blocks, made safe
@@ -193,8 +193,8 @@ static void locked_free(void *user, void *ptr, size_t size) {
 
 static void test_threads_allocation_failure_in_a_worker(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_crumpled(&s, 30, 30, 3, 5.0), 0);
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 30, 30, 3, 5.0), 0);
     built b = build(&s);
     double d = 0.1 * selfcol_mesh_mean_edge_length(b.mesh);
     size_t expected;
@@ -245,13 +245,13 @@ static void test_threads_allocation_failure_in_a_worker(void **state) {
     }
     assert_true(failures > 5); // the query allocates in the workers too
     release(&b);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 static void test_threads_option_bounds_and_old_structs(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_hairpin(&s, 8, 0.01), 0);
+    fixture s;
+    assert_int_equal(fixture_hairpin(&s, 8, 0.01), 0);
     built b = build(&s);
     selfcol_contacts *c = NULL;
     assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
@@ -281,7 +281,7 @@ static void test_threads_option_bounds_and_old_structs(void **state) {
     assert_int_equal(selfcol_contacts_count(c), n);
     selfcol_contacts_destroy(c);
     release(&b);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // The thread-safety contract (README): queries on one hierarchy from several
@@ -304,8 +304,8 @@ static void *run_concurrent(void *arg) {
 
 static void test_threads_concurrent_queries_on_one_hierarchy(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_crumpled(&s, 30, 30, 11, 5.0), 0);
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 30, 30, 11, 5.0), 0);
     built b = build(&s);
     double d = 0.1 * selfcol_mesh_mean_edge_length(b.mesh);
     enum { QUERIES = 4 };
@@ -337,7 +337,7 @@ static void test_threads_concurrent_queries_on_one_hierarchy(void **state) {
     free(kr);
     selfcol_contacts_destroy(reference);
     release(&b);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 // Continuous queries (sweep.h): the root searches of ALL shared among 2,
@@ -345,9 +345,9 @@ static void test_threads_concurrent_queries_on_one_hierarchy(void **state) {
 // whose folds deepen fast (thousands of candidates, hundreds of hits).
 static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
     (void)state;
-    scene from, to;
-    assert_int_equal(scene_crumpled(&from, 24, 24, 5, 2.0), 0);
-    assert_int_equal(scene_crumpled(&to, 24, 24, 5, 4.5), 0);
+    fixture from, to;
+    assert_int_equal(fixture_crumpled(&from, 24, 24, 5, 2.0), 0);
+    assert_int_equal(fixture_crumpled(&to, 24, 24, 5, 4.5), 0);
     selfcol_mesh *m;
     selfcol_hierarchy *h;
     assert_int_equal(selfcol_mesh_create(&m, to.vertex_count, to.positions, to.triangle_count,
@@ -394,8 +394,8 @@ static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
     selfcol_sweep_destroy(many);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(m);
-    scene_free(&from);
-    scene_free(&to);
+    fixture_free(&from);
+    fixture_free(&to);
 }
 
 int main(void) {

@@ -15,10 +15,10 @@
 
 #include <string.h>
 
+#include "fixtures.h"
 #include "hierarchy.h"
-#include "scenes.h"
 
-static selfcol_hierarchy *make(const scene *s, selfcol_mesh **mesh) {
+static selfcol_hierarchy *make(const fixture *s, selfcol_mesh **mesh) {
     selfcol_hierarchy *h = NULL;
     assert_int_equal(selfcol_mesh_create(mesh, s->vertex_count, s->positions, s->triangle_count,
                                          s->triangles, NULL),
@@ -29,13 +29,13 @@ static selfcol_hierarchy *make(const scene *s, selfcol_mesh **mesh) {
 
 static void test_validate_accepts_what_the_build_makes(void **state) {
     (void)state;
-    scene scenes[4], b;
-    assert_int_equal(scene_grid(&scenes[0], 20, 17, 1.0), 0);
-    assert_int_equal(scene_crumpled(&scenes[1], 25, 25, 4, 5.0), 0);
-    assert_int_equal(scene_moebius(&scenes[2], 48, 4, 6.0, 2.0, 1, 0.1), 0);
-    assert_int_equal(scene_sheet_pair(&scenes[3], &b, 12, 3, 0.5, 0.0), 0);
-    assert_int_equal(scene_append(&scenes[3], &b), 0);
-    scene_free(&b);
+    fixture scenes[4], b;
+    assert_int_equal(fixture_grid(&scenes[0], 20, 17, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&scenes[1], 25, 25, 4, 5.0), 0);
+    assert_int_equal(fixture_moebius(&scenes[2], 48, 4, 6.0, 2.0, 1, 0.1), 0);
+    assert_int_equal(fixture_sheet_pair(&scenes[3], &b, 12, 3, 0.5, 0.0), 0);
+    assert_int_equal(fixture_append(&scenes[3], &b), 0);
+    fixture_free(&b);
     for (int i = 0; i < 4; ++i) {
         selfcol_mesh *m = NULL;
         selfcol_hierarchy *h = make(&scenes[i], &m);
@@ -67,14 +67,14 @@ static void test_validate_accepts_what_the_build_makes(void **state) {
         }
         selfcol_hierarchy_destroy(h);
         selfcol_mesh_destroy(m);
-        scene_free(&scenes[i]);
+        fixture_free(&scenes[i]);
     }
 }
 
 static void test_validate_rejects_each_corruption(void **state) {
     (void)state;
-    scene s;
-    assert_int_equal(scene_crumpled(&s, 16, 16, 2, 5.0), 0);
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 16, 16, 2, 5.0), 0);
     selfcol_mesh *m = NULL;
     selfcol_hierarchy *h = make(&s, &m);
     assert_int_equal(selfcol_hierarchy__validate(h, 1), 1);
@@ -129,7 +129,7 @@ static void test_validate_rejects_each_corruption(void **state) {
     assert_int_equal(selfcol_hierarchy__validate(h, 1), 1);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(m);
-    scene_free(&s);
+    fixture_free(&s);
 }
 
 int main(void) {

@@ -1,92 +1,22 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// selfcol-demo: the smallest complete use of the public API. Reads an OBJ
-// file (positions and faces; polygons are fan-triangulated), finds its
-// self-contacts with the hierarchy (method EXACT, the default) at d = K x mean edge
-// length (K = 0.1 by default, the standard cloth thickness), checks them
-// against the exhaustive reference, and prints what it found.
+// selfcol-demo: the smallest complete use of the public API. Reads a mesh
+// file (OBJ, or PLY, OFF, STL: the readers of tools/meshio; polygons are
+// fan-triangulated), finds its self-contacts with the hierarchy (method
+// EXACT, the default) at d = K x mean edge length (K = 0.1 by default, the
+// standard cloth thickness), checks them against the exhaustive reference,
+// and prints what it found.
 // selfcol-cli (tools/cli) is the tool for users; this file is the example
 // for programmers embedding the C API.
 //
 // usage: selfcol-demo MESH.obj [K]
 #include <selfcol/selfcol.h>
 
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
-typedef struct growable {
-    void *data;
-    size_t count, capacity, item;
-} growable;
-
-static int push(growable *g, const void *item) {
-    if (g->count == g->capacity) {
-        size_t capacity = g->capacity ? 2 * g->capacity : 256;
-        void *data = realloc(g->data, capacity * g->item);
-        if (data == NULL)
-            return -1;
-        g->data = data;
-        g->capacity = capacity;
-    }
-    memcpy((char *)g->data + g->count * g->item, item, g->item);
-    g->count++;
-    return 0;
-}
-
-// Minimal OBJ reader: 'v x y z' and 'f a b c ...' (a may be a/b/c, negative
-// indices count from the end). Returns 0, or prints "file:line: message".
-static int read_obj(const char *path, growable *positions, growable *triangles) {
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        fprintf(stderr, "%s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    char line[4096];
-    long lineno = 0;
-    int status = 0;
-    while (status == 0 && fgets(line, sizeof line, f) != NULL) {
-        lineno++;
-        if (line[0] == 'v' && line[1] == ' ') {
-            double p[3];
-            if (sscanf(line + 2, "%lf %lf %lf", &p[0], &p[1], &p[2]) != 3) {
-                fprintf(stderr, "%s:%ld: expected 'v x y z'\n", path, lineno);
-                status = -1;
-            }
-            for (int k = 0; k < 3 && status == 0; ++k)
-                status = push(positions, &p[k]);
-        } else if (line[0] == 'f' && line[1] == ' ') {
-            uint32_t poly[64];
-            int n = 0;
-            char *tok = strtok(line + 2, " \t\r\n");
-            for (; tok != NULL && status == 0; tok = strtok(NULL, " \t\r\n")) {
-                long idx = strtol(tok, NULL, 10);
-                long count = (long)(positions->count / 3);
-                if (idx < 0)
-                    idx += count + 1;
-                if (idx < 1 || idx > count || n == 64) {
-                    fprintf(stderr, "%s:%ld: bad face index '%s'\n", path, lineno, tok);
-                    status = -1;
-                    break;
-                }
-                poly[n++] = (uint32_t)(idx - 1);
-            }
-            if (status == 0 && n < 3) {
-                fprintf(stderr, "%s:%ld: face with fewer than 3 vertices\n", path, lineno);
-                status = -1;
-            }
-            for (int i = 1; status == 0 && i + 1 < n; ++i) {
-                uint32_t t[3] = {poly[0], poly[i], poly[i + 1]};
-                for (int k = 0; k < 3 && status == 0; ++k)
-                    status = push(triangles, &t[k]);
-            }
-        }
-    }
-    fclose(f);
-    return status;
-}
+#include "meshio.h" // the mesh file readers of tools/meshio
 
 static const char *kind_name(uint32_t kind) {
     return kind == SELFCOL_CONTACT_VF ? "VF" : kind == SELFCOL_CONTACT_EE ? "EE" : "EF";
@@ -99,17 +29,19 @@ int main(int argc, char **argv) {
         return 2;
     }
     double k = argc == 3 ? strtod(argv[2], NULL) : 0.1;
-    growable positions = {NULL, 0, 0, sizeof(double)};
-    growable triangles = {NULL, 0, 0, sizeof(uint32_t)};
+    meshio_mesh file = {0};
+    meshio_error error;
     int exit_code = 2;
     selfcol_mesh *mesh = NULL;
     selfcol_hierarchy *hierarchy = NULL;
     selfcol_contacts *contacts = NULL;
-    if (read_obj(argv[1], &positions, &triangles) != 0)
+    if (meshio_read(argv[1], &file, &error, NULL) != 0) {
+        fprintf(stderr, "%s\n", error.message);
         goto done;
+    }
 
-    int status = selfcol_mesh_create(&mesh, positions.count / 3, positions.data,
-                                     triangles.count / 3, triangles.data, NULL);
+    int status = selfcol_mesh_create(&mesh, file.vertex_count, file.positions, file.triangle_count,
+                                     file.triangles, NULL);
     if (status == SELFCOL_OK)
         status = selfcol_hierarchy_create(&hierarchy, mesh, NULL);
     if (status == SELFCOL_OK)
@@ -190,7 +122,6 @@ done:
     selfcol_contacts_destroy(contacts);
     selfcol_hierarchy_destroy(hierarchy);
     selfcol_mesh_destroy(mesh);
-    free(positions.data);
-    free(triangles.data);
+    meshio_mesh_free(&file);
     return exit_code;
 }

@@ -745,8 +745,74 @@ def test_continuous():
     # Usage errors: no sequence, or an output it does not write.
     _, _, err = run('check', '--continuous', paths[0], expect=2)
     check('--frames or --range' in err, 'stderr %r' % err)
-    _, _, err = run('check', '--continuous', '--frames', *paths, '--json', '-', expect=2)
-    check('--json' in err, 'stderr %r' % err)
+    _, _, err = run('check', '--continuous', '--frames', *paths, '--mark', work('c.ply'), expect=2)
+    check('--mark' in err, 'stderr %r' % err)
+
+
+def test_continuous_json():
+    """check --continuous --json: one object per step, the pairs of the CSV
+    with their time of impact and flags, in file indices (the spikes of
+    test_continuous)."""
+    paths, pattern = write_sequence('continuous_json', [[3, 3], [3, 3], [-3, 3]])
+    csv = work('continuous_json/steps.csv')
+    status, out, err = run('check', '--continuous', '--frames', *paths, '--csv', csv,
+                           '--json', '-', expect=1)
+    check('2 step(s): 1 with colliding pairs' in err, 'the summary goes to stderr: %r' % err)
+    objs = [json.loads(line) for line in out.splitlines() if line.strip()]
+    check(len(objs) == 2, 'expected one object per step, got %d' % len(objs))
+    check([o['step'] for o in objs] == [{'from': 0, 'to': 1}, {'from': 1, 'to': 2}],
+          'steps %r' % [o['step'] for o in objs])
+    check([o['files'] for o in objs] == [paths[0:2], paths[1:3]], 'files %r' % objs[0]['files'])
+    for o in objs:
+        for key, kind in (('selfcol_version', str), ('separation', (int, float)),
+                          ('method', str), ('counts', dict), ('free_fraction', (int, float)),
+                          ('vf', list), ('ee', list), ('stats', dict)):
+            check(isinstance(o.get(key), kind), 'key %s missing or of the wrong type' % key)
+        check(o['method'] == 'bvh' and o['separation'] == 0, 'method %r' % o['method'])
+        check(o['counts'] == {'vf': len(o['vf']), 'ee': len(o['ee'])}, 'counts %r' % o['counts'])
+        for key in ('vertices', 'triangles', 'edges', 'candidates', 'seconds'):
+            check(key in o['stats'], 'stats.%s missing' % key)
+    check(objs[0]['vf'] == [] and objs[0]['ee'] == [] and objs[0]['free_fraction'] == 1,
+          'first step: %r' % objs[0])
+    rows = open(csv).read().splitlines()[1:]
+    f = rows[0].split(',')
+    check(objs[1]['vf'] == [[3, 0, float(f[5]), 0]] and objs[1]['ee'] == [],
+          'second step: %r, CSV %r' % (objs[1]['vf'], rows))
+    check(objs[1]['free_fraction'] == float(f[5]), 'free fraction %r' % objs[1]['free_fraction'])
+    # Within --distance 0.35 from the start: both lowest vertices at time 0,
+    # flag 1 (initial); the exhaustive reference writes the same records.
+    objs = {}
+    for method in ('bvh', 'exhaustive'):
+        _, out, _ = run('check', '--continuous', '--range', '0:1', pattern, '--distance', '0.35',
+                        '--method', method, '--quiet', '--json', '-', expect=1)
+        objs[method] = json.loads(out)
+        check(objs[method]['method'] == method, 'method %r' % objs[method]['method'])
+        check(objs[method]['separation'] == 0.35, 'separation %r' % objs[method]['separation'])
+    check(objs['bvh']['vf'] == [[3, 0, 0, 1], [6, 0, 0, 1]], 'initial records %r' % objs['bvh'])
+    check(objs['bvh']['vf'] == objs['exhaustive']['vf'] and
+          objs['bvh']['ee'] == objs['exhaustive']['ee'], 'bvh and exhaustive differ')
+    # EE records: the bundled ribbon flattened to 0.3 of its height in one
+    # step, so layers of its fold pass through each other (edge-edge pairs):
+    # sorted vertex pairs in ascending order, the times of impact of the CSV.
+    ribbon = os.path.join(ARGS.source, 'tests', 'data', 'folded_ribbon.obj')
+    flat = work('continuous_json/flattened.obj')
+    with open(ribbon) as src, open(flat, 'w') as dst:
+        for line in src:
+            if line.startswith('v '):
+                x, y, z = map(float, line.split()[1:4])
+                line = 'v %r %r %r\n' % (x, y, 0.3 * z)
+            dst.write(line)
+    _, out, _ = run('check', '--continuous', '--frames', ribbon, flat, '--csv', csv, '--json', '-',
+                    expect=1)
+    o = json.loads(out)
+    rows = [r.split(',') for r in open(csv).read().splitlines()[1:]]
+    check(o['counts']['ee'] > 0 and o['counts']['ee'] == sum(r[2] == 'EE' for r in rows) and
+          o['counts']['vf'] == sum(r[2] == 'VF' for r in rows), 'counts %r' % o['counts'])
+    check(all(a0 < a1 and b0 < b1 and (a0, a1) < (b0, b1) for a0, a1, b0, b1, _, _ in o['ee']),
+          'ee edges are not sorted pairs in ascending order')
+    check(o['ee'] == sorted(o['ee']), 'ee is not sorted')
+    check(sorted(x[4] for x in o['ee']) == sorted(float(r[5]) for r in rows if r[2] == 'EE'),
+          'ee times of impact differ from the CSV')
 
 
 # ---------------------------------------------------------------------------

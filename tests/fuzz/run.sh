@@ -9,7 +9,7 @@
 #                      BVH and EXACT (1 and 3 threads) == EXHAUSTIVE
 #   fuzz_mesh          selfcol_mesh_create(_float) on arbitrary counts,
 #                      indices and raw positions
-#   fuzz_readers       selfcol-cli's OBJ, PLY, OFF and STL readers: a parse
+#   fuzz_readers       the OBJ, PLY, OFF and STL readers (tools/meshio): a parse
 #                      that succeeds gives indices in range and finite
 #                      coordinates (first byte: the format hint)
 # New inputs found go to OUTDIR/corpus-*, crashes to OUTDIR/crash-*; the
@@ -37,10 +37,10 @@ for target in differential mesh readers; do
   max_len=""
   if [ "$target" = readers ]; then
     max_len=-max_len=65536 # room for a whole small mesh file
-    # The CLI's readers alone (they do not use the library).
-    $cc $flags -fsanitize=fuzzer -I "$root/include" -I "$root/tools/cli" \
-      "$root/tests/fuzz/fuzz_readers.c" "$root/tools/cli/read.c" "$root/tools/cli/read_text.c" \
-      "$root/tools/cli/read_ply.c" -lm -o "$out/fuzz_readers"
+    # The readers of selfcol_meshio alone (they do not use the library).
+    $cc $flags -fsanitize=fuzzer -I "$root/tools/meshio" \
+      "$root/tests/fuzz/fuzz_readers.c" "$root/tools/meshio/read.c" \
+      "$root/tools/meshio/read_text.c" "$root/tools/meshio/read_ply.c" -lm -o "$out/fuzz_readers"
   else
     $cc $flags -fsanitize=fuzzer -DSELFCOL_STATIC -I "$root/include" \
       "$root/tests/fuzz/fuzz_$target.c" $objs $(pkg-config --libs ccd) -lm -lpthread \

@@ -11,7 +11,7 @@
 
 #include <string.h>
 
-void world_make(world *w, const scene *s) {
+void world_make(world *w, const fixture *s) {
     memset(w, 0, sizeof *w);
     assert_int_equal(selfcol_mesh_create(&w->mesh, s->vertex_count, s->positions, s->triangle_count,
                                          s->triangles, NULL),

@@ -9,7 +9,7 @@
 
 #include <selfcol/selfcol.h>
 
-#include "scenes.h"
+#include "fixtures.h"
 
 typedef struct world {
     selfcol_mesh *mesh;
@@ -17,7 +17,7 @@ typedef struct world {
     selfcol_contacts *contacts;
 } world;
 
-void world_make(world *w, const scene *s);
+void world_make(world *w, const fixture *s);
 void world_free(world *w);
 
 #endif // SELFCOL_TEST_WORLD_H

@@ -19,8 +19,7 @@
 // usage: selfcol-bench-sweep [--data DIR] [--reps N] [--only NAME] [--dump DIR] [--smoke]
 #include <selfcol/selfcol.h>
 
-#include "ply.h"
-#include "scenes.h"
+#include "fixtures.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,7 +27,7 @@
 
 typedef struct bench_step {
     char name[64];
-    scene start, end;
+    fixture start, end;
 } bench_step;
 
 static int load_real(bench_step *b, const char *data, const char *name, const char *dir,
@@ -36,14 +35,14 @@ static int load_real(bench_step *b, const char *data, const char *name, const ch
     char p0[4096], p1[4096], err[512];
     snprintf(p0, sizeof p0, "%s/sample-scalable-ccd-data/%s/frames/%s", data, dir, f0);
     snprintf(p1, sizeof p1, "%s/sample-scalable-ccd-data/%s/frames/%s", data, dir, f1);
-    if (ply_read(p0, &b->start, err, sizeof err) != 0) {
+    if (fixture_read(p0, &b->start, err, sizeof err) != 0) {
         fprintf(stderr, "bench-sweep: %s skipped (%s)\n", name, err);
         return 0;
     }
-    if (ply_read(p1, &b->end, err, sizeof err) != 0 ||
+    if (fixture_read(p1, &b->end, err, sizeof err) != 0 ||
         b->end.vertex_count != b->start.vertex_count) {
         fprintf(stderr, "bench-sweep: %s skipped (second frame)\n", name);
-        scene_free(&b->start);
+        fixture_free(&b->start);
         return 0;
     }
     snprintf(b->name, sizeof b->name, "%s", name);
@@ -53,10 +52,10 @@ static int load_real(bench_step *b, const char *data, const char *name, const ch
 // A crumpled n x n sheet whose folds deepen a little in one step (amplitude
 // 3.0 -> 3.05: vertices move up to about a fifth of an edge).
 static int load_crumple(bench_step *b, unsigned n, const char *name) {
-    if (scene_crumpled(&b->start, n, n, 1, 3.0) != 0)
+    if (fixture_crumpled(&b->start, n, n, 1, 3.0) != 0)
         return 0;
-    if (scene_crumpled(&b->end, n, n, 1, 3.05) != 0) {
-        scene_free(&b->start);
+    if (fixture_crumpled(&b->end, n, n, 1, 3.05) != 0) {
+        fixture_free(&b->start);
         return 0;
     }
     snprintf(b->name, sizeof b->name, "%s", name);
@@ -206,8 +205,8 @@ int main(int argc, char **argv) {
                 dump(&b, dump_dir);
             run(&b, reps);
         }
-        scene_free(&b.start);
-        scene_free(&b.end);
+        fixture_free(&b.start);
+        fixture_free(&b.end);
     }
     return 0;
 }

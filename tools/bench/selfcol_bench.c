@@ -6,7 +6,7 @@
 // of its case alone; tools/bench/run.sh runs the cases of a subset one after
 // the other and collects the CSV rows.
 //
-// For each case: the mesh is generated (tools/scenes/scenes.c) or read
+// For each case: the mesh is generated (tools/meshio/fixtures.c) or read
 // (real frames from the Sample-Scalable-CCD-Data layout), the hierarchy is
 // built once, and for each detection distance d = 0.1 and 0.5 x mean edge
 // every method runs on the same mesh and d: EXHAUSTIVE (small sizes only), BVH,
@@ -35,8 +35,7 @@
 #include <selfcol/selfcol.h>
 
 #include "bench_bullet.h"
-#include "ply.h"
-#include "scenes.h"
+#include "fixtures.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -54,62 +53,62 @@ enum { SMOKE = 1, DEFAULT = 2, FULL = 4, ALL = SMOKE | DEFAULT | FULL, BIG = DEF
 // ---------------------------------------------------------------------------
 // Scenes
 
-typedef int (*generator)(scene *s, const double *p, const char *data_dir, char *note, size_t n);
+typedef int (*generator)(fixture *s, const double *p, const char *data_dir, char *note, size_t n);
 
-static int gen_flat(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_flat(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_grid(s, (unsigned)p[0], (unsigned)p[0], 1.0);
+    return fixture_grid(s, (unsigned)p[0], (unsigned)p[0], 1.0);
 }
-static int gen_wrinkled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_wrinkled(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_wrinkled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], p[2]);
+    return fixture_wrinkled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], p[2]);
 }
-static int gen_crumpled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_crumpled(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0);
+    return fixture_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0);
 }
 // The crumpled sheet as a 1 m cloth (edges of 1 cm), left unscaled: the row
 // that shows Bullet's size dead zone (see the `scale` rule in run_case).
-static int gen_crumpled_1m(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_crumpled_1m(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    if (scene_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0) != 0)
+    if (fixture_crumpled(s, (unsigned)p[0], (unsigned)p[0], (unsigned)p[1], 5.0) != 0)
         return -1;
     for (size_t i = 0; i < 3 * s->vertex_count; ++i)
         s->positions[i] /= p[0];
     return 0;
 }
-static int gen_hairpin(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_hairpin(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_hairpin(s, (unsigned)p[0], p[1]);
+    return fixture_hairpin(s, (unsigned)p[0], p[1]);
 }
-static int gen_zfold(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_zfold(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_zfold(s, (unsigned)p[0], (unsigned)p[1], p[2], (unsigned)p[3], p[4]);
+    return fixture_zfold(s, (unsigned)p[0], (unsigned)p[1], p[2], (unsigned)p[3], p[4]);
 }
-static int gen_ramp(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_ramp(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_ramp(s, (unsigned)p[0], (unsigned)p[1], p[2], p[3], p[4]);
+    return fixture_ramp(s, (unsigned)p[0], (unsigned)p[1], p[2], p[3], p[4]);
 }
-static int gen_rolled(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_rolled(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_rolled(s, (unsigned)p[0], p[1], p[2], p[3], p[4]);
+    return fixture_rolled(s, (unsigned)p[0], p[1], p[2], p[3], p[4]);
 }
 // Radius 2^level keeps the edges near unit length at every level.
-static int gen_icosphere(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_icosphere(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_icosphere(s, (unsigned)p[0], ldexp(1.0, (int)p[0]));
+    return fixture_icosphere(s, (unsigned)p[0], ldexp(1.0, (int)p[0]));
 }
-static int gen_uv_sphere(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_uv_sphere(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    return scene_uv_sphere(s, (unsigned)p[0], (unsigned)p[1], p[2]);
+    return fixture_uv_sphere(s, (unsigned)p[0], (unsigned)p[1], p[2]);
 }
-static int gen_sheet_pair(scene *s, const double *p, const char *dd, char *note, size_t n) {
+static int gen_sheet_pair(fixture *s, const double *p, const char *dd, char *note, size_t n) {
     (void)dd, (void)note, (void)n;
-    scene b;
-    if (scene_sheet_pair(s, &b, (unsigned)p[0], (unsigned)p[1], p[2], p[3]) != 0)
+    fixture b;
+    if (fixture_sheet_pair(s, &b, (unsigned)p[0], (unsigned)p[1], p[2], p[3]) != 0)
         return -1;
-    int rc = scene_append(s, &b);
-    scene_free(&b);
+    int rc = fixture_append(s, &b);
+    fixture_free(&b);
     return rc;
 }
 
@@ -119,61 +118,10 @@ static int gen_sheet_pair(scene *s, const double *p, const char *dd, char *note,
 // accepted too). Returns 1 when the file is absent (the case is skipped).
 static const char *frame_scene_names[] = {"cloth-ball", "cloth-funnel", "rod-twist"};
 
-static int read_obj(const char *path, scene *s) {
-    FILE *f = fopen(path, "r");
-    if (f == NULL)
-        return -1;
-    size_t vcap = 1024, tcap = 1024, nv = 0, nt = 0;
-    double *v = malloc(3 * vcap * sizeof *v);
-    uint32_t *t = malloc(3 * tcap * sizeof *t);
-    char line[4096];
-    int rc = (v && t) ? 0 : -1;
-    while (rc == 0 && fgets(line, sizeof line, f)) {
-        if (line[0] == 'v' && line[1] == ' ') {
-            if (nv == vcap && (v = realloc(v, 3 * (vcap *= 2) * sizeof *v)) == NULL)
-                rc = -1;
-            else if (sscanf(line + 2, "%lf %lf %lf", v + 3 * nv, v + 3 * nv + 1, v + 3 * nv + 2) ==
-                     3)
-                nv++;
-        } else if (line[0] == 'f' && line[1] == ' ') {
-            long idx[64];
-            int k = 0;
-            for (char *tok = strtok(line + 2, " \t\r\n"); tok && k < 64;
-                 tok = strtok(NULL, " \t\r\n"))
-                idx[k++] = strtol(tok, NULL, 10);
-            for (int i = 1; rc == 0 && i + 1 < k; ++i) {
-                if (nt == tcap && (t = realloc(t, 3 * (tcap *= 2) * sizeof *t)) == NULL) {
-                    rc = -1;
-                    break;
-                }
-                long c[3] = {idx[0], idx[i], idx[i + 1]};
-                for (int j = 0; j < 3; ++j) {
-                    long q = c[j] < 0 ? (long)nv + c[j] : c[j] - 1;
-                    if (q < 0 || q >= (long)nv)
-                        rc = -1;
-                    t[3 * nt + j] = (uint32_t)q;
-                }
-                nt++;
-            }
-        }
-    }
-    fclose(f);
-    if (rc != 0 || nt == 0) {
-        free(v);
-        free(t);
-        return -1;
-    }
-    s->vertex_count = nv;
-    s->triangle_count = nt;
-    s->positions = v;
-    s->triangles = t;
-    return 0;
-}
-
-static int gen_frame(scene *s, const double *p, const char *data_dir, char *note, size_t n) {
+static int gen_frame(fixture *s, const double *p, const char *data_dir, char *note, size_t n) {
     const char *name = frame_scene_names[(int)p[0]];
     unsigned frame = (unsigned)p[1];
-    char path[4096], err[256];
+    char path[4096], err[640];
     // Frames are named <N>.ply (cloth-funnel) or <scene_with_underscores><N>.ply
     // (cloth-ball: cloth_ball92.ply) in the public dataset; try both.
     char prefix[64];
@@ -189,9 +137,9 @@ static int gen_frame(scene *s, const double *p, const char *data_dir, char *note
         if (f == NULL)
             continue;
         fclose(f);
-        int rc = i % 2 == 0 ? ply_read(path, s, err, sizeof err) : read_obj(path, s);
+        int rc = fixture_read(path, s, err, sizeof err); // PLY or OBJ (tools/meshio)
         if (rc != 0)
-            fprintf(stderr, "selfcol-bench: %s: %s\n", path, i % 2 == 0 ? err : "unreadable OBJ");
+            fprintf(stderr, "selfcol-bench: %s\n", err);
         snprintf(note, n, "frame %s", path);
         return rc;
     }
@@ -642,235 +590,287 @@ static double median_build(const selfcol_mesh *mesh, unsigned reps, selfcol_hier
     return summarize(times, n).med;
 }
 
-static int run_case(const bench_case *bc, unsigned subset, const char *subset_name,
-                    const char *data_dir) {
-    limits lim = limits_of(subset);
-    scene s;
-    memset(&s, 0, sizeof s);
-    char note[512] = "";
-    int g = bc->gen(&s, bc->p, data_dir, note, sizeof note);
+// Generates or reads the case's mesh into s and, for a refit case (p[2] =
+// an earlier frame of the same scene), the earlier frame into prev (else
+// prev is left empty). Returns 0, 1 when the case is skipped, -1 when it
+// fails (both said on stderr).
+static int load_case(const bench_case *bc, const char *data_dir, fixture *s, fixture *prev,
+                     char *note, size_t note_size, int *refit_case) {
+    memset(s, 0, sizeof *s);
+    memset(prev, 0, sizeof *prev);
+    int g = bc->gen(s, bc->p, data_dir, note, note_size);
     if (g == 1) {
         fprintf(stderr, "selfcol-bench: %s skipped (%s)\n", bc->name, note);
-        return 0;
+        return 1;
     }
     if (g != 0) {
         fprintf(stderr, "selfcol-bench: %s: cannot generate or read the scene\n", bc->name);
-        return 1;
+        return -1;
     }
-
-    // A refit case (p[2] = an earlier frame of the same scene): the mesh and
-    // its hierarchy are made on the earlier frame, as a simulation would, then
-    // refit once to this frame; d comes from the earlier frame (a sequence's
-    // d is its first frame's, as in selfcol-cli).
-    scene prev;
-    memset(&prev, 0, sizeof prev);
-    const int refit_case = bc->gen == gen_frame && bc->p[2] > 0;
-    if (refit_case) {
+    // A refit case: the mesh and its hierarchy are made on the earlier frame,
+    // as a simulation would, then refit once to this frame; d comes from the
+    // earlier frame (a sequence's d is its first frame's, as in selfcol-cli).
+    *refit_case = bc->gen == gen_frame && bc->p[2] > 0;
+    if (*refit_case) {
         const double pp[6] = {bc->p[0], bc->p[2], 0, 0, 0, 0};
         char prev_note[512];
-        if (gen_frame(&prev, pp, data_dir, prev_note, sizeof prev_note) != 0 ||
-            prev.vertex_count != s.vertex_count || prev.triangle_count != s.triangle_count ||
-            memcmp(prev.triangles, s.triangles, 3 * s.triangle_count * sizeof *s.triangles) != 0) {
+        if (gen_frame(prev, pp, data_dir, prev_note, sizeof prev_note) != 0 ||
+            prev->vertex_count != s->vertex_count || prev->triangle_count != s->triangle_count ||
+            memcmp(prev->triangles, s->triangles, 3 * s->triangle_count * sizeof *s->triangles) !=
+                0) {
             fprintf(stderr, "selfcol-bench: %s skipped (%s: not the same topology or absent)\n",
                     bc->name, prev_note);
-            scene_free(&prev);
-            scene_free(&s);
-            return 0;
-        }
-    }
-    selfcol_mesh *mesh = NULL;
-    int rc = selfcol_mesh_create(&mesh, s.vertex_count, refit_case ? prev.positions : s.positions,
-                                 s.triangle_count, s.triangles, NULL);
-    if (rc != SELFCOL_OK) {
-        fprintf(stderr, "selfcol-bench: %s: mesh: %s\n", bc->name, selfcol_status_string(rc));
-        scene_free(&prev);
-        scene_free(&s);
-        return 1;
-    }
-    context cx;
-    memset(&cx, 0, sizeof cx);
-    cx.subset = subset_name;
-    cx.case_name = bc->name;
-    cx.scene_name = bc->scene;
-    cx.triangles = s.triangle_count;
-    cx.vertices = s.vertex_count;
-    cx.edges = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
-    cx.mean_edge = selfcol_mesh_mean_edge_length(mesh);
-    // Bullet rejects triangles with edges under ~1.8 cm (an absolute epsilon
-    // on a length^4); short-edged meshes are scaled by powers of 10 until the
-    // mean edge is at least 5 cm (a 1 m cloth of 20k faces: x10), for selfcol
-    // and Bullet alike. Raw cases keep their size to show what happens.
-    cx.scale = 1.0;
-    while (!bc->raw && cx.mean_edge * cx.scale < 0.05)
-        cx.scale *= 10.0;
-    if (cx.scale != 1.0) {
-        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
-            s.positions[i] *= cx.scale;
-        for (size_t i = 0; refit_case && i < 3 * prev.vertex_count; ++i)
-            prev.positions[i] *= cx.scale;
-        rc = selfcol_mesh_set_positions(mesh, refit_case ? prev.positions : s.positions,
-                                        s.vertex_count);
-        cx.mean_edge *= cx.scale;
-        if (rc != SELFCOL_OK) {
-            fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
-            selfcol_mesh_destroy(mesh);
-            scene_free(&prev);
-            scene_free(&s);
+            fixture_free(prev);
+            fixture_free(s);
             return 1;
         }
     }
+    return 0;
+}
 
-    int status_of_setup = 0;
-    selfcol_hierarchy *h = NULL;
-    double build_s = median_build(mesh, subset == SMOKE ? 1 : 3, &h);
-    selfcol_contacts *c = NULL;
-    if (h == NULL || selfcol_contacts_create(&c, NULL) != SELFCOL_OK) {
-        selfcol_hierarchy_destroy(h);
+// The case's library mesh (on the earlier frame for a refit case) and the
+// mesh columns of cx. Bullet rejects triangles with edges under ~1.8 cm (an
+// absolute epsilon on a length^4); short-edged meshes are scaled by powers
+// of 10 until the mean edge is at least 5 cm (a 1 m cloth of 20k faces:
+// x10), for selfcol and Bullet alike (s and prev are scaled in place). Raw
+// cases keep their size to show what happens. Returns the mesh, or NULL
+// (said on stderr).
+static selfcol_mesh *make_mesh(const bench_case *bc, fixture *s, fixture *prev, int refit_case,
+                               context *cx) {
+    selfcol_mesh *mesh = NULL;
+    int rc =
+        selfcol_mesh_create(&mesh, s->vertex_count, refit_case ? prev->positions : s->positions,
+                            s->triangle_count, s->triangles, NULL);
+    if (rc != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: %s: mesh: %s\n", bc->name, selfcol_status_string(rc));
+        return NULL;
+    }
+    cx->triangles = s->triangle_count;
+    cx->vertices = s->vertex_count;
+    cx->edges = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
+    cx->mean_edge = selfcol_mesh_mean_edge_length(mesh);
+    cx->scale = 1.0;
+    while (!bc->raw && cx->mean_edge * cx->scale < 0.05)
+        cx->scale *= 10.0;
+    if (cx->scale == 1.0)
+        return mesh;
+    for (size_t i = 0; i < 3 * s->vertex_count; ++i)
+        s->positions[i] *= cx->scale;
+    for (size_t i = 0; refit_case && i < 3 * prev->vertex_count; ++i)
+        prev->positions[i] *= cx->scale;
+    rc = selfcol_mesh_set_positions(mesh, refit_case ? prev->positions : s->positions,
+                                    s->vertex_count);
+    cx->mean_edge *= cx->scale;
+    if (rc != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: %s: %s\n", bc->name, selfcol_status_string(rc));
         selfcol_mesh_destroy(mesh);
-        scene_free(&prev);
-        scene_free(&s);
-        return 1;
+        return NULL;
     }
-    size_t hier_bytes = selfcol_hierarchy_byte_count(h);
-    if (refit_case && selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count) != SELFCOL_OK) {
-        fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
-        status_of_setup = 1;
-    }
-    scene_free(&prev);
+    return mesh;
+}
 
-    // Refit: positions unchanged, the cost of a frame's refit all the same.
+// Refit: positions unchanged, the cost of a frame's refit all the same.
+static timing time_refit(selfcol_hierarchy *h, unsigned reps) {
     double refit_t[MAX_REPS];
     selfcol_hierarchy_refit(h);
-    for (unsigned i = 0; i < lim.reps; ++i) {
+    for (unsigned i = 0; i < reps; ++i) {
         double t0 = now();
         selfcol_hierarchy_refit(h);
         refit_t[i] = now() - t0;
     }
-    timing refit = summarize(refit_t, lim.reps);
+    return summarize(refit_t, reps);
+}
 
-    // Bullet: one body and one face-tree build per case, reused for both d.
-    bench_bullet *bb = NULL;
-    double bullet_build_s = 0.0;
-    size_t bullet_bytes = 0;
+// What the rows of one case share.
+typedef struct case_run {
+    const bench_case *bc;
+    limits lim;
+    context cx;
+    const char *note; /* "frame PATH" for real frames */
+    selfcol_hierarchy *h;
+    selfcol_contacts *c;
+    double build_s;
+    size_t hier_bytes;
+    timing refit;
+    bench_bullet *bb; /* NULL: no Bullet rows */
+    double bullet_build_s;
+    size_t bullet_bytes;
+} case_run;
+
 #ifdef SELFCOL_BENCH_BULLET
+// Bullet: one body and one face-tree build per case, reused for both d.
+static void make_bullet_body(case_run *run, const fixture *s, const selfcol_mesh *mesh) {
+    const char *name = run->bc->name;
     size_t pieces = edge_pieces(mesh);
-    if (s.triangle_count <= lim.bullet && pieces != 1)
+    if (s->triangle_count <= run->lim.bullet && pieces != 1)
         fprintf(stderr,
                 "selfcol-bench: %s: no Bullet rows: %zu edge-connected pieces (Bullet 3.24's "
                 "initializeFaceTree never terminates on more than one)\n",
-                bc->name, pieces);
-    if (s.triangle_count <= lim.bullet && pieces == 1) {
-        fprintf(stderr, "selfcol-bench: %s: Bullet face-tree build (%zu faces)...\n", bc->name,
-                s.triangle_count);
-        bb =
-            bench_bullet_create(s.vertex_count, s.positions, s.triangle_count, s.triangles,
-                                cx.edges, selfcol_mesh_edges(mesh), &bullet_build_s, &bullet_bytes);
-        if (bb == NULL)
-            fprintf(stderr, "selfcol-bench: %s: Bullet body failed\n", bc->name);
+                name, pieces);
+    if (s->triangle_count <= run->lim.bullet && pieces == 1) {
+        fprintf(stderr, "selfcol-bench: %s: Bullet face-tree build (%zu faces)...\n", name,
+                s->triangle_count);
+        run->bb = bench_bullet_create(s->vertex_count, s->positions, s->triangle_count,
+                                      s->triangles, run->cx.edges, selfcol_mesh_edges(mesh),
+                                      &run->bullet_build_s, &run->bullet_bytes);
+        if (run->bb == NULL)
+            fprintf(stderr, "selfcol-bench: %s: Bullet body failed\n", name);
     }
+}
 #endif
 
-    const double factors[2] = {0.1, 0.5};
-    int status = status_of_setup;
-    for (int fi = 0; fi < 2 && status == 0; ++fi) {
-        cx.d_factor = factors[fi];
-        cx.d = factors[fi] * cx.mean_edge;
-        keyset ref = {NULL, 0};
-        const char *ref_name = NULL;
-        const int exhaustive = s.triangle_count <= lim.exhaustive;
-        // EXACT-VF asks for vertex-triangle proximities only: the work
-        // Bullet does (it has no edge-edge test and reports no crossing), so
-        // that the two compare like for like; it is held to the reference's
-        // VF set alone.
-        // EXACT on two threads too, from 20k triangles (below, a query
-        // takes a few milliseconds and one thread is the setting that matters).
-        const int two_threads = s.triangle_count >= 20000;
-        const struct {
-            uint32_t method, narrow, kinds;
-            unsigned threads;
-            int run;
-        } methods[] = {
-            {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1,
-             exhaustive},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 2, two_threads},
-            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_SEED, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_CONE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
-            {SELFCOL_METHOD_BVH, SELFCOL_NARROW_LIBCCD, SELFCOL_KIND_ALL, 1,
-             s.triangle_count <= lim.libccd},
-            {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_VF, 1, 1},
-        };
-        for (size_t mi = 0; mi < sizeof methods / sizeof methods[0] && status == 0; ++mi) {
-            if (!methods[mi].run)
-                continue;
-            row r;
-            memset(&r, 0, sizeof r);
-            keyset got = {NULL, 0};
-            fprintf(stderr, "selfcol-bench: %s d=%.1fx %s%s (%u thread(s))\n", bc->name,
-                    cx.d_factor, method_name(methods[mi].method),
-                    methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "",
-                    methods[mi].threads);
-            if (run_method(h, c, methods[mi].method, methods[mi].narrow, methods[mi].kinds, cx.d,
-                           methods[mi].threads, lim.reps, &r, &got) != 0) {
-                status = 1;
-                break;
-            }
-            if (ref_name == NULL) {
-                // The first method run is the reference: EXHAUSTIVE if it
-                // ran, else EXACT (proven equal on the smaller rows).
-                ref = got;
-                ref_name = method_name(methods[mi].method);
-                got.k = malloc((ref.n ? ref.n : 1) * sizeof(key));
-                if (got.k == NULL) {
-                    status = 1;
-                    break;
-                }
-                memcpy(got.k, ref.k, ref.n * sizeof(key));
-                got.n = ref.n;
-            }
-            const int vf_only = methods[mi].kinds == SELFCOL_KIND_VF;
-            r.method = vf_only ? "EXACT-VF" : method_name(methods[mi].method);
-            r.narrow = methods[mi].narrow == SELFCOL_NARROW_LIBCCD ? "libccd" : "closed-form";
-            r.reference = ref_name;
-            r.refit = refit;
-            r.build_ms = 1e3 * build_s;
-            r.struct_bytes = methods[mi].method == SELFCOL_METHOD_EXHAUSTIVE ? 0 : hier_bytes;
-            // The reference is sorted by kind, VF first: its VF set is a prefix.
-            keyset ref_used = ref;
-            if (vf_only)
-                for (ref_used.n = 0;
-                     ref_used.n < ref.n && ref.k[ref_used.n].kind == SELFCOL_CONTACT_VF;)
-                    ref_used.n++;
-            count_kinds(&got, r.found);
-            count_kinds(&ref_used, r.ref);
-            compare(&ref_used, &got, r.miss, r.extra);
-            if (methods[mi].method == SELFCOL_METHOD_EXHAUSTIVE) {
-                // No hierarchy: its frame is the query alone.
-                r.refit.med = r.refit.min = r.refit.max = 0.0;
-                r.build_ms = 0.0;
-            }
-            if (strncmp(note, "frame", 5) == 0)
-                snprintf(r.note, sizeof r.note, "%.255s", note);
-            cx.peak_rss_kb = peak_rss_kb();
-            print_row(&cx, &r);
-            free(got.k);
-        }
-        if (status == 0 && bb != NULL) {
-            fprintf(stderr, "selfcol-bench: %s d=%.1fx Bullet\n", bc->name, cx.d_factor);
-            bullet_rows(bb, &cx, &ref, ref_name, 1e3 * bullet_build_s, bullet_bytes, lim.reps);
-        }
-        // Future rows (the Bullet adapter) go here: same mesh, same d,
-        // compared with the same reference. The contact store has cases of
-        // its own (store_cases): it needs a sequence of frames.
-        free(ref.k);
-    }
+// One method of a case at run->cx.d.
+typedef struct method_spec {
+    uint32_t method, narrow, kinds;
+    unsigned threads;
+    int run;
+} method_spec;
 
-    bench_bullet_destroy(bb);
-    selfcol_contacts_destroy(c);
-    selfcol_hierarchy_destroy(h);
+// Runs one method and prints its row, its contacts compared with the
+// reference: the first method run becomes the reference (*ref, *ref_name).
+// Returns 0 or 1.
+static int method_row(case_run *run, const method_spec *m, keyset *ref, const char **ref_name) {
+    context *cx = &run->cx;
+    row r;
+    memset(&r, 0, sizeof r);
+    keyset got = {NULL, 0};
+    fprintf(stderr, "selfcol-bench: %s d=%.1fx %s%s (%u thread(s))\n", run->bc->name, cx->d_factor,
+            method_name(m->method), m->narrow == SELFCOL_NARROW_LIBCCD ? " (libccd)" : "",
+            m->threads);
+    if (run_method(run->h, run->c, m->method, m->narrow, m->kinds, cx->d, m->threads, run->lim.reps,
+                   &r, &got) != 0)
+        return 1;
+    if (*ref_name == NULL) {
+        // The first method run is the reference: EXHAUSTIVE if it ran, else
+        // EXACT (proven equal on the smaller rows).
+        *ref = got;
+        *ref_name = method_name(m->method);
+        got.k = malloc((ref->n ? ref->n : 1) * sizeof(key));
+        if (got.k == NULL)
+            return 1;
+        memcpy(got.k, ref->k, ref->n * sizeof(key));
+        got.n = ref->n;
+    }
+    const int vf_only = m->kinds == SELFCOL_KIND_VF;
+    r.method = vf_only ? "EXACT-VF" : method_name(m->method);
+    r.narrow = m->narrow == SELFCOL_NARROW_LIBCCD ? "libccd" : "closed-form";
+    r.reference = *ref_name;
+    r.refit = run->refit;
+    r.build_ms = 1e3 * run->build_s;
+    r.struct_bytes = m->method == SELFCOL_METHOD_EXHAUSTIVE ? 0 : run->hier_bytes;
+    // The reference is sorted by kind, VF first: its VF set is a prefix.
+    keyset ref_used = *ref;
+    if (vf_only)
+        for (ref_used.n = 0; ref_used.n < ref->n && ref->k[ref_used.n].kind == SELFCOL_CONTACT_VF;)
+            ref_used.n++;
+    count_kinds(&got, r.found);
+    count_kinds(&ref_used, r.ref);
+    compare(&ref_used, &got, r.miss, r.extra);
+    if (m->method == SELFCOL_METHOD_EXHAUSTIVE) {
+        // No hierarchy: its frame is the query alone.
+        r.refit.med = r.refit.min = r.refit.max = 0.0;
+        r.build_ms = 0.0;
+    }
+    if (strncmp(run->note, "frame", 5) == 0)
+        snprintf(r.note, sizeof r.note, "%.255s", run->note);
+    cx->peak_rss_kb = peak_rss_kb();
+    print_row(cx, &r);
+    free(got.k);
+    return 0;
+}
+
+// The rows of a case at d = factor x mean edge: every method that runs at
+// its size, then Bullet's. Returns 0 or 1.
+static int rows_at_distance(case_run *run, double factor) {
+    context *cx = &run->cx;
+    cx->d_factor = factor;
+    cx->d = factor * cx->mean_edge;
+    const size_t triangles = cx->triangles;
+    // EXACT-VF asks for vertex-triangle proximities only: the work Bullet
+    // does (it has no edge-edge test and reports no crossing), so that the
+    // two compare like for like; it is held to the reference's VF set alone.
+    // EXACT on two threads too, from 20k triangles (below, a query takes a
+    // few milliseconds and one thread is the setting that matters).
+    const int exhaustive = triangles <= run->lim.exhaustive;
+    const int two_threads = triangles >= 20000;
+    const method_spec methods[] = {
+        {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, exhaustive},
+        {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 2, two_threads},
+        {SELFCOL_METHOD_BVH, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_SEED, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_CONE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
+        {SELFCOL_METHOD_BVH, SELFCOL_NARROW_LIBCCD, SELFCOL_KIND_ALL, 1,
+         triangles <= run->lim.libccd},
+        {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_VF, 1, 1},
+    };
+    keyset ref = {NULL, 0};
+    const char *ref_name = NULL;
+    int status = 0;
+    for (size_t mi = 0; mi < sizeof methods / sizeof methods[0] && status == 0; ++mi)
+        if (methods[mi].run)
+            status = method_row(run, &methods[mi], &ref, &ref_name);
+    if (status == 0 && run->bb != NULL) {
+        fprintf(stderr, "selfcol-bench: %s d=%.1fx Bullet\n", run->bc->name, cx->d_factor);
+        bullet_rows(run->bb, cx, &ref, ref_name, 1e3 * run->bullet_build_s, run->bullet_bytes,
+                    run->lim.reps);
+    }
+    // Future rows (the Bullet adapter) go here: same mesh, same d, compared
+    // with the same reference. The contact store has cases of its own
+    // (store_cases): it needs a sequence of frames.
+    free(ref.k);
+    return status;
+}
+
+static int run_case(const bench_case *bc, unsigned subset, const char *subset_name,
+                    const char *data_dir) {
+    case_run run;
+    memset(&run, 0, sizeof run);
+    run.bc = bc;
+    run.lim = limits_of(subset);
+    fixture s, prev;
+    char note[512] = "";
+    int refit_case = 0;
+    int loaded = load_case(bc, data_dir, &s, &prev, note, sizeof note, &refit_case);
+    if (loaded != 0)
+        return loaded < 0 ? 1 : 0;
+    run.note = note;
+    run.cx.subset = subset_name;
+    run.cx.case_name = bc->name;
+    run.cx.scene_name = bc->scene;
+    selfcol_mesh *mesh = make_mesh(bc, &s, &prev, refit_case, &run.cx);
+    if (mesh == NULL) {
+        fixture_free(&prev);
+        fixture_free(&s);
+        return 1;
+    }
+    run.build_s = median_build(mesh, subset == SMOKE ? 1 : 3, &run.h);
+    if (run.h == NULL || selfcol_contacts_create(&run.c, NULL) != SELFCOL_OK) {
+        selfcol_hierarchy_destroy(run.h);
+        selfcol_mesh_destroy(mesh);
+        fixture_free(&prev);
+        fixture_free(&s);
+        return 1;
+    }
+    run.hier_bytes = selfcol_hierarchy_byte_count(run.h);
+    int status = 0;
+    if (refit_case && selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count) != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
+        status = 1;
+    }
+    fixture_free(&prev);
+    run.refit = time_refit(run.h, run.lim.reps);
+#ifdef SELFCOL_BENCH_BULLET
+    make_bullet_body(&run, &s, mesh);
+#endif
+    const double factors[2] = {0.1, 0.5};
+    for (int fi = 0; fi < 2 && status == 0; ++fi)
+        status = rows_at_distance(&run, factors[fi]);
+    bench_bullet_destroy(run.bb);
+    selfcol_contacts_destroy(run.c);
+    selfcol_hierarchy_destroy(run.h);
     selfcol_mesh_destroy(mesh);
-    scene_free(&s);
+    fixture_free(&s);
     return status;
 }
 
@@ -882,7 +882,7 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
 // EF contacts are written too (kind 2): the reference runner counts them
 // as misses when it reports no crossings.
 static int dump_case(const bench_case *bc, const char *data_dir, const char *dir) {
-    scene s;
+    fixture s;
     memset(&s, 0, sizeof s);
     char note[512] = "", path[4096];
     int g = bc->gen(&s, bc->p, data_dir, note, sizeof note);
@@ -955,7 +955,7 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
     selfcol_contacts_destroy(c);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(mesh);
-    scene_free(&s);
+    fixture_free(&s);
     return rc == SELFCOL_OK ? 0 : 1;
 }
 
@@ -966,7 +966,7 @@ static int dump_case(const bench_case *bc, const char *data_dir, const char *dir
 // settings of the EXACT rows), default store options (remnance 4,
 // consistency on). Two kinds of case:
 //   sequence (p = grid n, seed, frames, step): the crumpled n x n sheet
-//     (scene_crumpled, amplitude 5) with its crumple growing frame to frame:
+//     (fixture_crumpled, amplitude 5) with its crumple growing frame to frame:
 //     frame f = 0 .. frames - 1 has the positions grid + (1 + step f) x
 //     (crumpled - grid), i.e. the crumpled sheet of amplitude 5 (1 + step f),
 //     one topology. Each run updates a fresh store with every frame in order
@@ -1141,7 +1141,7 @@ static void store_options(selfcol_query_options *o, double d) {
 }
 
 static void store_context(context *cx, const store_case *sc, const char *subset_name,
-                          const scene *s, const selfcol_mesh *mesh, double scale) {
+                          const fixture *s, const selfcol_mesh *mesh, double scale) {
     memset(cx, 0, sizeof *cx);
     cx->subset = subset_name;
     cx->case_name = sc->name;
@@ -1167,7 +1167,7 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     const unsigned n = (unsigned)sc->p[0], seed = (unsigned)sc->p[1], frames = (unsigned)sc->p[2];
     const double step = sc->p[3];
     const unsigned runs = lim.store_runs;
-    scene s, g;
+    fixture s, g;
     memset(&s, 0, sizeof s);
     memset(&g, 0, sizeof g);
     selfcol_mesh *mesh = NULL;
@@ -1179,7 +1179,7 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     double *pos = NULL;
     int rc = frames >= 3 && first && steady ? SELFCOL_OK : SELFCOL_ENOMEM;
     if (rc == SELFCOL_OK &&
-        (scene_crumpled(&s, n, n, seed, 5.0) != 0 || scene_grid(&g, n, n, 1.0) != 0))
+        (fixture_crumpled(&s, n, n, seed, 5.0) != 0 || fixture_grid(&g, n, n, 1.0) != 0))
         rc = SELFCOL_ENOMEM;
     if (rc == SELFCOL_OK && (pos = malloc(3 * s.vertex_count * sizeof *pos)) == NULL)
         rc = SELFCOL_ENOMEM;
@@ -1255,8 +1255,8 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     free(pos);
     free(first);
     free(steady);
-    scene_free(&s);
-    scene_free(&g);
+    fixture_free(&s);
+    fixture_free(&g);
     return status;
 }
 
@@ -1264,7 +1264,7 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
                           const char *data_dir) {
     const limits lim = limits_of(subset);
     const unsigned reps = lim.reps;
-    scene a, b;
+    fixture a, b;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
     char note_a[512] = "", note_b[512] = "";
@@ -1277,8 +1277,8 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
         fprintf(stderr,
                 "selfcol-bench: %s skipped (%s%s%s: absent, unreadable or not one topology)\n",
                 sc->name, note_a, note_b[0] ? "; " : "", note_b);
-        scene_free(&a);
-        scene_free(&b);
+        fixture_free(&a);
+        fixture_free(&b);
         return ga < 0 || gb < 0 ? 1 : 0;
     }
     selfcol_mesh *mesh = NULL;
@@ -1399,8 +1399,8 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
     selfcol_contacts_destroy(cb);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(mesh);
-    scene_free(&a);
-    scene_free(&b);
+    fixture_free(&a);
+    fixture_free(&b);
     return status;
 }
 

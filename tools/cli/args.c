@@ -65,7 +65,8 @@ static const char check_help[] =
     "                      (include/selfcol/sweep.h). --distance D: within D instead\n"
     "                      of touching (--distance-rel does not apply). --method\n"
     "                      bvh (default) or exhaustive; --csv rows are then\n"
-    "                      step_from,step_to,kind,first,second,toi,flags; --json,\n"
+    "                      step_from,step_to,kind,first,second,toi,flags, --json\n"
+    "                      one object per step (vf, ee: indices, toi, flags);\n"
     "                      --mark and --png are not available\n"
     "  --range FIRST:LAST[:STEP]  frames FIRST, FIRST+STEP, ... <= LAST of PATTERN\n"
     "                      (FIRST, LAST within -1000000000..1000000000, STEP > 0,\n"
@@ -463,8 +464,7 @@ static const known_option *find_option(const char *name) {
     return NULL;
 }
 
-// Parses argv[first..]; `--opt value` and `--opt=value` both work.
-int cli_parse_options(int argc, char **argv, int first, const char *command, cli_options *o) {
+static void set_defaults(cli_options *o) {
     memset(o, 0, sizeof *o);
     o->method = SELFCOL_METHOD_EXACT;
     o->narrow = SELFCOL_NARROW_CLOSED_FORM;
@@ -475,6 +475,210 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
     o->view.height = 768;
     o->remnance = SELFCOL_STORE_DEFAULT_REMNANCE;
     o->threads = 1;
+}
+
+// Splits argv[*i] ("--name" or "--name=value") into name and value, taking
+// the value from the next argument when the option has one and no '='
+// (*i then moves past it). The name is checked first: an unknown option, or
+// one of another command, is reported as such even when it is the last
+// argument. Then the value's form: numbers without spaces, and no '-' for
+// options that write files only. Returns 0, or the usage error's status.
+static int split_option(const char *cmd, int this_command, int argc, char **argv, int *i,
+                        char name[64], const char **value_out) {
+    const char *arg = argv[*i];
+    const char *value = NULL;
+    const char *eq = strchr(arg, '=');
+    size_t name_length = eq ? (size_t)(eq - arg) : strlen(arg);
+    if (name_length >= 64)
+        return cli_usage_error(cmd, "unknown option '%s'", arg);
+    memcpy(name, arg, name_length);
+    name[name_length] = '\0';
+    const known_option *known = find_option(name);
+    if (known == NULL)
+        return cli_usage_error(cmd, "unknown option '%s'", name);
+    if (!(known->belongs & this_command)) {
+        char message[160];
+        snprintf(message, sizeof message, "option '%s' belongs to the %s command%s", name,
+                 known->belongs == FOR_TRACK                ? "track"
+                 : known->belongs == FOR_CHECK              ? "check"
+                 : known->belongs == (FOR_CHECK | FOR_INFO) ? "check and info"
+                                                            : "check and track",
+                 known->belongs == FOR_CHECK || known->belongs == FOR_TRACK ? "" : "s");
+        return cli_usage_error(cmd, "%s", message);
+    }
+    if (!known->takes_value && eq)
+        return cli_usage_error(cmd, "option '%s' takes no value", name);
+    if (known->takes_value) {
+        if (eq)
+            value = eq + 1;
+        else if (*i + 1 < argc)
+            value = argv[++*i];
+        else
+            return cli_usage_error(cmd, "option '%s' needs a value", name);
+    }
+    static const char *const numeric[] = {"--distance", "--distance-rel", "--remnance", "--view",
+                                          "--size",     "--range",        "--threads"};
+    if (value != NULL && lookup(name, numeric, 7) >= 0 && has_space(value)) {
+        char message[128];
+        snprintf(message, sizeof message, "%s takes numbers without spaces, not '%%s'", name);
+        return cli_usage_error(cmd, message, value);
+    }
+    // Pictures and marked meshes go to files only ('-' would be a file
+    // named '-' beside JSON or a summary on standard output).
+    static const char *const files_only[] = {"--png", "--png-worst", "--mark"};
+    if (value != NULL && lookup(name, files_only, 3) >= 0 && strcmp(value, "-") == 0)
+        return cli_usage_error(cmd,
+                               "%s writes a file, not standard output: give a file name "
+                               "(./- for a file named '-')",
+                               name);
+    *value_out = value;
+    return 0;
+}
+
+// --threads N: the library refuses counts outside 1..SELFCOL_MAX_THREADS with
+// SELFCOL_EINVAL only once a query runs; refusing them here makes them a
+// usage error before any file is read.
+static int parse_threads(const char *cmd, const char *value, cli_options *o) {
+    long n;
+    int rc = parse_long(value, strlen(value), 1, SELFCOL_MAX_THREADS, &n);
+    if (rc < 0)
+        return cli_usage_error(
+            cmd,
+            "--threads needs a whole number of threads (1 to " CLI_MAX_THREADS_TEXT "), not '%s'",
+            value);
+    if (rc > 0)
+        return cli_usage_error(
+            cmd, "--threads '%s' is out of range (1 to " CLI_MAX_THREADS_TEXT ")", value);
+    o->threads = (unsigned int)n;
+    return 0;
+}
+
+// --view AZIMUTH,ELEVATION and --size WIDTHxHEIGHT.
+static int parse_view(const char *cmd, const char *name, const char *value, cli_options *o) {
+    if (strcmp(name, "--view") == 0) {
+        char *end;
+        o->view.azimuth = strtod(value, &end);
+        if (end == value || *end != ',')
+            return cli_usage_error(cmd, "--view needs AZIMUTH,ELEVATION in degrees, not '%s'",
+                                   value);
+        const char *second = end + 1;
+        o->view.elevation = strtod(second, &end);
+        if (end == second || *end != '\0' || !isfinite(o->view.azimuth) ||
+            !isfinite(o->view.elevation))
+            return cli_usage_error(cmd, "--view needs AZIMUTH,ELEVATION in degrees, not '%s'",
+                                   value);
+        return 0;
+    }
+    int w, h;
+    char tail;
+    if (sscanf(value, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096)
+        return cli_usage_error(cmd, "--size needs WIDTHxHEIGHT (16 to 4096), not '%s'", value);
+    o->view.width = w;
+    o->view.height = h;
+    return 0;
+}
+
+// The options whose value is a number or a name from a list. Returns 0, or
+// the usage error's status.
+static int apply_parsed_option(const char *cmd, const char *name, const char *value,
+                               cli_options *o) {
+    if (strcmp(name, "--range") == 0) {
+        if (parse_range(cmd, value, o) != 0)
+            return CLI_EXIT_ERROR;
+    } else if (strcmp(name, "--remnance") == 0) {
+        if (parse_remnance(value, &o->remnance))
+            return cli_usage_error(cmd, "--remnance needs a whole number of updates >= 0, not '%s'",
+                                   value);
+    } else if (strcmp(name, "--threads") == 0) {
+        return parse_threads(cmd, value, o);
+    } else if (strcmp(name, "--distance") == 0) {
+        if (parse_double(value, &o->distance) || o->distance < 0)
+            return cli_usage_error(cmd, "--distance needs a number >= 0, not '%s'", value);
+        o->distance_given = 1;
+    } else if (strcmp(name, "--distance-rel") == 0) {
+        if (parse_double(value, &o->distance_rel) || o->distance_rel < 0)
+            return cli_usage_error(cmd, "--distance-rel needs a number >= 0, not '%s'", value);
+        o->distance_rel_given = 1;
+    } else if (strcmp(name, "--method") == 0) {
+        int m = lookup(value, cli_method_names, 5);
+        if (m < 0)
+            return cli_usage_error(cmd, "unknown method '%s' (exact, bvh, exhaustive, seed, cone)",
+                                   value);
+        o->method = (uint32_t)m;
+    } else if (strcmp(name, "--narrow") == 0) {
+        int m = lookup(value, cli_narrow_names, 2);
+        if (m < 0)
+            return cli_usage_error(cmd, "unknown narrow phase '%s' (closed, libccd)", value);
+        o->narrow = (uint32_t)m;
+    } else if (strcmp(name, "--view") == 0 || strcmp(name, "--size") == 0) {
+        return parse_view(cmd, name, value, o);
+    } else if (strcmp(name, "--fail-on") == 0) {
+        if (strcmp(value, "proximity") == 0)
+            o->fail_on_proximity = 1;
+        else if (strcmp(value, "interference") == 0)
+            o->fail_on_proximity = 0;
+        else
+            return cli_usage_error(cmd, "--fail-on takes 'interference' or 'proximity', not '%s'",
+                                   value);
+    } else {
+        return cli_usage_error(cmd, "unknown option '%s'", name);
+    }
+    return 0;
+}
+
+// Sets what option `name` (with its value, NULL for a flag) says. Returns 0,
+// or the usage error's status.
+static int apply_option(const char *cmd, const char *name, const char *value, cli_options *o) {
+    if (strcmp(name, "--quiet") == 0)
+        o->quiet = 1;
+    else if (strcmp(name, "--no-weld") == 0)
+        o->no_weld = 1;
+    else if (strcmp(name, "--frames") == 0)
+        o->frames = 1;
+    else if (strcmp(name, "--continuous") == 0)
+        o->continuous = 1;
+    else if (strcmp(name, "--no-consistency") == 0)
+        o->no_consistency = 1;
+    else if (strcmp(name, "--json") == 0)
+        o->json = value;
+    else if (strcmp(name, "--jsonl") == 0)
+        o->jsonl = value;
+    else if (strcmp(name, "--png-worst") == 0)
+        o->png_worst = value;
+    else if (strcmp(name, "--csv") == 0)
+        o->csv = value;
+    else if (strcmp(name, "--mark") == 0)
+        o->mark = value;
+    else if (strcmp(name, "--png") == 0)
+        o->png = value;
+    else
+        return apply_parsed_option(cmd, name, value, o);
+    return 0;
+}
+
+// What no single option can check: exclusive pairs and output name patterns.
+static int check_combinations(const char *cmd, const cli_options *o) {
+    if (o->distance_given && o->distance_rel_given)
+        return cli_usage_error(cmd, "give either --distance or --distance-rel, not both%s", "");
+    if (o->json && o->csv && strcmp(o->json, "-") == 0 && strcmp(o->csv, "-") == 0)
+        return cli_usage_error(cmd, "--json and --csv cannot both write to standard output%s", "");
+    // Output names may carry one %d for the frame number; anything else with
+    // a % is refused here rather than written under a surprising name.
+    const char *named[3] = {o->mark, o->png, o->png_worst};
+    for (int i = 0; i < 3; ++i) {
+        pattern p;
+        if (named[i] != NULL && parse_pattern(named[i], &p) < 0)
+            return cli_usage_error(cmd,
+                                   "bad file name pattern '%s': at most one %%d (flag 0, width up "
+                                   "to 64), and %%%% for a literal %%",
+                                   named[i]);
+    }
+    return 0;
+}
+
+// Parses argv[first..]; `--opt value` and `--opt=value` both work.
+int cli_parse_options(int argc, char **argv, int first, const char *command, cli_options *o) {
+    set_defaults(o);
     int only_inputs = 0;
     const int this_command = strcmp(command, "check") == 0   ? FOR_CHECK
                              : strcmp(command, "track") == 0 ? FOR_TRACK
@@ -505,167 +709,13 @@ int cli_parse_options(int argc, char **argv, int first, const char *command, cli
                   stdout);
             return -1; // --help and --version: done, exit 0
         }
-        // Split "--name=value".
         char name[64];
         const char *value = NULL;
-        const char *eq = strchr(arg, '=');
-        size_t name_length = eq ? (size_t)(eq - arg) : strlen(arg);
-        if (name_length >= sizeof name)
-            return cli_usage_error(cmd, "unknown option '%s'", arg);
-        memcpy(name, arg, name_length);
-        name[name_length] = '\0';
-        // The name first: an unknown option, or one of another command, is
-        // reported as such even when it is the last argument.
-        const known_option *known = find_option(name);
-        if (known == NULL)
-            return cli_usage_error(cmd, "unknown option '%s'", name);
-        if (!(known->belongs & this_command)) {
-            char message[160];
-            snprintf(message, sizeof message, "option '%s' belongs to the %s command%s", name,
-                     known->belongs == FOR_TRACK                ? "track"
-                     : known->belongs == FOR_CHECK              ? "check"
-                     : known->belongs == (FOR_CHECK | FOR_INFO) ? "check and info"
-                                                                : "check and track",
-                     known->belongs == FOR_CHECK || known->belongs == FOR_TRACK ? "" : "s");
-            return cli_usage_error(cmd, "%s", message);
-        }
-        if (!known->takes_value && eq)
-            return cli_usage_error(cmd, "option '%s' takes no value", name);
-        if (known->takes_value) {
-            if (eq)
-                value = eq + 1;
-            else if (i + 1 < argc)
-                value = argv[++i];
-            else
-                return cli_usage_error(cmd, "option '%s' needs a value", name);
-        }
-        static const char *const numeric[] = {"--distance", "--distance-rel", "--remnance",
-                                              "--view",     "--size",         "--range",
-                                              "--threads"};
-        if (value != NULL && lookup(name, numeric, 7) >= 0 && has_space(value)) {
-            char message[128];
-            snprintf(message, sizeof message, "%s takes numbers without spaces, not '%%s'", name);
-            return cli_usage_error(cmd, message, value);
-        }
-        // Pictures and marked meshes go to files only ('-' would be a file
-        // named '-' beside JSON or a summary on standard output).
-        static const char *const files_only[] = {"--png", "--png-worst", "--mark"};
-        if (value != NULL && lookup(name, files_only, 3) >= 0 && strcmp(value, "-") == 0)
-            return cli_usage_error(cmd,
-                                   "%s writes a file, not standard output: give a file name "
-                                   "(./- for a file named '-')",
-                                   name);
-        if (strcmp(name, "--quiet") == 0) {
-            o->quiet = 1;
-        } else if (strcmp(name, "--no-weld") == 0) {
-            o->no_weld = 1;
-        } else if (strcmp(name, "--json") == 0) {
-            o->json = value;
-        } else if (strcmp(name, "--frames") == 0) {
-            o->frames = 1;
-        } else if (strcmp(name, "--continuous") == 0) {
-            o->continuous = 1;
-        } else if (strcmp(name, "--range") == 0) {
-            if (parse_range(cmd, value, o) != 0)
-                return CLI_EXIT_ERROR;
-        } else if (strcmp(name, "--jsonl") == 0) {
-            o->jsonl = value;
-        } else if (strcmp(name, "--png-worst") == 0) {
-            o->png_worst = value;
-        } else if (strcmp(name, "--remnance") == 0) {
-            if (parse_remnance(value, &o->remnance))
-                return cli_usage_error(
-                    cmd, "--remnance needs a whole number of updates >= 0, not '%s'", value);
-        } else if (strcmp(name, "--threads") == 0) {
-            // The library refuses counts outside 1..SELFCOL_MAX_THREADS with
-            // SELFCOL_EINVAL only once a query runs; refusing them here makes
-            // them a usage error before any file is read.
-            long n;
-            int rc = parse_long(value, strlen(value), 1, SELFCOL_MAX_THREADS, &n);
-            if (rc < 0)
-                return cli_usage_error(
-                    cmd,
-                    "--threads needs a whole number of threads (1 to " CLI_MAX_THREADS_TEXT
-                    "), not '%s'",
-                    value);
-            if (rc > 0)
-                return cli_usage_error(
-                    cmd, "--threads '%s' is out of range (1 to " CLI_MAX_THREADS_TEXT ")", value);
-            o->threads = (unsigned int)n;
-        } else if (strcmp(name, "--no-consistency") == 0) {
-            o->no_consistency = 1;
-        } else if (strcmp(name, "--distance") == 0) {
-            if (parse_double(value, &o->distance) || o->distance < 0)
-                return cli_usage_error(cmd, "--distance needs a number >= 0, not '%s'", value);
-            o->distance_given = 1;
-        } else if (strcmp(name, "--distance-rel") == 0) {
-            if (parse_double(value, &o->distance_rel) || o->distance_rel < 0)
-                return cli_usage_error(cmd, "--distance-rel needs a number >= 0, not '%s'", value);
-            o->distance_rel_given = 1;
-        } else if (strcmp(name, "--method") == 0) {
-            int m = lookup(value, cli_method_names, 5);
-            if (m < 0)
-                return cli_usage_error(
-                    cmd, "unknown method '%s' (exact, bvh, exhaustive, seed, cone)", value);
-            o->method = (uint32_t)m;
-        } else if (strcmp(name, "--narrow") == 0) {
-            int m = lookup(value, cli_narrow_names, 2);
-            if (m < 0)
-                return cli_usage_error(cmd, "unknown narrow phase '%s' (closed, libccd)", value);
-            o->narrow = (uint32_t)m;
-        } else if (strcmp(name, "--csv") == 0) {
-            o->csv = value;
-        } else if (strcmp(name, "--mark") == 0) {
-            o->mark = value;
-        } else if (strcmp(name, "--png") == 0) {
-            o->png = value;
-        } else if (strcmp(name, "--view") == 0) {
-            char *end;
-            o->view.azimuth = strtod(value, &end);
-            if (end == value || *end != ',')
-                return cli_usage_error(cmd, "--view needs AZIMUTH,ELEVATION in degrees, not '%s'",
-                                       value);
-            const char *second = end + 1;
-            o->view.elevation = strtod(second, &end);
-            if (end == second || *end != '\0' || !isfinite(o->view.azimuth) ||
-                !isfinite(o->view.elevation))
-                return cli_usage_error(cmd, "--view needs AZIMUTH,ELEVATION in degrees, not '%s'",
-                                       value);
-        } else if (strcmp(name, "--size") == 0) {
-            int w, h;
-            char tail;
-            if (sscanf(value, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 ||
-                h > 4096)
-                return cli_usage_error(cmd, "--size needs WIDTHxHEIGHT (16 to 4096), not '%s'",
-                                       value);
-            o->view.width = w;
-            o->view.height = h;
-        } else if (strcmp(name, "--fail-on") == 0) {
-            if (strcmp(value, "proximity") == 0)
-                o->fail_on_proximity = 1;
-            else if (strcmp(value, "interference") == 0)
-                o->fail_on_proximity = 0;
-            else
-                return cli_usage_error(
-                    cmd, "--fail-on takes 'interference' or 'proximity', not '%s'", value);
-        } else {
-            return cli_usage_error(cmd, "unknown option '%s'", name);
-        }
+        int rc = split_option(cmd, this_command, argc, argv, &i, name, &value);
+        if (rc == 0)
+            rc = apply_option(cmd, name, value, o);
+        if (rc != 0)
+            return rc;
     }
-    if (o->distance_given && o->distance_rel_given)
-        return cli_usage_error(cmd, "give either --distance or --distance-rel, not both%s", "");
-    if (o->json && o->csv && strcmp(o->json, "-") == 0 && strcmp(o->csv, "-") == 0)
-        return cli_usage_error(cmd, "--json and --csv cannot both write to standard output%s", "");
-    // Output names may carry one %d for the frame number; anything else with
-    // a % is refused here rather than written under a surprising name.
-    const char *named[3] = {o->mark, o->png, o->png_worst};
-    for (int i = 0; i < 3; ++i) {
-        pattern p;
-        if (named[i] != NULL && parse_pattern(named[i], &p) < 0)
-            return cli_usage_error(cmd,
-                                   "bad file name pattern '%s': at most one %%d (flag 0, width up "
-                                   "to 64), and %%%% for a literal %%",
-                                   named[i]);
-    }
-    return 0;
+    return check_combinations(cmd, o);
 }

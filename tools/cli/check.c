@@ -12,13 +12,13 @@
 
 // Combined geometry of the parts (second mesh's indices after the first's),
 // for --png and --mark.
-typedef struct scene {
+typedef struct joined_mesh {
     double *positions;
     uint32_t *triangles;
     size_t vertex_count, triangle_count;
-} scene;
+} joined_mesh;
 
-static int scene_build(scene *s, cli_part *const *parts, int count) {
+static int joined_build(joined_mesh *s, cli_part *const *parts, int count) {
     memset(s, 0, sizeof *s);
     for (int i = 0; i < count; ++i) {
         s->vertex_count += parts[i]->file.vertex_count;
@@ -41,7 +41,7 @@ static int scene_build(scene *s, cli_part *const *parts, int count) {
     return 0;
 }
 
-static void scene_free(scene *s) {
+static void joined_free(joined_mesh *s) {
     free(s->positions);
     free(s->triangles);
 }
@@ -50,16 +50,16 @@ static int write_pictures(const cli_options *o, long frame, cli_part *const *par
                           const unsigned char *classes, cli_error *err) {
     if (o->mark == NULL && o->png == NULL)
         return 0;
-    scene s;
-    if (scene_build(&s, parts, count) != 0) {
-        scene_free(&s);
+    joined_mesh s;
+    if (joined_build(&s, parts, count) != 0) {
+        joined_free(&s);
         return cli_fail(err, "out of memory");
     }
     char path[2048];
     int status = 0;
     if (o->mark != NULL) {
         if (cli_output_name(o->mark, frame, path, sizeof path) != 0) {
-            scene_free(&s);
+            joined_free(&s);
             return cli_fail(err, "--mark: the file name is too long");
         }
         status = cli_write_marked_ply(path, s.positions, s.vertex_count, s.triangles,
@@ -67,13 +67,13 @@ static int write_pictures(const cli_options *o, long frame, cli_part *const *par
     }
     if (status == 0 && o->png != NULL) {
         if (cli_output_name(o->png, frame, path, sizeof path) != 0) {
-            scene_free(&s);
+            joined_free(&s);
             return cli_fail(err, "--png: the file name is too long");
         }
         status =
             cli_write_png(path, s.positions, s.triangles, s.triangle_count, classes, &o->view, err);
     }
-    scene_free(&s);
+    joined_free(&s);
     return status;
 }
 
@@ -87,8 +87,8 @@ typedef struct check_state {
     cli_run_info info;
     cli_progress *progress; /* cleared before each summary line */
     long frames_checked, frames_intersecting, frames_near;
-    cli_array intersecting_frames; /* long: frame numbers with interferences */
-    int found;                     /* exit status 1 */
+    meshio_array intersecting_frames; /* long: frame numbers with interferences */
+    int found;                        /* exit status 1 */
     /* --continuous */
     selfcol_sweep *sweep;
     double *previous; /* the positions of the frame before the current one */
@@ -108,7 +108,7 @@ static void print_summary_header(check_state *st, cli_part *const *parts, int co
         const cli_part *p = parts[i];
         fprintf(s, "  %s%s %s: %zu vertices (%zu welded), %zu triangles, %zu edges\n",
                 count > 1 ? (i == 0 ? "mesh 1, " : "mesh 2, ") : "",
-                cli_format_name(p->file.format), p->file.format_detail, p->file.vertex_count,
+                meshio_format_name(p->file.format), p->file.format_detail, p->file.vertex_count,
                 p->merged_vertices, p->file.triangle_count,
                 selfcol_mesh_count(p->mesh, SELFCOL_MESH_EDGES));
     }
@@ -162,7 +162,7 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
     int intersects = st->sets.ef.count > 0;
     st->frames_checked++;
     st->frames_intersecting += intersects;
-    if (intersects && cli_array_reserve(&st->intersecting_frames, 1) == 0)
+    if (intersects && meshio_array_reserve(&st->intersecting_frames, 1) == 0)
         ((long *)st->intersecting_frames.data)[st->intersecting_frames.count++] = frame;
     st->frames_near += proximities > 0;
     if (intersects || (o->fail_on_proximity && proximities > 0))
@@ -190,8 +190,10 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
 }
 
 // --continuous: the continuous self-query of the step from frame `from` (the
-// positions in st->previous) to frame `to` (the mesh's current positions).
-static int check_step(check_state *st, cli_part *part, long from, long to, cli_error *err) {
+// positions in st->previous, read from from_file) to frame `to` (the mesh's
+// current positions, read from to_file).
+static int check_step(check_state *st, cli_part *part, long from, long to, const char *from_file,
+                      const char *to_file, cli_error *err) {
     const cli_options *o = st->o;
     selfcol_sweep_options so;
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
@@ -216,6 +218,23 @@ static int check_step(check_state *st, cli_part *part, long from, long to, cli_e
     st->earliest = stats.free_fraction < st->earliest ? stats.free_fraction : st->earliest;
     if (n > 0)
         st->found = 1;
+    if (st->json) {
+        cli_step_info info;
+        info.from_file = from_file;
+        info.to_file = to_file;
+        info.from = from;
+        info.to = to;
+        info.separation = so.separation;
+        info.method = so.method == SELFCOL_METHOD_EXHAUSTIVE ? "exhaustive" : "bvh";
+        info.vertices = st->info.vertices;
+        info.triangles = st->info.triangles;
+        info.edges = st->info.edges;
+        info.merged_vertices = st->info.merged_vertices;
+        info.seconds_load = st->info.seconds_load;
+        info.seconds_refit = st->info.seconds_refit;
+        if (cli_write_step_json(st->json, &info, hits, n, &stats) != 0)
+            return cli_fail(err, "out of memory");
+    }
     if (st->csv)
         for (size_t i = 0; i < n; ++i)
             fprintf(st->csv, "%ld,%ld,%s,%u,%u,%.17g,%u\n", from, to,
@@ -267,7 +286,7 @@ void cli_print_weld_warning(FILE *out, size_t split_frames) {
                 split_frames);
 }
 
-void cli_print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
+void cli_print_frame_list(FILE *out, const meshio_array *frames, const long *sequence,
                           long sequence_count) {
     const long *f = frames->data;
     if (frames->count == 0)
@@ -305,7 +324,7 @@ static double combined_mean_edge(cli_part *const *parts, int count) {
 // Positions of a later frame: same vertex count and triangles as frame 0.
 int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress,
                         size_t *split_groups, cli_error *err) {
-    cli_mesh next;
+    meshio_mesh next;
     if (cli_read_mesh(path, &next, err, progress) != 0)
         return -1;
     int status = 0;
@@ -335,17 +354,14 @@ int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress
             }
         }
     }
-    cli_mesh_free(&next);
+    meshio_mesh_free(&next);
     return status;
 }
 
-int cli_command_check(const cli_options *o) {
-    cli_error err;
-    err.message[0] = '\0';
-    int exit_code = CLI_EXIT_ERROR;
+// Usage errors that depend on several options. Returns 0 or the status.
+static int check_usage(const cli_options *o, int sequence) {
     if (o->input_count == 0)
         return cli_usage_error("check ", "no mesh given%s", "");
-    int sequence = o->frames || o->range != NULL;
     if (!sequence && o->input_count > 2)
         return cli_usage_error("check ",
                                "check takes one or two meshes; for frames of one mesh use --frames "
@@ -356,15 +372,253 @@ int cli_command_check(const cli_options *o) {
                                "--continuous checks the steps between frames: give them with "
                                "--frames or --range%s",
                                "");
-    if (o->continuous && (o->json || o->mark || o->png))
-        return cli_usage_error("check ", "--continuous writes no %s (only the summary and --csv)",
-                               o->json   ? "--json"
-                               : o->mark ? "--mark"
-                                         : "--png");
+    if (o->continuous && (o->mark || o->png))
+        return cli_usage_error("check ",
+                               "--continuous writes no %s (only the summary, --json and --csv)",
+                               o->mark ? "--mark" : "--png");
+    return 0;
+}
+
+// The inputs of one check: the meshes (two at most; one for a sequence) and
+// the frames of a sequence.
+typedef struct check_inputs {
+    int sequence, count;
+    cli_part storage[2];
+    cli_part *parts[2];
+    const char *files[2];
+    char **frame_names;
+    long *frame_numbers;
+    long frame_count;
+    size_t split_frames; /* frames where a welded group came apart */
+} check_inputs;
+
+// Outputs first, so a bad output path fails before a long run: no two
+// outputs (nor an output and an input) name one file, each can be written.
+// Then the summary's stream, and the JSON and CSV files opened.
+static int open_outputs(check_state *st, const check_inputs *in, cli_error *err) {
+    const cli_options *o = st->o;
+    const cli_output_file outputs[4] = {
+        {"--json", o->json, 0}, {"--csv", o->csv, 0}, {"--mark", o->mark, 1}, {"--png", o->png, 1}};
+    const long single_frame = 0;
+    if (cli_check_outputs("check ", outputs, 4,
+                          in->sequence ? (const char *const *)in->frame_names : o->inputs,
+                          in->sequence ? in->frame_count : o->input_count,
+                          in->sequence ? in->frame_numbers : &single_frame,
+                          in->sequence ? in->frame_count : 1, err) != 0)
+        return -1;
+    int stdout_taken =
+        (o->json && strcmp(o->json, "-") == 0) || (o->csv && strcmp(o->csv, "-") == 0);
+    st->summary = o->quiet ? NULL : stdout_taken ? stderr : stdout;
+    if (o->json && (st->json = cli_open_output(o->json, err)) == NULL)
+        return -1;
+    if (o->csv && (st->csv = cli_open_output(o->csv, err)) == NULL)
+        return -1;
+    if (st->csv && o->continuous)
+        fputs("step_from,step_to,kind,first,second,toi,flags\n", st->csv);
+    else if (st->csv)
+        cli_write_csv_header(st->csv);
+    return 0;
+}
+
+// Reads the meshes (the first frame of a sequence), welds them and builds
+// their hierarchies, timing each stage into st->info.
+static int load_parts(check_state *st, check_inputs *in, cli_error *err) {
+    const cli_options *o = st->o;
+    cli_part *const *parts = in->parts;
+    double t0 = cli_now();
+    for (int i = 0; i < in->count; ++i) {
+        parts[i]->path = in->sequence ? in->frame_names[0] : o->inputs[i];
+        in->files[i] = parts[i]->path;
+        if (cli_read_mesh(parts[i]->path, &parts[i]->file, err, st->progress) != 0)
+            return -1;
+    }
+    st->info.seconds_load = cli_now() - t0;
+    for (int i = 0; i < in->count; ++i)
+        if (cli_part_create(parts[i], o->no_weld, 1, &st->info.seconds_topology,
+                            &st->info.seconds_hierarchy, err) != 0)
+            return -1;
+    parts[1]->vertex_offset = (uint32_t)parts[0]->file.vertex_count;
+    parts[1]->triangle_offset = (uint32_t)parts[0]->file.triangle_count;
+    if (in->count == 2 && (uint64_t)parts[0]->file.vertex_count + parts[1]->file.vertex_count >=
+                              (uint64_t)UINT32_MAX - 1)
+        return cli_fail(err, "the two meshes have too many vertices together");
+    return 0;
+}
+
+// The query options, the run's description for the outputs, and the
+// buffers the queries write into.
+static int prepare_queries(check_state *st, check_inputs *in, cli_error *err) {
+    const cli_options *o = st->o;
+    int rc = selfcol_contacts_create(&st->contacts, NULL);
+    if (rc != SELFCOL_OK)
+        return cli_fail(err, "%s", selfcol_status_string(rc));
+    selfcol_query_options_init(&st->query, SELFCOL_QUERY_OPTIONS_VERSION);
+    st->query.method = o->method;
+    st->query.narrow = o->narrow;
+    st->query.threads = o->threads;
+    st->info.mean_edge = combined_mean_edge(in->parts, in->count);
+    st->info.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
+    if (cli_detection_distance(o, st->info.mean_edge, &st->info.distance, err) != 0)
+        return -1;
+    st->query.distance = st->info.distance;
+    st->info.method = cli_method_names[o->method];
+    st->info.narrow = cli_narrow_names[o->narrow];
+    st->info.files = in->files;
+    st->info.file_count = in->count;
+    for (int i = 0; i < in->count; ++i) {
+        st->info.vertices += in->parts[i]->file.vertex_count;
+        st->info.triangles += in->parts[i]->file.triangle_count;
+        st->info.edges += selfcol_mesh_count(in->parts[i]->mesh, SELFCOL_MESH_EDGES);
+        st->info.merged_vertices += in->parts[i]->merged_vertices;
+    }
+    if (o->mark || o->png) {
+        st->classes = malloc(st->info.triangles + 1);
+        if (st->classes == NULL)
+            return cli_fail(err, "out of memory");
+    }
+    print_summary_header(st, in->parts, in->count);
+    if (o->continuous) {
+        st->earliest = 1.0;
+        rc = selfcol_sweep_create(&st->sweep, NULL);
+        st->previous = malloc(3 * in->parts[0]->file.vertex_count * sizeof(double) + 1);
+        if (rc != SELFCOL_OK || st->previous == NULL)
+            return cli_fail(err, "out of memory");
+        if (st->summary)
+            fprintf(st->summary,
+                    "  continuous: each step between consecutive frames, separation %g%s\n",
+                    o->distance_given ? o->distance : 0.0, o->distance_given ? "" : " (touching)");
+    }
+    return 0;
+}
+
+// Frame f of a sequence after the first: its positions into the mesh (the
+// previous ones kept for --continuous) and the hierarchy refit.
+static int advance_frame(check_state *st, check_inputs *in, long f, cli_error *err) {
+    cli_part *part = in->parts[0];
+    const char *name = in->frame_names[f];
+    if (st->o->continuous)
+        memcpy(st->previous, selfcol_mesh_positions(part->mesh),
+               3 * part->file.vertex_count * sizeof(double));
+    double start = cli_now();
+    part->path = name;
+    in->files[0] = name;
+    if (cli_load_next_frame(part, name, st->progress, &in->split_frames, err))
+        return -1;
+    st->info.seconds_load = cli_now() - start;
+    start = cli_now();
+    int rc = selfcol_hierarchy_refit(part->hierarchy);
+    st->info.seconds_refit = cli_now() - start;
+    st->info.seconds_topology = st->info.seconds_hierarchy = 0.0;
+    if (rc != SELFCOL_OK)
+        return cli_fail(err, "%s: %s", name, selfcol_status_string(rc));
+    return 0;
+}
+
+// Every frame of a sequence (or step, with --continuous), then the
+// sequence's summary lines.
+static int check_sequence(check_state *st, check_inputs *in, cli_error *err) {
+    const cli_options *o = st->o;
+    for (long f = 0; f < in->frame_count; ++f) {
+        if (f > 0 && advance_frame(st, in, f, err) != 0)
+            return -1;
+        cli_progress_update(st->progress, "frames", (double)f, (double)in->frame_count);
+        if (o->continuous) {
+            if (f > 0 &&
+                check_step(st, in->parts[0], in->frame_numbers[f - 1], in->frame_numbers[f],
+                           in->frame_names[f - 1], in->frame_names[f], err) != 0)
+                return -1;
+            continue;
+        }
+        if (check_frame(st, in->parts, 1, in->frame_numbers[f], err) != 0)
+            return -1;
+    }
+    cli_progress_end(st->progress);
+    if (st->summary && o->continuous) {
+        fprintf(st->summary,
+                "  %ld step(s): %ld with colliding pairs; least collision-free fraction "
+                "%.6g\n",
+                st->steps_checked, st->steps_colliding, st->earliest);
+        cli_print_weld_warning(st->summary, in->split_frames);
+    } else if (st->summary) {
+        fprintf(st->summary, "  %ld frame(s): %ld with interferences, %ld with proximities\n",
+                st->frames_checked, st->frames_intersecting, st->frames_near);
+        cli_print_frame_list(st->summary, &st->intersecting_frames, in->frame_numbers,
+                             in->frame_count);
+        cli_print_weld_warning(st->summary, in->split_frames);
+    }
+    return 0;
+}
+
+// The result line, and the JSON and CSV files closed (a write error there
+// is an error of the run).
+static int finish_outputs(check_state *st, cli_error *err) {
+    const cli_options *o = st->o;
+    if (st->summary && o->continuous)
+        fprintf(st->summary, "  result: %s (exit status %d)\n",
+                st->steps_colliding ? "COLLIDES WITHIN A STEP" : "clean",
+                st->found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
+    else if (st->summary)
+        fprintf(st->summary, "  result: %s (exit status %d)\n",
+                st->frames_intersecting ? "INTERSECTS"
+                : st->frames_near       ? "no interference, proximities found"
+                                        : "clean",
+                st->found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
+    FILE *json = st->json, *csv = st->csv;
+    st->json = st->csv = NULL;
+    if (cli_close_output(json, o->json, err) != 0) {
+        if (csv && csv != stdout)
+            fclose(csv);
+        return -1;
+    }
+    return cli_close_output(csv, o->csv, err);
+}
+
+static void free_check(check_state *st, check_inputs *in) {
+    if (st->json && st->json != stdout)
+        fclose(st->json);
+    if (st->csv && st->csv != stdout)
+        fclose(st->csv);
+    selfcol_contacts_destroy(st->contacts);
+    selfcol_sweep_destroy(st->sweep);
+    free(st->previous);
+    cli_sets_free(&st->sets);
+    free(st->intersecting_frames.data);
+    free(st->classes);
+    cli_part_free(in->parts[0]);
+    cli_part_free(in->parts[1]);
+    for (long i = 0; in->frame_names && i < in->frame_count; ++i)
+        free(in->frame_names[i]);
+    free(in->frame_names);
+    free(in->frame_numbers);
+}
+
+// One check, from the frame list to the closed outputs. Returns 0, or -1
+// with err set.
+static int run_check(check_state *st, check_inputs *in, cli_error *err) {
+    if (in->sequence &&
+        cli_frame_list(st->o, &in->frame_names, &in->frame_numbers, &in->frame_count, err) != 0)
+        return -1;
+    if (open_outputs(st, in, err) != 0 || load_parts(st, in, err) != 0 ||
+        prepare_queries(st, in, err) != 0)
+        return -1;
+    int rc =
+        in->sequence ? check_sequence(st, in, err) : check_frame(st, in->parts, in->count, 0, err);
+    if (rc != 0)
+        return -1;
+    return finish_outputs(st, err);
+}
+
+int cli_command_check(const cli_options *o) {
+    int sequence = o->frames || o->range != NULL;
+    int usage = check_usage(o, sequence);
+    if (usage != 0)
+        return usage;
     cli_options local = *o;
     local.frames = sequence;
     o = &local;
 
+    cli_error err;
+    err.message[0] = '\0';
     cli_progress progress;
     cli_progress_init(&progress, !o->quiet);
     check_state st;
@@ -373,193 +627,18 @@ int cli_command_check(const cli_options *o) {
     st.progress = &progress;
     st.intersecting_frames.item_size = sizeof(long);
     cli_sets_init(&st.sets);
-    cli_part parts_storage[2];
-    memset(parts_storage, 0, sizeof parts_storage);
-    cli_part *parts[2] = {&parts_storage[0], &parts_storage[1]};
-    char **frame_names = NULL;
-    long *frame_numbers = NULL;
-    long frame_count = 0;
-    int count = sequence ? 1 : o->input_count;
-    const char *files[2] = {NULL, NULL};
-    size_t split_frames = 0;
+    check_inputs in;
+    memset(&in, 0, sizeof in);
+    in.sequence = sequence;
+    in.count = sequence ? 1 : o->input_count;
+    in.parts[0] = &in.storage[0];
+    in.parts[1] = &in.storage[1];
 
-    if (sequence && cli_frame_list(o, &frame_names, &frame_numbers, &frame_count, &err) != 0)
-        goto done;
-    // Outputs first, so a bad output path fails before a long run: no two
-    // outputs (nor an output and an input) name one file, each can be written.
-    const cli_output_file outputs[4] = {
-        {"--json", o->json, 0}, {"--csv", o->csv, 0}, {"--mark", o->mark, 1}, {"--png", o->png, 1}};
-    const long single_frame = 0;
-    if (cli_check_outputs(
-            "check ", outputs, 4, sequence ? (const char *const *)frame_names : o->inputs,
-            sequence ? frame_count : o->input_count, sequence ? frame_numbers : &single_frame,
-            sequence ? frame_count : 1, &err) != 0)
-        goto done;
-    int stdout_taken =
-        (o->json && strcmp(o->json, "-") == 0) || (o->csv && strcmp(o->csv, "-") == 0);
-    st.summary = o->quiet ? NULL : stdout_taken ? stderr : stdout;
-    if (o->json && (st.json = cli_open_output(o->json, &err)) == NULL)
-        goto done;
-    if (o->csv && (st.csv = cli_open_output(o->csv, &err)) == NULL)
-        goto done;
-    if (st.csv && o->continuous)
-        fputs("step_from,step_to,kind,first,second,toi,flags\n", st.csv);
-    else if (st.csv)
-        cli_write_csv_header(st.csv);
-
-    double t0 = cli_now();
-    for (int i = 0; i < count; ++i) {
-        parts[i]->path = sequence ? frame_names[0] : o->inputs[i];
-        files[i] = parts[i]->path;
-        if (cli_read_mesh(parts[i]->path, &parts[i]->file, &err, &progress) != 0)
-            goto done;
-    }
-    st.info.seconds_load = cli_now() - t0;
-    for (int i = 0; i < count; ++i)
-        if (cli_part_create(parts[i], o->no_weld, 1, &st.info.seconds_topology,
-                            &st.info.seconds_hierarchy, &err) != 0)
-            goto done;
-    parts[1]->vertex_offset = (uint32_t)parts[0]->file.vertex_count;
-    parts[1]->triangle_offset = (uint32_t)parts[0]->file.triangle_count;
-    if (count == 2 && (uint64_t)parts[0]->file.vertex_count + parts[1]->file.vertex_count >=
-                          (uint64_t)UINT32_MAX - 1) {
-        cli_fail(&err, "the two meshes have too many vertices together");
-        goto done;
-    }
-
-    int rc = selfcol_contacts_create(&st.contacts, NULL);
-    if (rc != SELFCOL_OK) {
-        cli_fail(&err, "%s", selfcol_status_string(rc));
-        goto done;
-    }
-    selfcol_query_options_init(&st.query, SELFCOL_QUERY_OPTIONS_VERSION);
-    st.query.method = o->method;
-    st.query.narrow = o->narrow;
-    st.query.threads = o->threads;
-    st.info.mean_edge = combined_mean_edge(parts, count);
-    st.info.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
-    if (cli_detection_distance(o, st.info.mean_edge, &st.info.distance, &err) != 0)
-        goto done;
-    st.query.distance = st.info.distance;
-    st.info.method = cli_method_names[o->method];
-    st.info.narrow = cli_narrow_names[o->narrow];
-    st.info.files = files;
-    st.info.file_count = count;
-    for (int i = 0; i < count; ++i) {
-        st.info.vertices += parts[i]->file.vertex_count;
-        st.info.triangles += parts[i]->file.triangle_count;
-        st.info.edges += selfcol_mesh_count(parts[i]->mesh, SELFCOL_MESH_EDGES);
-        st.info.merged_vertices += parts[i]->merged_vertices;
-    }
-    if (o->mark || o->png) {
-        st.classes = malloc(st.info.triangles + 1);
-        if (st.classes == NULL) {
-            cli_fail(&err, "out of memory");
-            goto done;
-        }
-    }
-    print_summary_header(&st, parts, count);
-    if (o->continuous) {
-        st.earliest = 1.0;
-        rc = selfcol_sweep_create(&st.sweep, NULL);
-        st.previous = malloc(3 * parts[0]->file.vertex_count * sizeof(double) + 1);
-        if (rc != SELFCOL_OK || st.previous == NULL) {
-            cli_fail(&err, "out of memory");
-            goto done;
-        }
-        if (st.summary)
-            fprintf(st.summary,
-                    "  continuous: each step between consecutive frames, separation %g%s\n",
-                    o->distance_given ? o->distance : 0.0, o->distance_given ? "" : " (touching)");
-    }
-
-    if (!sequence) {
-        if (check_frame(&st, parts, count, 0, &err) != 0)
-            goto done;
-    } else {
-        for (long f = 0; f < frame_count; ++f) {
-            if (f > 0) {
-                if (o->continuous)
-                    memcpy(st.previous, selfcol_mesh_positions(parts[0]->mesh),
-                           3 * parts[0]->file.vertex_count * sizeof(double));
-                double start = cli_now();
-                parts[0]->path = frame_names[f];
-                files[0] = frame_names[f];
-                if (cli_load_next_frame(parts[0], frame_names[f], &progress, &split_frames, &err))
-                    goto done;
-                st.info.seconds_load = cli_now() - start;
-                start = cli_now();
-                rc = selfcol_hierarchy_refit(parts[0]->hierarchy);
-                st.info.seconds_refit = cli_now() - start;
-                st.info.seconds_topology = st.info.seconds_hierarchy = 0.0;
-                if (rc != SELFCOL_OK) {
-                    cli_fail(&err, "%s: %s", frame_names[f], selfcol_status_string(rc));
-                    goto done;
-                }
-            }
-            cli_progress_update(&progress, "frames", (double)f, (double)frame_count);
-            if (o->continuous) {
-                if (f > 0 &&
-                    check_step(&st, parts[0], frame_numbers[f - 1], frame_numbers[f], &err) != 0)
-                    goto done;
-                continue;
-            }
-            if (check_frame(&st, parts, 1, frame_numbers[f], &err) != 0)
-                goto done;
-        }
-        cli_progress_end(&progress);
-        if (st.summary && o->continuous) {
-            fprintf(st.summary,
-                    "  %ld step(s): %ld with colliding pairs; least collision-free fraction "
-                    "%.6g\n",
-                    st.steps_checked, st.steps_colliding, st.earliest);
-            cli_print_weld_warning(st.summary, split_frames);
-        } else if (st.summary) {
-            fprintf(st.summary, "  %ld frame(s): %ld with interferences, %ld with proximities\n",
-                    st.frames_checked, st.frames_intersecting, st.frames_near);
-            cli_print_frame_list(st.summary, &st.intersecting_frames, frame_numbers, frame_count);
-            cli_print_weld_warning(st.summary, split_frames);
-        }
-    }
-    if (st.summary && o->continuous)
-        fprintf(st.summary, "  result: %s (exit status %d)\n",
-                st.steps_colliding ? "COLLIDES WITHIN A STEP" : "clean",
-                st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
-    else if (st.summary)
-        fprintf(st.summary, "  result: %s (exit status %d)\n",
-                st.frames_intersecting ? "INTERSECTS"
-                : st.frames_near       ? "no interference, proximities found"
-                                       : "clean",
-                st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
-    if (cli_close_output(st.json, o->json, &err) != 0) {
-        st.json = NULL;
-        goto done;
-    }
-    st.json = NULL;
-    if (cli_close_output(st.csv, o->csv, &err) != 0) {
-        st.csv = NULL;
-        goto done;
-    }
-    st.csv = NULL;
-    exit_code = st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN;
-done:
+    int exit_code = CLI_EXIT_ERROR;
+    if (run_check(&st, &in, &err) == 0)
+        exit_code = st.found ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN;
     cli_progress_end(&progress);
     exit_code = cli_finish(exit_code, &err);
-    if (st.json && st.json != stdout)
-        fclose(st.json);
-    if (st.csv && st.csv != stdout)
-        fclose(st.csv);
-    selfcol_contacts_destroy(st.contacts);
-    selfcol_sweep_destroy(st.sweep);
-    free(st.previous);
-    cli_sets_free(&st.sets);
-    free(st.intersecting_frames.data);
-    free(st.classes);
-    cli_part_free(parts[0]);
-    cli_part_free(parts[1]);
-    for (long i = 0; frame_names && i < frame_count; ++i)
-        free(frame_names[i]);
-    free(frame_names);
-    free(frame_numbers);
+    free_check(&st, &in);
     return exit_code;
 }

@@ -1,9 +1,10 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// selfcol-cli internals shared by its source files: the mesh as read from a
-// file, error messages, progress reporting, and the pieces of each command.
-// Nothing here is part of libselfcol; the tool uses only the public API.
+// selfcol-cli internals shared by its source files: error messages, progress
+// reporting, and the pieces of each command. Mesh files are read and written
+// by selfcol_meshio (tools/meshio/meshio.h). Nothing here is part of
+// libselfcol; the tool uses only the public API.
 #ifndef SELFCOL_CLI_H
 #define SELFCOL_CLI_H
 
@@ -11,10 +12,10 @@
 #include <stdint.h>
 #include <stdio.h>
 
-/** One error message, "file:line: what" (the line only for text formats). */
-typedef struct cli_error {
-    char message[640];
-} cli_error;
+#include "meshio.h"
+
+/** One error message, "file:line: what": the mesh reader's own type (meshio.h). */
+typedef meshio_error cli_error;
 
 /** Formats an error message into err (printf-style). Returns -1 for `return cli_fail(...)`. */
 int cli_fail(cli_error *err, const char *format, ...)
@@ -40,76 +41,12 @@ void cli_progress_end(cli_progress *progress);
 /** Monotonic wall clock in seconds. */
 double cli_now(void);
 
-/** File formats the readers understand. */
-typedef enum cli_format {
-    CLI_FORMAT_UNKNOWN = 0,
-    CLI_FORMAT_OBJ,
-    CLI_FORMAT_PLY,
-    CLI_FORMAT_OFF,
-    CLI_FORMAT_STL
-} cli_format;
-
-const char *cli_format_name(cli_format format);
-
 /**
- * A triangle mesh as the file has it: vertices in file order, triangles in
- * file order after fan-triangulating each polygon (p0 p1 p2, p0 p2 p3, ...),
- * with file vertex indices (0-based). STL has no shared vertices: its file
- * vertices are the facet corners, 3 per facet in order.
+ * Reads a mesh file with selfcol_meshio (format from its extension, else
+ * from its content), drawing the reader's progress on the terminal, then
+ * clearing it. Returns 0, or -1 with err set.
  */
-typedef struct cli_mesh {
-    size_t vertex_count;
-    double *positions; /* 3 * vertex_count */
-    size_t triangle_count;
-    uint32_t *triangles; /* 3 * triangle_count */
-    size_t face_count;   /* polygons in the file, before triangulation */
-    cli_format format;
-    const char *format_detail; /* "ascii", "binary little endian", ... (static) */
-} cli_mesh;
-
-void cli_mesh_free(cli_mesh *mesh);
-
-/**
- * Parses a whole file held in memory. data must be followed by one readable
- * NUL byte (data[size] == 0): text parsers rely on it as a sentinel. name is
- * used in messages only. hint: from the file name, or UNKNOWN to sniff.
- * Returns 0, or -1 with err set; on failure mesh holds nothing.
- */
-int cli_parse_mesh(const char *name, const unsigned char *data, size_t size, cli_format hint,
-                   cli_mesh *mesh, cli_error *err, cli_progress *progress);
-
-/** Reads and parses a file (format from its extension, else from its content). */
-int cli_read_mesh(const char *path, cli_mesh *mesh, cli_error *err, cli_progress *progress);
-
-/** Format named by a path's extension (case-insensitive), or UNKNOWN. */
-cli_format cli_format_from_path(const char *path);
-
-/* The individual parsers (read_text.c, read_ply.c); same contract as cli_parse_mesh. */
-int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mesh, cli_error *err,
-                  cli_progress *progress);
-int cli_parse_off(const char *name, const char *text, size_t size, cli_mesh *mesh, cli_error *err,
-                  cli_progress *progress);
-int cli_parse_stl(const char *name, const unsigned char *data, size_t size, cli_mesh *mesh,
-                  cli_error *err, cli_progress *progress);
-int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_mesh *mesh,
-                  cli_error *err, cli_progress *progress);
-
-/**
- * Welds vertices with exactly equal positions (-0 equals +0): writes into
- * representative_out[v] the lowest file index of v's group. O(n) expected.
- * Returns the number of vertices that were merged into a lower one, or
- * (size_t)-1 when out of memory.
- */
-size_t cli_weld(const double *positions, size_t vertex_count, uint32_t *representative_out);
-
-/** A growable array of fixed-size items (realloc doubling). */
-typedef struct cli_array {
-    void *data;
-    size_t count, capacity, item_size;
-} cli_array;
-
-/** Makes room for extra more items; returns 0 or -1 (out of memory or overflow). */
-int cli_array_reserve(cli_array *array, size_t extra);
+int cli_read_mesh(const char *path, meshio_mesh *mesh, cli_error *err, cli_progress *progress);
 
 #include <selfcol/selfcol.h>
 
@@ -121,14 +58,14 @@ typedef struct cli_item {
 
 /** The contact sets of one frame, in file indices, ready to print. */
 typedef struct cli_sets {
-    cli_array vf, ee, ef, tt;  /* cli_item: [v, t], [a0, a1, b0, b1], [a0, a1, t], [t1, t2] */
-    selfcol_query_stats stats; /* summed over the queries of the frame */
+    meshio_array vf, ee, ef, tt; /* cli_item: [v, t], [a0, a1, b0, b1], [a0, a1, t], [t1, t2] */
+    selfcol_query_stats stats;   /* summed over the queries of the frame */
 } cli_sets;
 
 /** One mesh taking part in a check, with its library handles. */
 typedef struct cli_part {
     const char *path;
-    cli_mesh file;              /* as read */
+    meshio_mesh file;           /* as read */
     uint32_t *welded_triangles; /* file triangles through the weld */
     size_t merged_vertices;     /* vertices welded into a lower one */
     selfcol_mesh *mesh;
@@ -165,6 +102,24 @@ typedef struct cli_run_info {
 } cli_run_info;
 
 void cli_write_json(FILE *out, const cli_run_info *info, const cli_sets *sets);
+
+/** Describes one step of check --continuous for its JSON object. */
+typedef struct cli_step_info {
+    const char *from_file, *to_file;
+    long from, to;     /* frame numbers */
+    double separation; /* 0: touching */
+    const char *method;
+    size_t vertices, triangles, edges, merged_vertices;
+    double seconds_load, seconds_refit;
+} cli_step_info;
+
+/**
+ * Writes one step's colliding pairs as one JSON line: "vf" [v, t, toi,
+ * flags] and "ee" [a0, a1, b0, b1, toi, flags] in file indices, sorted as
+ * the discrete check's records. Returns 0 or -1 (out of memory).
+ */
+int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_sweep_hit *hits,
+                        size_t count, const selfcol_sweep_query_stats *stats);
 void cli_write_csv_header(FILE *out);
 void cli_write_csv(FILE *out, long frame, const cli_sets *sets);
 /** Prints a JSON string literal (quotes and escapes included). */

@@ -113,7 +113,7 @@ int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress
  * frames of the sequence as FIRST-LAST) and a newline; nothing when frames
  * (long) is empty.
  */
-void cli_print_frame_list(FILE *out, const cli_array *frames, const long *sequence,
+void cli_print_frame_list(FILE *out, const meshio_array *frames, const long *sequence,
                           long sequence_count);
 
 /**

@@ -81,7 +81,7 @@ int cli_command_info(const cli_options *o) {
             size_t components = selfcol_mesh_count(m, SELFCOL_MESH_COMPONENTS);
             double mean = selfcol_mesh_mean_edge_length(m);
             if (s) {
-                fprintf(s, "%s: %s %s\n", part.path, cli_format_name(part.file.format),
+                fprintf(s, "%s: %s %s\n", part.path, meshio_format_name(part.file.format),
                         part.file.format_detail);
                 fprintf(s,
                         "  vertices            %zu in the file, %zu used after welding (%zu "
@@ -118,7 +118,7 @@ int cli_command_info(const cli_options *o) {
                         "\"misoriented_edges\":%zu,"
                         "\"mean_edge_length\":%.17g,\"bbox\":[[%.17g,%.17g,%.17g],"
                         "[%.17g,%.17g,%.17g]]}\n",
-                        cli_format_name(part.file.format), part.file.format_detail,
+                        meshio_format_name(part.file.format), part.file.format_detail,
                         part.file.vertex_count, used, part.merged_vertices, part.file.face_count,
                         part.file.triangle_count, ne, boundary, loops, nonmanifold,
                         facts.degenerate, duplicates, components, closed ? "true" : "false",

@@ -3,8 +3,9 @@
 
 // From library contacts to the output contract: index arrays in file
 // indices (sorted, the second mesh's indices after the first's), the
-// intersecting triangle pairs derived from the EF interferences, and the JSON,
-// CSV and coloured-PLY writers, and opening and closing the commands' output files.
+// intersecting triangle pairs derived from the EF interferences, the JSON and
+// CSV writers, the colours of --mark's PLY (written by selfcol_meshio), and
+// opening and closing the commands' output files.
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
@@ -33,9 +34,9 @@ void cli_sets_free(cli_sets *sets) {
     memset(sets, 0, sizeof *sets);
 }
 
-static int push(cli_array *array, uint32_t k0, uint32_t k1, uint32_t k2, uint32_t k3,
+static int push(meshio_array *array, uint32_t k0, uint32_t k1, uint32_t k2, uint32_t k3,
                 double distance) {
-    if (cli_array_reserve(array, 1))
+    if (meshio_array_reserve(array, 1))
         return -1;
     cli_item *item = (cli_item *)array->data + array->count++;
     item->k[0] = k0;
@@ -154,7 +155,7 @@ static int item_compare(const void *a, const void *b) {
     return 0;
 }
 
-static void sort_items(cli_array *array) {
+static void sort_items(meshio_array *array) {
     if (array->count > 1)
         qsort(array->data, array->count, sizeof(cli_item), item_compare);
 }
@@ -187,7 +188,7 @@ void cli_json_string(FILE *out, const char *s) {
     fputc('"', out);
 }
 
-static void json_array(FILE *out, const char *key, const cli_array *array, int width) {
+static void json_array(FILE *out, const char *key, const meshio_array *array, int width) {
     fprintf(out, ",\"%s\":[", key);
     const cli_item *items = array->data;
     for (size_t i = 0; i < array->count; ++i) {
@@ -241,11 +242,98 @@ void cli_write_json(FILE *out, const cli_run_info *info, const cli_sets *sets) {
             info->seconds_refit, info->seconds_query, s->broad_seconds, s->narrow_seconds);
 }
 
+// check --continuous: a colliding pair as its JSON record.
+typedef struct step_record {
+    uint32_t k[4]; /* VF: v, t; EE: a0 < a1, b0 < b1, (a0, a1) < (b0, b1) */
+    uint32_t flags;
+    double toi;
+} step_record;
+
+static int step_record_compare(const void *a, const void *b) {
+    const step_record *x = a, *y = b;
+    for (int k = 0; k < 4; ++k)
+        if (x->k[k] != y->k[k])
+            return x->k[k] < y->k[k] ? -1 : 1;
+    return 0;
+}
+
+static void step_records(FILE *out, const char *key, step_record *records, size_t count,
+                         int width) {
+    if (count > 1)
+        qsort(records, count, sizeof *records, step_record_compare);
+    fprintf(out, ",\"%s\":[", key);
+    for (size_t i = 0; i < count; ++i) {
+        fputs(i ? ",[" : "[", out);
+        for (int k = 0; k < width; ++k)
+            fprintf(out, "%u,", (unsigned)records[i].k[k]);
+        fprintf(out, "%.17g,%u]", records[i].toi, (unsigned)records[i].flags);
+    }
+    fputc(']', out);
+}
+
+int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_sweep_hit *hits,
+                        size_t count, const selfcol_sweep_query_stats *stats) {
+    step_record *records = malloc(count * sizeof *records + 1);
+    if (records == NULL)
+        return -1;
+    size_t vf = 0, ee = count; // VF records from the front, EE from the back
+    for (size_t i = 0; i < count; ++i) {
+        const selfcol_sweep_hit *h = &hits[i];
+        step_record r;
+        memset(&r, 0, sizeof r);
+        r.flags = h->flags;
+        r.toi = h->toi;
+        if (h->kind == SELFCOL_CONTACT_VF) {
+            r.k[0] = h->a[0];
+            r.k[1] = h->second;
+            records[vf++] = r;
+            continue;
+        }
+        uint32_t a0 = h->a[0] < h->a[1] ? h->a[0] : h->a[1];
+        uint32_t a1 = h->a[0] < h->a[1] ? h->a[1] : h->a[0];
+        uint32_t b0 = h->b[0] < h->b[1] ? h->b[0] : h->b[1];
+        uint32_t b1 = h->b[0] < h->b[1] ? h->b[1] : h->b[0];
+        int swap = b0 < a0 || (b0 == a0 && b1 < a1);
+        r.k[0] = swap ? b0 : a0;
+        r.k[1] = swap ? b1 : a1;
+        r.k[2] = swap ? a0 : b0;
+        r.k[3] = swap ? a1 : b1;
+        records[--ee] = r;
+    }
+    fprintf(out, "{\"selfcol_version\":");
+    cli_json_string(out, selfcol_version_string());
+    fprintf(out, ",\"files\":[");
+    cli_json_string(out, info->from_file);
+    fputc(',', out);
+    cli_json_string(out, info->to_file);
+    fprintf(out, "],\"step\":{\"from\":%ld,\"to\":%ld}", info->from, info->to);
+    fprintf(out, ",\"separation\":%.17g,\"method\":\"%s\"", info->separation, info->method);
+    fprintf(out, ",\"counts\":{\"vf\":%zu,\"ee\":%zu},\"free_fraction\":%.17g", vf, count - vf,
+            stats->free_fraction);
+    step_records(out, "vf", records, vf, 2);
+    step_records(out, "ee", records + vf, count - vf, 4);
+    fprintf(out,
+            ",\"stats\":{\"vertices\":%zu,\"welded_vertices\":%zu,\"triangles\":%zu,"
+            "\"edges\":%zu,\"candidates\":%llu,\"vf_candidates\":%llu,\"ee_candidates\":%llu,"
+            "\"initial\":%llu,\"unresolved\":%llu,",
+            info->vertices, info->merged_vertices, info->triangles, info->edges,
+            (unsigned long long)stats->candidates, (unsigned long long)stats->vf_candidates,
+            (unsigned long long)stats->ee_candidates, (unsigned long long)stats->initial,
+            (unsigned long long)stats->unresolved);
+    fprintf(out,
+            "\"seconds\":{\"load\":%.6f,\"refit\":%.6f,\"query\":%.6f,\"broad\":%.6f,"
+            "\"narrow\":%.6f}}}\n",
+            info->seconds_load, info->seconds_refit, stats->total_seconds, stats->broad_seconds,
+            stats->narrow_seconds);
+    free(records);
+    return 0;
+}
+
 void cli_write_csv_header(FILE *out) {
     fputs("frame,kind,i0,i1,i2,i3,distance\n", out);
 }
 
-static void csv_rows(FILE *out, long frame, const char *kind, const cli_array *array, int width,
+static void csv_rows(FILE *out, long frame, const char *kind, const meshio_array *array, int width,
                      int with_distance) {
     const cli_item *items = array->data;
     for (size_t i = 0; i < array->count; ++i) {
@@ -282,39 +370,32 @@ int cli_write_marked_ply(const char *path, const double *positions, size_t verte
     // Vertex colours too: Blender's importer reads only those; a vertex takes
     // the most severe class of its triangles.
     unsigned char *vertex_class = calloc(vertex_count + 1, 1);
-    if (vertex_class == NULL)
+    unsigned char *vertex_rgb = malloc(3 * vertex_count + 1);
+    unsigned char *triangle_rgb = malloc(3 * triangle_count + 1);
+    if (vertex_class == NULL || vertex_rgb == NULL || triangle_rgb == NULL) {
+        free(vertex_class);
+        free(vertex_rgb);
+        free(triangle_rgb);
         return cli_fail(err, "%s: out of memory", path);
-    for (size_t t = 0; t < triangle_count; ++t)
+    }
+    for (size_t t = 0; t < triangle_count; ++t) {
         for (int k = 0; k < 3; ++k)
             if (vertex_class[triangles[3 * t + k]] < classes[t])
                 vertex_class[triangles[3 * t + k]] = classes[t];
-    FILE *f = fopen(path, "w");
-    if (f == NULL) {
-        free(vertex_class);
-        return cli_fail(err, "%s: cannot write: %s", path, strerror(errno));
+        memcpy(triangle_rgb + 3 * t, class_colours[classes[t]], 3);
     }
-    fprintf(f,
-            "ply\nformat ascii 1.0\ncomment selfcol-cli %s: red faces intersect, orange faces "
-            "are within the detection distance\nelement vertex %zu\nproperty double x\n"
-            "property double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
-            "property uchar blue\nelement face %zu\nproperty list uchar uint vertex_indices\n"
-            "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n",
-            selfcol_version_string(), vertex_count, triangle_count);
-    for (size_t v = 0; v < vertex_count; ++v) {
-        const unsigned char *c = class_colours[vertex_class[v]];
-        fprintf(f, "%.17g %.17g %.17g %u %u %u\n", positions[3 * v], positions[3 * v + 1],
-                positions[3 * v + 2], c[0], c[1], c[2]);
-    }
-    for (size_t t = 0; t < triangle_count; ++t) {
-        const unsigned char *c = class_colours[classes[t]];
-        fprintf(f, "3 %u %u %u %u %u %u\n", (unsigned)triangles[3 * t],
-                (unsigned)triangles[3 * t + 1], (unsigned)triangles[3 * t + 2], c[0], c[1], c[2]);
-    }
+    for (size_t v = 0; v < vertex_count; ++v)
+        memcpy(vertex_rgb + 3 * v, class_colours[vertex_class[v]], 3);
+    char comment[160];
+    snprintf(comment, sizeof comment,
+             "selfcol-cli %s: red faces intersect, orange faces are within the detection distance",
+             selfcol_version_string());
+    int status = meshio_write_coloured_ply(path, positions, vertex_count, vertex_rgb, triangles,
+                                           triangle_count, triangle_rgb, comment, err);
     free(vertex_class);
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-        return cli_fail(err, "%s: write error", path);
-    return 0;
+    free(vertex_rgb);
+    free(triangle_rgb);
+    return status;
 }
 
 // ---------------------------------------------------------------------------

@@ -12,7 +12,7 @@ void cli_part_free(cli_part *part) {
     selfcol_hierarchy_destroy(part->hierarchy);
     selfcol_mesh_destroy(part->mesh);
     free(part->welded_triangles);
-    cli_mesh_free(&part->file);
+    meshio_mesh_free(&part->file);
     memset(part, 0, sizeof *part);
 }
 
@@ -34,7 +34,7 @@ int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *se
             representative[v] = (uint32_t)v;
         part->merged_vertices = 0;
     } else {
-        part->merged_vertices = cli_weld(part->file.positions, nv, representative);
+        part->merged_vertices = meshio_weld(part->file.positions, nv, representative);
         if (part->merged_vertices == (size_t)-1) {
             free(representative);
             return cli_fail(err, "%s: out of memory", part->path);

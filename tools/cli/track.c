@@ -25,7 +25,7 @@ typedef struct track_state {
     cli_sets sets;                            /* only to colour pictures as check does */
     unsigned char *classes;                   /* per triangle, for pictures; NULL without them */
     long frames_done, frames_intersecting, frames_with_contacts;
-    cli_array intersecting_frames; /* long: frame numbers with interferences */
+    meshio_array intersecting_frames; /* long: frame numbers with interferences */
     /* The worst frame: most interferences, then most contacts, then the first. */
     long worst;       /* position in the sequence; -1 before the first frame */
     long worst_frame; /* its frame number */
@@ -123,7 +123,7 @@ static int track_frame(track_state *st, long index, long frame, const char *name
     st->frames_with_contacts += s.contacts > 0;
     if (s.interferences > 0) {
         st->frames_intersecting++;
-        if (cli_array_reserve(&st->intersecting_frames, 1) != 0)
+        if (meshio_array_reserve(&st->intersecting_frames, 1) != 0)
             return cli_fail(err, "out of memory");
         ((long *)st->intersecting_frames.data)[st->intersecting_frames.count++] = frame;
     }
@@ -160,7 +160,7 @@ static void print_header(const track_state *st) {
     const cli_part *p = st->part;
     fprintf(s, "selfcol-cli %s track  %s\n", selfcol_version_string(), p->path);
     fprintf(s, "  %s %s: %zu vertices (%zu welded), %zu triangles, %zu edges\n",
-            cli_format_name(p->file.format), p->file.format_detail, p->file.vertex_count,
+            meshio_format_name(p->file.format), p->file.format_detail, p->file.vertex_count,
             p->merged_vertices, p->file.triangle_count,
             selfcol_mesh_count(p->mesh, SELFCOL_MESH_EDGES));
     if (st->distance_rel >= 0)

@@ -509,10 +509,9 @@ int usage(const char *name) {
     return 2;
 }
 
-} // namespace
-
-int main(int argc, char **argv) {
-    config cfg;
+// Parses the options into cfg and the sizes; returns -1 to go on, else the
+// exit status (usage printed).
+int parse_options(int argc, char **argv, config &cfg) {
     std::string sizes = "2k,20k";
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
@@ -593,6 +592,14 @@ int main(int argc, char **argv) {
     if (cfg.sizes.empty())
         return usage(argv[0]);
 
+    if (cfg.sizes.empty())
+        return usage(argv[0]);
+    return -1;
+}
+
+// What the runs will be, on stdout; the --trace file started with its
+// header. Returns 0 or 1 (the trace file cannot be written).
+int print_plan(const config &cfg) {
     std::printf("selfcol-bullet-bench: crumpling ribbon, steps of %.6f s, %d repetition(s), "
                 "scale %g, selfcol threads %u\n",
                 demo::step_length(), cfg.repeat, cfg.scale, cfg.threads);
@@ -611,8 +618,13 @@ int main(int argc, char **argv) {
                         "bullet_contacts\n");
         std::fclose(f);
     }
+    return 0;
+}
+
+// Every run, interleaved: for each size, each repetition runs every mode in
+// turn (a child process each); one line per run on stdout.
+std::vector<row> run_all(const config &cfg) {
     std::vector<row> rows;
-    auto all_started = clock_type::now();
     for (const size_spec &z : cfg.sizes) {
         size_t first_row = rows.size();
         for (demo::mode m : cfg.modes) {
@@ -642,93 +654,99 @@ int main(int argc, char **argv) {
                 std::fflush(stdout);
             }
     }
+    return rows;
+}
 
-    // The rows: CSV (stdout and --csv) and a table.
-    const char *header =
-        "size,along,across,nodes,faces,mode,scale,threads,steps,measured,repeats,runs_ok,status,"
-        "steps_done,setup_ms,first_step_ms,step_median_ms,step_mean_ms,step_min_ms,step_max_ms,"
-        "ratio_to_off,first_detect_ms,detect_median_ms,response_median_ms,detect_mean_ms,"
-        "response_mean_ms,store_median_ms,final_refit_ms,final_query_ms,final_contacts,"
-        "contacts_mean,contacts_end,interferences_end,crossed_end,"
-        "bullet_contacts_mean,bullet_contacts_end,ef_end_min,ef_end_max,ef_query_ms,ke_end,"
-        "max_rss_kb,wall_s";
-    std::vector<std::string> lines;
-    for (const row &w : rows) {
-        int across = std::max(3, std::max(16, w.size.along) / 8);
-        int along = std::max(16, w.size.along);
-        double off_median = NAN;
-        for (const row &o : rows)
-            if (o.size.label == w.size.label && o.m == demo::mode::off && !o.runs.empty())
-                off_median = med_of(o, [](const run_result &r) { return r.median_ms; });
-        double median_ms = med_of(w, [](const run_result &r) { return r.median_ms; });
-        long long ef_min = -1, ef_max = -1, done = w.size.steps;
-        double wall = 0;
-        for (const run_result &r : w.runs) {
-            ef_min = ef_min < 0 ? r.ef_end : std::min(ef_min, r.ef_end);
-            ef_max = std::max(ef_max, r.ef_end);
-            done = std::min(done, (long long)r.steps_done);
-            wall += r.wall_s;
-        }
-        double step_min = NAN, step_max = NAN;
-        for (const run_result &r : w.runs) {
-            step_min = std::isnan(step_min) ? r.min_ms : std::min(step_min, r.min_ms);
-            step_max = std::isnan(step_max) ? r.max_ms : std::max(step_max, r.max_ms);
-        }
-        bool sc = w.m == demo::mode::selfcol;
-        char b[2048];
-        std::snprintf(
-            b, sizeof b,
-            "%s,%d,%d,%d,%lld,%s,%g,%u,%d,%d,%d,%zu,%s,%lld,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,"
-            "%s,%s,%s,%s,%s,%s,%s,%s,%s,%lld,%lld,%s,%s,%s,%s",
-            w.size.label.c_str(), along, across, along * across, faces_of(w.size.along),
-            mode_name(w.m), cfg.scale, cfg.threads, w.size.steps, w.size.measure, cfg.repeat,
-            w.runs.size(), status_of(w).c_str(), w.runs.empty() ? 0LL : done,
-            fmt(med_of(w, [](const run_result &r) { return r.setup_ms; })).c_str(),
-            fmt(med_of(w, [](const run_result &r) { return r.first_ms; })).c_str(),
-            fmt(median_ms).c_str(),
-            fmt(med_of(w, [](const run_result &r) { return r.mean_ms; })).c_str(),
-            fmt(step_min).c_str(), fmt(step_max).c_str(),
-            fmt(median_ms / off_median, "%.2f").c_str(),
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.first_detect_ms; })).c_str() : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.detect_median_ms; })).c_str()
-               : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.response_median_ms; })).c_str()
-               : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.detect_mean_ms; })).c_str() : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.response_mean_ms; })).c_str()
-               : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.store_median_ms; })).c_str() : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.final_refit_ms; })).c_str() : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.final_query_ms; })).c_str() : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.final_contacts; }), "%.0f")
-                     .c_str()
-               : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.contacts_mean; }), "%.0f").c_str()
-               : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.contacts_end; }), "%.0f").c_str()
-               : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.interferences_end; }), "%.0f")
-                     .c_str()
-               : "",
-            sc ? fmt(med_of(w, [](const run_result &r) { return r.crossed_end; }), "%.0f").c_str()
-               : "",
-            w.m == demo::mode::bullet
-                ? fmt(med_of(w, [](const run_result &r) { return r.bullet_contacts_mean; }), "%.0f")
-                      .c_str()
-                : "",
-            w.m == demo::mode::bullet
-                ? fmt(med_of(w, [](const run_result &r) { return r.bullet_contacts_end; }), "%.0f")
-                      .c_str()
-                : "",
-            ef_min, ef_max,
-            fmt(med_of(w, [](const run_result &r) { return r.ef_query_ms; })).c_str(),
-            fmt(med_of(w, [](const run_result &r) { return r.ke_end; }), "%.4g").c_str(),
-            fmt(med_of(w, [](const run_result &r) { return double(r.max_rss_kb); }), "%.0f")
-                .c_str(),
-            fmt(wall, "%.1f").c_str());
-        lines.push_back(b);
+// The median step without self-collision of w's size (NAN: none ran).
+double off_median_of(const std::vector<row> &rows, const row &w) {
+    double off_median = NAN;
+    for (const row &o : rows)
+        if (o.size.label == w.size.label && o.m == demo::mode::off && !o.runs.empty())
+            off_median = med_of(o, [](const run_result &r) { return r.median_ms; });
+    return off_median;
+}
+
+const char *const csv_header =
+    "size,along,across,nodes,faces,mode,scale,threads,steps,measured,repeats,runs_ok,status,"
+    "steps_done,setup_ms,first_step_ms,step_median_ms,step_mean_ms,step_min_ms,step_max_ms,"
+    "ratio_to_off,first_detect_ms,detect_median_ms,response_median_ms,detect_mean_ms,"
+    "response_mean_ms,store_median_ms,final_refit_ms,final_query_ms,final_contacts,"
+    "contacts_mean,contacts_end,interferences_end,crossed_end,"
+    "bullet_contacts_mean,bullet_contacts_end,ef_end_min,ef_end_max,ef_query_ms,ke_end,"
+    "max_rss_kb,wall_s";
+
+// The CSV line of one row: medians over its runs.
+std::string csv_line(const config &cfg, const std::vector<row> &rows, const row &w) {
+    int across = std::max(3, std::max(16, w.size.along) / 8);
+    int along = std::max(16, w.size.along);
+    double off_median = off_median_of(rows, w);
+    double median_ms = med_of(w, [](const run_result &r) { return r.median_ms; });
+    long long ef_min = -1, ef_max = -1, done = w.size.steps;
+    double wall = 0;
+    for (const run_result &r : w.runs) {
+        ef_min = ef_min < 0 ? r.ef_end : std::min(ef_min, r.ef_end);
+        ef_max = std::max(ef_max, r.ef_end);
+        done = std::min(done, (long long)r.steps_done);
+        wall += r.wall_s;
     }
-    std::printf("\n%s\n", header);
+    double step_min = NAN, step_max = NAN;
+    for (const run_result &r : w.runs) {
+        step_min = std::isnan(step_min) ? r.min_ms : std::min(step_min, r.min_ms);
+        step_max = std::isnan(step_max) ? r.max_ms : std::max(step_max, r.max_ms);
+    }
+    bool sc = w.m == demo::mode::selfcol;
+    char b[2048];
+    std::snprintf(
+        b, sizeof b,
+        "%s,%d,%d,%d,%lld,%s,%g,%u,%d,%d,%d,%zu,%s,%lld,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,"
+        "%s,%s,%s,%s,%s,%s,%s,%s,%s,%lld,%lld,%s,%s,%s,%s",
+        w.size.label.c_str(), along, across, along * across, faces_of(w.size.along), mode_name(w.m),
+        cfg.scale, cfg.threads, w.size.steps, w.size.measure, cfg.repeat, w.runs.size(),
+        status_of(w).c_str(), w.runs.empty() ? 0LL : done,
+        fmt(med_of(w, [](const run_result &r) { return r.setup_ms; })).c_str(),
+        fmt(med_of(w, [](const run_result &r) { return r.first_ms; })).c_str(),
+        fmt(median_ms).c_str(),
+        fmt(med_of(w, [](const run_result &r) { return r.mean_ms; })).c_str(),
+        fmt(step_min).c_str(), fmt(step_max).c_str(), fmt(median_ms / off_median, "%.2f").c_str(),
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.first_detect_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.detect_median_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.response_median_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.detect_mean_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.response_mean_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.store_median_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.final_refit_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.final_query_ms; })).c_str() : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.final_contacts; }), "%.0f").c_str()
+           : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.contacts_mean; }), "%.0f").c_str()
+           : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.contacts_end; }), "%.0f").c_str()
+           : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.interferences_end; }), "%.0f").c_str()
+           : "",
+        sc ? fmt(med_of(w, [](const run_result &r) { return r.crossed_end; }), "%.0f").c_str() : "",
+        w.m == demo::mode::bullet
+            ? fmt(med_of(w, [](const run_result &r) { return r.bullet_contacts_mean; }), "%.0f")
+                  .c_str()
+            : "",
+        w.m == demo::mode::bullet
+            ? fmt(med_of(w, [](const run_result &r) { return r.bullet_contacts_end; }), "%.0f")
+                  .c_str()
+            : "",
+        ef_min, ef_max, fmt(med_of(w, [](const run_result &r) { return r.ef_query_ms; })).c_str(),
+        fmt(med_of(w, [](const run_result &r) { return r.ke_end; }), "%.4g").c_str(),
+        fmt(med_of(w, [](const run_result &r) { return double(r.max_rss_kb); }), "%.0f").c_str(),
+        fmt(wall, "%.1f").c_str());
+    return b;
+}
+
+// The rows as CSV: on stdout and into --csv. Returns 0 or 1 (--csv cannot be
+// written).
+int write_rows(const config &cfg, const std::vector<row> &rows) {
+    std::vector<std::string> lines;
+    for (const row &w : rows)
+        lines.push_back(csv_line(cfg, rows, w));
+    std::printf("\n%s\n", csv_header);
     for (const std::string &l : lines)
         std::printf("%s\n", l.c_str());
     if (!cfg.csv.empty()) {
@@ -737,7 +755,7 @@ int main(int argc, char **argv) {
             std::fprintf(stderr, "cannot write %s\n", cfg.csv.c_str());
             return 1;
         }
-        std::fprintf(f, "%s\n", header);
+        std::fprintf(f, "%s\n", csv_header);
         for (const std::string &l : lines)
             std::fprintf(f, "%s\n", l.c_str());
         if (std::fclose(f) != 0) {
@@ -745,15 +763,16 @@ int main(int argc, char **argv) {
             return 1;
         }
     }
+    return 0;
+}
 
+// The rows as a table on stdout.
+void print_table(const std::vector<row> &rows) {
     std::printf("\n%-6s %8s %-8s %5s %10s %10s %9s %7s %18s %9s %9s %8s\n", "size", "faces", "mode",
                 "runs", "first ms", "median ms", "mean ms", "x off", "selfcol det+resp", "contacts",
                 "EF end", "status");
     for (const row &w : rows) {
-        double off_median = NAN;
-        for (const row &o : rows)
-            if (o.size.label == w.size.label && o.m == demo::mode::off && !o.runs.empty())
-                off_median = med_of(o, [](const run_result &r) { return r.median_ms; });
+        double off_median = off_median_of(rows, w);
         double median_ms = med_of(w, [](const run_result &r) { return r.median_ms; });
         long long ef_min = -1, ef_max = -1;
         for (const run_result &r : w.runs) {
@@ -783,6 +802,23 @@ int main(int argc, char **argv) {
     }
     std::printf("(contacts: selfcol's VF+EE held after the last step, or Bullet's vertex-face "
                 "contacts; EF end: the last frame's exact EF interferences, core query)\n");
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    config cfg;
+    int status = parse_options(argc, argv, cfg);
+    if (status >= 0)
+        return status;
+    if (print_plan(cfg) != 0)
+        return 1;
+    auto all_started = clock_type::now();
+    std::vector<row> rows = run_all(cfg);
+    // The rows: CSV (stdout and --csv) and a table.
+    if (write_rows(cfg, rows) != 0)
+        return 1;
+    print_table(rows);
     std::printf("total %.1f s\n", seconds_since(all_started));
     for (const row &w : rows)
         if (w.runs.size() != size_t(w.attempted))

@@ -2,14 +2,14 @@
 // SPDX-License-Identifier: MIT
 
 // The Eigen adapter (selfcol/eigen.hpp) against the C API on the same
-// inputs: generated scenes (tools/scenes) and small hand-made meshes. Every
+// inputs: generated meshes (tools/meshio/fixtures.h) and small hand-made meshes. Every
 // record of the C query appears in the Eigen result, in the same order, with
 // identical indices, distances, weights and directions, and the counts are
 // equal; bad input throws selfcol::error with the C library's status.
 #include <selfcol/eigen.hpp>
 
 extern "C" {
-#include "scenes.h"
+#include "fixtures.h"
 }
 
 #include <cmath>
@@ -45,19 +45,19 @@ extern "C" {
 namespace {
 
 struct owned_scene {
-    scene s;
+    fixture s;
     owned_scene() {
         std::memset(&s, 0, sizeof s);
     }
     ~owned_scene() {
-        scene_free(&s);
+        fixture_free(&s);
     }
     owned_scene(const owned_scene &) = delete;
     owned_scene &operator=(const owned_scene &) = delete;
 };
 
 // libigl's types: column-major MatrixXd and MatrixXi.
-void to_eigen(const scene &s, Eigen::MatrixXd &V, Eigen::MatrixXi &F) {
+void to_eigen(const fixture &s, Eigen::MatrixXd &V, Eigen::MatrixXi &F) {
     V.resize((Eigen::Index)s.vertex_count, 3);
     F.resize((Eigen::Index)s.triangle_count, 3);
     for (size_t i = 0; i < s.vertex_count; ++i)
@@ -80,7 +80,7 @@ struct c_query {
             selfcol_mesh_destroy(mesh[i]);
         }
     }
-    bool add(int i, const scene &s) {
+    bool add(int i, const fixture &s) {
         return selfcol_mesh_create(&mesh[i], s.vertex_count, s.positions, s.triangle_count,
                                    s.triangles, nullptr) == SELFCOL_OK &&
                selfcol_hierarchy_create(&hierarchy[i], mesh[i], nullptr) == SELFCOL_OK;
@@ -162,7 +162,7 @@ void check_same(const std::vector<selfcol_contact> &c, const selfcol::contact_re
     }
 }
 
-double mean_edge(const scene &s) {
+double mean_edge(const fixture &s) {
     selfcol_mesh *m = nullptr;
     double mean = 0.0;
     if (selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles,
@@ -180,16 +180,16 @@ void test_self_query_matches_c_api() {
         owned_scene sc;
     } scenes[4];
     scenes[0].name = "crumpled";
-    CHECK(scene_crumpled(&scenes[0].sc.s, 10, 10, 3, 2.5) == 0);
+    CHECK(fixture_crumpled(&scenes[0].sc.s, 10, 10, 3, 2.5) == 0);
     scenes[1].name = "hairpin";
-    CHECK(scene_hairpin(&scenes[1].sc.s, 8, 0.05) == 0);
+    CHECK(fixture_hairpin(&scenes[1].sc.s, 8, 0.05) == 0);
     scenes[2].name = "zfold";
-    CHECK(scene_zfold(&scenes[2].sc.s, 8, 3, 0.2, 2, 0.3) == 0);
+    CHECK(fixture_zfold(&scenes[2].sc.s, 8, 3, 0.2, 2, 0.3) == 0);
     scenes[3].name = "ramp";
-    CHECK(scene_ramp(&scenes[3].sc.s, 3, 16, 4.0, 0.6, -0.05) == 0);
+    CHECK(fixture_ramp(&scenes[3].sc.s, 3, 16, 4.0, 0.6, -0.05) == 0);
     size_t total_ef = 0, total_proximities = 0;
     for (named &n : scenes) {
-        const scene &s = n.sc.s;
+        const fixture &s = n.sc.s;
         Eigen::MatrixXd V;
         Eigen::MatrixXi F;
         to_eigen(s, V, F);
@@ -223,7 +223,7 @@ void test_self_query_matches_c_api() {
 // Two meshes: the contacts between them, mesh columns 0 and 1.
 void test_two_mesh_query_matches_c_api() {
     owned_scene a, b;
-    CHECK(scene_sheet_pair(&a.s, &b.s, 10, 7, 1.2, 0.0) == 0);
+    CHECK(fixture_sheet_pair(&a.s, &b.s, 10, 7, 1.2, 0.0) == 0);
     Eigen::MatrixXd Va, Vb;
     Eigen::MatrixXi Fa, Fb;
     to_eigen(a.s, Va, Fa);
@@ -253,7 +253,7 @@ void test_two_mesh_query_matches_c_api() {
 // Row- or column-major, double or float, a Map, other index types: one result.
 void test_layouts_give_one_result() {
     owned_scene sc;
-    CHECK(scene_crumpled(&sc.s, 8, 8, 11, 2.5) == 0);
+    CHECK(fixture_crumpled(&sc.s, 8, 8, 11, 2.5) == 0);
     Eigen::MatrixXd V;
     Eigen::MatrixXi F;
     to_eigen(sc.s, V, F);
@@ -309,7 +309,7 @@ void test_layouts_give_one_result() {
 // Frames: set_positions + refit on kept handles, as the C API does it.
 void test_frames_on_kept_handles() {
     owned_scene sc;
-    CHECK(scene_hairpin(&sc.s, 6, 0.5) == 0);
+    CHECK(fixture_hairpin(&sc.s, 6, 0.5) == 0);
     Eigen::MatrixXd V;
     Eigen::MatrixXi F;
     to_eigen(sc.s, V, F);

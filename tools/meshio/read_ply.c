@@ -9,9 +9,10 @@
 // against the buffer, and element counts are checked against the file size
 // before anything is allocated, so a hostile header cannot exhaust memory.
 #define _POSIX_C_SOURCE 200809L
-#include "cli.h"
+#include "internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -70,7 +71,7 @@ typedef struct ply_reader {
     const unsigned char *p, *end; /* body cursor */
     long line;                    /* ASCII body: current line */
     ply_encoding encoding;
-    cli_error *err;
+    meshio_error *err;
 } ply_reader;
 
 // Header: one keyword line at a time. Splits the line into at most 6 words.
@@ -103,17 +104,17 @@ static ply_type parse_type(const char *word) {
 // Parses the header; on success *body is the first byte after "end_header\n".
 static int parse_header(const char *name, const unsigned char *data, size_t size,
                         ply_element *elements, int *element_count, ply_encoding *encoding,
-                        size_t *body, long *body_line, cli_error *err) {
+                        size_t *body, long *body_line, meshio_error *err) {
     size_t pos = 0;
     long line = 0;
     int have_format = 0;
     *element_count = 0;
     for (;;) {
         if (pos >= size)
-            return cli_fail(err, "%s: PLY header has no 'end_header'", name);
+            return meshio_fail(err, "%s: PLY header has no 'end_header'", name);
         const unsigned char *nl = memchr(data + pos, '\n', size - pos);
         if (nl == NULL)
-            return cli_fail(err, "%s: PLY header has no 'end_header'", name);
+            return meshio_fail(err, "%s: PLY header has no 'end_header'", name);
         const char *text = (const char *)data + pos;
         size_t length = (size_t)(nl - (data + pos));
         pos += length + 1;
@@ -122,14 +123,14 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
         int n = split_words(text, length, words);
         if (line == 1) {
             if (n != 1 || strcmp(words[0], "ply") != 0)
-                return cli_fail(err, "%s:1: not a PLY file (expected 'ply')", name);
+                return meshio_fail(err, "%s:1: not a PLY file (expected 'ply')", name);
             continue;
         }
         if (n == 0 || strcmp(words[0], "comment") == 0 || strcmp(words[0], "obj_info") == 0)
             continue;
         if (strcmp(words[0], "format") == 0) {
             if (n < 3 || strcmp(words[2], "1.0") != 0)
-                return cli_fail(err, "%s:%ld: expected 'format <encoding> 1.0'", name, line);
+                return meshio_fail(err, "%s:%ld: expected 'format <encoding> 1.0'", name, line);
             if (strcmp(words[1], "ascii") == 0)
                 *encoding = PLY_ASCII;
             else if (strcmp(words[1], "binary_little_endian") == 0)
@@ -137,27 +138,28 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
             else if (strcmp(words[1], "binary_big_endian") == 0)
                 *encoding = PLY_BINARY_BE;
             else
-                return cli_fail(err, "%s:%ld: unknown PLY format '%s'", name, line, words[1]);
+                return meshio_fail(err, "%s:%ld: unknown PLY format '%s'", name, line, words[1]);
             have_format = 1;
         } else if (strcmp(words[0], "element") == 0) {
             if (n != 3)
-                return cli_fail(err, "%s:%ld: expected 'element <name> <count>'", name, line);
+                return meshio_fail(err, "%s:%ld: expected 'element <name> <count>'", name, line);
             if (*element_count == MAX_ELEMENTS)
-                return cli_fail(err, "%s:%ld: more than %d elements", name, line, MAX_ELEMENTS);
+                return meshio_fail(err, "%s:%ld: more than %d elements", name, line, MAX_ELEMENTS);
             char *tail;
             unsigned long long count = strtoull(words[2], &tail, 10);
             if (*tail != '\0' || words[2][0] == '-' || tail == words[2])
-                return cli_fail(err, "%s:%ld: bad element count '%s'", name, line, words[2]);
+                return meshio_fail(err, "%s:%ld: bad element count '%s'", name, line, words[2]);
             ply_element *e = &elements[(*element_count)++];
             memset(e, 0, sizeof *e);
             memcpy(e->name, words[1], sizeof e->name);
             e->count = count;
         } else if (strcmp(words[0], "property") == 0) {
             if (*element_count == 0)
-                return cli_fail(err, "%s:%ld: 'property' before any 'element'", name, line);
+                return meshio_fail(err, "%s:%ld: 'property' before any 'element'", name, line);
             ply_element *e = &elements[*element_count - 1];
             if (e->property_count == MAX_PROPERTIES)
-                return cli_fail(err, "%s:%ld: more than %d properties", name, line, MAX_PROPERTIES);
+                return meshio_fail(err, "%s:%ld: more than %d properties", name, line,
+                                   MAX_PROPERTIES);
             ply_property *prop = &e->properties[e->property_count++];
             const char *prop_name;
             if (n == 5 && strcmp(words[1], "list") == 0) {
@@ -166,15 +168,15 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
                 prop_name = words[4];
                 if (prop->count_type == PLY_NONE || prop->type == PLY_NONE ||
                     !type_is_integer(prop->count_type))
-                    return cli_fail(err, "%s:%ld: bad list property types", name, line);
+                    return meshio_fail(err, "%s:%ld: bad list property types", name, line);
             } else if (n == 3) {
                 prop->type = parse_type(words[1]);
                 prop_name = words[2];
                 if (prop->type == PLY_NONE)
-                    return cli_fail(err, "%s:%ld: unknown property type '%s'", name, line,
-                                    words[1]);
+                    return meshio_fail(err, "%s:%ld: unknown property type '%s'", name, line,
+                                       words[1]);
             } else {
-                return cli_fail(err, "%s:%ld: expected 'property <type> <name>'", name, line);
+                return meshio_fail(err, "%s:%ld: expected 'property <type> <name>'", name, line);
             }
             int is_list = prop->count_type != PLY_NONE;
             if (strcmp(e->name, "vertex") == 0 && !is_list) {
@@ -188,18 +190,18 @@ static int parse_header(const char *name, const unsigned char *data, size_t size
                        (strcmp(prop_name, "vertex_indices") == 0 ||
                         strcmp(prop_name, "vertex_index") == 0)) {
                 if (!type_is_integer(prop->type))
-                    return cli_fail(err, "%s:%ld: face indices must have an integer type", name,
-                                    line);
+                    return meshio_fail(err, "%s:%ld: face indices must have an integer type", name,
+                                       line);
                 prop->role = ROLE_INDICES;
             }
         } else if (strcmp(words[0], "end_header") == 0) {
             break;
         } else {
-            return cli_fail(err, "%s:%ld: unknown PLY header line '%s'", name, line, words[0]);
+            return meshio_fail(err, "%s:%ld: unknown PLY header line '%s'", name, line, words[0]);
         }
     }
     if (!have_format)
-        return cli_fail(err, "%s: PLY header has no 'format' line", name);
+        return meshio_fail(err, "%s: PLY header has no 'format' line", name);
     *body = pos;
     *body_line = line + 1;
     return 0;
@@ -255,8 +257,8 @@ static int read_value(ply_reader *r, const ply_element *e, uint64_t record, ply_
         size_t n = type_size(t);
         if ((size_t)(r->end - r->p) < n) {
             location(r, e, record, where, sizeof where);
-            return cli_fail(r->err, "%s: file truncated (binary data ends inside this record)",
-                            where);
+            return meshio_fail(r->err, "%s: file truncated (binary data ends inside this record)",
+                               where);
         }
         *out = decode(t, r->p, r->encoding == PLY_BINARY_BE);
         r->p += n;
@@ -276,7 +278,7 @@ static int read_value(ply_reader *r, const ply_element *e, uint64_t record, ply_
     r->p = p;
     if (p >= r->end) {
         location(r, e, record, where, sizeof where);
-        return cli_fail(r->err, "%s: file ends inside this record", where);
+        return meshio_fail(r->err, "%s: file ends inside this record", where);
     }
     char *tail;
     double x;
@@ -291,8 +293,8 @@ static int read_value(ply_reader *r, const ply_element *e, uint64_t record, ply_
     if ((const unsigned char *)tail == p ||
         !(*tail == ' ' || *tail == '\t' || *tail == '\r' || *tail == '\n' || *tail == '\0')) {
         location(r, e, record, where, sizeof where);
-        return cli_fail(r->err, "%s: expected a%s number", where,
-                        type_is_integer(t) ? "n integer" : "");
+        return meshio_fail(r->err, "%s: expected a%s number", where,
+                           type_is_integer(t) ? "n integer" : "");
     }
     r->p = (const unsigned char *)tail;
     *out = x;
@@ -312,166 +314,214 @@ static uint64_t min_record_size(const ply_element *e, ply_encoding encoding) {
     return bytes;
 }
 
-int cli_parse_ply(const char *name, const unsigned char *data, size_t size, cli_mesh *mesh,
-                  cli_error *err, cli_progress *progress) {
+// What the header says the body holds: the counts of the vertex and face
+// elements and the coordinates' type.
+typedef struct ply_layout {
+    uint64_t vertex_count, face_count;
+    ply_type coordinate_type;
+} ply_layout;
+
+// Checks the declared elements against what a mesh needs and what the body
+// (body_size bytes) can hold. Returns 0, or -1 with the error set.
+static int check_elements(const char *name, const ply_element *elements, int element_count,
+                          ply_encoding encoding, size_t body_size, ply_layout *layout,
+                          meshio_error *err) {
+    int have_vertex = 0, have_faces = 0;
+    memset(layout, 0, sizeof *layout);
+    layout->coordinate_type = PLY_NONE;
+    for (int i = 0; i < element_count; ++i) {
+        const ply_element *e = &elements[i];
+        if ((have_vertex && strcmp(e->name, "vertex") == 0) ||
+            (have_faces && strcmp(e->name, "face") == 0))
+            return meshio_fail(err, "%s: element '%s' declared twice", name, e->name);
+        uint64_t min_size = min_record_size(e, encoding);
+        if (min_size > 0 && e->count > (uint64_t)body_size / min_size)
+            return meshio_fail(err,
+                               "%s: element '%s' declares %llu records, more than the file can "
+                               "hold (truncated file?)",
+                               name, e->name, (unsigned long long)e->count);
+        if (strcmp(e->name, "vertex") == 0) {
+            int roles = 0;
+            for (int k = 0; k < e->property_count; ++k) {
+                roles |= 1 << e->properties[k].role;
+                if (e->properties[k].role == ROLE_X)
+                    layout->coordinate_type = e->properties[k].type;
+            }
+            if ((roles & (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z)) !=
+                (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z))
+                return meshio_fail(err, "%s: element 'vertex' lacks an x, y or z property", name);
+            have_vertex = 1;
+            layout->vertex_count = e->count;
+        }
+        if (strcmp(e->name, "face") == 0) {
+            int found = 0;
+            for (int k = 0; k < e->property_count; ++k)
+                found |= e->properties[k].role == ROLE_INDICES;
+            if (!found)
+                return meshio_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
+            have_faces = 1;
+            layout->face_count = e->count;
+        }
+    }
+    if (!have_vertex)
+        return meshio_fail(err, "%s: no 'vertex' element", name);
+    if (!have_faces)
+        return meshio_fail(err, "%s: no 'face' element", name);
+    if (layout->vertex_count >= (uint64_t)UINT32_MAX - 1)
+        return meshio_fail(err, "%s: too many vertices (%llu)", name,
+                           (unsigned long long)layout->vertex_count);
+    return 0;
+}
+
+// The mesh being read from the body.
+typedef struct ply_target {
+    double *positions;
+    uint64_t vertex_count;
+    meshio_array triangles; /* uint32_t */
+    meshio_array polygon;   /* uint32_t, the face being read */
+} ply_target;
+
+// Reads one list property of record `rec` of e; the vertex indices of a face
+// are checked and fan-triangulated into t. Returns 0, or -1 with the error set.
+static int read_list(ply_reader *r, const ply_element *e, uint64_t rec, const ply_property *prop,
+                     ply_target *t) {
+    double count, x;
+    char where[256];
+    if (read_value(r, e, rec, prop->count_type, &count) != 0)
+        return -1;
+    if (count < 0) {
+        location(r, e, rec, where, sizeof where);
+        return meshio_fail(r->err, "%s: negative list length", where);
+    }
+    if (prop->role == ROLE_INDICES && count < 3) {
+        location(r, e, rec, where, sizeof where);
+        return meshio_fail(r->err, "%s: face with %.0f vertices (at least 3 needed)", where, count);
+    }
+    t->polygon.count = 0;
+    for (uint64_t j = 0; j < (uint64_t)count; ++j) {
+        if (read_value(r, e, rec, prop->type, &x) != 0)
+            return -1;
+        if (prop->role != ROLE_INDICES)
+            continue;
+        if (!(x >= 0 && x < (double)t->vertex_count)) {
+            location(r, e, rec, where, sizeof where);
+            return meshio_fail(r->err, "%s: vertex index %.0f out of range (%llu vertices)", where,
+                               x, (unsigned long long)t->vertex_count);
+        }
+        if (meshio_array_reserve(&t->polygon, 1))
+            return meshio_fail(r->err, "%s: out of memory", r->name);
+        ((uint32_t *)t->polygon.data)[t->polygon.count++] = (uint32_t)x;
+    }
+    if (prop->role != ROLE_INDICES)
+        return 0;
+    size_t n = t->polygon.count;
+    if (meshio_array_reserve(&t->triangles, 3 * (n - 2)))
+        return meshio_fail(r->err, "%s: out of memory", r->name);
+    const uint32_t *pv = t->polygon.data;
+    uint32_t *out = (uint32_t *)t->triangles.data + t->triangles.count;
+    for (size_t j = 1; j + 1 < n; ++j) { // fan triangulation
+        *out++ = pv[0];
+        *out++ = pv[j];
+        *out++ = pv[j + 1];
+    }
+    t->triangles.count += 3 * (n - 2);
+    return 0;
+}
+
+// Reads record `rec` of e: its coordinates (vertex) into t->positions, its
+// face lists into t->triangles; other values are read and dropped.
+static int read_record(ply_reader *r, const ply_element *e, uint64_t rec, int is_vertex,
+                       ply_target *t) {
+    for (int k = 0; k < e->property_count; ++k) {
+        const ply_property *prop = &e->properties[k];
+        if (prop->count_type != PLY_NONE) {
+            if (read_list(r, e, rec, prop, t) != 0)
+                return -1;
+            continue;
+        }
+        double x;
+        if (read_value(r, e, rec, prop->type, &x) != 0)
+            return -1;
+        if (is_vertex && prop->role != ROLE_SKIP) {
+            if (!isfinite(x)) {
+                char where[256];
+                location(r, e, rec, where, sizeof where);
+                return meshio_fail(r->err, "%s: NaN or infinite coordinate", where);
+            }
+            t->positions[3 * rec + (uint64_t)(prop->role - ROLE_X)] = x;
+        }
+    }
+    return 0;
+}
+
+// Reads every record of every element, reporting progress every 65536
+// records (the record that fails included).
+static int read_body(ply_reader *r, const ply_element *elements, int element_count, ply_target *t,
+                     const meshio_progress *progress) {
+    uint64_t total_records = 0, done_records = 0;
+    for (int i = 0; i < element_count; ++i)
+        total_records += elements[i].count;
+    for (int i = 0; i < element_count; ++i) {
+        const ply_element *e = &elements[i];
+        if (e->property_count == 0)
+            continue; // no data at all, whatever its count says
+        int is_vertex = strcmp(e->name, "vertex") == 0;
+        for (uint64_t rec = 0; rec < e->count; ++rec) {
+            int status = read_record(r, e, rec, is_vertex, t);
+            if ((++done_records & 0xFFFF) == 0)
+                meshio_report(progress, r->name, (double)done_records, (double)total_records);
+            if (status != 0)
+                return -1;
+        }
+    }
+    return 0;
+}
+
+int meshio_parse_ply(const char *name, const unsigned char *data, size_t size, meshio_mesh *mesh,
+                     meshio_error *err, const meshio_progress *progress) {
     ply_element *elements = calloc(MAX_ELEMENTS, sizeof *elements);
     if (elements == NULL)
-        return cli_fail(err, "%s: out of memory", name);
+        return meshio_fail(err, "%s: out of memory", name);
     int element_count = 0;
     ply_reader r;
     memset(&r, 0, sizeof r);
     r.name = name;
     r.err = err;
     size_t body = 0;
+    ply_layout layout;
+    ply_target t = {NULL, 0, {NULL, 0, 0, sizeof(uint32_t)}, {NULL, 0, 0, sizeof(uint32_t)}};
     int status =
         parse_header(name, data, size, elements, &element_count, &r.encoding, &body, &r.line, err);
-    double *positions = NULL;
-    cli_array triangles = {NULL, 0, 0, sizeof(uint32_t)};
-    cli_array polygon = {NULL, 0, 0, sizeof(uint32_t)};
-    uint64_t vertex_count = 0, face_count = 0;
-    int have_vertex = 0, have_faces = 0;
-    ply_type coordinate_type = PLY_NONE;
-    for (int i = 0; status == 0 && i < element_count; ++i) {
-        const ply_element *e = &elements[i];
-        if (status == 0 && ((have_vertex && strcmp(e->name, "vertex") == 0) ||
-                            (have_faces && strcmp(e->name, "face") == 0)))
-            status = cli_fail(err, "%s: element '%s' declared twice", name, e->name);
-        uint64_t min_size = min_record_size(e, r.encoding);
-        if (status != 0)
-            break;
-        if (min_size > 0 && e->count > (uint64_t)(size - body) / min_size)
-            status = cli_fail(err,
-                              "%s: element '%s' declares %llu records, more than the file can "
-                              "hold (truncated file?)",
-                              name, e->name, (unsigned long long)e->count);
-        if (strcmp(e->name, "vertex") == 0) {
-            int roles = 0;
-            for (int k = 0; k < e->property_count; ++k) {
-                roles |= 1 << e->properties[k].role;
-                if (e->properties[k].role == ROLE_X)
-                    coordinate_type = e->properties[k].type;
-            }
-            if (status == 0 && (roles & (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z)) !=
-                                   (1 << ROLE_X | 1 << ROLE_Y | 1 << ROLE_Z))
-                status = cli_fail(err, "%s: element 'vertex' lacks an x, y or z property", name);
-            have_vertex = 1;
-            vertex_count = e->count;
-        }
-        if (strcmp(e->name, "face") == 0) {
-            int found = 0;
-            for (int k = 0; k < e->property_count; ++k)
-                found |= e->properties[k].role == ROLE_INDICES;
-            if (status == 0 && !found)
-                status = cli_fail(err, "%s: element 'face' has no 'vertex_indices' list", name);
-            have_faces = 1;
-            face_count = e->count;
-        }
-    }
-    if (status == 0 && !have_vertex)
-        status = cli_fail(err, "%s: no 'vertex' element", name);
-    if (status == 0 && !have_faces)
-        status = cli_fail(err, "%s: no 'face' element", name);
-    if (status == 0 && vertex_count >= (uint64_t)UINT32_MAX - 1)
+    if (status == 0)
         status =
-            cli_fail(err, "%s: too many vertices (%llu)", name, (unsigned long long)vertex_count);
+            check_elements(name, elements, element_count, r.encoding, size - body, &layout, err);
     if (status == 0) {
-        positions = malloc((size_t)vertex_count * 3 * sizeof *positions + 1);
-        if (positions == NULL || cli_array_reserve(&triangles, 3 * (size_t)face_count))
-            status = cli_fail(err, "%s: out of memory", name);
+        t.vertex_count = layout.vertex_count;
+        t.positions = malloc((size_t)layout.vertex_count * 3 * sizeof *t.positions + 1);
+        if (t.positions == NULL ||
+            meshio_array_reserve(&t.triangles, 3 * (size_t)layout.face_count))
+            status = meshio_fail(err, "%s: out of memory", name);
     }
     r.p = data + body;
     r.end = data + size;
-    uint64_t total_records = 0, done_records = 0;
-    for (int i = 0; i < element_count; ++i)
-        total_records += elements[i].count;
-    for (int i = 0; status == 0 && i < element_count; ++i) {
-        const ply_element *e = &elements[i];
-        if (e->property_count == 0)
-            continue; // no data at all, whatever its count says
-        int is_vertex = strcmp(e->name, "vertex") == 0;
-        for (uint64_t rec = 0; status == 0 && rec < e->count; ++rec) {
-            for (int k = 0; status == 0 && k < e->property_count; ++k) {
-                const ply_property *prop = &e->properties[k];
-                double x;
-                if (prop->count_type == PLY_NONE) {
-                    status = read_value(&r, e, rec, prop->type, &x);
-                    if (status == 0 && is_vertex && prop->role != ROLE_SKIP) {
-                        if (!isfinite(x)) {
-                            char where[256];
-                            location(&r, e, rec, where, sizeof where);
-                            status = cli_fail(err, "%s: NaN or infinite coordinate", where);
-                        }
-                        positions[3 * rec + (uint64_t)(prop->role - ROLE_X)] = x;
-                    }
-                    continue;
-                }
-                double count;
-                status = read_value(&r, e, rec, prop->count_type, &count);
-                if (status != 0)
-                    break;
-                char where[256];
-                if (count < 0) {
-                    location(&r, e, rec, where, sizeof where);
-                    status = cli_fail(err, "%s: negative list length", where);
-                    break;
-                }
-                if (prop->role == ROLE_INDICES && count < 3) {
-                    location(&r, e, rec, where, sizeof where);
-                    status = cli_fail(err, "%s: face with %.0f vertices (at least 3 needed)", where,
-                                      count);
-                    break;
-                }
-                polygon.count = 0;
-                for (uint64_t j = 0; status == 0 && j < (uint64_t)count; ++j) {
-                    status = read_value(&r, e, rec, prop->type, &x);
-                    if (status != 0 || prop->role != ROLE_INDICES)
-                        continue;
-                    if (!(x >= 0 && x < (double)vertex_count)) {
-                        location(&r, e, rec, where, sizeof where);
-                        status = cli_fail(err, "%s: vertex index %.0f out of range (%llu vertices)",
-                                          where, x, (unsigned long long)vertex_count);
-                    } else if (cli_array_reserve(&polygon, 1)) {
-                        status = cli_fail(err, "%s: out of memory", name);
-                    } else {
-                        ((uint32_t *)polygon.data)[polygon.count++] = (uint32_t)x;
-                    }
-                }
-                if (status == 0 && prop->role == ROLE_INDICES) {
-                    size_t n = polygon.count;
-                    if (cli_array_reserve(&triangles, 3 * (n - 2))) {
-                        status = cli_fail(err, "%s: out of memory", name);
-                        break;
-                    }
-                    const uint32_t *pv = polygon.data;
-                    uint32_t *t = (uint32_t *)triangles.data + triangles.count;
-                    for (size_t j = 1; j + 1 < n; ++j) { // fan triangulation
-                        *t++ = pv[0];
-                        *t++ = pv[j];
-                        *t++ = pv[j + 1];
-                    }
-                    triangles.count += 3 * (n - 2);
-                }
-            }
-            if ((++done_records & 0xFFFF) == 0)
-                cli_progress_update(progress, name, (double)done_records, (double)total_records);
-        }
-    }
+    if (status == 0)
+        status = read_body(&r, elements, element_count, &t, progress);
     free(elements);
-    free(polygon.data);
+    free(t.polygon.data);
     if (status != 0) {
-        free(positions);
-        free(triangles.data);
+        free(t.positions);
+        free(t.triangles.data);
         return -1;
     }
     static const char *details[3][2] = {
         {"ascii", "ascii"},
         {"binary little endian, float32", "binary little endian, float64"},
         {"binary big endian, float32", "binary big endian, float64"}};
-    mesh->vertex_count = (size_t)vertex_count;
-    mesh->positions = positions;
-    mesh->triangle_count = triangles.count / 3;
-    mesh->triangles = triangles.data;
-    mesh->face_count = (size_t)face_count;
-    mesh->format_detail = details[r.encoding][coordinate_type == PLY_F64];
+    mesh->vertex_count = (size_t)layout.vertex_count;
+    mesh->positions = t.positions;
+    mesh->triangle_count = t.triangles.count / 3;
+    mesh->triangles = t.triangles.data;
+    mesh->face_count = (size_t)layout.face_count;
+    mesh->format_detail = details[r.encoding][layout.coordinate_type == PLY_F64];
     return 0;
 }

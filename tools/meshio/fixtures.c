@@ -1,25 +1,43 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-#include "scenes.h"
+#include "fixtures.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-void scene_free(scene *s) {
+#include "meshio.h"
+
+void fixture_free(fixture *s) {
     free(s->positions);
     free(s->triangles);
     memset(s, 0, sizeof *s);
 }
 
-static int scene_alloc(scene *s, size_t vertices, size_t triangles) {
+int fixture_read(const char *path, fixture *s, char *err, size_t err_size) {
+    memset(s, 0, sizeof *s);
+    meshio_mesh mesh;
+    meshio_error error;
+    if (meshio_read(path, &mesh, &error, NULL) != 0) {
+        snprintf(err, err_size, "%s", error.message);
+        return -1;
+    }
+    s->vertex_count = mesh.vertex_count;
+    s->triangle_count = mesh.triangle_count;
+    s->positions = mesh.positions;
+    s->triangles = mesh.triangles;
+    return 0;
+}
+
+static int fixture_alloc(fixture *s, size_t vertices, size_t triangles) {
     s->vertex_count = vertices;
     s->triangle_count = triangles;
     s->positions = calloc(3 * vertices, sizeof(double));
     s->triangles = calloc(3 * triangles, sizeof(uint32_t));
     if (s->positions == NULL || s->triangles == NULL) {
-        scene_free(s);
+        fixture_free(s);
         return -1;
     }
     return 0;
@@ -31,8 +49,8 @@ static void set_tri(uint32_t *t, uint32_t a, uint32_t b, uint32_t c) {
     t[2] = c;
 }
 
-int scene_grid(scene *s, unsigned nx, unsigned ny, double spacing) {
-    if (scene_alloc(s, (size_t)(nx + 1) * (ny + 1), (size_t)2 * nx * ny) != 0)
+int fixture_grid(fixture *s, unsigned nx, unsigned ny, double spacing) {
+    if (fixture_alloc(s, (size_t)(nx + 1) * (ny + 1), (size_t)2 * nx * ny) != 0)
         return -1;
     for (unsigned i = 0; i <= nx; ++i)
         for (unsigned j = 0; j <= ny; ++j) {
@@ -53,8 +71,8 @@ int scene_grid(scene *s, unsigned nx, unsigned ny, double spacing) {
     return 0;
 }
 
-int scene_hairpin(scene *s, unsigned n, double gap) {
-    if (scene_alloc(s, (size_t)4 * (n + 1), (size_t)4 * n + 2) != 0)
+int fixture_hairpin(fixture *s, unsigned n, double gap) {
+    if (fixture_alloc(s, (size_t)4 * (n + 1), (size_t)4 * n + 2) != 0)
         return -1;
     uint32_t top = 2 * (n + 1);
     for (unsigned i = 0; i <= n; ++i)
@@ -83,17 +101,17 @@ int scene_hairpin(scene *s, unsigned n, double gap) {
     return 0;
 }
 
-uint32_t hairpin_twin(unsigned n, uint32_t v) {
+uint32_t fixture_hairpin_twin(unsigned n, uint32_t v) {
     uint32_t top = 2 * (n + 1);
     return v < top ? v + top : v - top;
 }
 
-unsigned hairpin_column(unsigned n, uint32_t v) {
+unsigned fixture_hairpin_column(unsigned n, uint32_t v) {
     uint32_t top = 2 * (n + 1);
     return (v < top ? v : v - top) / 2;
 }
 
-int scene_append(scene *a, const scene *b) {
+int fixture_append(fixture *a, const fixture *b) {
     size_t V = a->vertex_count + b->vertex_count, F = a->triangle_count + b->triangle_count;
     double *p = realloc(a->positions, 3 * V * sizeof(double));
     if (p == NULL)
@@ -111,7 +129,7 @@ int scene_append(scene *a, const scene *b) {
     return 0;
 }
 
-void scene_translate(scene *s, const double offset[3]) {
+void fixture_translate(fixture *s, const double offset[3]) {
     for (size_t v = 0; v < s->vertex_count; ++v)
         for (int k = 0; k < 3; ++k)
             s->positions[3 * v + (size_t)k] += offset[k];
@@ -126,8 +144,8 @@ static double unit_random(unsigned *state) {
     return (double)next_random(state) / (double)(1u << 24);
 }
 
-int scene_crumpled(scene *s, unsigned nx, unsigned ny, unsigned seed, double amplitude) {
-    if (scene_grid(s, nx, ny, 1.0) != 0)
+int fixture_crumpled(fixture *s, unsigned nx, unsigned ny, unsigned seed, double amplitude) {
+    if (fixture_grid(s, nx, ny, 1.0) != 0)
         return -1;
     // Sum of a few random plane waves per coordinate, wavelengths of a few
     // cells: smooth, but with amplitude several cells it folds and crosses.
@@ -155,7 +173,7 @@ int scene_crumpled(scene *s, unsigned nx, unsigned ny, unsigned seed, double amp
     return 0;
 }
 
-int scene_shuffle(scene *s, unsigned seed, uint32_t **new_of_old) {
+int fixture_shuffle(fixture *s, unsigned seed, uint32_t **new_of_old) {
     unsigned st = seed + 17u;
     uint32_t *perm = malloc(s->vertex_count * sizeof(uint32_t));
     double *pos = malloc(3 * s->vertex_count * sizeof(double));
@@ -205,9 +223,9 @@ int scene_shuffle(scene *s, unsigned seed, uint32_t **new_of_old) {
 #define SCENE_PI 3.14159265358979323846
 
 // Allocates an (nu + 1) x (nv + 1) vertex grid's arrays and fills its
-// triangles (the pattern of scene_grid); positions are left to the caller.
-static int grid_alloc(scene *s, unsigned nu, unsigned nv) {
-    if (scene_alloc(s, (size_t)(nu + 1) * (nv + 1), (size_t)2 * nu * nv) != 0)
+// triangles (the pattern of fixture_grid); positions are left to the caller.
+static int grid_alloc(fixture *s, unsigned nu, unsigned nv) {
+    if (fixture_alloc(s, (size_t)(nu + 1) * (nv + 1), (size_t)2 * nu * nv) != 0)
         return -1;
     uint32_t *t = s->triangles;
     for (unsigned i = 0; i < nu; ++i)
@@ -220,7 +238,7 @@ static int grid_alloc(scene *s, unsigned nu, unsigned nv) {
     return 0;
 }
 
-static void set_point(scene *s, size_t v, double x, double y, double z) {
+static void set_point(fixture *s, size_t v, double x, double y, double z) {
     double *p = s->positions + 3 * v;
     p[0] = x;
     p[1] = y;
@@ -255,8 +273,8 @@ static double waves_eval(const waves *w, int c, double x, double y) {
     return sum / SCENE_WAVES;
 }
 
-int scene_wrinkled(scene *s, unsigned nx, unsigned ny, unsigned seed, double amplitude) {
-    if (scene_grid(s, nx, ny, 1.0) != 0)
+int fixture_wrinkled(fixture *s, unsigned nx, unsigned ny, unsigned seed, double amplitude) {
+    if (fixture_grid(s, nx, ny, 1.0) != 0)
         return -1;
     waves w;
     waves_init(&w, seed, 10.0, 10.0);
@@ -267,7 +285,8 @@ int scene_wrinkled(scene *s, unsigned nx, unsigned ny, unsigned seed, double amp
     return 0;
 }
 
-int scene_zfold(scene *s, unsigned n, unsigned w, double gap, unsigned fold_segments, double dip) {
+int fixture_zfold(fixture *s, unsigned n, unsigned w, double gap, unsigned fold_segments,
+                  double dip) {
     const unsigned fs = fold_segments > 0 ? fold_segments : 1;
     const unsigned cells = 3 * n + 2 * fs;
     if (grid_alloc(s, cells, w) != 0)
@@ -299,7 +318,7 @@ int scene_zfold(scene *s, unsigned n, unsigned w, double gap, unsigned fold_segm
     return 0;
 }
 
-int scene_ramp(scene *s, unsigned nr, unsigned na, double r_in, double pitch, double gmin) {
+int fixture_ramp(fixture *s, unsigned nr, unsigned na, double r_in, double pitch, double gmin) {
     if (grid_alloc(s, 2 * na, nr) != 0)
         return -1;
     for (unsigned k = 0; k <= 2 * na; ++k) {
@@ -319,7 +338,7 @@ int scene_ramp(scene *s, unsigned nr, unsigned na, double r_in, double pitch, do
     return 0;
 }
 
-int scene_rolled(scene *s, unsigned w, double turns, double r0, double gap0, double gap1) {
+int fixture_rolled(fixture *s, unsigned w, double turns, double r0, double gap0, double gap1) {
     const double span = 2.0 * SCENE_PI * turns;
     const double r_mean = r0 + 0.25 * (gap0 + gap1) * turns;
     unsigned k_max = (unsigned)ceil(span * r_mean);
@@ -345,7 +364,7 @@ typedef struct midpoint_table {
     size_t mask;
 } midpoint_table;
 
-static uint32_t midpoint(scene *s, midpoint_table *tab, uint32_t a, uint32_t b, double radius) {
+static uint32_t midpoint(fixture *s, midpoint_table *tab, uint32_t a, uint32_t b, double radius) {
     uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
     uint64_t key = (((uint64_t)lo << 32) | hi) + 1u;
     size_t slot = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & tab->mask;
@@ -366,7 +385,7 @@ static uint32_t midpoint(scene *s, midpoint_table *tab, uint32_t a, uint32_t b, 
     return v;
 }
 
-int scene_icosphere(scene *s, unsigned subdivisions, double radius) {
+int fixture_icosphere(fixture *s, unsigned subdivisions, double radius) {
     static const uint32_t faces[20][3] = {
         {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
         {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
@@ -380,7 +399,7 @@ int scene_icosphere(scene *s, unsigned subdivisions, double radius) {
         V += F * 3 / 2; // one new vertex per edge
         F *= 4;
     }
-    if (scene_alloc(s, V, F) != 0)
+    if (fixture_alloc(s, V, F) != 0)
         return -1;
     uint32_t *next = malloc(3 * F * sizeof(uint32_t));
     size_t slots = 1;
@@ -392,7 +411,7 @@ int scene_icosphere(scene *s, unsigned subdivisions, double radius) {
         free(next);
         free(tab.keys);
         free(tab.values);
-        scene_free(s);
+        fixture_free(s);
         return -1;
     }
     for (uint32_t v = 0; v < 12; ++v) {
@@ -423,11 +442,11 @@ int scene_icosphere(scene *s, unsigned subdivisions, double radius) {
     return 0;
 }
 
-int scene_uv_sphere(scene *s, unsigned rings, unsigned segments, double radius) {
+int fixture_uv_sphere(fixture *s, unsigned rings, unsigned segments, double radius) {
     rings = rings < 2 ? 2 : rings;
     segments = segments < 3 ? 3 : segments;
     const size_t ring_vertices = (size_t)(rings - 1) * segments;
-    if (scene_alloc(s, ring_vertices + 2, (size_t)2 * segments * (rings - 1)) != 0)
+    if (fixture_alloc(s, ring_vertices + 2, (size_t)2 * segments * (rings - 1)) != 0)
         return -1;
     const uint32_t north = 0, south = (uint32_t)ring_vertices + 1;
     set_point(s, north, 0.0, 0.0, radius);
@@ -459,11 +478,12 @@ int scene_uv_sphere(scene *s, unsigned rings, unsigned segments, double radius) 
     return 0;
 }
 
-int scene_sheet_pair(scene *a, scene *b, unsigned n, unsigned seed, double angle, double offset) {
-    if (scene_wrinkled(a, n, n, seed, 0.3) != 0)
+int fixture_sheet_pair(fixture *a, fixture *b, unsigned n, unsigned seed, double angle,
+                       double offset) {
+    if (fixture_wrinkled(a, n, n, seed, 0.3) != 0)
         return -1;
-    if (scene_wrinkled(b, n, n, seed + 1, 0.3) != 0) {
-        scene_free(a);
+    if (fixture_wrinkled(b, n, n, seed + 1, 0.3) != 0) {
+        fixture_free(a);
         return -1;
     }
     const double c = cos(angle), sn = sin(angle), half = 0.5 * n;
@@ -476,9 +496,9 @@ int scene_sheet_pair(scene *a, scene *b, unsigned n, unsigned seed, double angle
     return 0;
 }
 
-int scene_holed(scene *s, unsigned nx, unsigned ny, double hole_radius, unsigned seed,
-                double amplitude) {
-    if (scene_grid(s, nx, ny, 1.0) != 0)
+int fixture_holed(fixture *s, unsigned nx, unsigned ny, double hole_radius, unsigned seed,
+                  double amplitude) {
+    if (fixture_grid(s, nx, ny, 1.0) != 0)
         return -1;
     const double cx = 0.5 * nx, cy = 0.5 * ny;
     size_t kept = 0;
@@ -506,11 +526,11 @@ int scene_holed(scene *s, unsigned nx, unsigned ny, double hole_radius, unsigned
     return 0;
 }
 
-int scene_moebius(scene *s, unsigned nu, unsigned nv, double radius, double half_width,
-                  unsigned half_twists, double squash) {
+int fixture_moebius(fixture *s, unsigned nu, unsigned nv, double radius, double half_width,
+                    unsigned half_twists, double squash) {
     nu = nu < 3 ? 3 : nu;
     nv = nv < 1 ? 1 : nv;
-    if (scene_alloc(s, (size_t)nu * (nv + 1), (size_t)2 * nu * nv) != 0)
+    if (fixture_alloc(s, (size_t)nu * (nv + 1), (size_t)2 * nu * nv) != 0)
         return -1;
     for (unsigned i = 0; i < nu; ++i) {
         double u = 2.0 * SCENE_PI * i / nu;
@@ -542,8 +562,8 @@ int scene_moebius(scene *s, unsigned nu, unsigned nv, double radius, double half
     return 0;
 }
 
-int scene_draped_cloth(scene *s, unsigned n, double half, double radius, double gap,
-                       double ripple) {
+int fixture_draped_cloth(fixture *s, unsigned n, double half, double radius, double gap,
+                         double ripple) {
     if (grid_alloc(s, n, n) != 0)
         return -1;
     const double rc = radius + gap, r1 = 0.8 * rc, h1 = sqrt(rc * rc - r1 * r1);

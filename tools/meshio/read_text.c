@@ -8,7 +8,7 @@
 // must reject such files with the exact line instead of checking a different
 // mesh. Each parser reads a buffer that ends with a NUL sentinel.
 #define _POSIX_C_SOURCE 200809L
-#include "cli.h"
+#include "internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -16,9 +16,9 @@
 
 // Accumulates positions and fan-triangulated polygons.
 typedef struct builder {
-    cli_array positions; /* double */
-    cli_array triangles; /* uint32_t */
-    cli_array polygon;   /* uint32_t, the face being read */
+    meshio_array positions; /* double */
+    meshio_array triangles; /* uint32_t */
+    meshio_array polygon;   /* uint32_t, the face being read */
     size_t faces;
 } builder;
 
@@ -36,7 +36,7 @@ static void builder_free(builder *b) {
 }
 
 static int builder_vertex(builder *b, const double p[3]) {
-    if (b->positions.count / 3 >= (size_t)UINT32_MAX - 1 || cli_array_reserve(&b->positions, 3))
+    if (b->positions.count / 3 >= (size_t)UINT32_MAX - 1 || meshio_array_reserve(&b->positions, 3))
         return -1;
     memcpy((double *)b->positions.data + b->positions.count, p, 3 * sizeof(double));
     b->positions.count += 3;
@@ -48,7 +48,7 @@ static size_t builder_vertex_count(const builder *b) {
 }
 
 static int builder_corner(builder *b, uint32_t v) {
-    if (cli_array_reserve(&b->polygon, 1))
+    if (meshio_array_reserve(&b->polygon, 1))
         return -1;
     ((uint32_t *)b->polygon.data)[b->polygon.count++] = v;
     return 0;
@@ -57,7 +57,7 @@ static int builder_corner(builder *b, uint32_t v) {
 // Fan triangulation: (p0 p1 p2), (p0 p2 p3), ... The caller checked >= 3 corners.
 static int builder_polygon(builder *b) {
     size_t n = b->polygon.count;
-    if (cli_array_reserve(&b->triangles, 3 * (n - 2)))
+    if (meshio_array_reserve(&b->triangles, 3 * (n - 2)))
         return -1;
     const uint32_t *p = b->polygon.data;
     uint32_t *t = (uint32_t *)b->triangles.data + b->triangles.count;
@@ -72,7 +72,7 @@ static int builder_polygon(builder *b) {
     return 0;
 }
 
-static void builder_finish(builder *b, cli_mesh *mesh, const char *detail) {
+static void builder_finish(builder *b, meshio_mesh *mesh, const char *detail) {
     mesh->vertex_count = b->positions.count / 3;
     mesh->positions = b->positions.data;
     mesh->triangle_count = b->triangles.count / 3;
@@ -146,26 +146,26 @@ static const char *line_end(const char *p, const char *end) {
 }
 
 // Text formats must not contain NUL bytes: the parsers use NUL as the end.
-static int check_text(const char *name, const char *text, size_t size, cli_error *err) {
+static int check_text(const char *name, const char *text, size_t size, meshio_error *err) {
     const char *nul = memchr(text, '\0', size);
     if (nul == NULL)
         return 0;
     long line = 1;
     for (const char *p = text; p < nul; ++p)
         line += *p == '\n';
-    return cli_fail(err, "%s:%ld: NUL byte in a text file (binary data?)", name, line);
+    return meshio_fail(err, "%s:%ld: NUL byte in a text file (binary data?)", name, line);
 }
 
-static int out_of_memory(const char *name, cli_error *err) {
-    return cli_fail(err, "%s: out of memory (or more than 2^32 - 2 vertices)", name);
+static int out_of_memory(const char *name, meshio_error *err) {
+    return meshio_fail(err, "%s: out of memory (or more than 2^32 - 2 vertices)", name);
 }
 
 // ---------------------------------------------------------------------------
 // OBJ: "v x y z [w | r g b]" and "f i[/t][/n] ..." with 1-based or negative
 // (relative) indices; every other statement is ignored.
 
-int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mesh, cli_error *err,
-                  cli_progress *progress) {
+int meshio_parse_obj(const char *name, const char *text, size_t size, meshio_mesh *mesh,
+                     meshio_error *err, const meshio_progress *progress) {
     if (check_text(name, text, size, err))
         return -1;
     builder b;
@@ -190,11 +190,11 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
             for (int k = 0; k < 3 && status == 0; ++k) {
                 int r = parse_real(&q, &x[k]);
                 if (r <= 0)
-                    status =
-                        cli_fail(err, "%s:%ld: expected 'v x y z', %s", name, line,
-                                 r == 0 ? "too few coordinates" : "a coordinate is not a number");
+                    status = meshio_fail(err, "%s:%ld: expected 'v x y z', %s", name, line,
+                                         r == 0 ? "too few coordinates"
+                                                : "a coordinate is not a number");
                 else if (!isfinite(x[k]))
-                    status = cli_fail(err, "%s:%ld: NaN or infinite coordinate", name, line);
+                    status = meshio_fail(err, "%s:%ld: NaN or infinite coordinate", name, line);
             }
             if (status == 0 && builder_vertex(&b, x))
                 status = out_of_memory(name, err);
@@ -206,14 +206,14 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
                 long long count = (long long)builder_vertex_count(&b);
                 long long v;
                 if (index == 0) {
-                    status =
-                        cli_fail(err, "%s:%ld: face index 0 (OBJ indices start at 1)", name, line);
+                    status = meshio_fail(err, "%s:%ld: face index 0 (OBJ indices start at 1)", name,
+                                         line);
                     break;
                 }
                 if (index < 0) {
                     v = count + index;
                     if (v < 0) {
-                        status = cli_fail(
+                        status = meshio_fail(
                             err, "%s:%ld: face index %lld out of range (%lld vertices so far)",
                             name, line, index, count);
                         break;
@@ -227,29 +227,30 @@ int cli_parse_obj(const char *name, const char *text, size_t size, cli_mesh *mes
                 }
                 if (v >= (long long)UINT32_MAX - 1) {
                     status =
-                        cli_fail(err, "%s:%ld: face index %lld out of range", name, line, index);
+                        meshio_fail(err, "%s:%ld: face index %lld out of range", name, line, index);
                     break;
                 }
                 if (builder_corner(&b, (uint32_t)v))
                     status = out_of_memory(name, err);
             }
             if (status == 0 && r < 0)
-                status = cli_fail(err, "%s:%ld: expected vertex indices after 'f'", name, line);
+                status = meshio_fail(err, "%s:%ld: expected vertex indices after 'f'", name, line);
             else if (status == 0 && b.polygon.count < 3)
-                status = cli_fail(err, "%s:%ld: face with %zu vertices (at least 3 needed)", name,
-                                  line, b.polygon.count);
+                status = meshio_fail(err, "%s:%ld: face with %zu vertices (at least 3 needed)",
+                                     name, line, b.polygon.count);
             else if (status == 0 && builder_polygon(&b))
                 status = out_of_memory(name, err);
         }
         p = eol + (eol < end);
         if ((size_t)(p - text) >= next_report) {
-            cli_progress_update(progress, name, (double)(p - text), (double)size);
+            meshio_report(progress, name, (double)(p - text), (double)size);
             next_report += 1u << 20;
         }
     }
     if (status == 0 && max_index > (long long)builder_vertex_count(&b))
-        status = cli_fail(err, "%s:%ld: face index %lld out of range (the file has %zu vertices)",
-                          name, max_index_line, max_index, builder_vertex_count(&b));
+        status =
+            meshio_fail(err, "%s:%ld: face index %lld out of range (the file has %zu vertices)",
+                        name, max_index_line, max_index, builder_vertex_count(&b));
     if (status != 0) {
         builder_free(&b);
         return -1;
@@ -277,49 +278,49 @@ static const char *next_data_line(const char **pp, const char *end, long *line) 
     return NULL;
 }
 
-int cli_parse_off(const char *name, const char *text, size_t size, cli_mesh *mesh, cli_error *err,
-                  cli_progress *progress) {
+int meshio_parse_off(const char *name, const char *text, size_t size, meshio_mesh *mesh,
+                     meshio_error *err, const meshio_progress *progress) {
     if (check_text(name, text, size, err))
         return -1;
     const char *p = text, *end = text + size;
     long line = 0;
     const char *q = next_data_line(&p, end, &line);
     if (q == NULL)
-        return cli_fail(err, "%s: no OFF header", name);
+        return meshio_fail(err, "%s: no OFF header", name);
     // The header word: optional ST, C, N prefixes; 4 and n (other dimensions)
     // and binary OFF are not supported.
     while (*q == 'S' || *q == 'T' || *q == 'C' || *q == 'N')
         ++q;
     if (strncmp(q, "OFF", 3) != 0 || !(is_blank(q[3]) || is_end(q[3])))
-        return cli_fail(err, "%s:%ld: expected an OFF header (OFF, COFF, NOFF, STOFF...)", name,
-                        line);
+        return meshio_fail(err, "%s:%ld: expected an OFF header (OFF, COFF, NOFF, STOFF...)", name,
+                           line);
     q += 3;
     long long counts[3] = {0, 0, 0};
     int got = 0;
     const char *header_rest = skip_blank(q);
     if (strncmp(header_rest, "BINARY", 6) == 0)
-        return cli_fail(err, "%s:%ld: binary OFF is not supported", name, line);
+        return meshio_fail(err, "%s:%ld: binary OFF is not supported", name, line);
     if (is_end(*header_rest)) {
         q = next_data_line(&p, end, &line);
         if (q == NULL)
-            return cli_fail(err, "%s: missing vertex and face counts after the header", name);
+            return meshio_fail(err, "%s: missing vertex and face counts after the header", name);
     }
     for (got = 0; got < 3; ++got) {
         int r = parse_integer(&q, &counts[got], 0);
         if (r < 0)
-            return cli_fail(err, "%s:%ld: expected 'vertices faces edges' counts", name, line);
+            return meshio_fail(err, "%s:%ld: expected 'vertices faces edges' counts", name, line);
         if (r == 0)
             break;
     }
     if (got < 2 || counts[0] < 0 || counts[1] < 0)
-        return cli_fail(err, "%s:%ld: expected 'vertices faces edges' counts", name, line);
+        return meshio_fail(err, "%s:%ld: expected 'vertices faces edges' counts", name, line);
     if (counts[0] >= (long long)UINT32_MAX - 1)
-        return cli_fail(err, "%s:%ld: too many vertices (%lld)", name, line, counts[0]);
+        return meshio_fail(err, "%s:%ld: too many vertices (%lld)", name, line, counts[0]);
     builder b;
     builder_init(&b);
     // Each vertex line takes at least 6 bytes: do not trust the header further.
     size_t expect = (size_t)counts[0] < size / 6 ? (size_t)counts[0] : size / 6;
-    if (cli_array_reserve(&b.positions, 3 * expect)) {
+    if (meshio_array_reserve(&b.positions, 3 * expect)) {
         builder_free(&b);
         return out_of_memory(name, err);
     }
@@ -327,52 +328,54 @@ int cli_parse_off(const char *name, const char *text, size_t size, cli_mesh *mes
     for (long long v = 0; status == 0 && v < counts[0]; ++v) {
         q = next_data_line(&p, end, &line);
         if (q == NULL) {
-            status = cli_fail(err, "%s: file ends at vertex %lld of %lld", name, v, counts[0]);
+            status = meshio_fail(err, "%s: file ends at vertex %lld of %lld", name, v, counts[0]);
             break;
         }
         double x[3];
         for (int k = 0; k < 3 && status == 0; ++k) {
             int r = parse_real(&q, &x[k]);
             if (r <= 0)
-                status = cli_fail(err, "%s:%ld: expected 'x y z' for vertex %lld", name, line, v);
+                status =
+                    meshio_fail(err, "%s:%ld: expected 'x y z' for vertex %lld", name, line, v);
             else if (!isfinite(x[k]))
-                status = cli_fail(err, "%s:%ld: NaN or infinite coordinate", name, line);
+                status = meshio_fail(err, "%s:%ld: NaN or infinite coordinate", name, line);
         }
         if (status == 0 && builder_vertex(&b, x))
             status = out_of_memory(name, err);
         if ((v & 0xFFFF) == 0)
-            cli_progress_update(progress, name, (double)(p - text), (double)size);
+            meshio_report(progress, name, (double)(p - text), (double)size);
     }
     for (long long f = 0; status == 0 && f < counts[1]; ++f) {
         q = next_data_line(&p, end, &line);
         if (q == NULL) {
-            status = cli_fail(err, "%s: file ends at face %lld of %lld", name, f, counts[1]);
+            status = meshio_fail(err, "%s: file ends at face %lld of %lld", name, f, counts[1]);
             break;
         }
         long long n, index;
         if (parse_integer(&q, &n, 0) != 1 || n < 0) {
-            status = cli_fail(err, "%s:%ld: expected a vertex count for face %lld", name, line, f);
+            status =
+                meshio_fail(err, "%s:%ld: expected a vertex count for face %lld", name, line, f);
             break;
         }
         if (n < 3) {
-            status =
-                cli_fail(err, "%s:%ld: face with %lld vertices (at least 3 needed)", name, line, n);
+            status = meshio_fail(err, "%s:%ld: face with %lld vertices (at least 3 needed)", name,
+                                 line, n);
             break;
         }
         for (long long k = 0; status == 0 && k < n; ++k) {
             if (parse_integer(&q, &index, 0) != 1)
-                status = cli_fail(err, "%s:%ld: face %lld: expected %lld vertex indices", name,
-                                  line, f, n);
+                status = meshio_fail(err, "%s:%ld: face %lld: expected %lld vertex indices", name,
+                                     line, f, n);
             else if (index < 0 || index >= counts[0])
-                status = cli_fail(err, "%s:%ld: face index %lld out of range (%lld vertices)", name,
-                                  line, index, counts[0]);
+                status = meshio_fail(err, "%s:%ld: face index %lld out of range (%lld vertices)",
+                                     name, line, index, counts[0]);
             else if (builder_corner(&b, (uint32_t)index))
                 status = out_of_memory(name, err);
         }
         if (status == 0 && builder_polygon(&b))
             status = out_of_memory(name, err);
         if ((f & 0xFFFF) == 0)
-            cli_progress_update(progress, name, (double)(p - text), (double)size);
+            meshio_report(progress, name, (double)(p - text), (double)size);
     }
     if (status != 0) {
         builder_free(&b);
@@ -400,19 +403,19 @@ static float load_f32le(const unsigned char *p) {
 }
 
 static int parse_stl_binary(const char *name, const unsigned char *data, size_t size,
-                            cli_mesh *mesh, cli_error *err, cli_progress *progress) {
+                            meshio_mesh *mesh, meshio_error *err, const meshio_progress *progress) {
     if (size < 84)
-        return cli_fail(err, "%s: too short for a binary STL (%zu bytes, the header alone is 84)",
-                        name, size);
+        return meshio_fail(
+            err, "%s: too short for a binary STL (%zu bytes, the header alone is 84)", name, size);
     uint64_t n = load_u32le(data + 80);
     uint64_t expected = 84 + 50 * n;
     if ((uint64_t)size != expected)
-        return cli_fail(err,
-                        "%s: binary STL declares %llu triangles (%llu bytes) but the file has "
-                        "%zu bytes (truncated or not an STL file)",
-                        name, (unsigned long long)n, (unsigned long long)expected, size);
+        return meshio_fail(err,
+                           "%s: binary STL declares %llu triangles (%llu bytes) but the file has "
+                           "%zu bytes (truncated or not an STL file)",
+                           name, (unsigned long long)n, (unsigned long long)expected, size);
     if (3 * n >= (uint64_t)UINT32_MAX - 1)
-        return cli_fail(err, "%s: too many triangles (%llu)", name, (unsigned long long)n);
+        return meshio_fail(err, "%s: too many triangles (%llu)", name, (unsigned long long)n);
     double *positions = malloc((size_t)(9 * n) * sizeof *positions + 1);
     uint32_t *triangles = malloc((size_t)(3 * n) * sizeof *triangles + 1);
     if (positions == NULL || triangles == NULL) {
@@ -427,15 +430,15 @@ static int parse_stl_binary(const char *name, const unsigned char *data, size_t 
             if (!isfinite(x)) {
                 free(positions);
                 free(triangles);
-                return cli_fail(err, "%s: triangle %llu has a NaN or infinite coordinate", name,
-                                (unsigned long long)f);
+                return meshio_fail(err, "%s: triangle %llu has a NaN or infinite coordinate", name,
+                                   (unsigned long long)f);
             }
             positions[9 * f + (uint64_t)k] = x;
         }
         for (int k = 0; k < 3; ++k)
             triangles[3 * f + (uint64_t)k] = (uint32_t)(3 * f + (uint64_t)k);
         if ((f & 0xFFFF) == 0)
-            cli_progress_update(progress, name, (double)f, (double)n);
+            meshio_report(progress, name, (double)f, (double)n);
     }
     mesh->vertex_count = (size_t)(3 * n);
     mesh->positions = positions;
@@ -474,8 +477,8 @@ static const char *rest_of_line(const char *p) {
     return p;
 }
 
-static int parse_stl_ascii(const char *name, const char *text, size_t size, cli_mesh *mesh,
-                           cli_error *err, cli_progress *progress) {
+static int parse_stl_ascii(const char *name, const char *text, size_t size, meshio_mesh *mesh,
+                           meshio_error *err, const meshio_progress *progress) {
     if (check_text(name, text, size, err))
         return -1;
     builder b;
@@ -494,7 +497,7 @@ static int parse_stl_ascii(const char *name, const char *text, size_t size, cli_
             p = rest_of_line(p); // the solid's name
         } else if (token_is(token, n, "facet")) {
             if (in_facet) {
-                status = cli_fail(err, "%s:%ld: 'facet' inside a facet", name, line);
+                status = meshio_fail(err, "%s:%ld: 'facet' inside a facet", name, line);
                 break;
             }
             in_facet = 1;
@@ -503,7 +506,7 @@ static int parse_stl_ascii(const char *name, const char *text, size_t size, cli_
         } else if (token_is(token, n, "outer")) {
             size_t m = next_token(&p, &line);
             if (!token_is(p, m, "loop")) {
-                status = cli_fail(err, "%s:%ld: expected 'outer loop'", name, line);
+                status = meshio_fail(err, "%s:%ld: expected 'outer loop'", name, line);
                 break;
             }
             p += m;
@@ -512,12 +515,12 @@ static int parse_stl_ascii(const char *name, const char *text, size_t size, cli_
             for (int k = 0; k < 3 && status == 0; ++k) {
                 int r = parse_real(&p, &x[k]);
                 if (r <= 0)
-                    status = cli_fail(err, "%s:%ld: expected 'vertex x y z'", name, line);
+                    status = meshio_fail(err, "%s:%ld: expected 'vertex x y z'", name, line);
                 else if (!isfinite(x[k]))
-                    status = cli_fail(err, "%s:%ld: NaN or infinite coordinate", name, line);
+                    status = meshio_fail(err, "%s:%ld: NaN or infinite coordinate", name, line);
             }
             if (status == 0 && !in_facet)
-                status = cli_fail(err, "%s:%ld: 'vertex' outside a facet", name, line);
+                status = meshio_fail(err, "%s:%ld: 'vertex' outside a facet", name, line);
             if (status == 0 && (builder_vertex(&b, x) ||
                                 builder_corner(&b, (uint32_t)(builder_vertex_count(&b) - 1))))
                 status = out_of_memory(name, err);
@@ -526,12 +529,12 @@ static int parse_stl_ascii(const char *name, const char *text, size_t size, cli_
         } else if (token_is(token, n, "endloop")) {
         } else if (token_is(token, n, "endfacet")) {
             if (!in_facet) {
-                status = cli_fail(err, "%s:%ld: 'endfacet' without 'facet'", name, line);
+                status = meshio_fail(err, "%s:%ld: 'endfacet' without 'facet'", name, line);
                 break;
             }
             if (b.polygon.count < 3) {
-                status = cli_fail(err, "%s:%ld: facet with %zu vertices (at least 3 needed)", name,
-                                  line, b.polygon.count);
+                status = meshio_fail(err, "%s:%ld: facet with %zu vertices (at least 3 needed)",
+                                     name, line, b.polygon.count);
                 break;
             }
             if (builder_polygon(&b)) {
@@ -540,17 +543,17 @@ static int parse_stl_ascii(const char *name, const char *text, size_t size, cli_
             }
             in_facet = 0;
         } else {
-            status = cli_fail(err, "%s:%ld: unexpected '%.*s' in an ASCII STL file", name, line,
-                              (int)(n < 40 ? n : 40), token);
+            status = meshio_fail(err, "%s:%ld: unexpected '%.*s' in an ASCII STL file", name, line,
+                                 (int)(n < 40 ? n : 40), token);
             break;
         }
         if ((size_t)(p - text) >= next_report) {
-            cli_progress_update(progress, name, (double)(p - text), (double)size);
+            meshio_report(progress, name, (double)(p - text), (double)size);
             next_report += 1u << 20;
         }
     }
     if (status == 0 && in_facet)
-        status = cli_fail(err, "%s:%ld: file ends inside a facet", name, line);
+        status = meshio_fail(err, "%s:%ld: file ends inside a facet", name, line);
     if (status != 0) {
         builder_free(&b);
         return -1;
@@ -559,8 +562,8 @@ static int parse_stl_ascii(const char *name, const char *text, size_t size, cli_
     return 0;
 }
 
-int cli_parse_stl(const char *name, const unsigned char *data, size_t size, cli_mesh *mesh,
-                  cli_error *err, cli_progress *progress) {
+int meshio_parse_stl(const char *name, const unsigned char *data, size_t size, meshio_mesh *mesh,
+                     meshio_error *err, const meshio_progress *progress) {
     // Binary files may also begin with "solid" (some exporters write it into
     // the header), so an exact binary size wins over the magic word.
     if (size >= 84 && (uint64_t)size == 84 + 50 * (uint64_t)load_u32le(data + 80))

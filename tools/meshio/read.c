@@ -2,20 +2,20 @@
 // SPDX-License-Identifier: MIT
 
 // File loading, format detection, welding, and the small utilities every
-// reader uses (errors, growable arrays, progress on a terminal).
+// reader uses (errors, growable arrays, progress reports).
 #define _POSIX_C_SOURCE 200809L
-#include "cli.h"
+#include "internal.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
-int cli_fail(cli_error *err, const char *format, ...) {
+int meshio_fail(meshio_error *err, const char *format, ...) {
     if (err != NULL) {
         va_list args;
         va_start(args, format);
@@ -25,51 +25,12 @@ int cli_fail(cli_error *err, const char *format, ...) {
     return -1;
 }
 
-double cli_now(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+void meshio_report(const meshio_progress *progress, const char *label, double done, double total) {
+    if (progress != NULL && progress->update != NULL)
+        progress->update(progress->context, label, done, total);
 }
 
-void cli_progress_init(cli_progress *progress, int enabled) {
-    progress->enabled = enabled && isatty(STDERR_FILENO);
-    progress->last_draw = 0.0;
-    progress->drawn = 0;
-    progress->label = NULL;
-}
-
-void cli_progress_update(cli_progress *progress, const char *label, double done, double total) {
-    if (progress == NULL || !progress->enabled || total <= 0.0)
-        return;
-    double now = cli_now();
-    // Redraw at most ten times a second: a terminal write per record would
-    // cost more than the parsing it reports.
-    if (progress->drawn && now - progress->last_draw < 0.1 && done < total)
-        return;
-    progress->last_draw = now;
-    double fraction = done / total;
-    if (fraction > 1.0)
-        fraction = 1.0;
-    enum { width = 30 };
-    char bar[width + 1];
-    int filled = (int)(fraction * width);
-    for (int i = 0; i < width; ++i)
-        bar[i] = i < filled ? '#' : ' ';
-    bar[width] = '\0';
-    fprintf(stderr, "\r%-40.40s [%s] %3d%%", label, bar, (int)(100.0 * fraction));
-    fflush(stderr);
-    progress->drawn = 1;
-}
-
-void cli_progress_end(cli_progress *progress) {
-    if (progress == NULL || !progress->drawn)
-        return;
-    fprintf(stderr, "\r%80s\r", "");
-    fflush(stderr);
-    progress->drawn = 0;
-}
-
-int cli_array_reserve(cli_array *array, size_t extra) {
+int meshio_array_reserve(meshio_array *array, size_t extra) {
     if (extra <= array->capacity - array->count)
         return 0;
     if (extra > SIZE_MAX / array->item_size - array->count)
@@ -86,18 +47,18 @@ int cli_array_reserve(cli_array *array, size_t extra) {
     return 0;
 }
 
-void cli_mesh_free(cli_mesh *mesh) {
+void meshio_mesh_free(meshio_mesh *mesh) {
     free(mesh->positions);
     free(mesh->triangles);
     memset(mesh, 0, sizeof *mesh);
 }
 
-const char *cli_format_name(cli_format format) {
+const char *meshio_format_name(meshio_format format) {
     switch (format) {
-    case CLI_FORMAT_OBJ: return "OBJ";
-    case CLI_FORMAT_PLY: return "PLY";
-    case CLI_FORMAT_OFF: return "OFF";
-    case CLI_FORMAT_STL: return "STL";
+    case MESHIO_FORMAT_OBJ: return "OBJ";
+    case MESHIO_FORMAT_PLY: return "PLY";
+    case MESHIO_FORMAT_OFF: return "OFF";
+    case MESHIO_FORMAT_STL: return "STL";
     default: return "unknown";
     }
 }
@@ -116,46 +77,46 @@ static int ends_with_ci(const char *s, const char *suffix) {
     return 1;
 }
 
-cli_format cli_format_from_path(const char *path) {
+meshio_format meshio_format_from_path(const char *path) {
     if (ends_with_ci(path, ".obj"))
-        return CLI_FORMAT_OBJ;
+        return MESHIO_FORMAT_OBJ;
     if (ends_with_ci(path, ".ply"))
-        return CLI_FORMAT_PLY;
+        return MESHIO_FORMAT_PLY;
     if (ends_with_ci(path, ".off"))
-        return CLI_FORMAT_OFF;
+        return MESHIO_FORMAT_OFF;
     if (ends_with_ci(path, ".stl"))
-        return CLI_FORMAT_STL;
-    return CLI_FORMAT_UNKNOWN;
+        return MESHIO_FORMAT_STL;
+    return MESHIO_FORMAT_UNKNOWN;
 }
 
 // The content decides where it is unambiguous ("ply" and "OFF" magic words),
 // so a mislabelled file still loads; otherwise the extension, then a guess.
-static cli_format sniff(const unsigned char *data, size_t size, cli_format hint) {
+static meshio_format sniff(const unsigned char *data, size_t size, meshio_format hint) {
     if (size >= 4 && memcmp(data, "ply", 3) == 0 && (data[3] == '\n' || data[3] == '\r'))
-        return CLI_FORMAT_PLY;
-    if (hint != CLI_FORMAT_UNKNOWN)
+        return MESHIO_FORMAT_PLY;
+    if (hint != MESHIO_FORMAT_UNKNOWN)
         return hint;
     size_t i = 0;
     while (i < size && (data[i] == ' ' || data[i] == '\t' || data[i] == '\r' || data[i] == '\n'))
         ++i;
     if (size - i >= 3 && memcmp(data + i, "OFF", 3) == 0)
-        return CLI_FORMAT_OFF;
+        return MESHIO_FORMAT_OFF;
     if (size - i >= 5 && memcmp(data + i, "solid", 5) == 0)
-        return CLI_FORMAT_STL;
+        return MESHIO_FORMAT_STL;
     // An OBJ file starts with comments or one of its statements.
     if (i < size && (data[i] == '#' || data[i] == 'v' || data[i] == 'o' || data[i] == 'g' ||
                      data[i] == 'm' || data[i] == 'f' || data[i] == 's'))
-        return CLI_FORMAT_OBJ;
+        return MESHIO_FORMAT_OBJ;
     if (size >= 84)
-        return CLI_FORMAT_STL; // binary STL has no magic number
-    return CLI_FORMAT_UNKNOWN;
+        return MESHIO_FORMAT_STL; // binary STL has no magic number
+    return MESHIO_FORMAT_UNKNOWN;
 }
 
-int cli_parse_mesh(const char *name, const unsigned char *data, size_t size, cli_format hint,
-                   cli_mesh *mesh, cli_error *err, cli_progress *progress) {
+int meshio_parse(const char *name, const unsigned char *data, size_t size, meshio_format hint,
+                 meshio_mesh *mesh, meshio_error *err, const meshio_progress *progress) {
     memset(mesh, 0, sizeof *mesh);
     if (size == 0)
-        return cli_fail(err, "%s: empty file", name);
+        return meshio_fail(err, "%s: empty file", name);
     // A UTF-8 byte-order mark (editors on Windows write one) is not part of
     // the text: left in, it hid the first OBJ line, so that faces then
     // pointed at the wrong vertices.
@@ -163,26 +124,27 @@ int cli_parse_mesh(const char *name, const unsigned char *data, size_t size, cli
         data += 3;
         size -= 3;
         if (size == 0)
-            return cli_fail(err, "%s: empty file (a byte-order mark only)", name);
+            return meshio_fail(err, "%s: empty file (a byte-order mark only)", name);
     }
-    cli_format format = sniff(data, size, hint);
+    meshio_format format = sniff(data, size, hint);
     int status;
     switch (format) {
-    case CLI_FORMAT_OBJ:
-        status = cli_parse_obj(name, (const char *)data, size, mesh, err, progress);
+    case MESHIO_FORMAT_OBJ:
+        status = meshio_parse_obj(name, (const char *)data, size, mesh, err, progress);
         break;
-    case CLI_FORMAT_OFF:
-        status = cli_parse_off(name, (const char *)data, size, mesh, err, progress);
+    case MESHIO_FORMAT_OFF:
+        status = meshio_parse_off(name, (const char *)data, size, mesh, err, progress);
         break;
-    case CLI_FORMAT_STL: status = cli_parse_stl(name, data, size, mesh, err, progress); break;
-    case CLI_FORMAT_PLY: status = cli_parse_ply(name, data, size, mesh, err, progress); break;
+    case MESHIO_FORMAT_STL: status = meshio_parse_stl(name, data, size, mesh, err, progress); break;
+    case MESHIO_FORMAT_PLY: status = meshio_parse_ply(name, data, size, mesh, err, progress); break;
     default:
-        return cli_fail(err, "%s: unknown file format (expected .obj, .ply, .off or .stl)", name);
+        return meshio_fail(err, "%s: unknown file format (expected .obj, .ply, .off or .stl)",
+                           name);
     }
     if (status == 0 && mesh->triangle_count == 0)
-        status = cli_fail(err, "%s: no faces (a surface needs at least one triangle)", name);
+        status = meshio_fail(err, "%s: no faces (a surface needs at least one triangle)", name);
     if (status != 0)
-        cli_mesh_free(mesh);
+        meshio_mesh_free(mesh);
     else
         mesh->format = format;
     return status;
@@ -194,23 +156,23 @@ int cli_parse_mesh(const char *name, const unsigned char *data, size_t size, cli
 // The file is checked before it is opened (so a FIFO is refused without
 // blocking) and again on the open descriptor (in case it was replaced).
 static int read_whole_file(const char *path, unsigned char **data_out, size_t *size_out,
-                           cli_error *err) {
+                           meshio_error *err) {
     struct stat st;
     if (stat(path, &st) != 0)
-        return cli_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return meshio_fail(err, "%s: cannot open: %s", path, strerror(errno));
     if (S_ISDIR(st.st_mode))
-        return cli_fail(err, "%s: is a directory, not a mesh file", path);
+        return meshio_fail(err, "%s: is a directory, not a mesh file", path);
     if (!S_ISREG(st.st_mode))
-        return cli_fail(err,
-                        "%s: not a regular file (a pipe, device or socket); mesh files "
-                        "must be regular files",
-                        path);
+        return meshio_fail(err,
+                           "%s: not a regular file (a pipe, device or socket); mesh files "
+                           "must be regular files",
+                           path);
     int fd = open(path, O_RDONLY | O_NONBLOCK);
     if (fd < 0)
-        return cli_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return meshio_fail(err, "%s: cannot open: %s", path, strerror(errno));
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         close(fd);
-        return cli_fail(err, "%s: not a regular file", path);
+        return meshio_fail(err, "%s: not a regular file", path);
     }
     // The size stat gives, plus room to notice growth (files under /proc
     // report 0 and are read in chunks).
@@ -218,7 +180,7 @@ static int read_whole_file(const char *path, unsigned char **data_out, size_t *s
     unsigned char *data = malloc(capacity);
     if (data == NULL) {
         close(fd);
-        return cli_fail(err, "%s: out of memory reading %zu bytes", path, capacity);
+        return meshio_fail(err, "%s: out of memory reading %zu bytes", path, capacity);
     }
     size_t size = 0;
     for (;;) {
@@ -227,7 +189,7 @@ static int read_whole_file(const char *path, unsigned char **data_out, size_t *s
             if (bigger == NULL) {
                 free(data);
                 close(fd);
-                return cli_fail(err, "%s: out of memory", path);
+                return meshio_fail(err, "%s: out of memory", path);
             }
             data = bigger;
             capacity *= 2;
@@ -239,7 +201,7 @@ static int read_whole_file(const char *path, unsigned char **data_out, size_t *s
             int e = errno;
             free(data);
             close(fd);
-            return cli_fail(err, "%s: read error: %s", path, strerror(e));
+            return meshio_fail(err, "%s: read error: %s", path, strerror(e));
         }
         if (got == 0)
             break;
@@ -252,14 +214,14 @@ static int read_whole_file(const char *path, unsigned char **data_out, size_t *s
     return 0;
 }
 
-int cli_read_mesh(const char *path, cli_mesh *mesh, cli_error *err, cli_progress *progress) {
+int meshio_read(const char *path, meshio_mesh *mesh, meshio_error *err,
+                const meshio_progress *progress) {
     memset(mesh, 0, sizeof *mesh);
     unsigned char *data = NULL;
     size_t size = 0;
     if (read_whole_file(path, &data, &size, err) != 0)
         return -1;
-    int status = cli_parse_mesh(path, data, size, cli_format_from_path(path), mesh, err, progress);
-    cli_progress_end(progress);
+    int status = meshio_parse(path, data, size, meshio_format_from_path(path), mesh, err, progress);
     free(data);
     return status;
 }
@@ -283,7 +245,7 @@ static uint64_t position_hash(const double *p) {
     return h;
 }
 
-size_t cli_weld(const double *positions, size_t vertex_count, uint32_t *representative_out) {
+size_t meshio_weld(const double *positions, size_t vertex_count, uint32_t *representative_out) {
     size_t capacity = 16;
     while (capacity < 2 * vertex_count)
         capacity *= 2;
