@@ -357,19 +357,19 @@ static void test_sweep_exact_skips_patches_free_over_the_step(void **state) {
     (void)state;
     selfcol_sweep *result;
     assert_int_equal(selfcol_sweep_create(&result, NULL), SELFCOL_OK);
-    scene from, to;
-    assert_int_equal(scene_wrinkled(&from, 20, 20, 3, 0.5), 0);
-    assert_int_equal(scene_wrinkled(&to, 20, 20, 3, 0.8), 0);
+    fixture from, to;
+    assert_int_equal(fixture_wrinkled(&from, 20, 20, 3, 0.5), 0);
+    assert_int_equal(fixture_wrinkled(&to, 20, 20, 3, 0.8), 0);
     const double offset[3] = {0.3, 0.2, 0.5};
-    scene_translate(&to, offset);
+    fixture_translate(&to, offset);
     for (int pass = 0; pass < 2; ++pass) {
         if (pass == 1) {
             // The hairpin: top layer from z = 0.5 to z = -0.5 (through the
             // bottom one at z = 0, fold included).
-            scene_free(&from);
-            scene_free(&to);
-            assert_int_equal(scene_hairpin(&from, 8, 0.5), 0);
-            assert_int_equal(scene_hairpin(&to, 8, 0.5), 0);
+            fixture_free(&from);
+            fixture_free(&to);
+            assert_int_equal(fixture_hairpin(&from, 8, 0.5), 0);
+            assert_int_equal(fixture_hairpin(&to, 8, 0.5), 0);
             for (size_t v = 0; v < to.vertex_count; ++v)
                 if (to.positions[3 * v + 2] > 0.0)
                     to.positions[3 * v + 2] = -to.positions[3 * v + 2];
@@ -417,8 +417,8 @@ static void test_sweep_exact_skips_patches_free_over_the_step(void **state) {
         }
         step_free(&s);
     }
-    scene_free(&from);
-    scene_free(&to);
+    fixture_free(&from);
+    fixture_free(&to);
     selfcol_sweep_destroy(result);
 }
 
