@@ -36,6 +36,8 @@
 
 #include "bench_bullet.h"
 #include "fixtures.h"
+// The library's own union-find (header-only, internal): one copy in the repository.
+#include "../../lib/union_find.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -534,12 +536,6 @@ static void bullet_rows(bench_bullet *bb, context *cx, const keyset *ref, const 
 // shared edges). Bullet 3.24's bottom-up face-tree build only merges
 // edge-adjacent nodes and loops forever when more than one piece is left,
 // so Bullet rows are skipped on such meshes.
-static uint32_t find_root(uint32_t *parent, uint32_t x) {
-    while (parent[x] != x)
-        x = parent[x] = parent[parent[x]];
-    return x;
-}
-
 static size_t edge_pieces(const selfcol_mesh *mesh) {
     size_t nt = selfcol_mesh_count(mesh, SELFCOL_MESH_TRIANGLES);
     size_t ne = selfcol_mesh_count(mesh, SELFCOL_MESH_EDGES);
@@ -554,7 +550,8 @@ static size_t edge_pieces(const selfcol_mesh *mesh) {
         if (selfcol_mesh_edge_triangles(mesh, (uint32_t)e, &tris, &n) != SELFCOL_OK)
             continue;
         for (size_t i = 1; i < n; ++i) {
-            uint32_t a = find_root(parent, tris[0]), b = find_root(parent, tris[i]);
+            uint32_t a = selfcol_union_find__root(parent, tris[0]),
+                     b = selfcol_union_find__root(parent, tris[i]);
             if (a != b)
                 parent[a] = b;
         }
