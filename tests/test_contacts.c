@@ -1,0 +1,216 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The contact set handle (include/selfcol/contacts.h) on its own: creation
+// and its options, what an empty or NULL handle answers, the records' order,
+// the statistics' versions, and clear. The queries that fill it are held to
+// the exact contact sets in test_hierarchy.c and test_exhaustive.c.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <string.h>
+
+#include <selfcol/selfcol.h>
+
+#include "test_alloc.h"
+#include "world.h"
+
+static void contacts__create_checks_its_options(void **state) {
+    (void)state;
+    selfcol_contacts_options o;
+    assert_int_equal(selfcol_contacts_options_init(NULL, SELFCOL_CONTACTS_OPTIONS_VERSION),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_options_init(&o, 0), SELFCOL_EVERSION);
+    assert_int_equal(selfcol_contacts_options_init(&o, SELFCOL_CONTACTS_OPTIONS_VERSION + 1),
+                     SELFCOL_EVERSION);
+    assert_int_equal(selfcol_contacts_options_init(&o, SELFCOL_CONTACTS_OPTIONS_VERSION),
+                     SELFCOL_OK);
+    assert_int_equal(o.version, SELFCOL_CONTACTS_OPTIONS_VERSION);
+    assert_null(o.allocator.alloc);
+    assert_null(o.allocator.free);
+    selfcol_contacts *c = (selfcol_contacts *)&o; // must be reset to NULL on failure
+    assert_int_equal(selfcol_contacts_create(NULL, &o), SELFCOL_EINVAL);
+    o.version = SELFCOL_CONTACTS_OPTIONS_VERSION + 1;
+    assert_int_equal(selfcol_contacts_create(&c, &o), SELFCOL_EVERSION);
+    assert_null(c);
+    // An allocator with one hook only is refused.
+    test_allocator_state st;
+    memset(&st, 0, sizeof st);
+    selfcol_contacts_options_init(&o, SELFCOL_CONTACTS_OPTIONS_VERSION);
+    o.allocator = test_allocator(&st);
+    o.allocator.free = NULL;
+    assert_int_equal(selfcol_contacts_create(&c, &o), SELFCOL_EINVAL);
+    assert_null(c);
+    // Out of memory at creation: ENOMEM and nothing left behind.
+    o.allocator = test_allocator(&st);
+    st.fail_at = 1;
+    assert_int_equal(selfcol_contacts_create(&c, &o), SELFCOL_ENOMEM);
+    assert_null(c);
+    assert_int_equal(st.live, 0);
+    // With the hooks: every byte it holds comes from them and goes back.
+    st.fail_at = 0;
+    assert_int_equal(selfcol_contacts_create(&c, &o), SELFCOL_OK);
+    assert_true(st.live > 0);
+    assert_true(selfcol_contacts_byte_count(c) >= st.live_bytes / 2);
+    selfcol_contacts_destroy(c);
+    assert_int_equal(st.live, 0);
+    assert_false(st.misaligned);
+}
+
+static void contacts__null_and_empty_handles_answer_plainly(void **state) {
+    (void)state;
+    assert_int_equal(selfcol_contacts_count(NULL), 0);
+    assert_int_equal(selfcol_contacts_byte_count(NULL), 0);
+    selfcol_contacts_destroy(NULL);
+    selfcol_contacts_clear(NULL);
+    const selfcol_contact *data = (const selfcol_contact *)state;
+    size_t n = 7;
+    assert_int_equal(selfcol_contacts_data(NULL, &data, &n), SELFCOL_EINVAL);
+    selfcol_contacts *c;
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_data(c, NULL, &n), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_data(c, &data, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_data(c, &data, &n), SELFCOL_OK);
+    assert_null(data);
+    assert_int_equal(n, 0);
+    assert_int_equal(selfcol_contacts_count(c), 0);
+    assert_true(selfcol_contacts_byte_count(c) > 0);
+    selfcol_query_stats s;
+    s.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(NULL, &s), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_stats(c, NULL), SELFCOL_EINVAL);
+    s.version = 0;
+    assert_int_equal(selfcol_contacts_stats(c, &s), SELFCOL_EVERSION);
+    s.version = SELFCOL_QUERY_STATS_VERSION + 1;
+    assert_int_equal(selfcol_contacts_stats(c, &s), SELFCOL_EVERSION);
+    s.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(c, &s), SELFCOL_OK);
+    assert_int_equal(s.vf_contacts + s.ee_contacts + s.ef_contacts, 0);
+    selfcol_contacts_destroy(c);
+}
+
+// A hairpin (two layers 0.05 apart, unit cells) queried at d = 0.1: many
+// VF and EE contacts between the layers.
+static void hairpin_world(world *w) {
+    fixture s;
+    assert_int_equal(fixture_hairpin(&s, 12, 0.05), 0);
+    world_make(w, &s);
+    fixture_free(&s);
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.distance = 0.1;
+    assert_int_equal(selfcol_hierarchy_self_collide(w->hierarchy, w->contacts, &q), SELFCOL_OK);
+}
+
+static int key_less(const selfcol_contact *a, const selfcol_contact *b) {
+    if (a->kind != b->kind)
+        return a->kind < b->kind;
+    if (a->first_mesh != b->first_mesh)
+        return a->first_mesh < b->first_mesh;
+    if (a->first != b->first)
+        return a->first < b->first;
+    if (a->second_mesh != b->second_mesh)
+        return a->second_mesh < b->second_mesh;
+    return a->second < b->second;
+}
+
+static void contacts__records_are_sorted_by_key_without_repeats(void **state) {
+    (void)state;
+    world w;
+    hairpin_world(&w);
+    const selfcol_contact *c;
+    size_t n;
+    assert_int_equal(selfcol_contacts_data(w.contacts, &c, &n), SELFCOL_OK);
+    assert_true(n > 20);
+    assert_int_equal(n, selfcol_contacts_count(w.contacts));
+    for (size_t i = 1; i < n; ++i)
+        assert_true(key_less(&c[i - 1], &c[i])); // strictly: no pair twice
+    selfcol_query_stats s;
+    s.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(w.contacts, &s), SELFCOL_OK);
+    size_t per_kind[3] = {0, 0, 0};
+    for (size_t i = 0; i < n; ++i)
+        per_kind[c[i].kind == SELFCOL_CONTACT_VF ? 0 : c[i].kind == SELFCOL_CONTACT_EE ? 1 : 2]++;
+    assert_int_equal(s.vf_contacts, per_kind[0]);
+    assert_int_equal(s.ee_contacts, per_kind[1]);
+    assert_int_equal(s.ef_contacts, per_kind[2]);
+    world_free(&w);
+}
+
+// Each version of the statistics writes its own fields and leaves the rest
+// of the caller's struct alone.
+static void contacts__stats_write_only_their_version(void **state) {
+    (void)state;
+    world w;
+    hairpin_world(&w);
+    selfcol_query_stats full;
+    full.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(w.contacts, &full), SELFCOL_OK);
+    assert_true(full.nodes_visited > 0); // version 2
+    for (unsigned v = 1; v <= SELFCOL_QUERY_STATS_VERSION; ++v) {
+        selfcol_query_stats s;
+        memset(&s, 0xab, sizeof s);
+        s.version = v;
+        assert_int_equal(selfcol_contacts_stats(w.contacts, &s), SELFCOL_OK);
+        assert_int_equal(s.version, v);
+        assert_int_equal(s.vf_contacts, full.vf_contacts);
+        const uint64_t untouched = 0xababababababababull;
+        if (v < 2)
+            assert_true(s.nodes_visited == untouched);
+        else
+            assert_true(s.nodes_visited == full.nodes_visited);
+        if (v < 3)
+            assert_true(s.contour_tests == untouched);
+        if (v < 4)
+            assert_true(s.pairs_separated == untouched);
+        else
+            assert_true(s.pairs_separated == full.pairs_separated);
+    }
+    world_free(&w);
+}
+
+static void contacts__clear_empties_and_keeps_the_memory(void **state) {
+    (void)state;
+    world w;
+    hairpin_world(&w);
+    const selfcol_contact *c;
+    size_t n;
+    selfcol_contacts_data(w.contacts, &c, &n);
+    assert_true(n > 0);
+    selfcol_contact first = c[0];
+    const size_t bytes = selfcol_contacts_byte_count(w.contacts);
+    selfcol_contacts_clear(w.contacts);
+    assert_int_equal(selfcol_contacts_count(w.contacts), 0);
+    assert_int_equal(selfcol_contacts_data(w.contacts, &c, &n), SELFCOL_OK);
+    assert_null(c);
+    assert_int_equal(n, 0);
+    assert_int_equal(selfcol_contacts_byte_count(w.contacts), bytes);
+    selfcol_query_stats s;
+    s.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(w.contacts, &s), SELFCOL_OK);
+    assert_int_equal(s.vf_contacts + s.ee_contacts + s.ef_contacts + s.candidate_pairs, 0);
+    // The next query fills it again with the same records.
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.distance = 0.1;
+    assert_int_equal(selfcol_hierarchy_self_collide(w.hierarchy, w.contacts, &q), SELFCOL_OK);
+    selfcol_contacts_data(w.contacts, &c, &n);
+    assert_true(n > 0);
+    assert_memory_equal(&c[0], &first, sizeof first);
+    world_free(&w);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(contacts__create_checks_its_options),
+        cmocka_unit_test(contacts__null_and_empty_handles_answer_plainly),
+        cmocka_unit_test(contacts__records_are_sorted_by_key_without_repeats),
+        cmocka_unit_test(contacts__stats_write_only_their_version),
+        cmocka_unit_test(contacts__clear_empties_and_keeps_the_memory),
+    };
+    return cmocka_run_group_tests_name("contacts", tests, NULL, NULL);
+}
