@@ -76,7 +76,7 @@ fi
 round=1
 while [ "$round" -le "$rounds" ]; do
   echo "bench-sweep: round $round: selfcol"
-  { echo; echo "## Round $round: selfcol (separation 0, BVH)"; echo; } >> "$out"
+  { echo; echo "## Round $round: selfcol (separation 0; methods BVH and EXACT)"; echo; } >> "$out"
   "$runner" --data "$data" --reps "$reps" --dump "$dump" $smoke >> "$out" 2>> "$log"
   if [ "$ipctk" = 1 ]; then
     echo "bench-sweep: round $round: ipc-toolkit"
