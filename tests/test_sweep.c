@@ -58,6 +58,18 @@ static const selfcol_sweep_hit *self_sweep(const step *s, selfcol_sweep *result,
     return hits;
 }
 
+// The EXHAUSTIVE reference's hits of a self query, copied (the caller frees
+// them); its statistics stay in result.
+static selfcol_sweep_hit *reference_hits(const step *s, selfcol_sweep *result, double separation,
+                                         size_t *n) {
+    const selfcol_sweep_hit *h = self_sweep(s, result, SELFCOL_METHOD_EXHAUSTIVE, 0, separation, n);
+    selfcol_sweep_hit *copy = malloc((*n + 1) * sizeof *copy);
+    assert_non_null(copy);
+    if (*n > 0)
+        memcpy(copy, h, *n * sizeof *copy);
+    return copy;
+}
+
 static selfcol_sweep_query_stats stats_of(const selfcol_sweep *result) {
     selfcol_sweep_query_stats st;
     st.version = SELFCOL_SWEEP_STATS_VERSION;
@@ -298,12 +310,7 @@ static void test_sweep_bvh_equals_exhaustive_on_random_steps(void **state) {
         const double d[2] = {0.0, 0.1};
         for (int k = 0; k < 2; ++k) {
             size_t ne, nb;
-            const selfcol_sweep_hit *he =
-                self_sweep(&s, result, SELFCOL_METHOD_EXHAUSTIVE, 0, d[k], &ne);
-            selfcol_sweep_hit *copy = malloc((ne + 1) * sizeof *copy);
-            assert_non_null(copy);
-            if (ne > 0)
-                memcpy(copy, he, ne * sizeof *copy);
+            selfcol_sweep_hit *copy = reference_hits(&s, result, d[k], &ne);
             const selfcol_sweep_query_stats se = stats_of(result);
             const selfcol_sweep_hit *hb = self_sweep(&s, result, SELFCOL_METHOD_BVH, 0, d[k], &nb);
             const selfcol_sweep_query_stats sb = stats_of(result);
@@ -380,12 +387,7 @@ static void test_sweep_exact_skips_patches_free_over_the_step(void **state) {
         const double separation[2] = {0.0, 0.05};
         for (int k = 0; k < 2; ++k) {
             size_t ne, nb, nx;
-            const selfcol_sweep_hit *he =
-                self_sweep(&s, result, SELFCOL_METHOD_EXHAUSTIVE, 0, separation[k], &ne);
-            selfcol_sweep_hit *copy = malloc((ne + 1) * sizeof *copy);
-            assert_non_null(copy);
-            if (ne > 0)
-                memcpy(copy, he, ne * sizeof *copy);
+            selfcol_sweep_hit *copy = reference_hits(&s, result, separation[k], &ne);
             self_sweep(&s, result, SELFCOL_METHOD_BVH, 0, separation[k], &nb);
             const selfcol_sweep_query_stats sb = stats_of(result);
             const selfcol_sweep_hit *hx =

@@ -207,11 +207,16 @@ def run(frames: List[str], out: str, summary: Optional[str] = None, workers: int
                          time.perf_counter() - start, workers if use_dask else 1,
                          timing["ready"] - start)
         fh.write(json.dumps(summ, sort_keys=True) + "\n")
+    write_summary(summ, summary)
+    return summ
+
+
+def write_summary(summ: Dict[str, Any], summary: Optional[str]) -> None:
+    """Writes the run's summary as indented JSON to `summary`, when given."""
     if summary:
         with open(summary, "w") as fh:
             json.dump(summ, fh, indent=1, sort_keys=True)
             fh.write("\n")
-    return summ
 
 
 def merge(parts: List[str], out: str, summary: Optional[str] = None) -> Dict[str, Any]:
@@ -234,10 +239,7 @@ def merge(parts: List[str], out: str, summary: Optional[str] = None) -> Dict[str
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
         summ = summarize(records, seconds, len(parts))
         fh.write(json.dumps(summ, sort_keys=True) + "\n")
-    if summary:
-        with open(summary, "w") as fh:
-            json.dump(summ, fh, indent=1, sort_keys=True)
-            fh.write("\n")
+    write_summary(summ, summary)
     return summ
 
 

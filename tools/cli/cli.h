@@ -17,12 +17,9 @@
 /** One error message, "file:line: what": the mesh reader's own type (meshio.h). */
 typedef meshio_error cli_error;
 
-/** Formats an error message into err (printf-style). Returns -1 for `return cli_fail(...)`. */
-int cli_fail(cli_error *err, const char *format, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
+/** Formats an error message into err (printf-style); -1 for `return cli_fail(...)`. The
+ *  reader library's own (cli_error is its type). */
+#define cli_fail meshio_fail
 
 /** Progress on stderr: enabled only when stderr is a terminal and --quiet is off. */
 typedef struct cli_progress {

@@ -6,19 +6,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
-#include <stdarg.h>
 #include <time.h>
 #include <unistd.h>
-
-int cli_fail(cli_error *err, const char *format, ...) {
-    if (err != NULL) {
-        va_list args;
-        va_start(args, format);
-        vsnprintf(err->message, sizeof err->message, format, args);
-        va_end(args);
-    }
-    return -1;
-}
 
 double cli_now(void) {
     struct timespec ts;

@@ -9,13 +9,6 @@
 
 #include "meshio.h"
 
-/** Formats an error message into err (printf-style). Returns -1 for `return meshio_fail(...)`. */
-int meshio_fail(meshio_error *err, const char *format, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-
 /** Calls progress->update when there is one. */
 void meshio_report(const meshio_progress *progress, const char *label, double done, double total);
 

@@ -41,6 +41,13 @@ typedef enum meshio_format {
 /** "OBJ", "PLY", "OFF", "STL" or "unknown". */
 const char *meshio_format_name(meshio_format format);
 
+/** Formats an error message into err (printf-style). Returns -1 for `return meshio_fail(...)`. */
+int meshio_fail(meshio_error *err, const char *format, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
 /** Format named by a path's extension (case-insensitive), or UNKNOWN. */
 meshio_format meshio_format_from_path(const char *path);
 
