@@ -67,8 +67,9 @@
  * true collisions and the free fraction's guarantee are the same. It pays
  * where patches move smoothly (a sheet translated and deepening its
  * wrinkles: no candidate left); on the benchmark's real steps, where
- * vertices move up to about 1.4 mean edges per step, it removes 20 to 30 %
- * of the candidates and costs about what it saves (docs/benchmarks.md).
+ * vertices move about 1.4 mean edges per step, it removes 3 to 31 % of the
+ * candidates and costs more than it saves (docs/benchmarks.md), so BVH stays
+ * the default.
  * @{
  */
 #ifndef SELFCOL_SWEEP_H
