@@ -27,6 +27,7 @@
 #include "hierarchy.h"
 #include "mesh.h"
 #include "scene.h"
+#include "sequence.h"
 #include "store.h"
 #include "sweep.h"
 #include "version.h"

@@ -1,0 +1,722 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Coherent queries over a sequence of frames (include/selfcol/sequence.h):
+// a Verlet list (the neighbour lists of molecular dynamics, kept with a
+// "skin") whose validity is proven from the surface's deformation rather
+// than its displacement.
+//
+// Proof. Let the reference be the positions at the last rebuild, R = d + s,
+// and D(v) = x(v) - x_ref(v). A point p of a primitive is a convex
+// combination of its vertices, so D(p) is the same combination of their D
+// and lies in the box of D over any vertex set holding them. Take a primitive
+// pair (P, Q) of the query's kinds that is not in the near list:
+//  - VF, EE: the closed form at the reference said dist >= R, so the true
+//    distance was at least R (1 - 1e-9) (contacts.h's relative band);
+//  - EF: the edge e did not cross t, and its ends' VF distances to t and its
+//    EE distances to t's edges were all >= R; a segment that does not meet a
+//    triangle is nearest to it at one of its ends or at one of the
+//    triangle's edges, so dist(e, t) >= R (1 - 1e-9) too.
+// Let I be a cluster holding a triangle of P (all of P's vertices are in I's
+// vertex set) and J one holding Q's. Now
+//   dist_now(P, Q) >= dist_ref(P, Q) - max |D(p) - D(q)|
+//                  >= max(R (1 - 1e-9), gap_ref(I, J)) - spread(I, J),
+// where gap_ref is the distance between the clusters' boxes at the
+// reference and spread(I, J) the largest distance between a point of I's
+// displacement box and one of J's (per axis max(hi_I - lo_J, hi_J - lo_I)).
+// When spread(I, J) <= max(s, gap_ref(I, J) - d) - 1e-6 R for every pair of
+// clusters, dist_now(P, Q) > d (1 + 1e-9): the fresh query, whose closed
+// forms err by less than that band, does not report (P, Q) either. So the
+// fresh query's records are exactly those of the near list's pairs that the
+// same closed forms, called here on the same positions through the same
+// functions (pairs.h), report now; the list is kept in record order, so they
+// come out sorted.
+//
+// A rebuild runs the ordinary query (the caller's exact method) at distance
+// R with the closed-form narrow phase, lists its VF and EE records (those
+// kinds asked) and, for EF, the edge-triangle pairs the proof needs: its EF
+// records, and for each VF record (v, t) the edges at v, for each EE record
+// (e, f) the pairs (e, t) with t at f and (f, t') with t' at e (no shared
+// vertex for a self query, no repeated triangle).
+#include <selfcol/sequence.h>
+
+#include "alloc.h"
+#include "box.h"
+#include "contacts.h"
+#include "core.h"
+#include "hierarchy.h"
+#include "mesh.h"
+#include "pairs.h"
+#include "parallel.h"
+#include "query.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// Clusters per mesh: contiguous runs of the hierarchy's triangle order (its
+// depth-first leaf order keeps them compact). The check costs the clusters'
+// displacement boxes (one pass over the vertices) and CLUSTERS^2 / 2 box
+// pairs.
+#define CLUSTERS 128
+
+// Relative margin of the check (the proof above).
+#define MARGIN 1e-6
+
+// One pair of the near list: kind and meshes in `tag` (kind << 2 |
+// first_mesh << 1 | second_mesh), then the primitives as in selfcol_contact.
+typedef struct near_pair {
+    uint32_t tag;
+    uint32_t first, second;
+} near_pair;
+
+// A growable array: bytes held.
+typedef struct buffer {
+    void *data;
+    size_t bytes;
+} buffer;
+
+typedef struct cluster_set {
+    unsigned count;
+    buffer offsets;  // count + 1 uint32_t into vertices
+    buffer vertices; // uint32_t, each cluster's vertex set
+    buffer ref_box;  // 6 doubles per cluster: lo, hi of the reference positions
+    buffer disp_box; // 6 doubles per cluster: lo, hi of the displacements now
+} cluster_set;
+
+struct selfcol_sequence {
+    selfcol_allocator allocator;
+    double skin_option; // 0: automatic
+
+    // What the near list was built for (valid only when `built`).
+    int built;
+    int self;
+    selfcol_mesh_identity identity[2];
+    double distance, skin, reach;
+    uint32_t kinds, narrow, method;
+
+    buffer reference[2]; // 3 V doubles per mesh
+    cluster_set clusters[2];
+    buffer pairs; // near_pair, in record order
+    size_t pair_count;
+    buffer scratch;              // rebuild: EF candidates and cluster stamps
+    selfcol_contacts *reach_set; // the rebuild's query at distance R
+
+    selfcol_sequence_run_stats stats;
+};
+
+static int reserve(const selfcol_allocator *a, buffer *b, size_t bytes) {
+    if (bytes <= b->bytes)
+        return SELFCOL_OK;
+    size_t want = b->bytes + b->bytes / 2;
+    want = want > bytes ? want : bytes;
+    void *grown = selfcol_alloc__raw(a, want);
+    if (grown == NULL)
+        return SELFCOL_ENOMEM;
+    selfcol_alloc__free(a, b->data, b->bytes);
+    b->data = grown;
+    b->bytes = want;
+    return SELFCOL_OK;
+}
+
+static void release(const selfcol_allocator *a, buffer *b) {
+    selfcol_alloc__free(a, b->data, b->bytes);
+    b->data = NULL;
+    b->bytes = 0;
+}
+
+int selfcol_sequence_options_init(selfcol_sequence_options *opts, unsigned int version) {
+    SELFCOL_CHECK(opts != NULL);
+    if (version == 0 || version > SELFCOL_SEQUENCE_OPTIONS_VERSION)
+        return SELFCOL_EVERSION;
+    memset(opts, 0, sizeof *opts);
+    opts->version = version;
+    return SELFCOL_OK;
+}
+
+int selfcol_sequence_create(selfcol_sequence **out, const selfcol_sequence_options *opts) {
+    SELFCOL_CHECK(out != NULL);
+    *out = NULL;
+    SELFCOL_CHECK_VERSION(opts, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    selfcol_sequence_options o;
+    selfcol_sequence_options_init(&o, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    if (opts != NULL) {
+        o.allocator = opts->allocator;
+        o.skin = opts->skin;
+    }
+    SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
+    SELFCOL_CHECK(isfinite(o.skin) && o.skin >= 0.0 && o.skin <= SELFCOL_MESH_MAX_COORDINATE);
+    selfcol_sequence *s = selfcol_alloc__raw(&o.allocator, sizeof *s);
+    if (s == NULL)
+        return SELFCOL_ENOMEM;
+    memset(s, 0, sizeof *s);
+    s->allocator = o.allocator;
+    s->skin_option = o.skin;
+    s->stats.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
+    selfcol_contacts_options co;
+    selfcol_contacts_options_init(&co, SELFCOL_CONTACTS_OPTIONS_VERSION);
+    co.allocator = o.allocator;
+    int status = selfcol_contacts_create(&s->reach_set, &co);
+    if (status != SELFCOL_OK) {
+        selfcol_alloc__free(&o.allocator, s, sizeof *s);
+        return status;
+    }
+    *out = s;
+    return SELFCOL_OK;
+}
+
+void selfcol_sequence_destroy(selfcol_sequence *s) {
+    if (s == NULL)
+        return;
+    const selfcol_allocator a = s->allocator;
+    for (int m = 0; m < 2; ++m) {
+        release(&a, &s->reference[m]);
+        release(&a, &s->clusters[m].offsets);
+        release(&a, &s->clusters[m].vertices);
+        release(&a, &s->clusters[m].ref_box);
+        release(&a, &s->clusters[m].disp_box);
+    }
+    release(&a, &s->pairs);
+    release(&a, &s->scratch);
+    selfcol_contacts_destroy(s->reach_set);
+    selfcol_alloc__free(&a, s, sizeof *s);
+}
+
+void selfcol_sequence_reset(selfcol_sequence *s) {
+    if (s == NULL)
+        return;
+    s->built = 0;
+    memset(&s->stats, 0, sizeof s->stats);
+    s->stats.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
+}
+
+int selfcol_sequence_stats(const selfcol_sequence *s, selfcol_sequence_run_stats *stats) {
+    SELFCOL_CHECK(s != NULL && stats != NULL);
+    if (stats->version == 0 || stats->version > SELFCOL_SEQUENCE_RUN_STATS_VERSION)
+        return SELFCOL_EVERSION;
+    *stats = s->stats;
+    return SELFCOL_OK;
+}
+
+size_t selfcol_sequence_byte_count(const selfcol_sequence *s) {
+    if (s == NULL)
+        return 0;
+    size_t bytes = sizeof *s + s->pairs.bytes + s->scratch.bytes;
+    for (int m = 0; m < 2; ++m) {
+        const cluster_set *c = &s->clusters[m];
+        bytes += s->reference[m].bytes + c->offsets.bytes + c->vertices.bytes + c->ref_box.bytes +
+                 c->disp_box.bytes;
+    }
+    return bytes + selfcol_contacts_byte_count(s->reach_set);
+}
+
+// ---------------------------------------------------------------------------
+// Clusters
+
+// Clusters of mesh m from the hierarchy's triangle order; reference boxes
+// from the reference positions. `stamps` has room for V uint32_t.
+static int build_clusters(selfcol_sequence *s, int m, const selfcol_hierarchy *h,
+                          uint32_t *stamps) {
+    const selfcol_mesh *mesh = h->mesh;
+    cluster_set *c = &s->clusters[m];
+    const size_t F = mesh->triangle_count;
+    const unsigned K = F < CLUSTERS ? (unsigned)F : CLUSTERS;
+    c->count = K;
+    if (reserve(&s->allocator, &c->offsets, (K + 1) * sizeof(uint32_t)) != SELFCOL_OK ||
+        reserve(&s->allocator, &c->vertices, 3 * F * sizeof(uint32_t)) != SELFCOL_OK ||
+        reserve(&s->allocator, &c->ref_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK ||
+        reserve(&s->allocator, &c->disp_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK)
+        return SELFCOL_ENOMEM;
+    uint32_t *offsets = c->offsets.data, *vertices = c->vertices.data;
+    double *box = c->ref_box.data;
+    const double *ref = s->reference[m].data;
+    memset(stamps, 0, mesh->vertex_count * sizeof *stamps);
+    uint32_t n = 0;
+    for (unsigned k = 0; k < K; ++k) {
+        offsets[k] = n;
+        const size_t begin = F * k / K, end = F * (k + 1) / K;
+        double *lo = box + 6 * (size_t)k, *hi = lo + 3;
+        lo[0] = lo[1] = lo[2] = INFINITY;
+        hi[0] = hi[1] = hi[2] = -INFINITY;
+        for (size_t slot = begin; slot < end; ++slot) {
+            const uint32_t *tri = mesh->triangles + 3 * (size_t)h->tri_order[slot];
+            for (int i = 0; i < 3; ++i) {
+                const uint32_t v = tri[i];
+                if (stamps[v] == k + 1)
+                    continue;
+                stamps[v] = k + 1;
+                vertices[n++] = v;
+                for (int a = 0; a < 3; ++a) {
+                    const double x = ref[3 * (size_t)v + (size_t)a];
+                    lo[a] = x < lo[a] ? x : lo[a];
+                    hi[a] = x > hi[a] ? x : hi[a];
+                }
+            }
+        }
+    }
+    offsets[K] = n;
+    return SELFCOL_OK;
+}
+
+// Displacement boxes of mesh m's clusters at the current positions.
+static void displacement_boxes(selfcol_sequence *s, int m, const selfcol_mesh *mesh) {
+    cluster_set *c = &s->clusters[m];
+    const uint32_t *offsets = c->offsets.data, *vertices = c->vertices.data;
+    const double *ref = s->reference[m].data, *now = mesh->positions;
+    double *box = c->disp_box.data;
+    for (unsigned k = 0; k < c->count; ++k) {
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (uint32_t i = offsets[k]; i < offsets[k + 1]; ++i) {
+            const size_t v = 3 * (size_t)vertices[i];
+            for (int a = 0; a < 3; ++a) {
+                const double D = now[v + (size_t)a] - ref[v + (size_t)a];
+                lo[a] = D < lo[a] ? D : lo[a];
+                hi[a] = D > hi[a] ? D : hi[a];
+            }
+        }
+        memcpy(box + 6 * (size_t)k, lo, sizeof lo);
+        memcpy(box + 6 * (size_t)k + 3, hi, sizeof hi);
+    }
+}
+
+// Largest distance between a point of box a and one of box b (6 doubles each).
+static double spread(const double *a, const double *b) {
+    double sum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const double x = a[3 + k] - b[k], y = b[3 + k] - a[k];
+        const double w = x > y ? x : y;
+        sum += w * w;
+    }
+    return sqrt(sum);
+}
+
+// Distance between box a and box b.
+static double gap(const double *a, const double *b) {
+    double sum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const double x = b[k] - a[3 + k], y = a[k] - b[3 + k];
+        const double w = x > y ? x : y;
+        sum += w > 0.0 ? w * w : 0.0;
+    }
+    return sqrt(sum);
+}
+
+// The check of the proof above over every pair of clusters; the largest
+// ratio of spread to what the pair allows goes to *ratio (the near list
+// holds when it returns 1).
+static int deformation_allows(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
+                              double *ratio) {
+    const int meshes = s->self ? 1 : 2;
+    for (int m = 0; m < meshes; ++m)
+        displacement_boxes(s, m, mesh[m]);
+    const cluster_set *c0 = &s->clusters[0], *c1 = &s->clusters[s->self ? 0 : 1];
+    const double *r0 = c0->ref_box.data, *r1 = c1->ref_box.data;
+    const double *d0 = c0->disp_box.data, *d1 = c1->disp_box.data;
+    const double margin = MARGIN * s->reach;
+    // The computed spread and gap err by a few ulps of their size: 1e-12
+    // relative covers it many times over.
+    const double round = 1.0 + 1e-12;
+    double worst = 0.0;
+    int ok = 1;
+    for (unsigned i = 0; i < c0->count; ++i) {
+        for (unsigned j = s->self ? i : 0; j < c1->count; ++j) {
+            const double moved = spread(d0 + 6 * (size_t)i, d1 + 6 * (size_t)j) * round;
+            const double apart = gap(r0 + 6 * (size_t)i, r1 + 6 * (size_t)j) / round - s->distance;
+            const double allowed = (apart > s->skin ? apart : s->skin) - margin;
+            if (!(moved < allowed)) {
+                ok = 0;
+                worst = INFINITY;
+                break;
+            }
+            const double r = moved / allowed;
+            worst = r > worst ? r : worst;
+        }
+        if (!ok)
+            break;
+    }
+    *ratio = worst;
+    return ok;
+}
+
+// ---------------------------------------------------------------------------
+// The near list
+
+static uint32_t tag_of(uint32_t kind, uint32_t first_mesh, uint32_t second_mesh) {
+    return kind << 2 | first_mesh << 1 | second_mesh;
+}
+
+static int ef_less(const void *pa, const void *pb) {
+    const near_pair *a = pa, *b = pb;
+    if (a->tag != b->tag)
+        return a->tag < b->tag ? -1 : 1;
+    if (a->first != b->first)
+        return a->first < b->first ? -1 : 1;
+    if (a->second != b->second)
+        return a->second < b->second ? -1 : 1;
+    return 0;
+}
+
+static int is_corner(uint32_t v, const uint32_t *tri) {
+    return v == tri[0] || v == tri[1] || v == tri[2];
+}
+
+// EF candidates derived from one record of the reach set (the proof above).
+static size_t ef_candidates(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
+                            const selfcol_contact *r, near_pair *out) {
+    size_t n = 0;
+    const int self = s->self;
+    if (r->kind == SELFCOL_CONTACT_EF) {
+        out[n++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, r->first_mesh, r->second_mesh), r->first,
+                               r->second};
+    } else if (r->kind == SELFCOL_CONTACT_VF) {
+        // Every edge at vertex v against triangle t.
+        const selfcol_mesh *mv = mesh[r->first_mesh], *mt = mesh[r->second_mesh];
+        const uint32_t v = r->first;
+        const uint32_t *tri = mt->triangles + 3 * (size_t)r->second;
+        const uint32_t tag = tag_of(SELFCOL_CONTACT_EF, r->first_mesh, r->second_mesh);
+        for (uint32_t k = mv->vertex_tri_offsets[v]; k < mv->vertex_tri_offsets[v + 1]; ++k) {
+            const uint32_t u = mv->vertex_tris[k];
+            for (int i = 0; i < 3; ++i) {
+                const uint32_t e = mv->triangle_edges[3 * (size_t)u + (size_t)i];
+                if (e == SELFCOL_INVALID_INDEX)
+                    continue;
+                const uint32_t *ev = mv->edges + 2 * (size_t)e;
+                if (ev[0] != v && ev[1] != v)
+                    continue;
+                if (self && (is_corner(ev[0], tri) || is_corner(ev[1], tri)))
+                    continue;
+                out[n++] = (near_pair){tag, e, r->second};
+            }
+        }
+    } else {
+        // (e, t) for t at f, and (f, t') for t' at e.
+        for (int side = 0; side < 2; ++side) {
+            const uint32_t me = side == 0 ? r->first_mesh : r->second_mesh;
+            const uint32_t mt = side == 0 ? r->second_mesh : r->first_mesh;
+            const uint32_t e = side == 0 ? r->first : r->second;
+            const uint32_t f = side == 0 ? r->second : r->first;
+            const selfcol_mesh *M = mesh[mt];
+            const uint32_t *ev = mesh[me]->edges + 2 * (size_t)e;
+            for (uint32_t k = M->edge_tri_offsets[f]; k < M->edge_tri_offsets[f + 1]; ++k) {
+                const uint32_t t = M->edge_tris[k];
+                if (M->triangle_flags[t] & SELFCOL_TRIANGLE_DUPLICATE)
+                    continue;
+                const uint32_t *tri = M->triangles + 3 * (size_t)t;
+                if (self && (is_corner(ev[0], tri) || is_corner(ev[1], tri)))
+                    continue;
+                out[n++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, me, mt), e, t};
+            }
+        }
+    }
+    return n;
+}
+
+// Most EF candidates one record yields: the triangles at a vertex times 3
+// (VF), or the triangles at both edges (EE).
+static size_t ef_bound(const selfcol_mesh *const mesh[2], const selfcol_contact *r) {
+    if (r->kind == SELFCOL_CONTACT_EF)
+        return 1;
+    if (r->kind == SELFCOL_CONTACT_VF) {
+        const selfcol_mesh *mv = mesh[r->first_mesh];
+        return 3 *
+               (size_t)(mv->vertex_tri_offsets[r->first + 1] - mv->vertex_tri_offsets[r->first]);
+    }
+    const selfcol_mesh *m0 = mesh[r->first_mesh], *m1 = mesh[r->second_mesh];
+    return (size_t)(m1->edge_tri_offsets[r->second + 1] - m1->edge_tri_offsets[r->second]) +
+           (size_t)(m0->edge_tri_offsets[r->first + 1] - m0->edge_tri_offsets[r->first]);
+}
+
+static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2]) {
+    const selfcol_contact *rec;
+    size_t n;
+    selfcol_contacts_data(s->reach_set, &rec, &n);
+    size_t direct = 0, ef = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t kind_bit = 1u << rec[i].kind;
+        if ((s->kinds & kind_bit) && rec[i].kind != SELFCOL_CONTACT_EF)
+            direct++;
+        if (s->kinds & SELFCOL_KIND_EF)
+            ef += ef_bound(mesh, &rec[i]);
+    }
+    if (direct + ef < direct || direct + ef > SIZE_MAX / sizeof(near_pair))
+        return SELFCOL_ENOMEM;
+    if (reserve(&s->allocator, &s->pairs, (direct + ef) * sizeof(near_pair)) != SELFCOL_OK ||
+        reserve(&s->allocator, &s->scratch, ef * sizeof(near_pair)) != SELFCOL_OK)
+        return SELFCOL_ENOMEM;
+    near_pair *list = s->pairs.data;
+    size_t count = 0;
+    // VF then EE, in the records' order (kind first, so already sorted).
+    for (size_t i = 0; i < n; ++i) {
+        const selfcol_contact *r = &rec[i];
+        if (r->kind != SELFCOL_CONTACT_EF && (s->kinds & (1u << r->kind)))
+            list[count++] =
+                (near_pair){tag_of(r->kind, r->first_mesh, r->second_mesh), r->first, r->second};
+    }
+    if (s->kinds & SELFCOL_KIND_EF) {
+        near_pair *cand = s->scratch.data;
+        size_t m = 0;
+        for (size_t i = 0; i < n; ++i)
+            m += ef_candidates(s, mesh, &rec[i], cand + m);
+        // A rebuild happens once per many frames; a comparator sort here costs
+        // far less than the rebuild's query.
+        qsort(cand, m, sizeof *cand, ef_less);
+        for (size_t i = 0; i < m; ++i)
+            if (i == 0 || ef_less(&cand[i], &cand[i - 1]) != 0)
+                list[count++] = cand[i];
+    }
+    s->pair_count = count;
+    return SELFCOL_OK;
+}
+
+// ---------------------------------------------------------------------------
+// Evaluation of the near list at the current positions
+
+typedef struct evaluation {
+    const selfcol_sequence *s;
+    selfcol_query base;
+    selfcol_contacts *out[SELFCOL_MAX_THREADS];
+    unsigned workers;
+} evaluation;
+
+static int evaluate_range(const evaluation *e, selfcol_contacts *out, size_t begin, size_t end) {
+    selfcol_query q = e->base;
+    q.out = out;
+    const near_pair *list = e->s->pairs.data;
+    const double d = q.distance;
+    int status = SELFCOL_OK;
+    for (size_t i = begin; i < end && status == SELFCOL_OK; ++i) {
+        const near_pair *p = &list[i];
+        const uint32_t kind = p->tag >> 2;
+        const int m1 = (int)((p->tag >> 1) & 1u), m2 = (int)(p->tag & 1u);
+        const selfcol_mesh *M1 = q.mesh[m1], *M2 = q.mesh[m2];
+        out->stats.candidate_pairs++;
+        // The exhaustive reference's box filters (exhaustive.c), then the
+        // same primitive tests as every method.
+        double lo[3], hi[3], plo[3], phi[3];
+        if (kind == SELFCOL_CONTACT_VF) {
+            const uint32_t *tri = M2->triangles + 3 * (size_t)p->second;
+            const double *c[3] = {selfcol_mesh__position(M2, tri[0]),
+                                  selfcol_mesh__position(M2, tri[1]),
+                                  selfcol_mesh__position(M2, tri[2])};
+            selfcol_box__of_points(lo, hi, c, 3);
+            if (!selfcol_box__point_near(selfcol_mesh__position(M1, p->first), lo, hi, d)) {
+                out->stats.primitives_filtered++;
+                continue;
+            }
+            status = selfcol_pairs__test_vf(&q, m1, p->first, m2, p->second);
+        } else {
+            const uint32_t *ev = M1->edges + 2 * (size_t)p->first;
+            const double *pe[2] = {selfcol_mesh__position(M1, ev[0]),
+                                   selfcol_mesh__position(M1, ev[1])};
+            selfcol_box__of_points(plo, phi, pe, 2);
+            if (kind == SELFCOL_CONTACT_EE) {
+                const uint32_t *fv = M2->edges + 2 * (size_t)p->second;
+                const double *pf[2] = {selfcol_mesh__position(M2, fv[0]),
+                                       selfcol_mesh__position(M2, fv[1])};
+                selfcol_box__of_points(lo, hi, pf, 2);
+                if (!selfcol_box__near(plo, phi, lo, hi, d)) {
+                    out->stats.primitives_filtered++;
+                    continue;
+                }
+                status = selfcol_pairs__test_ee(&q, m1, p->first, m2, p->second);
+            } else {
+                const uint32_t *tri = M2->triangles + 3 * (size_t)p->second;
+                const double *c[3] = {selfcol_mesh__position(M2, tri[0]),
+                                      selfcol_mesh__position(M2, tri[1]),
+                                      selfcol_mesh__position(M2, tri[2])};
+                selfcol_box__of_points(lo, hi, c, 3);
+                if (!selfcol_box__near(plo, phi, lo, hi, 0.0)) {
+                    out->stats.primitives_filtered++;
+                    continue;
+                }
+                status = selfcol_pairs__test_ef(&q, m1, p->first, m2, p->second);
+            }
+        }
+    }
+    return status;
+}
+
+static int evaluate_worker(void *context, unsigned w) {
+    const evaluation *e = context;
+    const size_t n = e->s->pair_count;
+    const size_t begin = n * w / e->workers, end = n * (w + 1) / e->workers;
+    return evaluate_range(e, e->out[w], begin, end);
+}
+
+// The near list's records at the current positions, in order, into out.
+static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
+                    const selfcol_query_options *o, selfcol_contacts *out) {
+    evaluation e;
+    e.s = s;
+    e.base.mesh[0] = mesh[0];
+    e.base.mesh[1] = mesh[1];
+    e.base.self = s->self;
+    e.base.distance = o->distance;
+    e.base.kinds = o->kinds;
+    e.base.narrow = o->narrow;
+    e.base.ccd_tolerance = 1e-7 * o->distance; // as query.c
+    e.base.out = out;
+    // Below a few thousand pairs a thread costs more than it saves.
+    unsigned workers = o->threads;
+    const size_t per_worker = 4096;
+    if (s->pair_count / per_worker + 1 < workers)
+        workers = (unsigned)(s->pair_count / per_worker + 1);
+    e.workers = workers;
+    e.out[0] = out;
+    for (unsigned w = 1; w < workers; ++w) {
+        e.out[w] = selfcol_workspace__worker(&out->work, w);
+        if (e.out[w] == NULL)
+            return SELFCOL_ENOMEM;
+    }
+    int status = workers > 1 ? selfcol_parallel__run(workers, evaluate_worker, &e)
+                             : evaluate_range(&e, out, 0, s->pair_count);
+    // Each worker took a contiguous run of the list: appended in worker
+    // order, the records stay sorted.
+    for (unsigned w = 1; w < workers && status == SELFCOL_OK; ++w)
+        status = selfcol_contacts__absorb(out, e.out[w]);
+    return status;
+}
+
+// ---------------------------------------------------------------------------
+// Queries
+
+static double automatic_skin(double distance, const selfcol_mesh *const mesh[2], int self) {
+    if (distance > 0.0)
+        return distance;
+    double sum = selfcol_mesh_mean_edge_length(mesh[0]);
+    if (!self)
+        sum = 0.5 * (sum + selfcol_mesh_mean_edge_length(mesh[1]));
+    return 0.1 * sum;
+}
+
+static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                   const selfcol_query_options *o) {
+    const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
+    s->built = 0;
+    s->self = h[0] == h[1];
+    const int meshes = s->self ? 1 : 2;
+    for (int m = 0; m < 2; ++m)
+        s->identity[m] = mesh[m]->identity;
+    s->distance = o->distance;
+    s->kinds = o->kinds;
+    s->narrow = o->narrow;
+    s->method = o->method;
+    double skin =
+        s->skin_option > 0.0 ? s->skin_option : automatic_skin(o->distance, mesh, s->self);
+    double reach = o->distance + skin;
+    if (!(reach <= SELFCOL_MESH_MAX_COORDINATE))
+        reach = SELFCOL_MESH_MAX_COORDINATE;
+    s->skin = reach - o->distance;
+    s->reach = reach;
+
+    // The reach set: the caller's exact method at distance R, closed forms
+    // (libccd's distances are approximate), every kind the list needs.
+    for (int m = 0; m < meshes; ++m) {
+        if (o->method != SELFCOL_METHOD_EXHAUSTIVE &&
+            h[m]->refit_version != mesh[m]->positions_version) {
+            int status = selfcol_hierarchy_refit(h[m]);
+            if (status != SELFCOL_OK)
+                return status;
+        }
+    }
+    selfcol_query_options r = *o;
+    r.distance = reach;
+    r.narrow = SELFCOL_NARROW_CLOSED_FORM;
+    if (o->kinds & SELFCOL_KIND_EF)
+        r.kinds = SELFCOL_KIND_ALL;
+    int status = s->self ? selfcol_hierarchy_self_collide(h[0], s->reach_set, &r)
+                         : selfcol_hierarchy_collide(h[0], h[1], s->reach_set, &r);
+    if (status == SELFCOL_OK)
+        status = build_list(s, mesh);
+    size_t stamp_bytes = 0;
+    for (int m = 0; m < meshes && status == SELFCOL_OK; ++m) {
+        const size_t V = mesh[m]->vertex_count;
+        stamp_bytes = V * sizeof(uint32_t) > stamp_bytes ? V * sizeof(uint32_t) : stamp_bytes;
+        status = reserve(&s->allocator, &s->reference[m], 3 * V * sizeof(double));
+        if (status == SELFCOL_OK)
+            memcpy(s->reference[m].data, mesh[m]->positions, 3 * V * sizeof(double));
+    }
+    // The EF candidates are consumed: the scratch buffer now holds stamps.
+    if (status == SELFCOL_OK)
+        status = reserve(&s->allocator, &s->scratch, stamp_bytes);
+    for (int m = 0; m < meshes && status == SELFCOL_OK; ++m)
+        status = build_clusters(s, m, h[m], s->scratch.data);
+    s->built = status == SELFCOL_OK;
+    return status;
+}
+
+static int same_setup(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                      const selfcol_query_options *o) {
+    return s->built && s->self == (h[0] == h[1]) && selfcol_mesh__is(h[0]->mesh, &s->identity[0]) &&
+           selfcol_mesh__is(h[1]->mesh, &s->identity[1]) && s->distance == o->distance &&
+           s->kinds == o->kinds && s->narrow == o->narrow && s->method == o->method;
+}
+
+static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy *second,
+               selfcol_contacts *contacts, const selfcol_query_options *given) {
+    SELFCOL_CHECK(s != NULL && first != NULL && second != NULL && contacts != NULL);
+    selfcol_query_options o;
+    int status = selfcol_query__options(&o, given);
+    if (status != SELFCOL_OK)
+        return status;
+    SELFCOL_CHECK(o.method == SELFCOL_METHOD_EXACT || o.method == SELFCOL_METHOD_BVH ||
+                  o.method == SELFCOL_METHOD_EXHAUSTIVE);
+    if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||
+        !selfcol_mesh__is(second->mesh, &second->mesh_identity))
+        return SELFCOL_EMISMATCH;
+    selfcol_hierarchy *const h[2] = {first, second};
+    const selfcol_mesh *const mesh[2] = {first->mesh, second->mesh};
+
+    const double start = selfcol_core__seconds();
+    selfcol_contacts_clear(contacts);
+    double ratio = 0.0;
+    uint32_t reason = 0;
+    int reuse = same_setup(s, h, &o);
+    if (s->built && !reuse)
+        reason = 1;
+    if (reuse && !deformation_allows(s, mesh, &ratio)) {
+        reuse = 0;
+        reason = 2;
+    }
+    double rebuild_seconds = 0.0;
+    if (!reuse) {
+        status = rebuild(s, h, &o);
+        rebuild_seconds = selfcol_core__seconds() - start;
+        ratio = 0.0;
+    }
+    const double narrow_start = selfcol_core__seconds();
+    if (status == SELFCOL_OK)
+        status = evaluate(s, mesh, &o, contacts);
+    const double end = selfcol_core__seconds();
+    if (status != SELFCOL_OK) {
+        s->built = 0;
+        selfcol_contacts_clear(contacts);
+        return status;
+    }
+    contacts->stats.broad_seconds = narrow_start - start;
+    contacts->stats.narrow_seconds = end - narrow_start;
+    contacts->stats.total_seconds = end - start;
+    s->stats.frames++;
+    s->stats.last_rebuilt = !reuse;
+    if (!reuse) {
+        s->stats.rebuilds++;
+        s->stats.rebuild_reason = reason;
+        s->stats.rebuild_seconds = rebuild_seconds;
+    }
+    s->stats.near_pairs = s->pair_count;
+    s->stats.skin = s->skin;
+    s->stats.deformation_ratio = ratio;
+    return SELFCOL_OK;
+}
+
+int selfcol_sequence_self_collide(selfcol_sequence *sequence, selfcol_hierarchy *hierarchy,
+                                  selfcol_contacts *contacts, const selfcol_query_options *opts) {
+    return run(sequence, hierarchy, hierarchy, contacts, opts);
+}
+
+int selfcol_sequence_collide(selfcol_sequence *sequence, selfcol_hierarchy *first,
+                             selfcol_hierarchy *second, selfcol_contacts *contacts,
+                             const selfcol_query_options *opts) {
+    SELFCOL_CHECK(first != NULL && second != NULL && first->mesh != second->mesh);
+    return run(sequence, first, second, contacts, opts);
+}

@@ -1,0 +1,522 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Coherent queries (include/selfcol/sequence.h): on every frame of several
+// sequences (slow crumpling, rigid jumps, rotations, resets, two surfaces
+// approaching, changed options) the sequence's records equal a fresh query's
+// bit for bit, and the fresh EXACT query is checked against EXHAUSTIVE on
+// some of those frames too; the reuse actually happens where the proof
+// allows it; bad input and allocation failure are refused cleanly.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <selfcol/selfcol.h>
+
+#include "fixtures.h"
+#include "test_alloc.h"
+
+// First difference between two record arrays, or -1 when equal bit for bit.
+static long first_difference(const selfcol_contact *a, size_t na, const selfcol_contact *b,
+                             size_t nb) {
+    size_t n = na < nb ? na : nb;
+    for (size_t i = 0; i < n; ++i)
+        if (memcmp(&a[i], &b[i], sizeof a[i]) != 0)
+            return (long)i;
+    return na == nb ? -1 : (long)n;
+}
+
+static void assert_same_records(const selfcol_contacts *got, const selfcol_contacts *want,
+                                const char *where, int frame) {
+    const selfcol_contact *a, *b;
+    size_t na, nb;
+    assert_int_equal(selfcol_contacts_data(got, &a, &na), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_data(want, &b, &nb), SELFCOL_OK);
+    long diff = first_difference(a, na, b, nb);
+    if (diff >= 0)
+        print_error("%s frame %d: %zu records against the fresh query's %zu, first "
+                    "difference at %ld\n",
+                    where, frame, na, nb, diff);
+    assert_int_equal(diff, -1);
+    selfcol_query_stats sa, sb;
+    memset(&sa, 0, sizeof sa);
+    memset(&sb, 0, sizeof sb);
+    sa.version = sb.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(got, &sa), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_stats(want, &sb), SELFCOL_OK);
+    assert_int_equal(sa.vf_contacts, sb.vf_contacts);
+    assert_int_equal(sa.ee_contacts, sb.ee_contacts);
+    assert_int_equal(sa.ef_contacts, sb.ef_contacts);
+}
+
+// A surface and two hierarchies: `fresh` refit every frame for the
+// reference queries, `coherent` left to the sequence (never refit here).
+typedef struct rig {
+    selfcol_mesh *mesh;
+    selfcol_hierarchy *fresh, *coherent;
+} rig;
+
+static void rig_make(rig *r, const fixture *f) {
+    assert_int_equal(selfcol_mesh_create(&r->mesh, f->vertex_count, f->positions, f->triangle_count,
+                                         f->triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&r->fresh, r->mesh, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&r->coherent, r->mesh, NULL), SELFCOL_OK);
+}
+
+static void rig_free(rig *r) {
+    selfcol_hierarchy_destroy(r->fresh);
+    selfcol_hierarchy_destroy(r->coherent);
+    selfcol_mesh_destroy(r->mesh);
+}
+
+static void rig_move(rig *r, const double *positions, size_t n) {
+    assert_int_equal(selfcol_mesh_set_positions(r->mesh, positions, n), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_refit(r->fresh), SELFCOL_OK);
+}
+
+static selfcol_query_options query_options(uint32_t method, double distance, uint32_t kinds,
+                                           unsigned threads) {
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.method = method;
+    o.distance = distance;
+    o.kinds = kinds;
+    o.threads = threads;
+    return o;
+}
+
+// One frame of a self sequence against the fresh query (and, when asked,
+// the fresh query against EXHAUSTIVE).
+static void check_self_frame(rig *r, selfcol_sequence *seq, selfcol_contacts *got,
+                             selfcol_contacts *want, const selfcol_query_options *o, int exhaustive,
+                             const char *where, int frame) {
+    assert_int_equal(selfcol_sequence_self_collide(seq, r->coherent, got, o), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_self_collide(r->fresh, want, o), SELFCOL_OK);
+    assert_same_records(got, want, where, frame);
+    if (exhaustive) {
+        selfcol_query_options e = *o;
+        e.method = SELFCOL_METHOD_EXHAUSTIVE;
+        e.threads = 1;
+        assert_int_equal(selfcol_hierarchy_self_collide(r->fresh, want, &e), SELFCOL_OK);
+        assert_same_records(got, want, where, frame);
+    }
+}
+
+static selfcol_sequence_run_stats run_stats(const selfcol_sequence *seq) {
+    selfcol_sequence_run_stats st;
+    memset(&st, 0, sizeof st);
+    st.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
+    assert_int_equal(selfcol_sequence_stats(seq, &st), SELFCOL_OK);
+    return st;
+}
+
+// x = flat + a (crumpled - flat): the crumple's amplitude grows with a.
+static void blend(double *out, const fixture *flat, const fixture *crumpled, double a) {
+    for (size_t i = 0; i < 3 * flat->vertex_count; ++i)
+        out[i] = flat->positions[i] + a * (crumpled->positions[i] - flat->positions[i]);
+}
+
+// A sheet crumpling slowly until it folds onto itself and crosses, frame
+// after frame, for each kind mask, method and thread count.
+static void run_crumpling(uint32_t method, uint32_t kinds, unsigned threads, double skin) {
+    fixture flat = {0}, crumpled = {0};
+    assert_int_equal(fixture_grid(&flat, 24, 24, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&crumpled, 24, 24, 7, 3.0), 0);
+    assert_int_equal(flat.vertex_count, crumpled.vertex_count);
+    assert_memory_equal(flat.triangles, crumpled.triangles,
+                        3 * flat.triangle_count * sizeof(uint32_t));
+    const size_t V = flat.vertex_count;
+    double *x = malloc(3 * V * sizeof *x);
+    assert_non_null(x);
+    rig r;
+    rig_make(&r, &flat);
+    selfcol_sequence_options so;
+    selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    so.skin = skin;
+    selfcol_sequence *seq;
+    assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_OK);
+    selfcol_contacts *got, *want;
+    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    const selfcol_query_options o = query_options(method, 0.1, kinds, threads);
+    const int frames = 80;
+    uint64_t contacts_seen = 0;
+    for (int k = 0; k <= frames; ++k) {
+        // The crumple from 60 % to 80 % of its amplitude: folded, crossing,
+        // each vertex moving about a hundredth of an edge per frame.
+        blend(x, &flat, &crumpled, 0.6 + 0.2 * k / frames);
+        rig_move(&r, x, V);
+        check_self_frame(&r, seq, got, want, &o, k % 20 == 0, "crumpling", k);
+        contacts_seen += selfcol_contacts_count(got);
+    }
+    // The sheet folds and crosses: the sequence had something to find.
+    assert_true(contacts_seen > 0);
+    // Small steps: most frames come from the near list.
+    selfcol_sequence_run_stats st = run_stats(seq);
+    assert_int_equal(st.frames, frames + 1);
+    print_message("      %s: %llu frames, %llu rebuilds, %llu near pairs\n", __func__,
+                  (unsigned long long)st.frames, (unsigned long long)st.rebuilds,
+                  (unsigned long long)st.near_pairs);
+    assert_true(st.rebuilds * 3 < st.frames);
+    assert_true(st.skin > 0.0);
+
+    selfcol_contacts_destroy(got);
+    selfcol_contacts_destroy(want);
+    selfcol_sequence_destroy(seq);
+    rig_free(&r);
+    free(x);
+    fixture_free(&flat);
+    fixture_free(&crumpled);
+}
+
+static void sequence__crumpling_sheet_equals_fresh_exact(void **state) {
+    (void)state;
+    run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_ALL, 1, 0.0);
+}
+
+static void sequence__crumpling_sheet_equals_fresh_bvh_two_threads(void **state) {
+    (void)state;
+    run_crumpling(SELFCOL_METHOD_BVH, SELFCOL_KIND_ALL, 2, 0.0);
+}
+
+static void sequence__each_kind_alone_equals_fresh(void **state) {
+    (void)state;
+    run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_VF, 1, 0.0);
+    run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_EE, 1, 0.0);
+    run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_EF, 1, 0.0);
+}
+
+static void sequence__a_wider_skin_equals_fresh(void **state) {
+    (void)state;
+    run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_ALL, 1, 0.4);
+}
+
+// Interferences only (d = 0): the automatic skin is a tenth of an edge.
+static void sequence__zero_distance_equals_fresh(void **state) {
+    (void)state;
+    fixture flat = {0}, crumpled = {0};
+    assert_int_equal(fixture_grid(&flat, 20, 20, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&crumpled, 20, 20, 3, 3.0), 0);
+    const size_t V = flat.vertex_count;
+    double *x = malloc(3 * V * sizeof *x);
+    assert_non_null(x);
+    rig r;
+    rig_make(&r, &flat);
+    selfcol_sequence *seq;
+    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
+    selfcol_contacts *got, *want;
+    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.0, SELFCOL_KIND_ALL, 1);
+    uint64_t crossings = 0;
+    for (int k = 0; k <= 60; ++k) {
+        blend(x, &flat, &crumpled, k / 60.0);
+        rig_move(&r, x, V);
+        check_self_frame(&r, seq, got, want, &o, k % 30 == 0, "zero distance", k);
+        crossings += selfcol_contacts_count(got);
+    }
+    assert_true(crossings > 0);
+    selfcol_sequence_run_stats st = run_stats(seq);
+    assert_true(fabs(st.skin - 0.1 * selfcol_mesh_mean_edge_length(r.mesh)) <= 0.05 * st.skin);
+    selfcol_contacts_destroy(got);
+    selfcol_contacts_destroy(want);
+    selfcol_sequence_destroy(seq);
+    rig_free(&r);
+    free(x);
+    fixture_free(&flat);
+    fixture_free(&crumpled);
+}
+
+static void rotate_z(double *x, size_t V, double angle) {
+    const double c = cos(angle), s = sin(angle);
+    for (size_t v = 0; v < V; ++v) {
+        const double a = x[3 * v], b = x[3 * v + 1];
+        x[3 * v] = c * a - s * b;
+        x[3 * v + 1] = s * a + c * b;
+    }
+}
+
+// Jumps: a rigid translation keeps the near list (the deformation is 0); a
+// quarter turn, a reset to the flat sheet and a return to the folded one
+// rebuild; every frame equals the fresh query.
+static void sequence__jumps_rebuild_or_reuse_as_proven(void **state) {
+    (void)state;
+    fixture base = {0};
+    assert_int_equal(fixture_crumpled(&base, 20, 20, 11, 2.5), 0);
+    fixture flat = {0};
+    assert_int_equal(fixture_grid(&flat, 20, 20, 1.0), 0);
+    const size_t V = base.vertex_count;
+    double *x = malloc(3 * V * sizeof *x);
+    assert_non_null(x);
+    rig r;
+    rig_make(&r, &base);
+    selfcol_sequence *seq;
+    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
+    selfcol_contacts *got, *want;
+    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+
+    memcpy(x, base.positions, 3 * V * sizeof *x);
+    rig_move(&r, x, V);
+    check_self_frame(&r, seq, got, want, &o, 1, "jump start", 0);
+    assert_true(selfcol_contacts_count(got) > 0);
+    selfcol_sequence_run_stats st = run_stats(seq);
+    assert_int_equal(st.last_rebuilt, 1);
+    assert_int_equal(st.rebuild_reason, 0);
+
+    // Teleport by a rigid translation of 1000 edges: no rebuild.
+    for (size_t v = 0; v < V; ++v) {
+        x[3 * v] += 1000.0;
+        x[3 * v + 1] -= 250.0;
+        x[3 * v + 2] += 62.5;
+    }
+    rig_move(&r, x, V);
+    check_self_frame(&r, seq, got, want, &o, 0, "translated", 1);
+    st = run_stats(seq);
+    assert_int_equal(st.last_rebuilt, 0);
+    assert_true(st.deformation_ratio < 1.0);
+
+    // A quarter turn moves points relative to each other: rebuild.
+    rotate_z(x, V, 1.5707963267948966);
+    rig_move(&r, x, V);
+    check_self_frame(&r, seq, got, want, &o, 1, "rotated", 2);
+    st = run_stats(seq);
+    assert_int_equal(st.last_rebuilt, 1);
+    assert_int_equal(st.rebuild_reason, 2);
+
+    // Reset to the flat sheet (nothing near), then back to the fold.
+    rig_move(&r, flat.positions, V);
+    check_self_frame(&r, seq, got, want, &o, 1, "reset", 3);
+    assert_int_equal(run_stats(seq).last_rebuilt, 1);
+    rig_move(&r, base.positions, V);
+    check_self_frame(&r, seq, got, want, &o, 1, "folded again", 4);
+    assert_int_equal(run_stats(seq).last_rebuilt, 1);
+    // The same positions again: answered from the list.
+    check_self_frame(&r, seq, got, want, &o, 0, "still", 5);
+    assert_int_equal(run_stats(seq).last_rebuilt, 0);
+
+    // Other options rebuild (reason 1), and still equal the fresh query.
+    const selfcol_query_options o2 =
+        query_options(SELFCOL_METHOD_BVH, 0.05, SELFCOL_KIND_VF | SELFCOL_KIND_EF, 1);
+    check_self_frame(&r, seq, got, want, &o2, 1, "options", 6);
+    st = run_stats(seq);
+    assert_int_equal(st.last_rebuilt, 1);
+    assert_int_equal(st.rebuild_reason, 1);
+    // Reset forgets everything.
+    selfcol_sequence_reset(seq);
+    check_self_frame(&r, seq, got, want, &o2, 0, "after reset", 7);
+    st = run_stats(seq);
+    assert_int_equal(st.frames, 1);
+    assert_int_equal(st.rebuild_reason, 0);
+
+    selfcol_contacts_destroy(got);
+    selfcol_contacts_destroy(want);
+    selfcol_sequence_destroy(seq);
+    rig_free(&r);
+    free(x);
+    fixture_free(&base);
+    fixture_free(&flat);
+}
+
+// Two surfaces: a crumpled sheet sinking slowly through a flat one.
+static void sequence__two_surfaces_equal_fresh(void **state) {
+    (void)state;
+    fixture a = {0}, b = {0};
+    assert_int_equal(fixture_grid(&a, 16, 16, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&b, 16, 16, 5, 1.0), 0);
+    const double lift[3] = {0.3, 0.2, 2.5};
+    fixture_translate(&b, lift);
+    rig ra, rb;
+    rig_make(&ra, &a);
+    rig_make(&rb, &b);
+    const size_t V = b.vertex_count;
+    double *x = malloc(3 * V * sizeof *x);
+    assert_non_null(x);
+    selfcol_sequence *seq;
+    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
+    selfcol_contacts *got, *want;
+    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    uint64_t seen = 0;
+    for (int k = 0; k <= 60; ++k) {
+        memcpy(x, b.positions, 3 * V * sizeof *x);
+        for (size_t v = 0; v < V; ++v)
+            x[3 * v + 2] -= 0.06 * k;
+        rig_move(&rb, x, V);
+        assert_int_equal(selfcol_sequence_collide(seq, ra.coherent, rb.coherent, got, &o),
+                         SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_collide(ra.fresh, rb.fresh, want, &o), SELFCOL_OK);
+        assert_same_records(got, want, "two surfaces", k);
+        if (k % 20 == 0) {
+            selfcol_query_options e = o;
+            e.method = SELFCOL_METHOD_EXHAUSTIVE;
+            assert_int_equal(selfcol_hierarchy_collide(ra.fresh, rb.fresh, want, &e), SELFCOL_OK);
+            assert_same_records(got, want, "two surfaces (exhaustive)", k);
+        }
+        seen += selfcol_contacts_count(got);
+    }
+    assert_true(seen > 0);
+    // The other surface stays still: the motion relative to it counts, so
+    // the list is rebuilt now and then, not every frame.
+    selfcol_sequence_run_stats st = run_stats(seq);
+    assert_true(st.rebuilds > 1 && st.rebuilds < st.frames);
+    selfcol_contacts_destroy(got);
+    selfcol_contacts_destroy(want);
+    selfcol_sequence_destroy(seq);
+    rig_free(&ra);
+    rig_free(&rb);
+    free(x);
+    fixture_free(&a);
+    fixture_free(&b);
+}
+
+static void sequence__refuses_bad_input(void **state) {
+    (void)state;
+    selfcol_sequence_options so;
+    assert_int_equal(selfcol_sequence_options_init(NULL, 1), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_sequence_options_init(&so, 0), SELFCOL_EVERSION);
+    assert_int_equal(selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION + 1),
+                     SELFCOL_EVERSION);
+    assert_int_equal(selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION),
+                     SELFCOL_OK);
+    assert_true(so.skin == 0.0);
+    selfcol_sequence *seq = (selfcol_sequence *)&so;
+    assert_int_equal(selfcol_sequence_create(NULL, &so), SELFCOL_EINVAL);
+    so.skin = -1.0;
+    assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_EINVAL);
+    assert_null(seq);
+    so.skin = NAN;
+    assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_EINVAL);
+    so.skin = INFINITY;
+    assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_EINVAL);
+    so.skin = 0.0;
+    so.version = 0;
+    assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_EVERSION);
+    so.version = SELFCOL_SEQUENCE_OPTIONS_VERSION;
+
+    fixture f = {0};
+    assert_int_equal(fixture_crumpled(&f, 8, 8, 1, 2.0), 0);
+    rig r, r2;
+    rig_make(&r, &f);
+    rig_make(&r2, &f);
+    selfcol_contacts *c;
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_OK);
+    selfcol_query_options o = query_options(SELFCOL_METHOD_SEED, 0.1, SELFCOL_KIND_ALL, 1);
+    // SEED and CONE are approximate: no coherent answer for them.
+    assert_int_equal(selfcol_sequence_self_collide(seq, r.coherent, c, &o), SELFCOL_EINVAL);
+    o.method = SELFCOL_METHOD_CONE;
+    assert_int_equal(selfcol_sequence_self_collide(seq, r.coherent, c, &o), SELFCOL_EINVAL);
+    o.method = SELFCOL_METHOD_EXACT;
+    o.distance = NAN;
+    assert_int_equal(selfcol_sequence_self_collide(seq, r.coherent, c, &o), SELFCOL_EINVAL);
+    o.distance = 0.1;
+    assert_int_equal(selfcol_sequence_self_collide(NULL, r.coherent, c, &o), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_sequence_self_collide(seq, NULL, c, &o), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_sequence_self_collide(seq, r.coherent, NULL, &o), SELFCOL_EINVAL);
+    // Two hierarchies of one mesh are not two surfaces.
+    assert_int_equal(selfcol_sequence_collide(seq, r.coherent, r.fresh, c, &o), SELFCOL_EINVAL);
+    // Nothing was answered.
+    assert_int_equal(run_stats(seq).frames, 0);
+    selfcol_sequence_run_stats st;
+    st.version = 0;
+    assert_int_equal(selfcol_sequence_stats(seq, &st), SELFCOL_EVERSION);
+    assert_int_equal(selfcol_sequence_stats(NULL, &st), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_sequence_byte_count(NULL), 0);
+    selfcol_sequence_destroy(NULL);
+    selfcol_sequence_reset(NULL);
+    // NULL options: the defaults (EXACT, d = 0), as the fresh query's.
+    selfcol_contacts *want;
+    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_sequence_self_collide(seq, r.coherent, c, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_self_collide(r.fresh, want, NULL), SELFCOL_OK);
+    assert_same_records(c, want, "defaults", 0);
+    assert_true(selfcol_sequence_byte_count(seq) > sizeof(double) * 3 * f.vertex_count);
+    selfcol_contacts_destroy(want);
+    selfcol_contacts_destroy(c);
+    selfcol_sequence_destroy(seq);
+    rig_free(&r);
+    rig_free(&r2);
+    fixture_free(&f);
+}
+
+// Out of memory at every allocation of creation and of the first (rebuild)
+// and second queries: ENOMEM, nothing leaked, and the next query with memory
+// answers right.
+static void sequence__allocation_failure_is_clean(void **state) {
+    (void)state;
+    fixture f = {0};
+    assert_int_equal(fixture_crumpled(&f, 10, 10, 2, 2.5), 0);
+    rig r;
+    rig_make(&r, &f);
+    selfcol_contacts *c, *want;
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_refit(r.fresh), SELFCOL_OK);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    assert_int_equal(selfcol_hierarchy_self_collide(r.fresh, want, &o), SELFCOL_OK);
+    assert_true(selfcol_contacts_count(want) > 0);
+    int failures = 0;
+    for (long fail = 1;; ++fail) {
+        test_allocator_state st;
+        memset(&st, 0, sizeof st);
+        selfcol_sequence_options so;
+        selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+        so.allocator = test_allocator(&st);
+        st.fail_at = fail;
+        selfcol_sequence *seq = NULL;
+        int status = selfcol_sequence_create(&seq, &so);
+        if (status == SELFCOL_OK) {
+            status = selfcol_sequence_self_collide(seq, r.coherent, c, &o);
+            if (status == SELFCOL_ENOMEM) {
+                assert_int_equal(selfcol_contacts_count(c), 0);
+                st.fail_at = 0;
+                assert_int_equal(selfcol_sequence_self_collide(seq, r.coherent, c, &o), SELFCOL_OK);
+                assert_same_records(c, want, "after ENOMEM", (int)fail);
+            } else {
+                assert_int_equal(status, SELFCOL_OK);
+                assert_same_records(c, want, "no failure", (int)fail);
+            }
+            selfcol_sequence_destroy(seq);
+        } else {
+            assert_int_equal(status, SELFCOL_ENOMEM);
+            assert_null(seq);
+        }
+        assert_int_equal(st.live, 0);
+        assert_false(st.misaligned);
+        if (st.calls < fail)
+            break; // every allocation has failed once
+        failures++;
+    }
+    assert_true(failures >= 3);
+    selfcol_contacts_destroy(c);
+    selfcol_contacts_destroy(want);
+    rig_free(&r);
+    fixture_free(&f);
+}
+
+int main(void) {
+    const struct CMUnitTest sequence[] = {
+        cmocka_unit_test(sequence__crumpling_sheet_equals_fresh_exact),
+        cmocka_unit_test(sequence__crumpling_sheet_equals_fresh_bvh_two_threads),
+        cmocka_unit_test(sequence__each_kind_alone_equals_fresh),
+        cmocka_unit_test(sequence__a_wider_skin_equals_fresh),
+        cmocka_unit_test(sequence__zero_distance_equals_fresh),
+        cmocka_unit_test(sequence__jumps_rebuild_or_reuse_as_proven),
+        cmocka_unit_test(sequence__two_surfaces_equal_fresh),
+        cmocka_unit_test(sequence__refuses_bad_input),
+        cmocka_unit_test(sequence__allocation_failure_is_clean),
+    };
+    return cmocka_run_group_tests_name("sequence", sequence, NULL, NULL);
+}
