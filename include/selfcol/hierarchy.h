@@ -77,7 +77,7 @@ SELFCOL_API const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *
 /**
  * Recomputes the bounding boxes, direction masks and normal cones from the
  * mesh's current positions (after selfcol_mesh_set_positions()). O(n), no
- * allocation. Queries with a hierarchy method (BVH, SEED, CONE) on a
+ * allocation. Queries with a hierarchy method (BVH, SEED, CONE, EXACT) on a
  * hierarchy whose mesh moved since the last refit return SELFCOL_ESTALE.
  * @param[in,out] hierarchy the hierarchy
  * @return SELFCOL_OK; SELFCOL_EINVAL for NULL; SELFCOL_EMISMATCH (the mesh

@@ -721,13 +721,13 @@ def test_continuous():
     check('2 step(s): 1 with colliding pairs' in out, 'summary: %r' % out)
     check('COLLIDES WITHIN A STEP' in out, 'result line: %r' % out)
     rows = open(csv).read().splitlines()
-    check(rows[0] == 'step_from,step_to,kind,first,second,toi,flags', 'header %r' % rows[0])
+    check(rows[0] == 'step_from,step_to,kind,i0,i1,i2,i3,toi,flags', 'header %r' % rows[0])
     check(len(rows) == 2, 'expected one colliding pair, got %r' % rows[1:])
     f = rows[1].split(',')
-    check(f[:5] == ['1', '2', 'VF', '3', '0'], 'row %r' % rows[1])
-    toi = float(f[5])
+    check(f[:7] == ['1', '2', 'VF', '3', '0', '', ''], 'row %r' % rows[1])
+    toi = float(f[7])
     check(0.5 - 1e-4 <= toi <= 0.5, 'time of impact %r, expected just at or before 0.5' % toi)
-    check(f[6] == '0', 'flags %r' % f[6])
+    check(f[8] == '0', 'flags %r' % f[8])
     # The same frames, discretely: nothing near at frames 0 and 1 (0.3 from
     # T, beyond d), frame 2 intersecting.
     _, out, _ = run('check', '--frames', *paths, '--distance', '0.1', expect=1)
@@ -741,7 +741,7 @@ def test_continuous():
     run('check', '--continuous', '--range', '0:1', pattern, '--distance', '0.35',
         '--csv', csv, expect=1)
     rows = open(csv).read().splitlines()
-    check(rows[1:] == ['0,1,VF,3,0,0,1', '0,1,VF,6,0,0,1'], 'initial contact rows %r' % rows)
+    check(rows[1:] == ['0,1,VF,3,0,,,0,1', '0,1,VF,6,0,,,0,1'], 'initial contact rows %r' % rows)
     # Usage errors: no sequence, or an output it does not write.
     _, _, err = run('check', '--continuous', paths[0], expect=2)
     check('--frames or --range' in err, 'stderr %r' % err)
@@ -776,9 +776,9 @@ def test_continuous_json():
           'first step: %r' % objs[0])
     rows = open(csv).read().splitlines()[1:]
     f = rows[0].split(',')
-    check(objs[1]['vf'] == [[3, 0, float(f[5]), 0]] and objs[1]['ee'] == [],
+    check(objs[1]['vf'] == [[3, 0, float(f[7]), 0]] and objs[1]['ee'] == [],
           'second step: %r, CSV %r' % (objs[1]['vf'], rows))
-    check(objs[1]['free_fraction'] == float(f[5]), 'free fraction %r' % objs[1]['free_fraction'])
+    check(objs[1]['free_fraction'] == float(f[7]), 'free fraction %r' % objs[1]['free_fraction'])
     # Within --distance 0.35 from the start: both lowest vertices at time 0,
     # flag 1 (initial); the exhaustive reference writes the same records.
     objs = {}
@@ -811,8 +811,71 @@ def test_continuous_json():
     check(all(a0 < a1 and b0 < b1 and (a0, a1) < (b0, b1) for a0, a1, b0, b1, _, _ in o['ee']),
           'ee edges are not sorted pairs in ascending order')
     check(o['ee'] == sorted(o['ee']), 'ee is not sorted')
-    check(sorted(x[4] for x in o['ee']) == sorted(float(r[5]) for r in rows if r[2] == 'EE'),
-          'ee times of impact differ from the CSV')
+    # The CSV's rows are the JSON's records (docs/cli.md): VF rows v, t and
+    # EE rows a0, a1, b0, b1 as vertex indices (not the library's edge
+    # numbers), in the JSON's order, with the same times and flags.
+    csv_vf = [[int(r[3]), int(r[4]), float(r[7]), int(r[8])] for r in rows if r[2] == 'VF']
+    csv_ee = [[int(x) for x in r[3:7]] + [float(r[7]), int(r[8])] for r in rows if r[2] == 'EE']
+    check(all(r[5] == r[6] == '' for r in rows if r[2] == 'VF'), 'VF rows fill i2 or i3')
+    check(csv_vf == o['vf'], 'CSV VF rows %r differ from the JSON %r' % (csv_vf[:3], o['vf'][:3]))
+    check(csv_ee == o['ee'], 'CSV EE rows %r differ from the JSON %r' % (csv_ee[:3], o['ee'][:3]))
+    # Each EE row names two edges of the mesh, by their vertices.
+    edges = set()
+    for line in open(flat):
+        if line.startswith('f '):
+            f = [int(x.split('/')[0]) - 1 for x in line.split()[1:]]
+            for i in range(len(f)):
+                edges.add(tuple(sorted((f[i], f[(i + 1) % len(f)]))))
+    check(all((a0, a1) in edges and (b0, b1) in edges for a0, a1, b0, b1, _, _ in csv_ee),
+          'an EE row names a vertex pair that is no edge of the mesh')
+
+
+def test_continuous_methods():
+    """check --continuous --method: bvh (the default, as the continuous
+    query's), exact and exhaustive run the continuous query's method of
+    that name (include/selfcol/sweep.h); seed and cone have no continuous
+    query and are usage errors. On the bundled ribbon flattened in one step
+    (as in test_continuous_json): BVH and EXHAUSTIVE report the same pairs;
+    EXACT only skips pairs BVH would have examined (fewer or as many
+    candidates, its pairs among BVH's); on the spikes it finds the passage
+    VF (3, 0) as the others do."""
+    ribbon = os.path.join(ARGS.source, 'tests', 'data', 'folded_ribbon.obj')
+    flat = work('continuous_methods/flattened.obj')
+    with open(ribbon) as src, open(flat, 'w') as dst:
+        for line in src:
+            if line.startswith('v '):
+                x, y, z = map(float, line.split()[1:4])
+                line = 'v %r %r %r\n' % (x, y, 0.3 * z)
+            dst.write(line)
+    objs = {}
+    for method in (None, 'bvh', 'exact', 'exhaustive'):
+        extra = ('--method', method) if method else ()
+        _, out, err = run('check', '--continuous', '--frames', ribbon, flat, *extra,
+                          '--json', '-', expect=1)
+        o = json.loads(out)
+        want = method or 'bvh'
+        check(o['method'] == want, '--method %s: JSON method %r' % (method, o['method']))
+        check('method %s\n' % want in err, '--method %s: summary %r' % (method, err))
+        objs[method] = o
+    pairs = lambda o: (o['vf'], o['ee'])
+    check(pairs(objs[None]) == pairs(objs['bvh']), 'the default is not bvh')
+    check(pairs(objs['bvh']) == pairs(objs['exhaustive']), 'bvh and exhaustive differ')
+    check(objs['bvh']['counts']['ee'] > 0, 'the ribbon step must collide')
+    check(objs['exact']['stats']['candidates'] <= objs['bvh']['stats']['candidates'],
+          'exact examined more candidates than bvh: %r' % objs['exact']['stats'])
+    check(all(r in objs['bvh']['ee'] for r in objs['exact']['ee']) and
+          all(r in objs['bvh']['vf'] for r in objs['exact']['vf']),
+          'exact reports a pair that bvh does not')
+    paths, _ = write_sequence('continuous_methods', [[3, 3], [3, 3], [-3, 3]])
+    for method in ('bvh', 'exact', 'exhaustive'):
+        _, out, _ = run('check', '--continuous', '--frames', *paths, '--method', method,
+                        '--quiet', '--json', '-', expect=1)
+        o = [json.loads(line) for line in out.splitlines() if line.strip()][1]
+        check([r[:2] for r in o['vf']] == [[3, 0]] and o['ee'] == [],
+              '--method %s: step 1 -> 2 %r' % (method, o))
+    for method in ('seed', 'cone'):
+        _, _, err = run('check', '--continuous', '--frames', *paths, '--method', method, expect=2)
+        check('--continuous has no method %s' % method in err, 'stderr %r' % err)
 
 
 # ---------------------------------------------------------------------------

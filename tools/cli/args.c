@@ -64,8 +64,10 @@ static const char check_help[] =
     "                      and the step's collision-free fraction; none is missed\n"
     "                      (include/selfcol/sweep.h). --distance D: within D instead\n"
     "                      of touching (--distance-rel does not apply). --method\n"
-    "                      bvh (default) or exhaustive; --csv rows are then\n"
-    "                      step_from,step_to,kind,first,second,toi,flags, --json\n"
+    "                      bvh (default here), exact or exhaustive (seed and cone\n"
+    "                      have no continuous query); --csv rows are then\n"
+    "                      step_from,step_to,kind,i0,i1,i2,i3,toi,flags (the\n"
+    "                      indices of the JSON's records), --json\n"
     "                      one object per step (vf, ee: indices, toi, flags);\n"
     "                      --mark and --png are not available\n"
     "  --range FIRST:LAST[:STEP]  frames FIRST, FIRST+STEP, ... <= LAST of PATTERN\n"
@@ -605,6 +607,7 @@ static int apply_parsed_option(const char *cmd, const char *name, const char *va
             return cli_usage_error(cmd, "unknown method '%s' (exact, bvh, exhaustive, seed, cone)",
                                    value);
         o->method = (uint32_t)m;
+        o->method_given = 1;
     } else if (strcmp(name, "--narrow") == 0) {
         int m = lookup(value, cli_narrow_names, 2);
         if (m < 0)

@@ -189,6 +189,14 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
     return write_pictures(o, frame, parts, count, st->classes, err);
 }
 
+// The method of --continuous: the continuous query's own default is BVH
+// (sweep.h: EXACT over a step costs more than it saves on real steps), so
+// --method exact must be asked for; check_usage refused seed and cone,
+// which have no continuous query.
+static uint32_t continuous_method(const cli_options *o) {
+    return o->method_given ? o->method : SELFCOL_METHOD_BVH;
+}
+
 // --continuous: the continuous self-query of the step from frame `from` (the
 // positions in st->previous, read from from_file) to frame `to` (the mesh's
 // current positions, read from to_file).
@@ -197,8 +205,7 @@ static int check_step(check_state *st, cli_part *part, long from, long to, const
     const cli_options *o = st->o;
     selfcol_sweep_options so;
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
-    so.method =
-        o->method == SELFCOL_METHOD_EXHAUSTIVE ? SELFCOL_METHOD_EXHAUSTIVE : SELFCOL_METHOD_BVH;
+    so.method = continuous_method(o);
     so.separation = o->distance_given ? o->distance : 0.0;
     so.threads = o->threads;
     const int rc = selfcol_hierarchy_self_sweep(part->hierarchy, st->previous, st->sweep, &so);
@@ -225,7 +232,7 @@ static int check_step(check_state *st, cli_part *part, long from, long to, const
         info.from = from;
         info.to = to;
         info.separation = so.separation;
-        info.method = so.method == SELFCOL_METHOD_EXHAUSTIVE ? "exhaustive" : "bvh";
+        info.method = cli_method_names[so.method];
         info.vertices = st->info.vertices;
         info.triangles = st->info.triangles;
         info.edges = st->info.edges;
@@ -235,11 +242,8 @@ static int check_step(check_state *st, cli_part *part, long from, long to, const
         if (cli_write_step_json(st->json, &info, hits, n, &stats) != 0)
             return cli_fail(err, "out of memory");
     }
-    if (st->csv)
-        for (size_t i = 0; i < n; ++i)
-            fprintf(st->csv, "%ld,%ld,%s,%u,%u,%.17g,%u\n", from, to,
-                    hits[i].kind == SELFCOL_CONTACT_VF ? "VF" : "EE", hits[i].first, hits[i].second,
-                    hits[i].toi, hits[i].flags);
+    if (st->csv && cli_write_step_csv(st->csv, from, to, hits, n) != 0)
+        return cli_fail(err, "out of memory");
     if (st->summary) {
         cli_progress_end(st->progress);
         fprintf(st->summary,
@@ -372,6 +376,12 @@ static int check_usage(const cli_options *o, int sequence) {
                                "--continuous checks the steps between frames: give them with "
                                "--frames or --range%s",
                                "");
+    if (o->continuous && o->method_given &&
+        (o->method == SELFCOL_METHOD_SEED || o->method == SELFCOL_METHOD_CONE))
+        return cli_usage_error("check ",
+                               "--continuous has no method %s (continuous queries: bvh, the "
+                               "default, exact or exhaustive)",
+                               cli_method_names[o->method]);
     if (o->continuous && (o->mark || o->png))
         return cli_usage_error("check ",
                                "--continuous writes no %s (only the summary, --json and --csv)",
@@ -414,7 +424,7 @@ static int open_outputs(check_state *st, const check_inputs *in, cli_error *err)
     if (o->csv && (st->csv = cli_open_output(o->csv, err)) == NULL)
         return -1;
     if (st->csv && o->continuous)
-        fputs("step_from,step_to,kind,first,second,toi,flags\n", st->csv);
+        cli_write_step_csv_header(st->csv);
     else if (st->csv)
         cli_write_csv_header(st->csv);
     return 0;
@@ -485,8 +495,10 @@ static int prepare_queries(check_state *st, check_inputs *in, cli_error *err) {
             return cli_fail(err, "out of memory");
         if (st->summary)
             fprintf(st->summary,
-                    "  continuous: each step between consecutive frames, separation %g%s\n",
-                    o->distance_given ? o->distance : 0.0, o->distance_given ? "" : " (touching)");
+                    "  continuous: each step between consecutive frames, separation %g%s, "
+                    "method %s\n",
+                    o->distance_given ? o->distance : 0.0, o->distance_given ? "" : " (touching)",
+                    cli_method_names[continuous_method(o)]);
     }
     return 0;
 }

@@ -117,6 +117,12 @@ typedef struct cli_step_info {
  */
 int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_sweep_hit *hits,
                         size_t count, const selfcol_sweep_query_stats *stats);
+/** check --continuous --csv: the header, then one row per colliding pair of
+ *  a step (step_from,step_to,kind,i0,i1,i2,i3,toi,flags: the JSON's
+ *  records, VF (v, t) then EE (a0, a1, b0, b1), in its order). Returns 0, or
+ *  -1 when out of memory. */
+void cli_write_step_csv_header(FILE *out);
+int cli_write_step_csv(FILE *out, long from, long to, const selfcol_sweep_hit *hits, size_t count);
 void cli_write_csv_header(FILE *out);
 void cli_write_csv(FILE *out, long frame, const cli_sets *sets);
 /** Prints a JSON string literal (quotes and escapes included). */

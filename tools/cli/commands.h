@@ -19,6 +19,7 @@ typedef struct cli_options {
     double distance, distance_rel;
     int distance_given, distance_rel_given;
     uint32_t method, narrow;
+    int method_given;     /* --method was given (check --continuous defaults to bvh) */
     unsigned int threads; /* --threads: selfcol_query_options.threads, default 1 */
     const char *json, *csv, *mark, *png;
     int quiet, fail_on_proximity, no_weld, frames;

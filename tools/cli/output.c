@@ -257,10 +257,8 @@ static int step_record_compare(const void *a, const void *b) {
     return 0;
 }
 
-static void step_records(FILE *out, const char *key, step_record *records, size_t count,
+static void step_records(FILE *out, const char *key, const step_record *records, size_t count,
                          int width) {
-    if (count > 1)
-        qsort(records, count, sizeof *records, step_record_compare);
     fprintf(out, ",\"%s\":[", key);
     for (size_t i = 0; i < count; ++i) {
         fputs(i ? ",[" : "[", out);
@@ -271,11 +269,14 @@ static void step_records(FILE *out, const char *key, step_record *records, size_
     fputc(']', out);
 }
 
-int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_sweep_hit *hits,
-                        size_t count, const selfcol_sweep_query_stats *stats) {
+// The records of a step's hits, as the JSON and the CSV write them: the VF
+// records (v, t) first, then the EE records (a0, a1, b0, b1), each part
+// sorted; *vf_count receives the number of VF records. NULL when out of
+// memory; the caller frees.
+static step_record *step_records_of(const selfcol_sweep_hit *hits, size_t count, size_t *vf_count) {
     step_record *records = malloc(count * sizeof *records + 1);
     if (records == NULL)
-        return -1;
+        return NULL;
     size_t vf = 0, ee = count; // VF records from the front, EE from the back
     for (size_t i = 0; i < count; ++i) {
         const selfcol_sweep_hit *h = &hits[i];
@@ -300,6 +301,20 @@ int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_swee
         r.k[3] = swap ? a1 : b1;
         records[--ee] = r;
     }
+    if (vf > 1)
+        qsort(records, vf, sizeof *records, step_record_compare);
+    if (count - vf > 1)
+        qsort(records + vf, count - vf, sizeof *records, step_record_compare);
+    *vf_count = vf;
+    return records;
+}
+
+int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_sweep_hit *hits,
+                        size_t count, const selfcol_sweep_query_stats *stats) {
+    size_t vf;
+    step_record *records = step_records_of(hits, count, &vf);
+    if (records == NULL)
+        return -1;
     fprintf(out, "{\"selfcol_version\":");
     cli_json_string(out, selfcol_version_string());
     fprintf(out, ",\"files\":[");
@@ -325,6 +340,28 @@ int cli_write_step_json(FILE *out, const cli_step_info *info, const selfcol_swee
             "\"narrow\":%.6f}}}\n",
             info->seconds_load, info->seconds_refit, stats->total_seconds, stats->broad_seconds,
             stats->narrow_seconds);
+    free(records);
+    return 0;
+}
+
+void cli_write_step_csv_header(FILE *out) {
+    fputs("step_from,step_to,kind,i0,i1,i2,i3,toi,flags\n", out);
+}
+
+int cli_write_step_csv(FILE *out, long from, long to, const selfcol_sweep_hit *hits, size_t count) {
+    size_t vf;
+    step_record *records = step_records_of(hits, count, &vf);
+    if (records == NULL)
+        return -1;
+    for (size_t i = 0; i < count; ++i) {
+        const step_record *r = &records[i];
+        if (i < vf)
+            fprintf(out, "%ld,%ld,VF,%u,%u,,,", from, to, (unsigned)r->k[0], (unsigned)r->k[1]);
+        else
+            fprintf(out, "%ld,%ld,EE,%u,%u,%u,%u,", from, to, (unsigned)r->k[0], (unsigned)r->k[1],
+                    (unsigned)r->k[2], (unsigned)r->k[3]);
+        fprintf(out, "%.17g,%u\n", r->toi, (unsigned)r->flags);
+    }
     free(records);
     return 0;
 }
