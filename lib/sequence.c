@@ -99,13 +99,14 @@ struct selfcol_sequence {
     cluster_set clusters[2];
     buffer pairs; // near_pair, in record order
     size_t pair_count;
-    buffer scratch;              // rebuild: EF candidates and cluster stamps
-    selfcol_contacts *reach_set; // the rebuild's query at distance R
+    buffer stamps; // rebuild: a uint32_t per vertex (the clusters' vertex sets)
 
     selfcol_sequence_run_stats stats;
 };
 
-static int reserve(const selfcol_allocator *a, buffer *b, size_t bytes) {
+// At least `bytes` in b, growing geometrically; the first `keep` bytes of
+// the old content are copied.
+static int reserve_keep(const selfcol_allocator *a, buffer *b, size_t bytes, size_t keep) {
     if (bytes <= b->bytes)
         return SELFCOL_OK;
     size_t want = b->bytes + b->bytes / 2;
@@ -113,10 +114,16 @@ static int reserve(const selfcol_allocator *a, buffer *b, size_t bytes) {
     void *grown = selfcol_alloc__raw(a, want);
     if (grown == NULL)
         return SELFCOL_ENOMEM;
+    if (keep > 0)
+        memcpy(grown, b->data, keep);
     selfcol_alloc__free(a, b->data, b->bytes);
     b->data = grown;
     b->bytes = want;
     return SELFCOL_OK;
+}
+
+static int reserve(const selfcol_allocator *a, buffer *b, size_t bytes) {
+    return reserve_keep(a, b, bytes, 0);
 }
 
 static void release(const selfcol_allocator *a, buffer *b) {
@@ -153,14 +160,6 @@ int selfcol_sequence_create(selfcol_sequence **out, const selfcol_sequence_optio
     s->allocator = o.allocator;
     s->skin_option = o.skin;
     s->stats.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
-    selfcol_contacts_options co;
-    selfcol_contacts_options_init(&co, SELFCOL_CONTACTS_OPTIONS_VERSION);
-    co.allocator = o.allocator;
-    int status = selfcol_contacts_create(&s->reach_set, &co);
-    if (status != SELFCOL_OK) {
-        selfcol_alloc__free(&o.allocator, s, sizeof *s);
-        return status;
-    }
     *out = s;
     return SELFCOL_OK;
 }
@@ -177,8 +176,7 @@ void selfcol_sequence_destroy(selfcol_sequence *s) {
         release(&a, &s->clusters[m].disp_box);
     }
     release(&a, &s->pairs);
-    release(&a, &s->scratch);
-    selfcol_contacts_destroy(s->reach_set);
+    release(&a, &s->stamps);
     selfcol_alloc__free(&a, s, sizeof *s);
 }
 
@@ -201,13 +199,13 @@ int selfcol_sequence_stats(const selfcol_sequence *s, selfcol_sequence_run_stats
 size_t selfcol_sequence_byte_count(const selfcol_sequence *s) {
     if (s == NULL)
         return 0;
-    size_t bytes = sizeof *s + s->pairs.bytes + s->scratch.bytes;
+    size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes;
     for (int m = 0; m < 2; ++m) {
         const cluster_set *c = &s->clusters[m];
         bytes += s->reference[m].bytes + c->offsets.bytes + c->vertices.bytes + c->ref_box.bytes +
                  c->disp_box.bytes;
     }
-    return bytes + selfcol_contacts_byte_count(s->reach_set);
+    return bytes;
 }
 
 // ---------------------------------------------------------------------------
@@ -345,7 +343,7 @@ static uint32_t tag_of(uint32_t kind, uint32_t first_mesh, uint32_t second_mesh)
     return kind << 2 | first_mesh << 1 | second_mesh;
 }
 
-static int ef_less(const void *pa, const void *pb) {
+static int pair_compare(const void *pa, const void *pb) {
     const near_pair *a = pa, *b = pb;
     if (a->tag != b->tag)
         return a->tag < b->tag ? -1 : 1;
@@ -426,26 +424,34 @@ static size_t ef_bound(const selfcol_mesh *const mesh[2], const selfcol_contact 
            (size_t)(m0->edge_tri_offsets[r->first + 1] - m0->edge_tri_offsets[r->first]);
 }
 
-static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2]) {
-    const selfcol_contact *rec;
-    size_t n;
-    selfcol_contacts_data(s->reach_set, &rec, &n);
-    size_t direct = 0, ef = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const uint32_t kind_bit = 1u << rec[i].kind;
-        if ((s->kinds & kind_bit) && rec[i].kind != SELFCOL_CONTACT_EF)
-            direct++;
-        if (s->kinds & SELFCOL_KIND_EF)
-            ef += ef_bound(mesh, &rec[i]);
-    }
-    if (direct + ef < direct || direct + ef > SIZE_MAX / sizeof(near_pair))
-        return SELFCOL_ENOMEM;
-    if (reserve(&s->allocator, &s->pairs, (direct + ef) * sizeof(near_pair)) != SELFCOL_OK ||
-        reserve(&s->allocator, &s->scratch, ef * sizeof(near_pair)) != SELFCOL_OK)
+// Sorts the n pairs at p and drops repeats; returns how many are left.
+static size_t sort_unique(near_pair *p, size_t n) {
+    // A rebuild happens once per many frames: a comparator sort here costs
+    // little beside the rebuild's query.
+    qsort(p, n, sizeof *p, pair_compare);
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (m == 0 || pair_compare(&p[i], &p[m - 1]) != 0)
+            p[m++] = p[i];
+    return m;
+}
+
+// The near list from the reach set's records (`rec`, n of them, sorted).
+// The EF candidates are gathered behind the VF and EE pairs and compacted
+// (sorted, repeats dropped) whenever the buffer fills, so the list needs
+// about twice its final size, not the repeats' (each crossing pair is
+// derived from up to five records).
+static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
+                      const selfcol_contact *rec, size_t n) {
+    const selfcol_allocator *a = &s->allocator;
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i)
+        count += rec[i].kind != SELFCOL_CONTACT_EF && (s->kinds & (1u << rec[i].kind));
+    if (reserve(a, &s->pairs, (3 * count + 1024) * sizeof(near_pair)) != SELFCOL_OK)
         return SELFCOL_ENOMEM;
     near_pair *list = s->pairs.data;
-    size_t count = 0;
     // VF then EE, in the records' order (kind first, so already sorted).
+    count = 0;
     for (size_t i = 0; i < n; ++i) {
         const selfcol_contact *r = &rec[i];
         if (r->kind != SELFCOL_CONTACT_EF && (s->kinds & (1u << r->kind)))
@@ -453,16 +459,26 @@ static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2]) {
                 (near_pair){tag_of(r->kind, r->first_mesh, r->second_mesh), r->first, r->second};
     }
     if (s->kinds & SELFCOL_KIND_EF) {
-        near_pair *cand = s->scratch.data;
-        size_t m = 0;
-        for (size_t i = 0; i < n; ++i)
-            m += ef_candidates(s, mesh, &rec[i], cand + m);
-        // A rebuild happens once per many frames; a comparator sort here costs
-        // far less than the rebuild's query.
-        qsort(cand, m, sizeof *cand, ef_less);
-        for (size_t i = 0; i < m; ++i)
-            if (i == 0 || ef_less(&cand[i], &cand[i - 1]) != 0)
-                list[count++] = cand[i];
+        size_t m = 0, compacted = 0; // EF candidates behind the list; of them, sorted
+        for (size_t i = 0; i < n; ++i) {
+            const size_t need = ef_bound(mesh, &rec[i]);
+            const size_t room = s->pairs.bytes / sizeof(near_pair) - count;
+            if (m + need > room) {
+                if (m > compacted)
+                    m = compacted = sort_unique(list + count, m);
+                // Still short, or nearly full of distinct pairs: grow to
+                // twice what is kept.
+                if (m + need > room || 4 * m > 3 * room) {
+                    const size_t keep = (count + m) * sizeof(near_pair);
+                    if (reserve_keep(a, &s->pairs, (count + 2 * (m + need)) * sizeof(near_pair),
+                                     keep) != SELFCOL_OK)
+                        return SELFCOL_ENOMEM;
+                    list = s->pairs.data;
+                }
+            }
+            m += ef_candidates(s, mesh, &rec[i], list + count + m);
+        }
+        count += sort_unique(list + count, m);
     }
     s->pair_count = count;
     return SELFCOL_OK;
@@ -589,8 +605,11 @@ static double automatic_skin(double distance, const selfcol_mesh *const mesh[2],
     return 0.1 * sum;
 }
 
+// Rebuilds the near list; the reach set's records pass through `scratch`
+// (the caller's contact set, cleared afterwards: its records and workspace
+// are reused instead of a second set's).
 static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
-                   const selfcol_query_options *o) {
+                   const selfcol_query_options *o, selfcol_contacts *scratch) {
     const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
     s->built = 0;
     s->self = h[0] == h[1];
@@ -624,10 +643,11 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     r.narrow = SELFCOL_NARROW_CLOSED_FORM;
     if (o->kinds & SELFCOL_KIND_EF)
         r.kinds = SELFCOL_KIND_ALL;
-    int status = s->self ? selfcol_hierarchy_self_collide(h[0], s->reach_set, &r)
-                         : selfcol_hierarchy_collide(h[0], h[1], s->reach_set, &r);
+    int status = s->self ? selfcol_hierarchy_self_collide(h[0], scratch, &r)
+                         : selfcol_hierarchy_collide(h[0], h[1], scratch, &r);
     if (status == SELFCOL_OK)
-        status = build_list(s, mesh);
+        status = build_list(s, mesh, scratch->items, scratch->count);
+    selfcol_contacts_clear(scratch);
     size_t stamp_bytes = 0;
     for (int m = 0; m < meshes && status == SELFCOL_OK; ++m) {
         const size_t V = mesh[m]->vertex_count;
@@ -636,11 +656,10 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
         if (status == SELFCOL_OK)
             memcpy(s->reference[m].data, mesh[m]->positions, 3 * V * sizeof(double));
     }
-    // The EF candidates are consumed: the scratch buffer now holds stamps.
     if (status == SELFCOL_OK)
-        status = reserve(&s->allocator, &s->scratch, stamp_bytes);
+        status = reserve(&s->allocator, &s->stamps, stamp_bytes);
     for (int m = 0; m < meshes && status == SELFCOL_OK; ++m)
-        status = build_clusters(s, m, h[m], s->scratch.data);
+        status = build_clusters(s, m, h[m], s->stamps.data);
     s->built = status == SELFCOL_OK;
     return status;
 }
@@ -680,7 +699,7 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
     }
     double rebuild_seconds = 0.0;
     if (!reuse) {
-        status = rebuild(s, h, &o);
+        status = rebuild(s, h, &o, contacts);
         rebuild_seconds = selfcol_core__seconds() - start;
         ratio = 0.0;
     }

@@ -154,8 +154,10 @@ SELFCOL_API int selfcol_sequence_collide(selfcol_sequence *sequence, selfcol_hie
 SELFCOL_API int selfcol_sequence_stats(const selfcol_sequence *sequence,
                                        selfcol_sequence_run_stats *stats);
 
-/** Bytes held by the sequence (reference positions, clusters, near list,
- *  the rebuild's contact set). 0 for NULL. */
+/** Bytes held by the sequence: reference positions, clusters and the near
+ *  list (a rebuild's query at distance d + s runs in the caller's contact
+ *  set, whose records it then replaces, so that set grows to the reach
+ *  set's size). 0 for NULL. */
 SELFCOL_API size_t selfcol_sequence_byte_count(const selfcol_sequence *sequence);
 
 SELFCOL_END_DECLS
