@@ -343,17 +343,6 @@ static uint32_t tag_of(uint32_t kind, uint32_t first_mesh, uint32_t second_mesh)
     return kind << 2 | first_mesh << 1 | second_mesh;
 }
 
-static int pair_compare(const void *pa, const void *pb) {
-    const near_pair *a = pa, *b = pb;
-    if (a->tag != b->tag)
-        return a->tag < b->tag ? -1 : 1;
-    if (a->first != b->first)
-        return a->first < b->first ? -1 : 1;
-    if (a->second != b->second)
-        return a->second < b->second ? -1 : 1;
-    return 0;
-}
-
 static int is_corner(uint32_t v, const uint32_t *tri) {
     return v == tri[0] || v == tri[1] || v == tri[2];
 }
@@ -424,15 +413,61 @@ static size_t ef_bound(const selfcol_mesh *const mesh[2], const selfcol_contact 
            (size_t)(m0->edge_tri_offsets[r->first + 1] - m0->edge_tri_offsets[r->first]);
 }
 
-// Sorts the n pairs at p and drops repeats; returns how many are left.
-static size_t sort_unique(near_pair *p, size_t n) {
-    // A rebuild happens once per many frames: a comparator sort here costs
-    // little beside the rebuild's query.
-    qsort(p, n, sizeof *p, pair_compare);
+// Sorts the n EF candidates at p and drops repeats; returns how many are
+// left, or (size_t)-1 when the keys' buffer cannot grow. An LSD radix sort
+// on 64-bit keys: the first mesh (which also decides the second, and the
+// tag's order), the edge (32 bits) and the triangle (below 2^31:
+// SELFCOL_MESH_MAX_TRIANGLES), 11-bit digits, skipping digits every key
+// shares. The keys live in the sort buffer of the contact set the rebuild's
+// query ran in (which has just sorted the reach set's records there).
+#define RADIX_BITS 11
+#define RADIX_MASK ((1u << RADIX_BITS) - 1u)
+static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, near_pair *p,
+                          size_t n) {
+    if (n == 0)
+        return 0;
+    if (n > SIZE_MAX / (2 * sizeof(uint64_t)))
+        return (size_t)-1;
+    uint64_t *key =
+        selfcol_workspace__buffer(work, SELFCOL_SCRATCH_SORT, 2 * n * sizeof(uint64_t), 0);
+    if (key == NULL)
+        return (size_t)-1;
+    uint64_t *other = key + n;
+    uint64_t all_or = 0, all_and = ~(uint64_t)0;
+    for (size_t i = 0; i < n; ++i) {
+        const uint64_t first_mesh = (p[i].tag >> 1) & 1u;
+        key[i] = first_mesh << 63 | (uint64_t)p[i].first << 31 | p[i].second;
+        all_or |= key[i];
+        all_and &= key[i];
+    }
+    for (int shift = 0; shift < 64; shift += RADIX_BITS) {
+        if ((((all_or ^ all_and) >> shift) & RADIX_MASK) == 0)
+            continue; // every key has this digit
+        size_t count[RADIX_MASK + 1];
+        memset(count, 0, sizeof count);
+        for (size_t i = 0; i < n; ++i)
+            count[(key[i] >> shift) & RADIX_MASK]++;
+        size_t sum = 0;
+        for (size_t b = 0; b <= RADIX_MASK; ++b) {
+            const size_t k = count[b];
+            count[b] = sum;
+            sum += k;
+        }
+        for (size_t i = 0; i < n; ++i)
+            other[count[(key[i] >> shift) & RADIX_MASK]++] = key[i];
+        uint64_t *swap = key;
+        key = other;
+        other = swap;
+    }
     size_t m = 0;
-    for (size_t i = 0; i < n; ++i)
-        if (m == 0 || pair_compare(&p[i], &p[m - 1]) != 0)
-            p[m++] = p[i];
+    for (size_t i = 0; i < n; ++i) {
+        if (m > 0 && key[i] == key[i - 1])
+            continue;
+        const uint32_t first_mesh = (uint32_t)(key[i] >> 63);
+        const uint32_t second_mesh = s->self ? 0u : 1u - first_mesh;
+        p[m++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, first_mesh, second_mesh),
+                             (uint32_t)(key[i] >> 31), (uint32_t)(key[i] & 0x7fffffffu)};
+    }
     return m;
 }
 
@@ -442,7 +477,7 @@ static size_t sort_unique(near_pair *p, size_t n) {
 // about twice its final size, not the repeats' (each crossing pair is
 // derived from up to five records).
 static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
-                      const selfcol_contact *rec, size_t n) {
+                      const selfcol_contact *rec, size_t n, selfcol_workspace *work) {
     const selfcol_allocator *a = &s->allocator;
     size_t count = 0;
     for (size_t i = 0; i < n; ++i)
@@ -464,8 +499,11 @@ static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
             const size_t need = ef_bound(mesh, &rec[i]);
             const size_t room = s->pairs.bytes / sizeof(near_pair) - count;
             if (m + need > room) {
-                if (m > compacted)
-                    m = compacted = sort_unique(list + count, m);
+                if (m > compacted) {
+                    m = compacted = sort_unique(s, work, list + count, m);
+                    if (m == (size_t)-1)
+                        return SELFCOL_ENOMEM;
+                }
                 // Still short, or nearly full of distinct pairs: grow to
                 // twice what is kept.
                 if (m + need > room || 4 * m > 3 * room) {
@@ -478,7 +516,10 @@ static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
             }
             m += ef_candidates(s, mesh, &rec[i], list + count + m);
         }
-        count += sort_unique(list + count, m);
+        m = sort_unique(s, work, list + count, m);
+        if (m == (size_t)-1)
+            return SELFCOL_ENOMEM;
+        count += m;
     }
     s->pair_count = count;
     return SELFCOL_OK;
@@ -646,7 +687,7 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     int status = s->self ? selfcol_hierarchy_self_collide(h[0], scratch, &r)
                          : selfcol_hierarchy_collide(h[0], h[1], scratch, &r);
     if (status == SELFCOL_OK)
-        status = build_list(s, mesh, scratch->items, scratch->count);
+        status = build_list(s, mesh, scratch->items, scratch->count, &scratch->work);
     selfcol_contacts_clear(scratch);
     size_t stamp_bytes = 0;
     for (int m = 0; m < meshes && status == SELFCOL_OK; ++m) {
