@@ -42,14 +42,17 @@ typedef struct scene_surface {
 typedef struct scene_pair {
     uint32_t first, second;
     selfcol_store *store;
+    selfcol_sequence *sequence; // NULL: a fresh query every update
 } scene_pair;
 
 struct selfcol_scene {
     selfcol_allocator allocator;
-    selfcol_query_options query; // checked, current version
-    selfcol_store_options store; // checked; the allocator is the scene's
-    double distance;             // query.distance
-    double collider_tolerance;   // absolute (the default resolved)
+    selfcol_query_options query;       // checked, current version
+    selfcol_store_options store;       // checked; the allocator is the scene's
+    int coherent;                      // pairs keep a sequence (exact methods only)
+    selfcol_sequence_options sequence; // the allocator is the scene's
+    double distance;                   // query.distance
+    double collider_tolerance;         // absolute (the default resolved)
 
     scene_surface *surfaces;
     size_t surface_count, surface_capacity; // ids handed out (removed ones included)
@@ -79,6 +82,8 @@ int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned int version
     selfcol_query_options_init(&opts->query, SELFCOL_QUERY_OPTIONS_VERSION);
     opts->query.kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF;
     selfcol_store_options_init(&opts->store, SELFCOL_STORE_OPTIONS_VERSION);
+    opts->coherent = 1;
+    selfcol_sequence_options_init(&opts->sequence, SELFCOL_SEQUENCE_OPTIONS_VERSION);
     return SELFCOL_OK;
 }
 
@@ -127,6 +132,12 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
                   store.allocator.user == NULL);
     SELFCOL_CHECK(store.first_orientation == 0 && store.second_orientation == 0);
     SELFCOL_CHECK(isfinite(o.collider_tolerance) && o.collider_tolerance >= 0.0);
+    SELFCOL_CHECK(o.coherent == 0 || o.coherent == 1);
+    SELFCOL_CHECK_VERSION(&o.sequence, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    SELFCOL_CHECK(o.sequence.allocator.alloc == NULL && o.sequence.allocator.free == NULL &&
+                  o.sequence.allocator.user == NULL);
+    SELFCOL_CHECK(isfinite(o.sequence.skin) && o.sequence.skin >= 0.0 &&
+                  o.sequence.skin <= SELFCOL_MESH_MAX_COORDINATE);
     selfcol_contacts_options copts;
     selfcol_contacts_options_init(&copts, SELFCOL_CONTACTS_OPTIONS_VERSION);
     copts.allocator = o.allocator;
@@ -137,6 +148,13 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
     s->allocator = o.allocator;
     s->query = query;
     s->store = store;
+    // SEED and CONE skip contacts by an approximate criterion: nothing to
+    // reproduce from a near list.
+    s->coherent =
+        o.coherent && (query.method == SELFCOL_METHOD_EXACT || query.method == SELFCOL_METHOD_BVH ||
+                       query.method == SELFCOL_METHOD_EXHAUSTIVE);
+    s->sequence = o.sequence;
+    s->sequence.allocator = o.allocator;
     s->distance = query.distance;
     s->collider_tolerance =
         o.collider_tolerance == 0.0 ? 1e-6 * query.distance : o.collider_tolerance;
@@ -156,8 +174,10 @@ void selfcol_scene_destroy(selfcol_scene *scene) {
     const selfcol_allocator al = scene->allocator;
     for (size_t i = 0; i < scene->surface_count; ++i)
         selfcol_hierarchy_destroy(scene->surfaces[i].hierarchy);
-    for (size_t i = 0; i < scene->pair_count; ++i)
+    for (size_t i = 0; i < scene->pair_count; ++i) {
         selfcol_store_destroy(scene->pairs[i].store);
+        selfcol_sequence_destroy(scene->pairs[i].sequence);
+    }
     for (size_t i = 0; i < scene->collider_count; ++i) {
         const size_t n = scene->colliders[i].point_count;
         selfcol_alloc__free_array(&al, scene->colliders[i].local, n, sizeof(double[3]));
@@ -277,13 +297,20 @@ int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
         sopts.allocator = scene->allocator;
         sopts.first_orientation = first->orientation;
         sopts.second_orientation = add.orientation;
-        made[made_count] = (scene_pair){(uint32_t)i, (uint32_t)id, NULL};
+        made[made_count] = (scene_pair){(uint32_t)i, (uint32_t)id, NULL, NULL};
         status = selfcol_store_create(&made[made_count].store, &sopts);
+        if (status == SELFCOL_OK && scene->coherent) {
+            status = selfcol_sequence_create(&made[made_count].sequence, &scene->sequence);
+            if (status != SELFCOL_OK)
+                selfcol_store_destroy(made[made_count].store);
+        }
         made_count += status == SELFCOL_OK;
     }
     if (status != SELFCOL_OK) {
-        for (size_t k = 0; k < made_count; ++k)
+        for (size_t k = 0; k < made_count; ++k) {
             selfcol_store_destroy(made[k].store);
+            selfcol_sequence_destroy(made[k].sequence);
+        }
         selfcol_hierarchy_destroy(add.hierarchy);
         return status;
     }
@@ -302,9 +329,10 @@ int selfcol_scene_remove_surface(selfcol_scene *scene, uint32_t id) {
     size_t kept = 0;
     for (size_t p = 0; p < scene->pair_count; ++p) {
         scene_pair pair = scene->pairs[p];
-        if (pair.first == id || pair.second == id)
+        if (pair.first == id || pair.second == id) {
             selfcol_store_destroy(pair.store);
-        else
+            selfcol_sequence_destroy(pair.sequence);
+        } else
             scene->pairs[kept++] = pair; // order kept: updates stay deterministic
     }
     scene->pair_count = kept;
@@ -444,14 +472,21 @@ int selfcol_scene_update(selfcol_scene *scene) {
         const scene_pair *pair = &scene->pairs[p];
         const scene_surface *a = &scene->surfaces[pair->first], *b = &scene->surfaces[pair->second];
         if (pair->first == pair->second) {
-            status = selfcol_hierarchy_self_collide(a->hierarchy, scene->detected, &scene->query);
+            status =
+                pair->sequence != NULL
+                    ? selfcol_sequence_self_collide(pair->sequence, a->hierarchy, scene->detected,
+                                                    &scene->query)
+                    : selfcol_hierarchy_self_collide(a->hierarchy, scene->detected, &scene->query);
             st.pairs_queried++;
         } else if (roots_apart(a->hierarchy, b->hierarchy, scene->distance)) {
             selfcol_contacts_clear(scene->detected);
             st.pairs_apart++;
         } else {
-            status = selfcol_hierarchy_collide(a->hierarchy, b->hierarchy, scene->detected,
-                                               &scene->query);
+            status = pair->sequence != NULL
+                         ? selfcol_sequence_collide(pair->sequence, a->hierarchy, b->hierarchy,
+                                                    scene->detected, &scene->query)
+                         : selfcol_hierarchy_collide(a->hierarchy, b->hierarchy, scene->detected,
+                                                     &scene->query);
             st.pairs_queried++;
         }
         if (status == SELFCOL_OK)
@@ -541,7 +576,8 @@ size_t selfcol_scene_byte_count(const selfcol_scene *scene) {
     for (size_t i = 0; i < scene->surface_count; ++i)
         bytes += selfcol_hierarchy_byte_count(scene->surfaces[i].hierarchy);
     for (size_t p = 0; p < scene->pair_count; ++p)
-        bytes += selfcol_store_byte_count(scene->pairs[p].store);
+        bytes += selfcol_store_byte_count(scene->pairs[p].store) +
+                 selfcol_sequence_byte_count(scene->pairs[p].sequence);
     for (size_t c = 0; c < scene->collider_count; ++c)
         bytes += 2 * scene->colliders[c].point_count * sizeof(double[3]);
     return bytes;

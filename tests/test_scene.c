@@ -637,6 +637,70 @@ static void test_collider_contacts_name_no_duplicate(void **state) {
 // ---------------------------------------------------------------------------
 // Errors
 
+// Coherent and fresh scenes side by side over a crumpling sheet falling
+// onto a second one: after every update each store holds the same records
+// (the sequences answer exactly as fresh queries; their reuse is
+// test_sequence.c's business).
+static void scene__coherent_updates_equal_fresh_ones(void **state) {
+    (void)state;
+    fixture flat = {0}, crumpled = {0}, floor = {0};
+    assert_int_equal(fixture_grid(&flat, 14, 14, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&crumpled, 14, 14, 4, 3.0), 0);
+    assert_int_equal(fixture_grid(&floor, 16, 16, 1.0), 0);
+    const double below[3] = {-1.0, -1.0, -4.0};
+    fixture_translate(&floor, below);
+    const size_t V = flat.vertex_count;
+    double *x = malloc(3 * V * sizeof *x);
+    assert_non_null(x);
+    selfcol_mesh *cloth = mesh_of(&flat), *ground = mesh_of(&floor);
+    selfcol_scene *sc[2];
+    for (int k = 0; k < 2; ++k) {
+        selfcol_scene_options o;
+        selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
+        o.query.distance = 0.1;
+        o.coherent = 1 - k;
+        assert_int_equal(selfcol_scene_create(&sc[k], &o), SELFCOL_OK);
+        assert_int_equal(add(sc[k], cloth, SELFCOL_SURFACE_CLOTH, -1, 0), 0);
+        assert_int_equal(add(sc[k], ground, SELFCOL_SURFACE_CLOTH, 0, 0), 1);
+    }
+    size_t held = 0;
+    for (int f = 0; f <= 40; ++f) {
+        const double a = 0.6 + 0.4 * f / 40.0;
+        for (size_t i = 0; i < 3 * V; ++i)
+            x[i] = flat.positions[i] + a * (crumpled.positions[i] - flat.positions[i]) -
+                   (i % 3 == 2 ? 0.05 * f : 0.0);
+        assert_int_equal(selfcol_mesh_set_positions(cloth, x, V), SELFCOL_OK);
+        for (int k = 0; k < 2; ++k)
+            assert_int_equal(selfcol_scene_update(sc[k]), SELFCOL_OK);
+        const uint32_t pairs[2][2] = {{0, 0}, {0, 1}};
+        for (int p = 0; p < 2; ++p) {
+            size_t n0, n1;
+            selfcol_store_contact *c0 =
+                copy_records(store_of(sc[0], pairs[p][0], pairs[p][1]), &n0);
+            selfcol_store_contact *c1 =
+                copy_records(store_of(sc[1], pairs[p][0], pairs[p][1]), &n1);
+            assert_int_equal(n0, n1);
+            if (n0 > 0)
+                assert_memory_equal(c0, c1, n0 * sizeof *c0);
+            held += n0;
+            free(c0);
+            free(c1);
+        }
+    }
+    assert_true(held > 0);
+    // The coherent scene holds its sequences; the fresh one none.
+    assert_true(selfcol_scene_byte_count(sc[0]) >
+                selfcol_scene_byte_count(sc[1]) + 3 * V * sizeof(double));
+    for (int k = 0; k < 2; ++k)
+        selfcol_scene_destroy(sc[k]);
+    selfcol_mesh_destroy(cloth);
+    selfcol_mesh_destroy(ground);
+    free(x);
+    fixture_free(&flat);
+    fixture_free(&crumpled);
+    fixture_free(&floor);
+}
+
 static void test_errors(void **state) {
     (void)state;
     selfcol_scene_options o;
@@ -678,6 +742,18 @@ static void test_errors(void **state) {
     o.store.allocator.user = &o; // the scene's allocator serves its stores
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
     o.store.allocator.user = NULL;
+    o.coherent = 2;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
+    o.coherent = 1;
+    o.sequence.skin = -1.0; // the sequences' options are checked too
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
+    o.sequence.skin = 0.0;
+    o.sequence.allocator.user = &o; // the scene's allocator serves its sequences
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
+    o.sequence.allocator.user = NULL;
+    o.sequence.version = 0;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
+    o.sequence.version = SELFCOL_SEQUENCE_OPTIONS_VERSION;
     assert_null(sc);
     assert_int_equal(selfcol_scene_create(&sc, NULL), SELFCOL_EINVAL);
     sc = make_scene(0.1, NULL);
@@ -891,6 +967,7 @@ int main(void) {
         cmocka_unit_test(test_body_never_voted),
         cmocka_unit_test(test_capsule_collider_matches_triangulated_capsule),
         cmocka_unit_test(test_collider_contacts_name_no_duplicate),
+        cmocka_unit_test(scene__coherent_updates_equal_fresh_ones),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_memory),
     };

@@ -73,6 +73,7 @@
 #include "common.h"
 #include "hierarchy.h"
 #include "mesh.h"
+#include "sequence.h"
 #include "store.h"
 
 SELFCOL_BEGIN_DECLS
@@ -155,6 +156,19 @@ typedef struct selfcol_scene_options {
     selfcol_store_options store;
     /** Absolute accuracy of collider distances (default 0: 1e-6 x distance). */
     double collider_tolerance;
+    /**
+     * 1 (default): each surface pair keeps a selfcol_sequence (sequence.h)
+     * and is answered from its near list while the surfaces' deformation
+     * allows: the same contacts as a fresh query, at a fraction of its cost
+     * when the surfaces move a little per update. 0: a fresh query every
+     * update. Methods SEED and CONE always query afresh.
+     */
+    int coherent;
+    /**
+     * The sequences' options (skin; selfcol_sequence_options_init()
+     * defaults). Its allocator must be all-zero: the scene's serves them.
+     */
+    selfcol_sequence_options sequence;
 } selfcol_scene_options;
 
 /** 2 since 0.3 (query and store options composed); version 1 (0.2's layout) is refused. */
