@@ -63,6 +63,14 @@
 // Relative margin of the check (the proof above).
 #define MARGIN 1e-6
 
+// A rebuild pays when the new list is expected to last this many frames
+// (run()'s policy).
+#define REBUILD_LIFE 3.0
+
+// What the sequence holds: nothing; a reference (positions and clusters)
+// from a fresh frame; or a reference and its near list.
+enum { STATE_NONE = 0, STATE_TRACKING = 1, STATE_LIST = 2 };
+
 // One pair of the near list: kind and meshes in `tag` (kind << 2 |
 // first_mesh << 1 | second_mesh), then the primitives as in selfcol_contact.
 typedef struct near_pair {
@@ -88,8 +96,10 @@ struct selfcol_sequence {
     selfcol_allocator allocator;
     double skin_option; // 0: automatic
 
-    // What the near list was built for (valid only when `built`).
-    int built;
+    // What the reference and near list were taken for (valid unless state
+    // is STATE_NONE).
+    int state;
+    uint64_t frames_since_reference;
     int self;
     selfcol_mesh_identity identity[2];
     double distance, skin, reach;
@@ -183,7 +193,7 @@ void selfcol_sequence_destroy(selfcol_sequence *s) {
 void selfcol_sequence_reset(selfcol_sequence *s) {
     if (s == NULL)
         return;
-    s->built = 0;
+    s->state = STATE_NONE;
     memset(&s->stats, 0, sizeof s->stats);
     s->stats.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
 }
@@ -299,11 +309,11 @@ static double gap(const double *a, const double *b) {
     return sqrt(sum);
 }
 
-// The check of the proof above over every pair of clusters; the largest
-// ratio of spread to what the pair allows goes to *ratio (the near list
-// holds when it returns 1).
-static int deformation_allows(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
-                              double *ratio) {
+// The check of the proof above over every pair of clusters: the largest
+// ratio of a pair's spread to what the pair allows (the near list holds
+// while it is below 1; INFINITY when some pair allows nothing). All pairs are
+// visited: the ratio also measures how fast the surface deforms (run()).
+static double deformation_ratio(selfcol_sequence *s, const selfcol_mesh *const mesh[2]) {
     const int meshes = s->self ? 1 : 2;
     for (int m = 0; m < meshes; ++m)
         displacement_boxes(s, m, mesh[m]);
@@ -315,25 +325,18 @@ static int deformation_allows(selfcol_sequence *s, const selfcol_mesh *const mes
     // relative covers it many times over.
     const double round = 1.0 + 1e-12;
     double worst = 0.0;
-    int ok = 1;
     for (unsigned i = 0; i < c0->count; ++i) {
         for (unsigned j = s->self ? i : 0; j < c1->count; ++j) {
             const double moved = spread(d0 + 6 * (size_t)i, d1 + 6 * (size_t)j) * round;
             const double apart = gap(r0 + 6 * (size_t)i, r1 + 6 * (size_t)j) / round - s->distance;
             const double allowed = (apart > s->skin ? apart : s->skin) - margin;
-            if (!(moved < allowed)) {
-                ok = 0;
-                worst = INFINITY;
-                break;
-            }
+            if (!(allowed > 0.0))
+                return INFINITY;
             const double r = moved / allowed;
             worst = r > worst ? r : worst;
         }
-        if (!ok)
-            break;
     }
-    *ratio = worst;
-    return ok;
+    return worst;
 }
 
 // ---------------------------------------------------------------------------
@@ -646,71 +649,105 @@ static double automatic_skin(double distance, const selfcol_mesh *const mesh[2],
     return 0.1 * sum;
 }
 
-// Rebuilds the near list; the reach set's records pass through `scratch`
-// (the caller's contact set, cleared afterwards: its records and workspace
-// are reused instead of a second set's).
-static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
-                   const selfcol_query_options *o, selfcol_contacts *scratch) {
+// Takes the query's setup (meshes, options); forgets any reference.
+static void setup(selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                  const selfcol_query_options *o) {
     const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
-    s->built = 0;
+    s->skin = s->reach = 0.0;
+    s->state = STATE_NONE;
     s->self = h[0] == h[1];
-    const int meshes = s->self ? 1 : 2;
     for (int m = 0; m < 2; ++m)
         s->identity[m] = mesh[m]->identity;
     s->distance = o->distance;
     s->kinds = o->kinds;
     s->narrow = o->narrow;
     s->method = o->method;
-    double skin =
-        s->skin_option > 0.0 ? s->skin_option : automatic_skin(o->distance, mesh, s->self);
-    double reach = o->distance + skin;
+}
+
+// The skin for a new reference (the automatic one follows the mean edge).
+static void choose_skin(selfcol_sequence *s, selfcol_hierarchy *const h[2]) {
+    const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
+    const double skin =
+        s->skin_option > 0.0 ? s->skin_option : automatic_skin(s->distance, mesh, s->self);
+    double reach = s->distance + skin;
     if (!(reach <= SELFCOL_MESH_MAX_COORDINATE))
         reach = SELFCOL_MESH_MAX_COORDINATE;
-    s->skin = reach - o->distance;
+    s->skin = reach - s->distance;
     s->reach = reach;
+}
 
-    // The reach set: the caller's exact method at distance R, closed forms
-    // (libccd's distances are approximate), every kind the list needs.
-    for (int m = 0; m < meshes; ++m) {
-        if (o->method != SELFCOL_METHOD_EXHAUSTIVE &&
-            h[m]->refit_version != mesh[m]->positions_version) {
-            int status = selfcol_hierarchy_refit(h[m]);
-            if (status != SELFCOL_OK)
-                return status;
-        }
-    }
-    selfcol_query_options r = *o;
-    r.distance = reach;
-    r.narrow = SELFCOL_NARROW_CLOSED_FORM;
-    if (o->kinds & SELFCOL_KIND_EF)
-        r.kinds = SELFCOL_KIND_ALL;
-    int status = s->self ? selfcol_hierarchy_self_collide(h[0], scratch, &r)
-                         : selfcol_hierarchy_collide(h[0], h[1], scratch, &r);
-    if (status == SELFCOL_OK)
-        status = build_list(s, mesh, scratch->items, scratch->count, &scratch->work);
-    selfcol_contacts_clear(scratch);
+static int same_setup(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                      const selfcol_query_options *o) {
+    return s->state != STATE_NONE && s->self == (h[0] == h[1]) &&
+           selfcol_mesh__is(h[0]->mesh, &s->identity[0]) &&
+           selfcol_mesh__is(h[1]->mesh, &s->identity[1]) && s->distance == o->distance &&
+           s->kinds == o->kinds && s->narrow == o->narrow && s->method == o->method;
+}
+
+// The current positions become the reference: copied, with the clusters
+// and their boxes, and the skin chosen for them.
+static int take_reference(selfcol_sequence *s, selfcol_hierarchy *const h[2]) {
+    choose_skin(s, h);
+    const int meshes = s->self ? 1 : 2;
     size_t stamp_bytes = 0;
+    int status = SELFCOL_OK;
     for (int m = 0; m < meshes && status == SELFCOL_OK; ++m) {
-        const size_t V = mesh[m]->vertex_count;
+        const selfcol_mesh *mesh = h[m]->mesh;
+        const size_t V = mesh->vertex_count;
         stamp_bytes = V * sizeof(uint32_t) > stamp_bytes ? V * sizeof(uint32_t) : stamp_bytes;
         status = reserve(&s->allocator, &s->reference[m], 3 * V * sizeof(double));
         if (status == SELFCOL_OK)
-            memcpy(s->reference[m].data, mesh[m]->positions, 3 * V * sizeof(double));
+            memcpy(s->reference[m].data, mesh->positions, 3 * V * sizeof(double));
     }
     if (status == SELFCOL_OK)
         status = reserve(&s->allocator, &s->stamps, stamp_bytes);
     for (int m = 0; m < meshes && status == SELFCOL_OK; ++m)
         status = build_clusters(s, m, h[m], s->stamps.data);
-    s->built = status == SELFCOL_OK;
     return status;
 }
 
-static int same_setup(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
-                      const selfcol_query_options *o) {
-    return s->built && s->self == (h[0] == h[1]) && selfcol_mesh__is(h[0]->mesh, &s->identity[0]) &&
-           selfcol_mesh__is(h[1]->mesh, &s->identity[1]) && s->distance == o->distance &&
-           s->kinds == o->kinds && s->narrow == o->narrow && s->method == o->method;
+// Refits the hierarchies that are stale (none for EXHAUSTIVE).
+static int refit_stale(const selfcol_sequence *s, selfcol_hierarchy *const h[2], uint32_t method) {
+    const int meshes = s->self ? 1 : 2;
+    for (int m = 0; m < meshes; ++m) {
+        if (method != SELFCOL_METHOD_EXHAUSTIVE &&
+            h[m]->refit_version != h[m]->mesh->positions_version) {
+            int status = selfcol_hierarchy_refit(h[m]);
+            if (status != SELFCOL_OK)
+                return status;
+        }
+    }
+    return SELFCOL_OK;
 }
+
+// Rebuilds the near list at the current positions; the reach set's records
+// pass through `scratch` (the caller's contact set, cleared afterwards: its
+// records and workspace are reused instead of a second set's).
+static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                   const selfcol_query_options *o, selfcol_contacts *scratch) {
+    const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
+    // The reach set: the caller's exact method at distance R, closed forms
+    // (libccd's distances are approximate), every kind the list needs.
+    int status = refit_stale(s, h, o->method);
+    choose_skin(s, h);
+    selfcol_query_options r = *o;
+    r.distance = s->reach;
+    r.narrow = SELFCOL_NARROW_CLOSED_FORM;
+    if (o->kinds & SELFCOL_KIND_EF)
+        r.kinds = SELFCOL_KIND_ALL;
+    if (status == SELFCOL_OK)
+        status = s->self ? selfcol_hierarchy_self_collide(h[0], scratch, &r)
+                         : selfcol_hierarchy_collide(h[0], h[1], scratch, &r);
+    if (status == SELFCOL_OK)
+        status = build_list(s, mesh, scratch->items, scratch->count, &scratch->work);
+    selfcol_contacts_clear(scratch);
+    if (status == SELFCOL_OK)
+        status = take_reference(s, h);
+    return status;
+}
+
+// What the query does this frame (run()).
+enum { ANSWER_LIST = 0, ANSWER_REBUILT = 1, ANSWER_FRESH = 2 };
 
 static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy *second,
                selfcol_contacts *contacts, const selfcol_query_options *given) {
@@ -729,41 +766,81 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
 
     const double start = selfcol_core__seconds();
     selfcol_contacts_clear(contacts);
-    double ratio = 0.0;
+    // The policy. A list answers while the check holds. When it fails, the
+    // check's ratio over the frames since the reference is the surface's
+    // deformation per frame, in units of what a list allows: a new list
+    // would last about 1 / rate frames. A rebuild costs a query at d + s
+    // (about two fresh queries on folded cloth), so below REBUILD_LIFE
+    // frames a fresh query at d is cheaper: it answers the frame and its
+    // positions become the reference against which the next frame's rate
+    // is measured. The first frame has no rate: it is fresh.
     uint32_t reason = 0;
-    int reuse = same_setup(s, h, &o);
-    if (s->built && !reuse)
-        reason = 1;
-    if (reuse && !deformation_allows(s, mesh, &ratio)) {
-        reuse = 0;
+    double ratio = 0.0, rate = INFINITY;
+    if (!same_setup(s, h, &o)) {
+        reason = s->state != STATE_NONE ? 1u : 0u;
+        setup(s, h, &o);
+    } else {
+        ratio = deformation_ratio(s, mesh);
+        s->frames_since_reference++;
+        rate = ratio / (double)s->frames_since_reference;
         reason = 2;
     }
+    int answer;
+    if (s->state == STATE_LIST && ratio < 1.0)
+        answer = ANSWER_LIST;
+    else
+        answer = rate * REBUILD_LIFE <= 1.0 ? ANSWER_REBUILT : ANSWER_FRESH;
+
     double rebuild_seconds = 0.0;
-    if (!reuse) {
+    if (answer == ANSWER_REBUILT) {
+        s->state = STATE_NONE;
         status = rebuild(s, h, &o, contacts);
+        if (status == SELFCOL_OK) {
+            s->state = STATE_LIST;
+            s->frames_since_reference = 0;
+        }
         rebuild_seconds = selfcol_core__seconds() - start;
-        ratio = 0.0;
     }
     const double narrow_start = selfcol_core__seconds();
-    if (status == SELFCOL_OK)
+    if (status == SELFCOL_OK && answer != ANSWER_FRESH)
         status = evaluate(s, mesh, &o, contacts);
+    if (status == SELFCOL_OK && answer == ANSWER_FRESH) {
+        s->state = STATE_NONE;
+        status = refit_stale(s, h, o.method);
+        if (status == SELFCOL_OK)
+            status = s->self ? selfcol_hierarchy_self_collide(h[0], contacts, &o)
+                             : selfcol_hierarchy_collide(h[0], h[1], contacts, &o);
+        // The contacts' statistics are the fresh query's own.
+        const selfcol_query_stats kept = contacts->stats;
+        if (status == SELFCOL_OK)
+            status = take_reference(s, h);
+        contacts->stats = kept;
+        if (status == SELFCOL_OK) {
+            s->state = STATE_TRACKING;
+            s->frames_since_reference = 0;
+        }
+    }
     const double end = selfcol_core__seconds();
     if (status != SELFCOL_OK) {
-        s->built = 0;
+        s->state = STATE_NONE;
         selfcol_contacts_clear(contacts);
         return status;
     }
-    contacts->stats.broad_seconds = narrow_start - start;
-    contacts->stats.narrow_seconds = end - narrow_start;
+    if (answer != ANSWER_FRESH) {
+        contacts->stats.broad_seconds = narrow_start - start;
+        contacts->stats.narrow_seconds = end - narrow_start;
+    }
     contacts->stats.total_seconds = end - start;
     s->stats.frames++;
-    s->stats.last_rebuilt = !reuse;
-    if (!reuse) {
+    s->stats.last_answer = (uint32_t)answer;
+    if (answer != ANSWER_LIST)
+        s->stats.last_reason = reason;
+    if (answer == ANSWER_REBUILT) {
         s->stats.rebuilds++;
-        s->stats.rebuild_reason = reason;
         s->stats.rebuild_seconds = rebuild_seconds;
     }
-    s->stats.near_pairs = s->pair_count;
+    s->stats.fresh_frames += answer == ANSWER_FRESH;
+    s->stats.near_pairs = s->state == STATE_LIST ? s->pair_count : 0;
     s->stats.skin = s->skin;
     s->stats.deformation_ratio = ratio;
     return SELFCOL_OK;

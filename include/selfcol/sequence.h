@@ -29,8 +29,19 @@
  * outside the near list can have come within d: the near list is tested with
  * the ordinary narrow phase (the same functions on the same positions, so
  * the same records bit for bit). When it fails anywhere (a large step, a
- * teleport with rotation, a reset), the sequence rebuilds, which costs one
- * ordinary query at distance d + s.
+ * teleport with rotation, a reset), the list is dropped.
+ *
+ * **When to rebuild.** A rebuild costs one ordinary query at distance
+ * d + s, about twice a fresh query on folded cloth, so it pays only if the
+ * new list lasts a few frames. The check's ratio divided by the frames
+ * since the reference measures the deformation per frame: when a new list
+ * would last fewer than 3 frames, the sequence answers with a fresh query
+ * at d instead (its positions become the next reference), and it rebuilds
+ * as soon as the deformation per frame has slowed down. The first frame is
+ * fresh. So a sequence costs about a fresh query plus a pass over the
+ * vertices while the surface deforms fast (the Bullet ribbon driven at 0.27
+ * edges per step deforms 1.5 to 2 skins per step), and a fraction of one
+ * while it deforms slowly.
  *
  * **The result is exactly the fresh query's**: the same sorted records
  * (contacts.h) as selfcol_hierarchy_self_collide / _collide with the same
@@ -38,18 +49,20 @@
  * tests hold them equal frame by frame on several sequences, jumps and
  * resets included. The statistics (selfcol_query_stats) count the work done:
  * on a frame answered from the near list, candidate_pairs is the list's
- * length and the traversal counters are 0; the contact counts are the
- * fresh query's. Rounding: the check keeps a margin of 1e-6 (d + s), far
- * above the closed forms' documented 1e-9 relative band.
+ * length and the traversal counters are 0; on a rebuild, the list's
+ * evaluation (the query at d + s is in broad_seconds); on a fresh frame,
+ * the fresh query's own. The contact counts are always the fresh query's. Rounding: the check keeps
+ * a margin of 1e-6 (d + s), far above the closed forms' documented 1e-9 relative band.
  *
  * Only the exact methods can be answered so: SELFCOL_METHOD_EXACT, _BVH and
  * _EXHAUSTIVE (all three return the same set). SEED and CONE skip contacts by
  * an approximate criterion and are refused (SELFCOL_EINVAL).
  *
  * The hierarchies need not be refit: the sequence refits them on the frames
- * where it rebuilds and does not read them on the others (so a frame
- * answered from the near list also saves the refit). Changing the meshes,
- * the distance, the kinds, the narrow phase or the method rebuilds.
+ * where it rebuilds or queries afresh and does not read them on the others
+ * (so a frame answered from the near list also saves the refit). Changing
+ * the meshes, the distance, the kinds, the narrow phase or the method
+ * starts afresh (a first frame).
  * @{
  */
 #ifndef SELFCOL_SEQUENCE_H
@@ -76,21 +89,29 @@ typedef struct selfcol_sequence_options {
 
 #define SELFCOL_SEQUENCE_OPTIONS_VERSION 1
 
+/** How a sequence answered a query (selfcol_sequence_run_stats.last_answer). */
+typedef enum selfcol_sequence_answer {
+    SELFCOL_SEQUENCE_FROM_LIST = 0, /**< from the near list (the check held) */
+    SELFCOL_SEQUENCE_REBUILT = 1,   /**< a rebuild (a query at d + s), then the new list */
+    SELFCOL_SEQUENCE_FRESH = 2      /**< a fresh query at d: deforming too fast for a list */
+} selfcol_sequence_answer;
+
 /** Counters of a sequence since its creation (or last reset). */
 typedef struct selfcol_sequence_run_stats {
-    unsigned int version; /**< SELFCOL_SEQUENCE_RUN_STATS_VERSION */
-    uint64_t frames;      /**< queries answered */
-    uint64_t rebuilds;    /**< of which by a query at distance d + s */
-    /** 1 when the last query rebuilt (and why is in rebuild_reason). */
-    uint32_t last_rebuilt;
-    /** Why the last rebuild happened: 0 first frame or reset, 1 another
-     *  mesh or other options, 2 the deformation check failed. */
-    uint32_t rebuild_reason;
-    uint64_t near_pairs; /**< primitive pairs in the near list */
+    unsigned int version;  /**< SELFCOL_SEQUENCE_RUN_STATS_VERSION */
+    uint64_t frames;       /**< queries answered */
+    uint64_t rebuilds;     /**< of which with a rebuild */
+    uint64_t fresh_frames; /**< of which by a fresh query */
+    uint32_t last_answer;  /**< selfcol_sequence_answer of the last query */
+    /** Why the last query that did not answer from the list did so: 0 first
+     *  frame (or after a reset), 1 other meshes or options, 2 the
+     *  deformation since the reference. */
+    uint32_t last_reason;
+    uint64_t near_pairs; /**< primitive pairs in the near list (0 when there is none) */
     double skin;         /**< the skin in use */
-    /** Largest ratio, over the cluster pairs of the last frame answered from
-     *  the near list, of the deformation bound to what the pair allows (the
-     *  list holds while it is below 1; 0 after a rebuild). */
+    /** The check's ratio at the last query: the largest, over the cluster
+     *  pairs, of the deformation bound since the reference to what the pair
+     *  allows (a list holds while it is below 1; 0 on a first frame). */
     double deformation_ratio;
     double rebuild_seconds; /**< time of the last rebuild (its query included) */
 } selfcol_sequence_run_stats;
@@ -104,7 +125,7 @@ typedef struct selfcol_sequence_run_stats {
 SELFCOL_API int selfcol_sequence_options_init(selfcol_sequence_options *opts, unsigned int version);
 
 /**
- * Creates an empty sequence (its first query rebuilds).
+ * Creates an empty sequence (its first query is fresh).
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_sequence_destroy().
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, skin negative or not finite,
@@ -116,7 +137,7 @@ SELFCOL_API int selfcol_sequence_create(selfcol_sequence **out,
 /** Destroys a sequence. Accepts NULL. */
 SELFCOL_API void selfcol_sequence_destroy(selfcol_sequence *sequence);
 
-/** Forgets the reference: the next query rebuilds. Keeps the memory. */
+/** Forgets the reference: the next query is a first frame. Keeps the memory. */
 SELFCOL_API void selfcol_sequence_reset(selfcol_sequence *sequence);
 
 /**
@@ -124,13 +145,14 @@ SELFCOL_API void selfcol_sequence_reset(selfcol_sequence *sequence);
  * answered as selfcol_hierarchy_self_collide() would (same records, sorted).
  * @param[in,out] sequence the handle kept across frames
  * @param[in,out] hierarchy the mesh's hierarchy; refit here when the
- *                sequence rebuilds (it need not be refit by the caller)
+ *                sequence rebuilds or queries afresh (it need not be
+ *                refit by the caller)
  * @param[out] contacts receives the records and the statistics
  * @param[in] opts query options (NULL: defaults); method EXACT, BVH or EXHAUSTIVE
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL arguments, bad options, method
  *         SEED or CONE); SELFCOL_EVERSION; SELFCOL_EMISMATCH (the
  *         hierarchy's mesh is not the one it was built on); SELFCOL_ENOMEM
- *         (contacts then empty; the sequence rebuilds next time).
+ *         (contacts then empty; the next query is a first frame).
  */
 SELFCOL_API int selfcol_sequence_self_collide(selfcol_sequence *sequence,
                                               selfcol_hierarchy *hierarchy,

@@ -52,7 +52,7 @@ static double median(double *v, size_t n) {
 
 static const char *header =
     "case,triangles,vertices,frames,reps,threads,d,method,skin,frame_ms_mean,frame_ms_median,"
-    "frame_ms_max,rebuilds,near_pairs_mean,contacts_mean,misses,extras,struct_bytes,"
+    "frame_ms_max,rebuilds,fresh_frames,near_pairs_mean,contacts_mean,misses,extras,struct_bytes,"
     "bytes_per_tri,motion_mean,motion_max,note";
 
 // A sequence of frames over one topology.
@@ -215,7 +215,7 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
     double *per_frame = calloc(reps > f->count ? reps : f->count, sizeof(double));
     if (fresh_t == NULL || coherent_t == NULL || per_frame == NULL)
         rc = SELFCOL_ENOMEM;
-    unsigned long long misses = 0, extras = 0, rebuilds = 0;
+    unsigned long long misses = 0, extras = 0, rebuilds = 0, fresh_frames = 0;
     double near_sum = 0.0, contacts_sum = 0.0;
     size_t bytes = 0;
     for (unsigned rep = 0; rc == SELFCOL_OK && rep < reps; ++rep) {
@@ -244,7 +244,8 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
             st.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
             selfcol_sequence_stats(seq, &st);
             if (rep == 0) {
-                rebuilds += st.last_rebuilt;
+                rebuilds += st.last_answer == SELFCOL_SEQUENCE_REBUILT;
+                fresh_frames += st.last_answer == SELFCOL_SEQUENCE_FRESH;
                 near_sum += (double)st.near_pairs;
                 contacts_sum += (double)selfcol_contacts_count(fresh_c);
             }
@@ -269,13 +270,14 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
             const double mean = sum / (double)n;
             const double med = median(frame_med, n);
             const size_t struct_bytes = m == 0 ? selfcol_hierarchy_byte_count(fresh_h) : bytes;
-            printf("%s,%zu,%zu,%zu,%u,%u,%.9g,%s,%.9g,%.4f,%.4f,%.4f,%llu,%.1f,%.1f,%llu,%llu,%zu,"
+            printf("%s,%zu,%zu,%zu,%u,%u,%.9g,%s,%.9g,%.4f,%.4f,%.4f,%llu,%llu,%.1f,%.1f,%llu,%llu,"
+                   "%zu,"
                    "%.1f,%.4f,%.4f,%s\n",
                    f->name, F, V, f->count, reps, threads, d, names[m], m == 0 ? 0.0 : so.skin,
                    1e3 * mean, 1e3 * med, 1e3 * most, m == 0 ? 0ULL : rebuilds,
-                   m == 0 ? 0.0 : near_sum / (double)f->count, contacts_sum / (double)f->count,
-                   misses, extras, struct_bytes, (double)struct_bytes / (double)F, f->motion_mean,
-                   f->motion_max,
+                   m == 0 ? 0ULL : fresh_frames, m == 0 ? 0.0 : near_sum / (double)f->count,
+                   contacts_sum / (double)f->count, misses, extras, struct_bytes,
+                   (double)struct_bytes / (double)F, f->motion_mean, f->motion_max,
                    m == 0 ? "refit + EXACT query per frame"
                           : "selfcol_sequence per frame (rebuilds included); struct_bytes: "
                             "the sequence");

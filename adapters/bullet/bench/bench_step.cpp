@@ -110,7 +110,10 @@ struct run_result {
 };
 
 const char *mode_name(demo::mode m) {
-    return m == demo::mode::selfcol ? "selfcol" : m == demo::mode::bullet ? "bullet" : "off";
+    return m == demo::mode::selfcol         ? "selfcol"
+           : m == demo::mode::selfcol_fresh ? "selfcol-fresh"
+           : m == demo::mode::bullet        ? "bullet"
+                                            : "off";
 }
 
 long long faces_of(int along) {
@@ -489,7 +492,8 @@ int usage(const char *name) {
         "  --sizes LIST    comma-separated ribbon sizes: Nk = the resolution nearest N "
         "thousand faces,\n"
         "                  a plain N = N nodes along the strip (default 2k,20k)\n"
-        "  --modes LIST    of off, bullet, selfcol (default all three, in that order)\n"
+        "  --modes LIST    of off, bullet, selfcol, selfcol-fresh (a fresh query every\n"
+        "                  step: adapter option coherent = 0); default off,bullet,selfcol\n"
         "  --steps W       steps per run; the ends are driven together over all of "
         "them\n"
         "                  (default auto: 3.75 x the nodes along, rounded to 12)\n"
@@ -535,6 +539,8 @@ int parse_options(int argc, char **argv, config &cfg) {
                     cfg.modes.push_back(demo::mode::bullet);
                 else if (m == "selfcol")
                     cfg.modes.push_back(demo::mode::selfcol);
+                else if (m == "selfcol-fresh")
+                    cfg.modes.push_back(demo::mode::selfcol_fresh);
                 else
                     bad = true;
             }
@@ -694,7 +700,7 @@ std::string csv_line(const config &cfg, const std::vector<row> &rows, const row 
         step_min = std::isnan(step_min) ? r.min_ms : std::min(step_min, r.min_ms);
         step_max = std::isnan(step_max) ? r.max_ms : std::max(step_max, r.max_ms);
     }
-    bool sc = w.m == demo::mode::selfcol;
+    bool sc = w.m == demo::mode::selfcol || w.m == demo::mode::selfcol_fresh;
     char b[2048];
     std::snprintf(
         b, sizeof b,
@@ -782,7 +788,7 @@ void print_table(const std::vector<row> &rows) {
         std::string ef = ef_min == ef_max ? std::to_string(ef_min)
                                           : std::to_string(ef_min) + "-" + std::to_string(ef_max);
         std::string split_ms, contacts;
-        if (w.m == demo::mode::selfcol) {
+        if (w.m == demo::mode::selfcol || w.m == demo::mode::selfcol_fresh) {
             split_ms =
                 fmt(med_of(w, [](const run_result &r) { return r.detect_median_ms; }), "%.2f") +
                 " + " +

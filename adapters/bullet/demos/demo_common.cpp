@@ -285,6 +285,7 @@ int world::start(const options &o) {
     so.query.distance = o.distance;
     so.query.threads = o.threads;
     so.continuous = o.continuous ? 1 : 0;
+    so.coherent = collision == mode::selfcol_fresh ? 0 : 1;
     int status = selfcol_bullet_create(&adapter, dynamics, &so);
     for (size_t i = 0; status == SELFCOL_OK && i < cloths.size(); ++i)
         status = selfcol_bullet_attach(adapter, cloths[i], nullptr);

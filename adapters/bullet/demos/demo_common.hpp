@@ -28,7 +28,9 @@
 
 namespace demo {
 
-enum class mode { selfcol, bullet, off };
+// selfcol_fresh: selfcol with a fresh query every step (adapter option
+// coherent = 0), for the benchmark's comparison.
+enum class mode { selfcol, bullet, off, selfcol_fresh };
 
 struct options {
     mode collision = mode::selfcol;

@@ -232,6 +232,7 @@ selfcol_scene_options scene_options(const selfcol_bullet_options &o, double dist
     so.query = o.query;
     so.query.distance = distance;
     so.store = o.store;
+    so.coherent = o.coherent;
     return so;
 }
 
@@ -735,6 +736,7 @@ extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigne
     opts->automatic = 1;
     opts->untangle = 1;
     opts->continuous = 0;
+    opts->coherent = 1;
     return SELFCOL_OK;
 }
 
@@ -757,7 +759,7 @@ int check_options(const selfcol_bullet_options &o) {
     if (o.iterations == 0 || o.iterations > 64)
         return SELFCOL_EINVAL;
     if ((o.automatic != 0 && o.automatic != 1) || (o.untangle != 0 && o.untangle != 1) ||
-        (o.continuous != 0 && o.continuous != 1))
+        (o.continuous != 0 && o.continuous != 1) || (o.coherent != 0 && o.coherent != 1))
         return SELFCOL_EINVAL;
     selfcol_scene_options so = scene_options(o, distance > 0 ? distance : 1.0);
     selfcol_scene *trial = nullptr;

@@ -177,6 +177,14 @@ typedef struct selfcol_bullet_options {
      * is not checked. Costs a continuous query per pass (stats).
      */
     int continuous;
+    /**
+     * 1 (default): each surface pair's query is answered from a
+     * selfcol_sequence (selfcol/sequence.h) while the cloth's deformation
+     * since its last rebuild allows: the same contacts as a fresh query
+     * every step, at a fraction of its cost when nodes move a little per
+     * step. 0: a fresh query every step (the scene option `coherent`).
+     */
+    int coherent;
 } selfcol_bullet_options;
 
 /** 3 since 0.3 (query and store options composed); 0.2's versions 1 and 2 are refused. */
