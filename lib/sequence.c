@@ -58,7 +58,7 @@
 // depth-first leaf order keeps them compact). The check costs the clusters'
 // displacement boxes (one pass over the vertices) and CLUSTERS^2 / 2 box
 // pairs.
-#define CLUSTERS 128
+#define CLUSTERS 128 // at most 256: a cluster's index is a byte (near_pair.tag)
 
 // Relative margin of the check (the proof above).
 #define MARGIN 1e-6
@@ -72,11 +72,24 @@
 enum { STATE_NONE = 0, STATE_TRACKING = 1, STATE_LIST = 2 };
 
 // One pair of the near list: kind and meshes in `tag` (kind << 2 |
-// first_mesh << 1 | second_mesh), then the primitives as in selfcol_contact.
+// first_mesh << 1 | second_mesh, then the clusters of the first and second
+// primitive in bits 8-15 and 16-23), the primitives as in selfcol_contact,
+// and a lower bound of their distance at the reference (EF: of the edge's
+// distance to the triangle, 0 when it crossed). A pair whose bound, less
+// the spread of its two clusters' displacements, still exceeds d (0 for
+// EF) cannot be a contact now (the proof above, for this one pair): it is
+// skipped without a closed form.
 typedef struct near_pair {
     uint32_t tag;
     uint32_t first, second;
+    float near;
 } near_pair;
+
+#define TAG_KIND(tag) ((tag) >> 2 & 3u)
+#define TAG_FIRST_MESH(tag) ((tag) >> 1 & 1u)
+#define TAG_SECOND_MESH(tag) ((tag)&1u)
+#define TAG_FIRST_CLUSTER(tag) ((tag) >> 8 & 0xffu)
+#define TAG_SECOND_CLUSTER(tag) ((tag) >> 16 & 0xffu)
 
 // A growable array: bytes held.
 typedef struct buffer {
@@ -86,10 +99,11 @@ typedef struct buffer {
 
 typedef struct cluster_set {
     unsigned count;
-    buffer offsets;  // count + 1 uint32_t into vertices
-    buffer vertices; // uint32_t, each cluster's vertex set
-    buffer ref_box;  // 6 doubles per cluster: lo, hi of the reference positions
-    buffer disp_box; // 6 doubles per cluster: lo, hi of the displacements now
+    buffer of_triangle; // uint8_t per triangle: its cluster
+    buffer offsets;     // count + 1 uint32_t into vertices
+    buffer vertices;    // uint32_t, each cluster's vertex set
+    buffer ref_box;     // 6 doubles per cluster: lo, hi of the reference positions
+    buffer disp_box;    // 6 doubles per cluster: lo, hi of the displacements now
 } cluster_set;
 
 struct selfcol_sequence {
@@ -107,7 +121,8 @@ struct selfcol_sequence {
 
     buffer reference[2]; // 3 V doubles per mesh
     cluster_set clusters[2];
-    buffer pairs; // near_pair, in record order
+    buffer pairs;  // near_pair, in record order
+    buffer spread; // float per cluster pair (first mesh's x second's), rounded up
     size_t pair_count;
     buffer stamps; // rebuild: a uint32_t per vertex (the clusters' vertex sets)
 
@@ -184,8 +199,10 @@ void selfcol_sequence_destroy(selfcol_sequence *s) {
         release(&a, &s->clusters[m].vertices);
         release(&a, &s->clusters[m].ref_box);
         release(&a, &s->clusters[m].disp_box);
+        release(&a, &s->clusters[m].of_triangle);
     }
     release(&a, &s->pairs);
+    release(&a, &s->spread);
     release(&a, &s->stamps);
     selfcol_alloc__free(&a, s, sizeof *s);
 }
@@ -209,11 +226,11 @@ int selfcol_sequence_stats(const selfcol_sequence *s, selfcol_sequence_run_stats
 size_t selfcol_sequence_byte_count(const selfcol_sequence *s) {
     if (s == NULL)
         return 0;
-    size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes;
+    size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes + s->spread.bytes;
     for (int m = 0; m < 2; ++m) {
         const cluster_set *c = &s->clusters[m];
         bytes += s->reference[m].bytes + c->offsets.bytes + c->vertices.bytes + c->ref_box.bytes +
-                 c->disp_box.bytes;
+                 c->disp_box.bytes + c->of_triangle.bytes;
     }
     return bytes;
 }
@@ -233,9 +250,11 @@ static int build_clusters(selfcol_sequence *s, int m, const selfcol_hierarchy *h
     if (reserve(&s->allocator, &c->offsets, (K + 1) * sizeof(uint32_t)) != SELFCOL_OK ||
         reserve(&s->allocator, &c->vertices, 3 * F * sizeof(uint32_t)) != SELFCOL_OK ||
         reserve(&s->allocator, &c->ref_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK ||
-        reserve(&s->allocator, &c->disp_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK)
+        reserve(&s->allocator, &c->disp_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK ||
+        reserve(&s->allocator, &c->of_triangle, F) != SELFCOL_OK)
         return SELFCOL_ENOMEM;
     uint32_t *offsets = c->offsets.data, *vertices = c->vertices.data;
+    uint8_t *of_triangle = c->of_triangle.data;
     double *box = c->ref_box.data;
     const double *ref = s->reference[m].data;
     memset(stamps, 0, mesh->vertex_count * sizeof *stamps);
@@ -247,6 +266,7 @@ static int build_clusters(selfcol_sequence *s, int m, const selfcol_hierarchy *h
         lo[0] = lo[1] = lo[2] = INFINITY;
         hi[0] = hi[1] = hi[2] = -INFINITY;
         for (size_t slot = begin; slot < end; ++slot) {
+            of_triangle[h->tri_order[slot]] = (uint8_t)k;
             const uint32_t *tri = mesh->triangles + 3 * (size_t)h->tri_order[slot];
             for (int i = 0; i < 3; ++i) {
                 const uint32_t v = tri[i];
@@ -324,10 +344,17 @@ static double deformation_ratio(selfcol_sequence *s, const selfcol_mesh *const m
     // The computed spread and gap err by a few ulps of their size: 1e-12
     // relative covers it many times over.
     const double round = 1.0 + 1e-12;
+    float *pair_spread = s->spread.data;
+    const size_t K1 = c1->count;
     double worst = 0.0;
     for (unsigned i = 0; i < c0->count; ++i) {
         for (unsigned j = s->self ? i : 0; j < c1->count; ++j) {
             const double moved = spread(d0 + 6 * (size_t)i, d1 + 6 * (size_t)j) * round;
+            // Rounded up to a float (a relative 2^-24 at most).
+            const float up = (float)(moved * (1.0 + 1e-6));
+            pair_spread[i * K1 + j] = up;
+            if (s->self)
+                pair_spread[(size_t)j * K1 + i] = up;
             const double apart = gap(r0 + 6 * (size_t)i, r1 + 6 * (size_t)j) / round - s->distance;
             const double allowed = (apart > s->skin ? apart : s->skin) - margin;
             if (!(allowed > 0.0))
@@ -346,6 +373,12 @@ static uint32_t tag_of(uint32_t kind, uint32_t first_mesh, uint32_t second_mesh)
     return kind << 2 | first_mesh << 1 | second_mesh;
 }
 
+// A float at most x >= 0.
+static float float_below(double x) {
+    float f = (float)x;
+    return (double)f > x ? nextafterf(f, 0.0f) : f;
+}
+
 static int is_corner(uint32_t v, const uint32_t *tri) {
     return v == tri[0] || v == tri[1] || v == tri[2];
 }
@@ -355,9 +388,13 @@ static size_t ef_candidates(const selfcol_sequence *s, const selfcol_mesh *const
                             const selfcol_contact *r, near_pair *out) {
     size_t n = 0;
     const int self = s->self;
+    // The record's distance bounds the candidate's from above; the smallest
+    // over its repeats is its distance (sort_unique), since every component
+    // below R is a record.
+    const float near = float_below(r->distance);
     if (r->kind == SELFCOL_CONTACT_EF) {
         out[n++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, r->first_mesh, r->second_mesh), r->first,
-                               r->second};
+                               r->second, 0.0f};
     } else if (r->kind == SELFCOL_CONTACT_VF) {
         // Every edge at vertex v against triangle t.
         const selfcol_mesh *mv = mesh[r->first_mesh], *mt = mesh[r->second_mesh];
@@ -375,7 +412,7 @@ static size_t ef_candidates(const selfcol_sequence *s, const selfcol_mesh *const
                     continue;
                 if (self && (is_corner(ev[0], tri) || is_corner(ev[1], tri)))
                     continue;
-                out[n++] = (near_pair){tag, e, r->second};
+                out[n++] = (near_pair){tag, e, r->second, near};
             }
         }
     } else {
@@ -394,7 +431,7 @@ static size_t ef_candidates(const selfcol_sequence *s, const selfcol_mesh *const
                 const uint32_t *tri = M->triangles + 3 * (size_t)t;
                 if (self && (is_corner(ev[0], tri) || is_corner(ev[1], tri)))
                     continue;
-                out[n++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, me, mt), e, t};
+                out[n++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, me, mt), e, t, near};
             }
         }
     }
@@ -425,23 +462,31 @@ static size_t ef_bound(const selfcol_mesh *const mesh[2], const selfcol_contact 
 // query ran in (which has just sorted the reach set's records there).
 #define RADIX_BITS 11
 #define RADIX_MASK ((1u << RADIX_BITS) - 1u)
+typedef struct sort_item {
+    uint64_t key;
+    float near;
+    uint32_t unused;
+} sort_item;
+
 static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, near_pair *p,
                           size_t n) {
     if (n == 0)
         return 0;
-    if (n > SIZE_MAX / (2 * sizeof(uint64_t)))
+    if (n > SIZE_MAX / (2 * sizeof(sort_item)))
         return (size_t)-1;
-    uint64_t *key =
-        selfcol_workspace__buffer(work, SELFCOL_SCRATCH_SORT, 2 * n * sizeof(uint64_t), 0);
-    if (key == NULL)
+    sort_item *item =
+        selfcol_workspace__buffer(work, SELFCOL_SCRATCH_SORT, 2 * n * sizeof(sort_item), 0);
+    if (item == NULL)
         return (size_t)-1;
-    uint64_t *other = key + n;
+    sort_item *other = item + n;
     uint64_t all_or = 0, all_and = ~(uint64_t)0;
     for (size_t i = 0; i < n; ++i) {
-        const uint64_t first_mesh = (p[i].tag >> 1) & 1u;
-        key[i] = first_mesh << 63 | (uint64_t)p[i].first << 31 | p[i].second;
-        all_or |= key[i];
-        all_and &= key[i];
+        const uint64_t first_mesh = TAG_FIRST_MESH(p[i].tag);
+        item[i].key = first_mesh << 63 | (uint64_t)p[i].first << 31 | p[i].second;
+        item[i].near = p[i].near;
+        item[i].unused = 0;
+        all_or |= item[i].key;
+        all_and &= item[i].key;
     }
     for (int shift = 0; shift < 64; shift += RADIX_BITS) {
         if ((((all_or ^ all_and) >> shift) & RADIX_MASK) == 0)
@@ -449,7 +494,7 @@ static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, ne
         size_t count[RADIX_MASK + 1];
         memset(count, 0, sizeof count);
         for (size_t i = 0; i < n; ++i)
-            count[(key[i] >> shift) & RADIX_MASK]++;
+            count[(item[i].key >> shift) & RADIX_MASK]++;
         size_t sum = 0;
         for (size_t b = 0; b <= RADIX_MASK; ++b) {
             const size_t k = count[b];
@@ -457,19 +502,23 @@ static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, ne
             sum += k;
         }
         for (size_t i = 0; i < n; ++i)
-            other[count[(key[i] >> shift) & RADIX_MASK]++] = key[i];
-        uint64_t *swap = key;
-        key = other;
+            other[count[(item[i].key >> shift) & RADIX_MASK]++] = item[i];
+        sort_item *swap = item;
+        item = other;
         other = swap;
     }
     size_t m = 0;
     for (size_t i = 0; i < n; ++i) {
-        if (m > 0 && key[i] == key[i - 1])
+        if (m > 0 && item[i].key == item[i - 1].key) {
+            if (item[i].near < p[m - 1].near)
+                p[m - 1].near = item[i].near; // the repeats' least
             continue;
-        const uint32_t first_mesh = (uint32_t)(key[i] >> 63);
+        }
+        const uint32_t first_mesh = (uint32_t)(item[i].key >> 63);
         const uint32_t second_mesh = s->self ? 0u : 1u - first_mesh;
         p[m++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, first_mesh, second_mesh),
-                             (uint32_t)(key[i] >> 31), (uint32_t)(key[i] & 0x7fffffffu)};
+                             (uint32_t)(item[i].key >> 31), (uint32_t)(item[i].key & 0x7fffffffu),
+                             item[i].near};
     }
     return m;
 }
@@ -493,8 +542,8 @@ static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
     for (size_t i = 0; i < n; ++i) {
         const selfcol_contact *r = &rec[i];
         if (r->kind != SELFCOL_CONTACT_EF && (s->kinds & (1u << r->kind)))
-            list[count++] =
-                (near_pair){tag_of(r->kind, r->first_mesh, r->second_mesh), r->first, r->second};
+            list[count++] = (near_pair){tag_of(r->kind, r->first_mesh, r->second_mesh), r->first,
+                                        r->second, float_below(r->distance)};
     }
     if (s->kinds & SELFCOL_KIND_EF) {
         size_t m = 0, compacted = 0; // EF candidates behind the list; of them, sorted
@@ -541,15 +590,30 @@ typedef struct evaluation {
 static int evaluate_range(const evaluation *e, selfcol_contacts *out, size_t begin, size_t end) {
     selfcol_query q = e->base;
     q.out = out;
-    const near_pair *list = e->s->pairs.data;
+    const selfcol_sequence *s = e->s;
+    const near_pair *list = s->pairs.data;
+    const float *pair_spread = s->spread.data;
+    const size_t K1 = s->clusters[s->self ? 0 : 1].count;
     const double d = q.distance;
+    // A pair is skipped when its reference distance less its clusters'
+    // spread exceeds d (0 for EF) by the proof's margin, which covers the
+    // closed forms' 1e-9 relative band and the floats' rounding (both
+    // rounded the safe way).
+    const double margin = MARGIN * s->reach;
+    const double beyond[3] = {d + margin, d + margin, margin}; // by kind
     int status = SELFCOL_OK;
     for (size_t i = begin; i < end && status == SELFCOL_OK; ++i) {
         const near_pair *p = &list[i];
-        const uint32_t kind = p->tag >> 2;
-        const int m1 = (int)((p->tag >> 1) & 1u), m2 = (int)(p->tag & 1u);
+        const uint32_t kind = TAG_KIND(p->tag);
+        const int m1 = (int)TAG_FIRST_MESH(p->tag), m2 = (int)TAG_SECOND_MESH(p->tag);
         const selfcol_mesh *M1 = q.mesh[m1], *M2 = q.mesh[m2];
         out->stats.candidate_pairs++;
+        const uint32_t c1 = TAG_FIRST_CLUSTER(p->tag), c2 = TAG_SECOND_CLUSTER(p->tag);
+        const float spread_now = m1 == 0 ? pair_spread[c1 * K1 + c2] : pair_spread[c2 * K1 + c1];
+        if ((double)p->near - (double)spread_now > beyond[kind]) {
+            out->stats.primitives_filtered++;
+            continue;
+        }
         // The exhaustive reference's box filters (exhaustive.c), then the
         // same primitive tests as every method.
         double lo[3], hi[3], plo[3], phi[3];
@@ -703,7 +767,34 @@ static int take_reference(selfcol_sequence *s, selfcol_hierarchy *const h[2]) {
         status = reserve(&s->allocator, &s->stamps, stamp_bytes);
     for (int m = 0; m < meshes && status == SELFCOL_OK; ++m)
         status = build_clusters(s, m, h[m], s->stamps.data);
+    // No displacement yet: every cluster pair's spread is 0.
+    const size_t K0 = s->clusters[0].count, K1 = s->clusters[s->self ? 0 : 1].count;
+    if (status == SELFCOL_OK)
+        status = reserve(&s->allocator, &s->spread, (K0 * K1 + 1) * sizeof(float));
+    if (status == SELFCOL_OK)
+        memset(s->spread.data, 0, (K0 * K1 + 1) * sizeof(float));
     return status;
+}
+
+// Writes the clusters of each near pair's primitives into its tag (after
+// take_reference: a vertex or an edge goes to the cluster of its first
+// triangle, whose vertex set holds it).
+static void tag_clusters(selfcol_sequence *s, const selfcol_mesh *const mesh[2]) {
+    near_pair *list = s->pairs.data;
+    for (size_t i = 0; i < s->pair_count; ++i) {
+        near_pair *p = &list[i];
+        const uint32_t kind = TAG_KIND(p->tag);
+        const uint32_t m1 = TAG_FIRST_MESH(p->tag), m2 = TAG_SECOND_MESH(p->tag);
+        const selfcol_mesh *M1 = mesh[m1], *M2 = mesh[m2];
+        const uint8_t *of1 = s->clusters[s->self ? 0 : m1].of_triangle.data;
+        const uint8_t *of2 = s->clusters[s->self ? 0 : m2].of_triangle.data;
+        const uint32_t t1 = kind == SELFCOL_CONTACT_VF
+                                ? M1->vertex_tris[M1->vertex_tri_offsets[p->first]]
+                                : M1->edge_tris[M1->edge_tri_offsets[p->first]];
+        const uint32_t t2 =
+            kind == SELFCOL_CONTACT_EE ? M2->edge_tris[M2->edge_tri_offsets[p->second]] : p->second;
+        p->tag = (p->tag & 0xffu) | (uint32_t)of1[t1] << 8 | (uint32_t)of2[t2] << 16;
+    }
 }
 
 // Refits the hierarchies that are stale (none for EXHAUSTIVE).
@@ -743,6 +834,8 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     selfcol_contacts_clear(scratch);
     if (status == SELFCOL_OK)
         status = take_reference(s, h);
+    if (status == SELFCOL_OK)
+        tag_clusters(s, mesh);
     return status;
 }
 

@@ -240,6 +240,21 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
             if (rc != SELFCOL_OK)
                 break;
             differences(coherent_c, fresh_c, &misses, &extras);
+            if (getenv("BENCH_SEQUENCE_STATS") != NULL && rep == 0) {
+                selfcol_query_stats q;
+                memset(&q, 0, sizeof q);
+                q.version = SELFCOL_QUERY_STATS_VERSION;
+                selfcol_contacts_stats(coherent_c, &q);
+                fprintf(stderr,
+                        "frame %zu: candidates %llu filtered %llu vf %llu ee %llu ef %llu "
+                        "contacts %llu/%llu/%llu broad %.2f narrow %.2f ms\n",
+                        k, (unsigned long long)q.candidate_pairs,
+                        (unsigned long long)q.primitives_filtered, (unsigned long long)q.vf_tests,
+                        (unsigned long long)q.ee_tests, (unsigned long long)q.ef_tests,
+                        (unsigned long long)q.vf_contacts, (unsigned long long)q.ee_contacts,
+                        (unsigned long long)q.ef_contacts, 1e3 * q.broad_seconds,
+                        1e3 * q.narrow_seconds);
+            }
             selfcol_sequence_run_stats st;
             st.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
             selfcol_sequence_stats(seq, &st);
