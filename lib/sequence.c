@@ -98,6 +98,7 @@ typedef struct buffer {
 } buffer;
 
 typedef struct cluster_set {
+    int ready; // the clusters of the current setup are built
     unsigned count;
     buffer of_triangle; // uint8_t per triangle: its cluster
     buffer offsets;     // count + 1 uint32_t into vertices
@@ -238,51 +239,60 @@ size_t selfcol_sequence_byte_count(const selfcol_sequence *s) {
 // ---------------------------------------------------------------------------
 // Clusters
 
-// Clusters of mesh m from the hierarchy's triangle order; reference boxes
-// from the reference positions. `stamps` has room for V uint32_t.
+// Clusters of mesh m from the hierarchy's triangle order (once per setup:
+// any partition of the triangles serves the proof, so a hierarchy rebuilt
+// over the same mesh keeps them valid), then their boxes at the reference.
+// `stamps` has room for V uint32_t.
 static int build_clusters(selfcol_sequence *s, int m, const selfcol_hierarchy *h,
                           uint32_t *stamps) {
     const selfcol_mesh *mesh = h->mesh;
     cluster_set *c = &s->clusters[m];
-    const size_t F = mesh->triangle_count;
-    const unsigned K = F < CLUSTERS ? (unsigned)F : CLUSTERS;
-    c->count = K;
-    if (reserve(&s->allocator, &c->offsets, (K + 1) * sizeof(uint32_t)) != SELFCOL_OK ||
-        reserve(&s->allocator, &c->vertices, 3 * F * sizeof(uint32_t)) != SELFCOL_OK ||
-        reserve(&s->allocator, &c->ref_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK ||
-        reserve(&s->allocator, &c->disp_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK ||
-        reserve(&s->allocator, &c->of_triangle, F) != SELFCOL_OK)
-        return SELFCOL_ENOMEM;
-    uint32_t *offsets = c->offsets.data, *vertices = c->vertices.data;
-    uint8_t *of_triangle = c->of_triangle.data;
-    double *box = c->ref_box.data;
-    const double *ref = s->reference[m].data;
-    memset(stamps, 0, mesh->vertex_count * sizeof *stamps);
-    uint32_t n = 0;
-    for (unsigned k = 0; k < K; ++k) {
-        offsets[k] = n;
-        const size_t begin = F * k / K, end = F * (k + 1) / K;
-        double *lo = box + 6 * (size_t)k, *hi = lo + 3;
-        lo[0] = lo[1] = lo[2] = INFINITY;
-        hi[0] = hi[1] = hi[2] = -INFINITY;
-        for (size_t slot = begin; slot < end; ++slot) {
-            of_triangle[h->tri_order[slot]] = (uint8_t)k;
-            const uint32_t *tri = mesh->triangles + 3 * (size_t)h->tri_order[slot];
-            for (int i = 0; i < 3; ++i) {
-                const uint32_t v = tri[i];
-                if (stamps[v] == k + 1)
-                    continue;
-                stamps[v] = k + 1;
-                vertices[n++] = v;
-                for (int a = 0; a < 3; ++a) {
-                    const double x = ref[3 * (size_t)v + (size_t)a];
-                    lo[a] = x < lo[a] ? x : lo[a];
-                    hi[a] = x > hi[a] ? x : hi[a];
+    if (!c->ready) {
+        const size_t F = mesh->triangle_count;
+        const unsigned K = F < CLUSTERS ? (unsigned)F : CLUSTERS;
+        if (reserve(&s->allocator, &c->offsets, (K + 1) * sizeof(uint32_t)) != SELFCOL_OK ||
+            reserve(&s->allocator, &c->vertices, 3 * F * sizeof(uint32_t)) != SELFCOL_OK ||
+            reserve(&s->allocator, &c->ref_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK ||
+            reserve(&s->allocator, &c->disp_box, 6 * (size_t)K * sizeof(double)) != SELFCOL_OK ||
+            reserve(&s->allocator, &c->of_triangle, F) != SELFCOL_OK)
+            return SELFCOL_ENOMEM;
+        c->count = K;
+        uint32_t *offsets = c->offsets.data, *vertices = c->vertices.data;
+        uint8_t *of_triangle = c->of_triangle.data;
+        memset(stamps, 0, mesh->vertex_count * sizeof *stamps);
+        uint32_t n = 0;
+        for (unsigned k = 0; k < K; ++k) {
+            offsets[k] = n;
+            const size_t begin = F * k / K, end = F * (k + 1) / K;
+            for (size_t slot = begin; slot < end; ++slot) {
+                of_triangle[h->tri_order[slot]] = (uint8_t)k;
+                const uint32_t *tri = mesh->triangles + 3 * (size_t)h->tri_order[slot];
+                for (int i = 0; i < 3; ++i) {
+                    if (stamps[tri[i]] == k + 1)
+                        continue;
+                    stamps[tri[i]] = k + 1;
+                    vertices[n++] = tri[i];
                 }
             }
         }
+        offsets[K] = n;
+        c->ready = 1;
     }
-    offsets[K] = n;
+    const uint32_t *offsets = c->offsets.data, *vertices = c->vertices.data;
+    const double *ref = s->reference[m].data;
+    double *box = c->ref_box.data;
+    for (unsigned k = 0; k < c->count; ++k) {
+        double *lo = box + 6 * (size_t)k, *hi = lo + 3;
+        lo[0] = lo[1] = lo[2] = INFINITY;
+        hi[0] = hi[1] = hi[2] = -INFINITY;
+        for (uint32_t i = offsets[k]; i < offsets[k + 1]; ++i) {
+            const double *x = ref + 3 * (size_t)vertices[i];
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = x[a] < lo[a] ? x[a] : lo[a];
+                hi[a] = x[a] > hi[a] ? x[a] : hi[a];
+            }
+        }
+    }
     return SELFCOL_OK;
 }
 
@@ -332,8 +342,12 @@ static double gap(const double *a, const double *b) {
 // The check of the proof above over every pair of clusters: the largest
 // ratio of a pair's spread to what the pair allows (the near list holds
 // while it is below 1; INFINITY when some pair allows nothing). All pairs are
-// visited: the ratio also measures how fast the surface deforms (run()).
-static double deformation_ratio(selfcol_sequence *s, const selfcol_mesh *const mesh[2]) {
+// visited: the ratio also measures how fast the surface deforms (run()),
+// and fills the spread of every pair for the list's per-pair skips; but the
+// check stops at the first pair above stop_above (the caller then needs no
+// more).
+static double deformation_ratio(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
+                                double stop_above) {
     const int meshes = s->self ? 1 : 2;
     for (int m = 0; m < meshes; ++m)
         displacement_boxes(s, m, mesh[m]);
@@ -361,6 +375,8 @@ static double deformation_ratio(selfcol_sequence *s, const selfcol_mesh *const m
                 return INFINITY;
             const double r = moved / allowed;
             worst = r > worst ? r : worst;
+            if (worst > stop_above)
+                return worst;
         }
     }
     return worst;
@@ -719,6 +735,7 @@ static void setup(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
     s->skin = s->reach = 0.0;
     s->state = STATE_NONE;
+    s->clusters[0].ready = s->clusters[1].ready = 0;
     s->self = h[0] == h[1];
     for (int m = 0; m < 2; ++m)
         s->identity[m] = mesh[m]->identity;
@@ -873,9 +890,12 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         reason = s->state != STATE_NONE ? 1u : 0u;
         setup(s, h, &o);
     } else {
-        ratio = deformation_ratio(s, mesh);
+        // Above this, neither is the list valid nor would a new one pay.
+        const double n = (double)(s->frames_since_reference + 1);
+        const double stop = s->state == STATE_LIST ? fmax(1.0, n / REBUILD_LIFE) : n / REBUILD_LIFE;
+        ratio = deformation_ratio(s, mesh, stop);
         s->frames_since_reference++;
-        rate = ratio / (double)s->frames_since_reference;
+        rate = ratio / n;
         reason = 2;
     }
     int answer;
