@@ -139,7 +139,7 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
         int rc;
         if (q < count) {
             pair[0] = pair[1] = parts[q];
-            rc = selfcol_hierarchy_self_collide(parts[q]->hierarchy, st->contacts, &st->query);
+            rc = cli_part_self_collide(parts[q], o->frames != 0, st->contacts, &st->query);
         } else {
             pair[0] = parts[0];
             pair[1] = parts[1];

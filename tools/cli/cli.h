@@ -67,8 +67,18 @@ typedef struct cli_part {
     size_t merged_vertices;     /* vertices welded into a lower one */
     selfcol_mesh *mesh;
     selfcol_hierarchy *hierarchy;
+    selfcol_sequence *sequence;              /* frames: its self query kept across them, or NULL */
     uint32_t vertex_offset, triangle_offset; /* where its indices start in the output */
 } cli_part;
+
+/**
+ * The self query of a part. With `coherent` (a frame of a sequence) and an
+ * exact method, through the part's selfcol_sequence (created at first use):
+ * the same contacts as a fresh query, at a fraction of its cost when the
+ * surface moves a little from frame to frame. Returns a selfcol_status.
+ */
+int cli_part_self_collide(cli_part *part, int coherent, selfcol_contacts *contacts,
+                          const selfcol_query_options *query);
 
 void cli_sets_init(cli_sets *sets);
 void cli_sets_clear(cli_sets *sets);

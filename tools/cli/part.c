@@ -9,6 +9,7 @@
 #include <string.h>
 
 void cli_part_free(cli_part *part) {
+    selfcol_sequence_destroy(part->sequence);
     selfcol_hierarchy_destroy(part->hierarchy);
     selfcol_mesh_destroy(part->mesh);
     free(part->welded_triangles);
@@ -53,4 +54,19 @@ int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *se
     if (rc != SELFCOL_OK)
         return cli_fail(err, "%s: %s", part->path, selfcol_status_string(rc));
     return 0;
+}
+
+int cli_part_self_collide(cli_part *part, int coherent, selfcol_contacts *contacts,
+                          const selfcol_query_options *query) {
+    const int exact = query->method == SELFCOL_METHOD_EXACT ||
+                      query->method == SELFCOL_METHOD_BVH ||
+                      query->method == SELFCOL_METHOD_EXHAUSTIVE;
+    if (!coherent || !exact)
+        return selfcol_hierarchy_self_collide(part->hierarchy, contacts, query);
+    if (part->sequence == NULL) {
+        int rc = selfcol_sequence_create(&part->sequence, NULL);
+        if (rc != SELFCOL_OK)
+            return rc;
+    }
+    return selfcol_sequence_self_collide(part->sequence, part->hierarchy, contacts, query);
 }

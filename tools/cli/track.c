@@ -83,7 +83,7 @@ static void write_json_line(track_state *st, long frame, const char *name,
 static int track_frame(track_state *st, long index, long frame, const char *name, cli_error *err) {
     const cli_options *o = st->o;
     double start = cli_now();
-    int rc = selfcol_hierarchy_self_collide(st->part->hierarchy, st->contacts, &st->query);
+    int rc = cli_part_self_collide(st->part, 1, st->contacts, &st->query);
     double query_seconds = cli_now() - start;
     if (rc != SELFCOL_OK)
         return cli_fail(err, "%s: query failed: %s", name, selfcol_status_string(rc));
