@@ -547,6 +547,18 @@ def test_frames():
             for key in KEYS:
                 check(o[key] == s[key], 'frame %d (refit): %s differs from a fresh check'
                       % (k, key))
+    # A sequence that stands still is answered from the coherent query's near
+    # list after its first two frames (fresh, then a rebuild): still the
+    # fresh check's contacts.
+    still = [paths[1]] * 4
+    status, objs = check_json('--distance', '0.01', '--frames', *still)
+    check(len(objs) == 4, 'still frames: %d JSON lines' % len(objs))
+    for k, o in enumerate(objs):
+        for key in KEYS:
+            check(o[key] == singles[1][key], 'still frame %d: %s differs from a fresh check'
+                  % (k, key))
+    check(objs[3]['stats']['nodes_visited'] == 0 and objs[0]['stats']['nodes_visited'] > 0,
+          'still frames: the last one should come from the near list (no traversal)')
     # The summary names the intersecting frames, runs as FIRST-LAST.
     hit = [k for k, s in enumerate(singles) if s['counts']['ef']]
     runs, start = [], None
