@@ -7,6 +7,7 @@
 # that peak memory is per case), and writes
 #   OUT/SUBSET.csv   one row per case x method x d (the header line first)
 #   OUT/SUBSET.meta  machine, date, commit, compiler, Bullet, command, runtime
+#   OUT/sequence-SUBSET.csv  fresh against coherent queries frame after frame
 # OUT defaults to tools/bench/results (with --only, to BUILD/bench-results:
 # a partial run never replaces the committed results). --only REGEX keeps the
 # cases whose name matches, e.g. --only '^store-' for the contact-store rows
@@ -136,6 +137,31 @@ if [ "$ipctk" = 1 ]; then
   fi
 fi
 mv "$tmp" "$csv"
+# Coherent queries (selfcol-bench-sequence, bench_sequence.c): a fresh query
+# against selfcol_sequence on the same frames, interleaved, every frame's
+# records compared bit for bit; its own CSV, OUT/sequence-SUBSET.csv.
+seqrunner="$build/tools/bench/selfcol-bench-sequence"
+seqcsv="$out/sequence-$subset.csv"
+case "$subset" in
+  smoke) seqcases="crumpled-2k-slow"; seqframes=6; seqreps=1 ;;
+  default) seqcases="crumpled-20k-slow cloth-ball-92-93"; seqframes=30; seqreps=3 ;;
+  *) seqcases="crumpled-20k-slow crumpled-200k-slow cloth-ball-92-93"; seqframes=30; seqreps=3 ;;
+esac
+if [ -x "$seqrunner" ]; then
+  "$seqrunner" --header > "$seqcsv.tmp"
+  for c in $seqcases; do
+    if [ -n "$only" ] && ! echo "$c" | grep -Eq "$only"; then continue; fi
+    t0=$(date +%s)
+    if $timeout_cmd "$seqrunner" --case "$c" --frames "$seqframes" --reps "$seqreps" \
+         --data "$data" >> "$seqcsv.tmp" 2>> "$log"; then
+      echo "bench: sequence $c ($(( $(date +%s) - t0 )) s)"
+    else
+      echo "bench: sequence $c FAILED (see $log)" >&2
+      failed=1
+    fi
+  done
+  mv "$seqcsv.tmp" "$seqcsv"
+fi
 elapsed=$(( $(date +%s) - start ))
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
