@@ -30,6 +30,7 @@ from ._core import (
     RangeError,
     Scene,
     SceneStore,
+    Sequence,
     StaleHierarchy,
     Store,
     StoreContacts,
@@ -46,7 +47,8 @@ __version__ = "0.3.0"
 
 __all__ = [
     "Contacts", "Error", "Hierarchy", "InvalidArgument", "Mesh", "Mismatch", "OutOfMemory",
-    "RangeError", "Scene", "SceneStore", "StaleHierarchy", "Store", "StoreContacts", "Sweep",
+    "RangeError", "Scene", "SceneStore", "Sequence", "StaleHierarchy", "Store", "StoreContacts",
+    "Sweep",
     "VersionError", "collide", "mean_edge_length", "self_collide", "self_sweep", "version",
     "__version__",
 ]

@@ -189,6 +189,30 @@ int selfcol_sweep_hits(const selfcol_sweep *sweep, const selfcol_sweep_hit **dat
                        size_t *count_out);
 int selfcol_sweep_stats(const selfcol_sweep *sweep, selfcol_sweep_query_stats *stats);
 
+/* sequence.h */
+typedef struct selfcol_sequence selfcol_sequence;
+typedef struct selfcol_sequence_options {
+    unsigned int version; selfcol_allocator allocator; double skin;
+} selfcol_sequence_options;
+#define SELFCOL_SEQUENCE_OPTIONS_VERSION ...
+typedef struct selfcol_sequence_run_stats {
+    unsigned int version; uint64_t frames; uint64_t rebuilds; uint64_t fresh_frames;
+    uint32_t last_answer; uint32_t last_reason; uint64_t near_pairs; double skin;
+    double deformation_ratio; double rebuild_seconds;
+} selfcol_sequence_run_stats;
+#define SELFCOL_SEQUENCE_RUN_STATS_VERSION ...
+int selfcol_sequence_options_init(selfcol_sequence_options *opts, unsigned int version);
+int selfcol_sequence_create(selfcol_sequence **out, const selfcol_sequence_options *opts);
+void selfcol_sequence_destroy(selfcol_sequence *sequence);
+void selfcol_sequence_reset(selfcol_sequence *sequence);
+int selfcol_sequence_self_collide(selfcol_sequence *sequence, selfcol_hierarchy *hierarchy,
+                                  selfcol_contacts *contacts, const selfcol_query_options *opts);
+int selfcol_sequence_collide(selfcol_sequence *sequence, selfcol_hierarchy *first,
+                             selfcol_hierarchy *second, selfcol_contacts *contacts,
+                             const selfcol_query_options *opts);
+int selfcol_sequence_stats(const selfcol_sequence *sequence, selfcol_sequence_run_stats *stats);
+size_t selfcol_sequence_byte_count(const selfcol_sequence *sequence);
+
 /* scene.h */
 typedef struct selfcol_scene selfcol_scene;
 typedef struct selfcol_scene_surface_options {
@@ -200,7 +224,8 @@ typedef struct selfcol_scene_collider_desc {
 } selfcol_scene_collider_desc;
 typedef struct selfcol_scene_options {
     unsigned int version; selfcol_allocator allocator; selfcol_query_options query;
-    selfcol_store_options store; double collider_tolerance;
+    selfcol_store_options store; double collider_tolerance; int coherent;
+    selfcol_sequence_options sequence;
 } selfcol_scene_options;
 typedef struct selfcol_collider_contact {
     uint32_t collider; uint32_t surface; uint32_t triangle; uint32_t flags;

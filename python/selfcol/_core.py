@@ -12,7 +12,8 @@ another thread at the same time.
 
 from __future__ import annotations
 
-from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
+from typing import Sequence as SequenceOf
 
 import numpy as np
 
@@ -225,7 +226,7 @@ def _query_options(distance: float, method: Union[str, int], kinds: KindsArg, th
     return opts
 
 
-def _struct_dtype(ctype: str, fields: Sequence[Tuple[str, Any, Tuple[int, ...]]]) -> np.dtype:
+def _struct_dtype(ctype: str, fields: SequenceOf[Tuple[str, Any, Tuple[int, ...]]]) -> np.dtype:
     names, formats, offsets = [], [], []
     for name, fmt, shape in fields:
         names.append(name)
@@ -606,6 +607,100 @@ class Hierarchy:
 
 
 # --------------------------------------------------------------------------
+# Coherent queries over a sequence of frames
+
+
+_SEQUENCE_ANSWERS = {0: "list", 1: "rebuilt", 2: "fresh"}
+
+
+class Sequence:
+    """The same query asked frame after frame (selfcol_sequence): answered
+    from a near list kept across frames while the surface deforms little,
+    with exactly the contacts a fresh query returns. Keep one per query
+    (one per hierarchy for self queries) and call it every frame after
+    ``Mesh.set_positions``; the hierarchy need not be refit."""
+
+    def __init__(self, skin: float = 0.0) -> None:
+        opts = ffi.new("selfcol_sequence_options *")
+        _check(lib.selfcol_sequence_options_init(opts, lib.SELFCOL_SEQUENCE_OPTIONS_VERSION),
+               "selfcol_sequence_options_init")
+        try:
+            opts.skin = float(skin)
+        except (TypeError, ValueError):
+            raise _invalid("skin must be a number, got %r" % (skin,)) from None
+        out = ffi.new("selfcol_sequence **")
+        _check(lib.selfcol_sequence_create(out, opts), "selfcol_sequence_create")
+        self._h = ffi.gc(out[0], lib.selfcol_sequence_destroy)
+        self._distance: Optional[float] = None
+        self._keep: Tuple[Any, ...] = ()
+
+    def _fixed_distance(self, distance: Optional[float], distance_rel: float,
+                        *hierarchies: "Hierarchy") -> float:
+        # distance=None: distance_rel x the mean edge at the first frame, kept
+        # (a distance that changed every frame would restart the sequence).
+        if distance is not None:
+            return hierarchies[0]._distance(distance, distance_rel,
+                                            *(h.mesh for h in hierarchies))
+        if self._distance is None:
+            self._distance = hierarchies[0]._distance(None, distance_rel,
+                                                      *(h.mesh for h in hierarchies))
+        return self._distance
+
+    def self_collide(self, hierarchy: "Hierarchy", distance: Optional[float] = None,
+                     distance_rel: float = 0.1, method: Union[str, int] = "exact",
+                     kinds: KindsArg = "all", threads: int = 1,
+                     narrow: Union[str, int] = "closed") -> Contacts:
+        """Self-contacts of the hierarchy's mesh at its current positions,
+        as Hierarchy.self_collide would return them (selfcol_sequence_self_collide).
+        ``method``: "exact", "bvh" or "exhaustive"."""
+        if not isinstance(hierarchy, Hierarchy):
+            raise _invalid("self_collide needs a selfcol.Hierarchy")
+        d = self._fixed_distance(distance, distance_rel, hierarchy)
+        opts = _query_options(d, method, kinds, threads, narrow)
+        c = _new_contacts()
+        _check(lib.selfcol_sequence_self_collide(self._h, hierarchy._h, c, opts),
+               "selfcol_sequence_self_collide")
+        self._keep = (hierarchy,)
+        return Contacts(c, (hierarchy.mesh,), d)
+
+    def collide(self, first: "Hierarchy", second: "Hierarchy", distance: Optional[float] = None,
+                distance_rel: float = 0.1, method: Union[str, int] = "exact",
+                kinds: KindsArg = "all", threads: int = 1,
+                narrow: Union[str, int] = "closed") -> Contacts:
+        """Contacts between two meshes, as Hierarchy.collide would return them
+        (selfcol_sequence_collide)."""
+        if not isinstance(first, Hierarchy) or not isinstance(second, Hierarchy):
+            raise _invalid("collide needs two selfcol.Hierarchy")
+        d = self._fixed_distance(distance, distance_rel, first, second)
+        opts = _query_options(d, method, kinds, threads, narrow)
+        c = _new_contacts()
+        _check(lib.selfcol_sequence_collide(self._h, first._h, second._h, c, opts),
+               "selfcol_sequence_collide")
+        self._keep = (first, second)
+        return Contacts(c, (first.mesh, second.mesh), d)
+
+    def reset(self) -> None:
+        """Forgets the reference (the next frame is a first frame)."""
+        lib.selfcol_sequence_reset(self._h)
+        self._distance = None
+
+    def stats(self) -> Dict[str, Union[int, float, str]]:
+        st = ffi.new("selfcol_sequence_run_stats *")
+        st.version = lib.SELFCOL_SEQUENCE_RUN_STATS_VERSION
+        _check(lib.selfcol_sequence_stats(self._h, st), "selfcol_sequence_stats")
+        return {"frames": int(st.frames), "rebuilds": int(st.rebuilds),
+                "fresh_frames": int(st.fresh_frames),
+                "last_answer": _SEQUENCE_ANSWERS.get(int(st.last_answer), "?"),
+                "last_reason": int(st.last_reason), "near_pairs": int(st.near_pairs),
+                "skin": float(st.skin), "deformation_ratio": float(st.deformation_ratio),
+                "rebuild_seconds": float(st.rebuild_seconds)}
+
+    @property
+    def byte_count(self) -> int:
+        return int(lib.selfcol_sequence_byte_count(self._h))
+
+
+# --------------------------------------------------------------------------
 # Continuous queries
 
 
@@ -866,7 +961,8 @@ class Scene:
 
     def __init__(self, distance: float = 0.0, method: Union[str, int] = "exact",
                  kinds: KindsArg = "all", threads: int = 1, remnance: int = 4,
-                 consistency: bool = True, collider_tolerance: Optional[float] = None) -> None:
+                 consistency: bool = True, collider_tolerance: Optional[float] = None,
+                 coherent: bool = True) -> None:
         opts = ffi.new("selfcol_scene_options *")
         _check(lib.selfcol_scene_options_init(opts, lib.SELFCOL_SCENE_OPTIONS_VERSION),
                "selfcol_scene_options_init")
@@ -875,6 +971,7 @@ class Scene:
         _store_options(remnance, consistency, 0, 0, into=ffi.addressof(opts, "store"))
         if collider_tolerance is not None:
             opts.collider_tolerance = float(collider_tolerance)
+        opts.coherent = 1 if coherent else 0
         out = ffi.new("selfcol_scene **")
         _check(lib.selfcol_scene_create(out, opts), "selfcol_scene_create")
         self._h = ffi.gc(out[0], lib.selfcol_scene_destroy)
@@ -914,7 +1011,7 @@ class Scene:
                "selfcol_scene_rebuild_surface")
 
     def add_collider(self, shape: str, radius: float = 0.0, half_height: float = 0.0,
-                     half_extents: Sequence[float] = (0.0, 0.0, 0.0),
+                     half_extents: SequenceOf[float] = (0.0, 0.0, 0.0),
                      points: Any = None) -> int:
         """Adds a convex collider ('sphere', 'capsule', 'box' or 'convex'); returns its id."""
         s = _lookup(_SHAPES, shape, "collider shape")
@@ -939,7 +1036,7 @@ class Scene:
         del keep
         return int(out[0])
 
-    def set_collider_pose(self, collider: int, position: Sequence[float],
+    def set_collider_pose(self, collider: int, position: SequenceOf[float],
                           rotation: Any = None) -> None:
         """Places a collider: position (3,), rotation (3, 3) (identity when None)."""
         p = np.ascontiguousarray(position, dtype=np.float64).reshape(-1)

@@ -202,3 +202,46 @@ def test_store_matches_cli_track(tmp_path):
         assert c.counts == want[i]["detected"]
         seen_flip |= st["flipped"] > 0
     assert len(want) == 8 and seen_flip
+
+
+def test_sequence_equals_fresh_queries():
+    # A folded strip closing slowly, frame after frame: the coherent query's
+    # records equal a fresh query's on every frame, and most frames come
+    # from its near list.
+    V, F = folded()
+    m = selfcol.Mesh(V, F)
+    fresh, coherent = selfcol.Hierarchy(m), selfcol.Hierarchy(m)
+    seq = selfcol.Sequence()
+    d = 0.1 * selfcol.mean_edge_length(m)
+    for k in range(30):
+        m.set_positions(V * (1.0 - 0.0005 * k))
+        fresh.refit()
+        want = fresh.self_collide(d)
+        got = seq.self_collide(coherent, d)
+        assert len(want) > 0
+        assert np.array_equal(got.records, want.records)
+    st = seq.stats()
+    assert st["frames"] == 30
+    assert st["rebuilds"] + st["fresh_frames"] < 10
+    assert st["last_answer"] in ("list", "rebuilt", "fresh")
+    assert seq.byte_count > 0
+    seq.reset()
+    assert seq.stats()["frames"] == 0
+    try:
+        seq.self_collide(coherent, d, method="seed")
+    except selfcol.InvalidArgument:
+        pass
+    else:
+        raise AssertionError("SEED has no coherent answer")
+
+
+def test_scene_coherent_option():
+    V, F = folded()
+    for coherent in (True, False):
+        sc = selfcol.Scene(distance=0.01, coherent=coherent)
+        m = selfcol.Mesh(V, F)
+        sc.add_surface(m)
+        sc.update()
+        m.set_positions(V * 0.999)
+        sc.update()
+        assert len(sc.store(0, 0)) > 0
