@@ -150,12 +150,19 @@ def test_sweep_matches_cli_continuous(tmp_path):
                                "--frames", str(tmp_path / "s0.obj"), str(tmp_path / "s1.obj"),
                                "--csv", "-"], stdout=subprocess.PIPE, timeout=300)
         assert proc.returncode == 1
-        rows = proc.stdout.decode().splitlines()[1:]
-        want = {(r.split(",")[2], int(r.split(",")[3]), int(r.split(",")[4]),
-                 float(r.split(",")[5]), int(r.split(",")[6])) for r in rows}
+        # step_from,step_to,kind,i0,i1,i2,i3,toi,flags: VF rows give v, t;
+        # EE rows the two edges' vertices (docs/cli.md).
+        rows = [r.split(",") for r in proc.stdout.decode().splitlines()[1:]]
+        want = {(r[2],) + tuple(int(x) for x in r[3:7] if x != "") + (float(r[7]), int(r[8]))
+                for r in rows}
         s = selfcol.self_sweep(V0, V1, F2, method=method)
-        got = {(("VF", "EE")[int(h["kind"])], int(h["first"]), int(h["second"]),
-                float(h["toi"]), int(h["flags"])) for h in s.hits}
+        got = set()
+        for h in s.hits:
+            if int(h["kind"]) == 0:
+                ids = (int(h["first"]), int(h["second"]))
+            else:
+                ids = (int(h["a"][0]), int(h["a"][1]), int(h["b"][0]), int(h["b"][1]))
+            got.add((("VF", "EE")[int(h["kind"])],) + ids + (float(h["toi"]), int(h["flags"])))
         assert got == want and len(got) == len(s) > 0
 
 
