@@ -91,11 +91,17 @@ static uint64_t mix64(uint64_t h, uint64_t x) {
     return h ^ (h >> 31);
 }
 
+// The identity also holds the creation time, in nanoseconds of the
+// monotonic clock: a mesh destroyed and another created at its address with
+// the same topology is still another mesh (its positions are not the ones
+// a hierarchy's boxes were computed from).
 static void set_identity(selfcol_mesh *m) {
     uint64_t h = mix64(mix64(0, m->vertex_count), m->triangle_count);
     for (size_t i = 0; i < 3 * m->triangle_count; ++i)
         h = mix64(h, m->triangles[i]);
-    m->identity = (selfcol_mesh_identity){m->vertex_count, m->triangle_count, m->edge_count, h};
+    const uint64_t created = (uint64_t)(selfcol_core__seconds() * 1e9);
+    m->identity =
+        (selfcol_mesh_identity){m->vertex_count, m->triangle_count, m->edge_count, h, created};
 }
 
 static int create_mesh(selfcol_mesh **out, size_t vertex_count, const position_source *src,

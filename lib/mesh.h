@@ -15,13 +15,15 @@
 // address may be handed to the next mesh created. Handles that remember a
 // mesh between calls (a store, a hierarchy) keep its identity and compare it
 // at every call: a different vertex, triangle or edge count means another
-// mesh (and indices that would be out of range), and the fingerprint of the
-// triangle indices tells apart meshes with the same counts.
+// mesh (and indices that would be out of range), the fingerprint of the
+// triangle indices tells apart meshes with the same counts, and the creation
+// time meshes with the same topology.
 typedef struct selfcol_mesh_identity {
     size_t vertex_count;
     size_t triangle_count;
     size_t edge_count;
     uint64_t fingerprint; // of the counts and the triangle indices (mesh.c)
+    uint64_t created;     // creation time, ns of the monotonic clock (mesh.c)
 } selfcol_mesh_identity;
 
 struct selfcol_mesh {
@@ -68,7 +70,8 @@ void selfcol_mesh__free_topology(selfcol_mesh *mesh);
 static inline int selfcol_mesh__is(const selfcol_mesh *mesh, const selfcol_mesh_identity *id) {
     const selfcol_mesh_identity *m = &mesh->identity;
     return m->vertex_count == id->vertex_count && m->triangle_count == id->triangle_count &&
-           m->edge_count == id->edge_count && m->fingerprint == id->fingerprint;
+           m->edge_count == id->edge_count && m->fingerprint == id->fingerprint &&
+           m->created == id->created;
 }
 
 // Position of vertex v.

@@ -370,6 +370,27 @@ static void query__two_mesh_query_on_a_replaced_mesh_is_a_mismatch(void **state)
         assert_int_equal(selfcol_hierarchy_collide(o.hierarchy, h, o.contacts, &q),
                          SELFCOL_EMISMATCH);
     }
+    // The same topology with other positions, at the same address again: still
+    // another mesh (its identity holds its creation time), for the self query,
+    // the refit and the two-mesh query alike.
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(replaced);
+    assert_int_equal(selfcol_mesh_create(&m, big.vertex_count, big.positions, big.triangle_count,
+                                         big.triangles, &mo),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
+    selfcol_mesh_destroy(m);
+    for (size_t i = 0; i < big.vertex_count; ++i)
+        big.positions[3 * i + 2] = 0.3 * sin((double)i);
+    assert_int_equal(selfcol_mesh_create(&replaced, big.vertex_count, big.positions,
+                                         big.triangle_count, big.triangles, &mo),
+                     SELFCOL_OK);
+    assert_ptr_equal(replaced, m);
+    q.method = SELFCOL_METHOD_BVH;
+    assert_int_equal(selfcol_hierarchy_self_collide(h, o.contacts, &q), SELFCOL_EMISMATCH);
+    assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_EMISMATCH);
+    assert_int_equal(selfcol_hierarchy_collide(h, o.hierarchy, o.contacts, &q),
+                     SELFCOL_EMISMATCH);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(replaced);
     for (int i = 0; i < pool.count; ++i)

@@ -51,10 +51,11 @@ SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
  *             handle may be destroyed first).
  * @param[in] mesh the mesh; borrowed for the hierarchy's lifetime. The
  *            hierarchy keeps the mesh's identity (its vertex, triangle and
- *            edge counts and a fingerprint of its triangles): a refit or query
- *            on a mesh that is not that one (e.g. another mesh created at the
- *            address of the destroyed one) returns SELFCOL_EMISMATCH instead
- *            of reading out of its arrays.
+ *            edge counts, a fingerprint of its triangles and its creation
+ *            time): a refit or query on a mesh that is not that one (e.g.
+ *            another mesh created at the address of the destroyed one, even
+ *            with the same triangles) returns SELFCOL_EMISMATCH instead of
+ *            reading out of its arrays or answering from stale boxes.
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out or mesh, a half-set
  *         allocator); SELFCOL_EVERSION; SELFCOL_ENOMEM; SELFCOL_ERANGE (more

@@ -32,10 +32,10 @@
  * move); to move it on purpose, set its positions and call
  * selfcol_scene_rebuild_surface(). A mesh must outlive its surface: remove
  * the surface (selfcol_scene_remove_surface()) or destroy the scene before
- * destroying the mesh. The scene checks each mesh's identity (counts and a
- * fingerprint of its triangles) at every update, so a destroyed mesh
- * replaced by another at the same address gives SELFCOL_EMISMATCH rather
- * than out-of-range reads (when its counts or triangles differ).
+ * destroying the mesh. The scene checks each mesh's identity (counts, a
+ * fingerprint of its triangles and its creation time) at every update, so a
+ * destroyed mesh replaced by another at the same address gives
+ * SELFCOL_EMISMATCH rather than out-of-range reads or stale answers.
  *
  * Colliders are convex: a point (sphere), a segment (capsule), a box or the
  * convex hull of points, swept by a ball of `radius`, placed by their pose

@@ -217,9 +217,9 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  * and `second`. A store follows one such query from frame to frame; it
  * remembers its meshes (not their positions) from the first update until
  * selfcol_store_clear(), by address and by identity (vertex, triangle and
- * edge counts and a fingerprint of the triangles): a mesh destroyed and
- * another created at its address is another mesh (SELFCOL_EMISMATCH),
- * whatever the allocator does. Any contact kinds and distance may be queried; a
+ * edge counts, a fingerprint of the triangles and the creation time): a
+ * mesh destroyed and another created at its address is another mesh
+ * (SELFCOL_EMISMATCH), whatever the allocator does. Any contact kinds and distance may be queried; a
  * contact is detected when the query reports it.
  *
  * Consistency rule. Within a region, each contact says which side of the
