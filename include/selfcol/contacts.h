@@ -98,14 +98,17 @@ typedef struct selfcol_contact {
  * that version.
  */
 typedef struct selfcol_query_stats {
-    unsigned int version;     /**< SELFCOL_QUERY_STATS_VERSION */
-    uint64_t candidate_pairs; /**< primitive or triangle pairs examined by the broad phase */
-    uint64_t vf_tests;        /**< vertex-triangle distance evaluations (closed form or libccd) */
-    uint64_t ee_tests;        /**< edge-edge distance evaluations */
-    uint64_t ef_tests;        /**< edge-triangle crossing evaluations */
-    uint64_t vf_contacts;     /**< VF contacts found */
-    uint64_t ee_contacts;     /**< EE contacts found */
-    uint64_t ef_contacts;     /**< EF contacts found */
+    unsigned int version; /**< SELFCOL_QUERY_STATS_VERSION */
+    /** Primitive pairs examined: EXHAUSTIVE's enumerated pairs, or the near
+     *  list's pairs on a frame a selfcol_sequence answered from it. 0 for
+     *  the hierarchy methods, whose candidates are triangle_pairs. */
+    uint64_t candidate_pairs;
+    uint64_t vf_tests;    /**< vertex-triangle distance evaluations (closed form or libccd) */
+    uint64_t ee_tests;    /**< edge-edge distance evaluations */
+    uint64_t ef_tests;    /**< edge-triangle crossing evaluations */
+    uint64_t vf_contacts; /**< VF contacts found */
+    uint64_t ee_contacts; /**< EE contacts found */
+    uint64_t ef_contacts; /**< EF contacts found */
     /** Time spent selecting candidates; 0 for EXHAUSTIVE, whose enumeration
      *  and primitive tests are interleaved (its whole time is in total_seconds). */
     double broad_seconds;
