@@ -389,8 +389,7 @@ static void query__two_mesh_query_on_a_replaced_mesh_is_a_mismatch(void **state)
     q.method = SELFCOL_METHOD_BVH;
     assert_int_equal(selfcol_hierarchy_self_collide(h, o.contacts, &q), SELFCOL_EMISMATCH);
     assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_EMISMATCH);
-    assert_int_equal(selfcol_hierarchy_collide(h, o.hierarchy, o.contacts, &q),
-                     SELFCOL_EMISMATCH);
+    assert_int_equal(selfcol_hierarchy_collide(h, o.hierarchy, o.contacts, &q), SELFCOL_EMISMATCH);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(replaced);
     for (int i = 0; i < pool.count; ++i)

@@ -219,8 +219,8 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  * selfcol_store_clear(), by address and by identity (vertex, triangle and
  * edge counts, a fingerprint of the triangles and the creation time): a
  * mesh destroyed and another created at its address is another mesh
- * (SELFCOL_EMISMATCH), whatever the allocator does. Any contact kinds and distance may be queried; a
- * contact is detected when the query reports it.
+ * (SELFCOL_EMISMATCH), whatever the allocator does. Any contact kinds and
+ * distance may be queried; a contact is detected when the query reports it.
  *
  * Consistency rule. Within a region, each contact says which side of the
  * other surface its first element belongs on; neighbours (contacts sharing
