@@ -24,6 +24,9 @@
 // Usage: selfcol-bench-sequence [--case NAME] [--frames N] [--reps R]
 //        [--threads T] [--skin-factor K] [--data DIR] [--header]
 // Prints CSV rows (tools/bench/run.sh collects them into sequence.csv).
+// With BENCH_SEQUENCE_STATS set in the environment, each frame of the first
+// repetition also prints the coherent query's statistics to stderr (list
+// pairs, pairs skipped, closed forms per kind, times).
 #include <selfcol/selfcol.h>
 
 #include "fixtures.h"
