@@ -374,6 +374,8 @@ static double deformation_ratio(selfcol_sequence *s, const selfcol_mesh *const m
             if (!(allowed > 0.0))
                 return INFINITY;
             const double r = moved / allowed;
+            if (isnan(r))
+                return INFINITY; // cannot happen below the coordinate bound; never trusted
             worst = r > worst ? r : worst;
             if (worst > stop_above)
                 return worst;
