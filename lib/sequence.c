@@ -603,7 +603,14 @@ typedef struct evaluation {
     selfcol_query base;
     selfcol_contacts *out[SELFCOL_MAX_THREADS];
     unsigned workers;
+    size_t chunks;     // of EVALUATION_CHUNK pairs
+    size_t next_chunk; // atomic: the workers take chunks from it
 } evaluation;
+
+// With threads, the workers take runs of this many pairs from a shared
+// counter (a worker whose thread could not start takes none, and the others
+// do its part); the records are sorted afterwards.
+#define EVALUATION_CHUNK 512
 
 static int evaluate_range(const evaluation *e, selfcol_contacts *out, size_t begin, size_t end) {
     selfcol_query q = e->base;
@@ -679,10 +686,18 @@ static int evaluate_range(const evaluation *e, selfcol_contacts *out, size_t beg
 }
 
 static int evaluate_worker(void *context, unsigned w) {
-    const evaluation *e = context;
+    evaluation *e = context;
     const size_t n = e->s->pair_count;
-    const size_t begin = n * w / e->workers, end = n * (w + 1) / e->workers;
-    return evaluate_range(e, e->out[w], begin, end);
+    int status = SELFCOL_OK;
+    for (;;) {
+        const size_t k = SELFCOL_ATOMIC_FETCH_ADD(&e->next_chunk, (size_t)1);
+        if (k >= e->chunks || status != SELFCOL_OK)
+            break;
+        const size_t begin = k * EVALUATION_CHUNK;
+        const size_t end = n - begin < EVALUATION_CHUNK ? n : begin + EVALUATION_CHUNK;
+        status = evaluate_range(e, e->out[w], begin, end);
+    }
+    return status;
 }
 
 // The near list's records at the current positions, in order, into out.
@@ -698,24 +713,27 @@ static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2]
     e.base.narrow = o->narrow;
     e.base.ccd_tolerance = 1e-7 * o->distance; // as query.c
     e.base.out = out;
-    // Below a few thousand pairs a thread costs more than it saves.
+    // At most a worker per chunk.
     unsigned workers = o->threads;
-    const size_t per_worker = 4096;
-    if (s->pair_count / per_worker + 1 < workers)
-        workers = (unsigned)(s->pair_count / per_worker + 1);
+    e.chunks = (s->pair_count + EVALUATION_CHUNK - 1) / EVALUATION_CHUNK;
+    if (e.chunks < workers)
+        workers = e.chunks > 0 ? (unsigned)e.chunks : 1u;
     e.workers = workers;
+    e.next_chunk = 0;
     e.out[0] = out;
     for (unsigned w = 1; w < workers; ++w) {
         e.out[w] = selfcol_workspace__worker(&out->work, w);
         if (e.out[w] == NULL)
             return SELFCOL_ENOMEM;
     }
-    int status = workers > 1 ? selfcol_parallel__run(workers, evaluate_worker, &e)
-                             : evaluate_range(&e, out, 0, s->pair_count);
-    // Each worker took a contiguous run of the list: appended in worker
-    // order, the records stay sorted.
+    if (workers <= 1)
+        return evaluate_range(&e, out, 0, s->pair_count); // in list order: sorted
+    int status = selfcol_parallel__run(workers, evaluate_worker, &e);
     for (unsigned w = 1; w < workers && status == SELFCOL_OK; ++w)
         status = selfcol_contacts__absorb(out, e.out[w]);
+    // Chunks went to whichever worker took them: restore the record order.
+    if (status == SELFCOL_OK)
+        status = selfcol_contacts__sort(out);
     return status;
 }
 
