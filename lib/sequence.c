@@ -786,9 +786,8 @@ static int same_setup(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
 }
 
 // The current positions become the reference: copied, with the clusters
-// and their boxes, and the skin chosen for them.
+// and their boxes (the caller has chosen the skin for them).
 static int take_reference(selfcol_sequence *s, selfcol_hierarchy *const h[2]) {
-    choose_skin(s, h);
     const int meshes = s->self ? 1 : 2;
     size_t stamp_bytes = 0;
     int status = SELFCOL_OK;
@@ -945,6 +944,7 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
                              : selfcol_hierarchy_collide(h[0], h[1], contacts, &o);
         // The contacts' statistics are the fresh query's own.
         const selfcol_query_stats kept = contacts->stats;
+        choose_skin(s, h);
         if (status == SELFCOL_OK)
             status = take_reference(s, h);
         contacts->stats = kept;

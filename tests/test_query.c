@@ -35,6 +35,8 @@
 
 #include <selfcol/selfcol.h>
 
+#include "test_alloc.h"
+
 #include "contact_keys.h"
 #include "fixtures.h"
 #include "world.h"
@@ -300,40 +302,6 @@ static void query__null_options_are_the_defaults(void **state) {
     fixture_free(&sb);
 }
 
-// A pooling allocator that hands the last freed block of a size straight
-// back (as size-class free lists do), so that a mesh created after one is
-// destroyed lives at the destroyed mesh's address.
-typedef struct reuse_pool {
-    void *block[64];
-    size_t size[64];
-    int count;
-} reuse_pool;
-
-static void *pool_alloc(void *user, size_t size, size_t alignment) {
-    reuse_pool *p = user;
-    (void)alignment; // malloc's alignment covers every request of the library
-    for (int i = p->count - 1; i >= 0; --i)
-        if (p->size[i] == size) {
-            void *b = p->block[i];
-            p->block[i] = p->block[p->count - 1];
-            p->size[i] = p->size[p->count - 1];
-            p->count--;
-            return b;
-        }
-    return malloc(size);
-}
-
-static void pool_free(void *user, void *ptr, size_t size) {
-    reuse_pool *p = user;
-    if (p->count == 64) {
-        free(ptr);
-        return;
-    }
-    p->block[p->count] = ptr;
-    p->size[p->count] = size;
-    p->count++;
-}
-
 // A hierarchy whose mesh was destroyed and replaced, at the same address,
 // by another mesh: a two-mesh query is SELFCOL_EMISMATCH in either order,
 // whatever the method (the self query and the refit: test_store.c).
@@ -343,7 +311,7 @@ static void query__two_mesh_query_on_a_replaced_mesh_is_a_mismatch(void **state)
     memset(&pool, 0, sizeof pool);
     selfcol_mesh_options mo;
     selfcol_mesh_options_init(&mo, SELFCOL_MESH_OPTIONS_VERSION);
-    mo.allocator = (selfcol_allocator){pool_alloc, pool_free, &pool};
+    mo.allocator = reuse_pool_allocator(&pool);
     fixture big, small, other;
     assert_int_equal(fixture_grid(&big, 8, 8, 1.0), 0);
     assert_int_equal(fixture_grid(&small, 3, 3, 1.0), 0);
@@ -392,8 +360,7 @@ static void query__two_mesh_query_on_a_replaced_mesh_is_a_mismatch(void **state)
     assert_int_equal(selfcol_hierarchy_collide(h, o.hierarchy, o.contacts, &q), SELFCOL_EMISMATCH);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(replaced);
-    for (int i = 0; i < pool.count; ++i)
-        free(pool.block[i]);
+    reuse_pool_release(&pool);
     world_free(&o);
     fixture_free(&big);
     fixture_free(&small);

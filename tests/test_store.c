@@ -715,44 +715,6 @@ static void test_errors_leave_the_store_unchanged(void **state) {
 // Steady state: from the third update on the same contact count, an update
 // allocates nothing. Allocation failure
 // at every allocation of an update: ENOMEM, the store unchanged, no leak.
-// A pooling allocator that hands a freed block of the same size straight
-// back, as pooling allocators (and often glibc) do: the next mesh created
-// after one is destroyed lives at the destroyed mesh's address.
-typedef struct reuse_pool {
-    void *block[64];
-    size_t size[64];
-    int count;
-} reuse_pool;
-
-// Last freed, first reused (a stack, as size-class free lists behave): the
-// mesh's own block, freed after its arrays, is the first block of that size
-// handed out again. 64 slots hold every block one mesh frees, so none of
-// them falls through to free() and the reuse does not depend on the build.
-static void *pool_alloc(void *user, size_t size, size_t alignment) {
-    reuse_pool *p = user;
-    for (int i = p->count - 1; i >= 0; --i)
-        if (p->size[i] == size) {
-            void *b = p->block[i];
-            memmove(&p->block[i], &p->block[i + 1], (size_t)(p->count - i - 1) * sizeof(void *));
-            memmove(&p->size[i], &p->size[i + 1], (size_t)(p->count - i - 1) * sizeof(size_t));
-            p->count--;
-            return b;
-        }
-    (void)alignment; // malloc's alignment covers every request of the library
-    return malloc(size);
-}
-
-static void pool_free(void *user, void *ptr, size_t size) {
-    reuse_pool *p = user;
-    if (p->count == 64) {
-        free(ptr);
-        return;
-    }
-    p->block[p->count] = ptr;
-    p->size[p->count] = size;
-    p->count++;
-}
-
 // Issue "hardening 0.3", item 1: a store (and a hierarchy) that remembered
 // mesh A by address took a smaller mesh B created at A's address for A, and
 // recomputed its remnants with A's indices (a segfault, or a heap overflow
@@ -763,7 +725,7 @@ static void test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh(void **state
     memset(&pool, 0, sizeof pool);
     selfcol_mesh_options mo;
     selfcol_mesh_options_init(&mo, SELFCOL_MESH_OPTIONS_VERSION);
-    mo.allocator = (selfcol_allocator){pool_alloc, pool_free, &pool};
+    mo.allocator = reuse_pool_allocator(&pool);
     fixture big = {0}, small = {0};
     sheet_pair(&big, 10, 0.02);
     sheet_pair(&small, 3, 0.02);
@@ -807,8 +769,7 @@ static void test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh(void **state
     selfcol_contacts_destroy(detected);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(b);
-    for (int i = 0; i < pool.count; ++i)
-        free(pool.block[i]);
+    reuse_pool_release(&pool);
     fixture_free(&big);
     fixture_free(&small);
 }

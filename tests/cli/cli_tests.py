@@ -761,6 +761,21 @@ def test_continuous():
     check('--mark' in err, 'stderr %r' % err)
 
 
+def flattened_ribbon(folder):
+    """The bundled folded ribbon, and a copy flattened to 0.3 of its height
+    (written under work(folder)): one step that passes its fold's layers
+    through each other."""
+    ribbon = os.path.join(ARGS.source, 'tests', 'data', 'folded_ribbon.obj')
+    flat = work(folder + '/flattened.obj')
+    with open(ribbon) as src, open(flat, 'w') as dst:
+        for line in src:
+            if line.startswith('v '):
+                x, y, z = map(float, line.split()[1:4])
+                line = 'v %r %r %r\n' % (x, y, 0.3 * z)
+            dst.write(line)
+    return ribbon, flat
+
+
 def test_continuous_json():
     """check --continuous --json: one object per step, the pairs of the CSV
     with their time of impact and flags, in file indices (the spikes of
@@ -806,14 +821,7 @@ def test_continuous_json():
     # EE records: the bundled ribbon flattened to 0.3 of its height in one
     # step, so layers of its fold pass through each other (edge-edge pairs):
     # sorted vertex pairs in ascending order, the times of impact of the CSV.
-    ribbon = os.path.join(ARGS.source, 'tests', 'data', 'folded_ribbon.obj')
-    flat = work('continuous_json/flattened.obj')
-    with open(ribbon) as src, open(flat, 'w') as dst:
-        for line in src:
-            if line.startswith('v '):
-                x, y, z = map(float, line.split()[1:4])
-                line = 'v %r %r %r\n' % (x, y, 0.3 * z)
-            dst.write(line)
+    ribbon, flat = flattened_ribbon('continuous_json')
     _, out, _ = run('check', '--continuous', '--frames', ribbon, flat, '--csv', csv, '--json', '-',
                     expect=1)
     o = json.loads(out)
@@ -851,14 +859,7 @@ def test_continuous_methods():
     EXACT only skips pairs BVH would have examined (fewer or as many
     candidates, its pairs among BVH's); on the spikes it finds the passage
     VF (3, 0) as the others do."""
-    ribbon = os.path.join(ARGS.source, 'tests', 'data', 'folded_ribbon.obj')
-    flat = work('continuous_methods/flattened.obj')
-    with open(ribbon) as src, open(flat, 'w') as dst:
-        for line in src:
-            if line.startswith('v '):
-                x, y, z = map(float, line.split()[1:4])
-                line = 'v %r %r %r\n' % (x, y, 0.3 * z)
-            dst.write(line)
+    ribbon, flat = flattened_ribbon('continuous_methods')
     objs = {}
     for method in (None, 'bvh', 'exact', 'exhaustive'):
         extra = ('--method', method) if method else ()

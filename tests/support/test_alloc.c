@@ -10,6 +10,9 @@
 
 #include <cmocka.h>
 
+#include <stdlib.h>
+#include <string.h>
+
 // Header stored before the aligned block: where the real block starts and the
 // size the library asked for (checked again at free).
 typedef struct block_header {
@@ -53,4 +56,40 @@ selfcol_allocator test_allocator(test_allocator_state *state) {
     a.free = hook_free;
     a.user = state;
     return a;
+}
+
+static void *pool_alloc(void *user, size_t size, size_t alignment) {
+    reuse_pool *p = user;
+    for (int i = p->count - 1; i >= 0; --i)
+        if (p->size[i] == size) {
+            void *b = p->block[i];
+            memmove(&p->block[i], &p->block[i + 1], (size_t)(p->count - i - 1) * sizeof(void *));
+            memmove(&p->size[i], &p->size[i + 1], (size_t)(p->count - i - 1) * sizeof(size_t));
+            p->count--;
+            return b;
+        }
+    (void)alignment; // malloc's alignment covers every request of the library
+    return malloc(size);
+}
+
+static void pool_free(void *user, void *ptr, size_t size) {
+    reuse_pool *p = user;
+    if (p->count == 64) {
+        free(ptr);
+        return;
+    }
+    p->block[p->count] = ptr;
+    p->size[p->count] = size;
+    p->count++;
+}
+
+selfcol_allocator reuse_pool_allocator(reuse_pool *pool) {
+    selfcol_allocator a = {pool_alloc, pool_free, pool};
+    return a;
+}
+
+void reuse_pool_release(reuse_pool *pool) {
+    for (int i = 0; i < pool->count; ++i)
+        free(pool->block[i]);
+    pool->count = 0;
 }

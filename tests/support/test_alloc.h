@@ -22,4 +22,19 @@ typedef struct test_allocator_state {
 // Returns an allocator bound to state (which the caller zero-initialises).
 selfcol_allocator test_allocator(test_allocator_state *state);
 
+// A pooling allocator that hands the last freed block of a size straight
+// back (a stack, as size-class free lists and often glibc behave), so that a
+// mesh created after one is destroyed lives at the destroyed mesh's address.
+// 64 slots hold every block one mesh frees, so none of them falls through to
+// free() and the reuse does not depend on the build. Zero-initialise it.
+typedef struct reuse_pool {
+    void *block[64];
+    size_t size[64];
+    int count;
+} reuse_pool;
+
+selfcol_allocator reuse_pool_allocator(reuse_pool *pool);
+// Frees the blocks the pool holds.
+void reuse_pool_release(reuse_pool *pool);
+
 #endif
