@@ -68,6 +68,10 @@ typedef struct selfcol_sweep_query {
     // to the list); `earliest` is the least time found so far.
     int earliest_mode;
     double earliest;
+    // EARLIEST: a restart pays only while the boxes' sweep over [0, t_box],
+    // t_box times the mean vertex motion over the step, exceeds this length
+    // (sweep.c, "EARLIEST").
+    double motion_per_time, restart_sweep;
     // EXACT on a self query: patches proved free of contacts over the step
     // are skipped (sweep_cull.c).
     int cull;
