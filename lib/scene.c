@@ -148,11 +148,10 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
     s->allocator = o.allocator;
     s->query = query;
     s->store = store;
-    // SEED and CONE skip contacts by an approximate criterion: nothing to
-    // reproduce from a near list.
+    // With SEED or CONE a sequence answers every frame afresh (sequence.h):
+    // no sequence is kept for them.
     s->coherent =
-        o.coherent && (query.method == SELFCOL_METHOD_EXACT || query.method == SELFCOL_METHOD_BVH ||
-                       query.method == SELFCOL_METHOD_EXHAUSTIVE);
+        o.coherent && query.method != SELFCOL_METHOD_SEED && query.method != SELFCOL_METHOD_CONE;
     s->sequence = o.sequence;
     s->sequence.allocator = o.allocator;
     s->distance = query.distance;

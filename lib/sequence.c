@@ -834,8 +834,8 @@ static void tag_clusters(selfcol_sequence *s, const selfcol_mesh *const mesh[2])
 }
 
 // Refits the hierarchies that are stale (none for EXHAUSTIVE).
-static int refit_stale(const selfcol_sequence *s, selfcol_hierarchy *const h[2], uint32_t method) {
-    const int meshes = s->self ? 1 : 2;
+static int refit_stale(selfcol_hierarchy *const h[2], uint32_t method) {
+    const int meshes = h[0] == h[1] ? 1 : 2;
     for (int m = 0; m < meshes; ++m) {
         if (method != SELFCOL_METHOD_EXHAUSTIVE &&
             h[m]->refit_version != h[m]->mesh->positions_version) {
@@ -855,7 +855,7 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
     // The reach set: the caller's exact method at distance R, closed forms
     // (libccd's distances are approximate), every kind the list needs.
-    int status = refit_stale(s, h, o->method);
+    int status = refit_stale(h, o->method);
     choose_skin(s, h);
     selfcol_query_options r = *o;
     r.distance = s->reach;
@@ -878,6 +878,28 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
 // What the query does this frame (run()).
 enum { ANSWER_LIST = 0, ANSWER_REBUILT = 1, ANSWER_FRESH = 2 };
 
+// SEED and CONE skip contacts by an approximate criterion, which no near
+// list can reproduce: every frame is their own fresh query, and leaves no
+// reference (the next frame with an exact method is a first frame).
+static int approximate(selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                       selfcol_contacts *contacts, const selfcol_query_options *o) {
+    s->state = STATE_NONE;
+    selfcol_contacts_clear(contacts);
+    int status = refit_stale(h, o->method);
+    if (status == SELFCOL_OK)
+        status = h[0] == h[1] ? selfcol_hierarchy_self_collide(h[0], contacts, o)
+                              : selfcol_hierarchy_collide(h[0], h[1], contacts, o);
+    if (status != SELFCOL_OK)
+        return status;
+    s->stats.frames++;
+    s->stats.fresh_frames++;
+    s->stats.last_answer = ANSWER_FRESH;
+    s->stats.last_reason = 3;
+    s->stats.near_pairs = 0;
+    s->stats.deformation_ratio = 0.0;
+    return SELFCOL_OK;
+}
+
 static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy *second,
                selfcol_contacts *contacts, const selfcol_query_options *given) {
     SELFCOL_CHECK(s != NULL && first != NULL && second != NULL && contacts != NULL);
@@ -885,13 +907,14 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
     int status = selfcol_query__options(&o, given);
     if (status != SELFCOL_OK)
         return status;
-    SELFCOL_CHECK(o.method == SELFCOL_METHOD_EXACT || o.method == SELFCOL_METHOD_BVH ||
-                  o.method == SELFCOL_METHOD_EXHAUSTIVE);
     if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||
         !selfcol_mesh__is(second->mesh, &second->mesh_identity))
         return SELFCOL_EMISMATCH;
     selfcol_hierarchy *const h[2] = {first, second};
     const selfcol_mesh *const mesh[2] = {first->mesh, second->mesh};
+    if (o.method != SELFCOL_METHOD_EXACT && o.method != SELFCOL_METHOD_BVH &&
+        o.method != SELFCOL_METHOD_EXHAUSTIVE)
+        return approximate(s, h, contacts, &o);
 
     const double start = selfcol_core__seconds();
     selfcol_contacts_clear(contacts);
@@ -938,7 +961,7 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         status = evaluate(s, mesh, &o, contacts);
     if (status == SELFCOL_OK && answer == ANSWER_FRESH) {
         s->state = STATE_NONE;
-        status = refit_stale(s, h, o.method);
+        status = refit_stale(h, o.method);
         if (status == SELFCOL_OK)
             status = s->self ? selfcol_hierarchy_self_collide(h[0], contacts, &o)
                              : selfcol_hierarchy_collide(h[0], h[1], contacts, &o);

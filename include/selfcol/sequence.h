@@ -56,7 +56,10 @@
  *
  * Only the exact methods can be answered so: SELFCOL_METHOD_EXACT, _BVH and
  * _EXHAUSTIVE (all three return the same set). SEED and CONE skip contacts by
- * an approximate criterion and are refused (SELFCOL_EINVAL).
+ * an approximate criterion that no near list can reproduce: a sequence
+ * answers them with their own fresh query every frame (last_answer
+ * SELFCOL_SEQUENCE_FRESH, last_reason 3) and keeps no reference, so a caller
+ * may hand any method to a sequence.
  *
  * The hierarchies need not be refit: the sequence refits them on the frames
  * where it rebuilds or queries afresh and does not read them on the others
@@ -104,8 +107,9 @@ typedef struct selfcol_sequence_run_stats {
     uint64_t fresh_frames; /**< of which by a fresh query */
     uint32_t last_answer;  /**< selfcol_sequence_answer of the last query */
     /** Why the last query that did not answer from the list did so: 0 first
-     *  frame (or after a reset), 1 other meshes or options, 2 the
-     *  deformation since the reference. */
+     *  frame (or after a reset, or after a frame with SEED or CONE), 1
+     *  other meshes or options, 2 the deformation since the reference, 3 an
+     *  approximate method (SEED, CONE): always fresh. */
     uint32_t last_reason;
     uint64_t near_pairs; /**< primitive pairs in the near list (0 when there is none) */
     double skin;         /**< the skin in use */
@@ -148,9 +152,10 @@ SELFCOL_API void selfcol_sequence_reset(selfcol_sequence *sequence);
  *                sequence rebuilds or queries afresh (it need not be
  *                refit by the caller)
  * @param[out] contacts receives the records and the statistics
- * @param[in] opts query options (NULL: defaults); method EXACT, BVH or EXHAUSTIVE
- * @return SELFCOL_OK; SELFCOL_EINVAL (NULL arguments, bad options, method
- *         SEED or CONE); SELFCOL_EVERSION; SELFCOL_EMISMATCH (the
+ * @param[in] opts query options (NULL: defaults); any method (SEED and CONE
+ *                are answered by a fresh query every frame)
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL arguments, bad options);
+ *         SELFCOL_EVERSION; SELFCOL_EMISMATCH (the
  *         hierarchy's mesh is not the one it was built on); SELFCOL_ENOMEM
  *         (contacts then empty; the next query is a first frame).
  */

@@ -618,7 +618,8 @@ class Sequence:
     from a near list kept across frames while the surface deforms little,
     with exactly the contacts a fresh query returns. Keep one per query
     (one per hierarchy for self queries) and call it every frame after
-    ``Mesh.set_positions``; the hierarchy need not be refit."""
+    ``Mesh.set_positions``; the hierarchy need not be refit. Methods "seed"
+    and "cone" (approximate) are answered by a fresh query every frame."""
 
     def __init__(self, skin: float = 0.0) -> None:
         opts = ffi.new("selfcol_sequence_options *")

@@ -3,6 +3,7 @@
 # SPDX-License-Identifier: MIT
 # Usage: sh tools/bench/run_sweep.sh [--build DIR] [--out FILE] [--data DIR]
 #                                    [--reps N] [--rounds N] [--no-ipctk] [--smoke]
+#                                    [--earliest]
 # Continuous queries over one step (selfcol-bench-sweep) beside ipc-toolkit's
 # continuous checks (bench_ipctk_sweep.py, in the venv under the build
 # directory that run.sh --ipctk also uses) on the same positions, one
@@ -11,7 +12,9 @@
 # shows as a difference between rounds rather than as a bias of one tool.
 # Writes FILE (default BUILD/bench-results/sweep.md): a table per round and
 # tool. Called by `make bench-sweep`; `--smoke` (what CI runs) times a tiny
-# crumple step only, without ipc-toolkit.
+# crumple step only, without ipc-toolkit. `--earliest` runs selfcol's
+# EARLIEST rows only (the collision-free fraction, what ipc-toolkit's
+# stepsize computes; the ALL rows take seconds each).
 set -eu
 
 build=build
@@ -21,6 +24,7 @@ reps=3
 rounds=2
 ipctk=1
 smoke=""
+earliest=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
@@ -30,6 +34,7 @@ while [ $# -gt 0 ]; do
     --rounds) rounds=$2; shift 2 ;;
     --no-ipctk) ipctk=0; shift ;;
     --smoke) smoke=--smoke; ipctk=0; rounds=1; shift ;;
+    --earliest) earliest=--earliest; shift ;;
     *) echo "run_sweep.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -71,13 +76,13 @@ fi
   echo "# Continuous queries over one step, one thread"
   echo
   echo "$(date -u +%Y-%m-%d), $(uname -m), $(nproc) cores, commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown);"
-  echo "command: sh tools/bench/run_sweep.sh --reps $reps --rounds $rounds $smoke"
+  echo "command: sh tools/bench/run_sweep.sh --reps $reps --rounds $rounds${smoke:+ $smoke}${earliest:+ $earliest}"
 } > "$out"
 round=1
 while [ "$round" -le "$rounds" ]; do
   echo "bench-sweep: round $round: selfcol"
   { echo; echo "## Round $round: selfcol (separation 0; methods BVH and EXACT)"; echo; } >> "$out"
-  "$runner" --data "$data" --reps "$reps" --dump "$dump" $smoke >> "$out" 2>> "$log"
+  "$runner" --data "$data" --reps "$reps" --dump "$dump" $smoke $earliest >> "$out" 2>> "$log"
   if [ "$ipctk" = 1 ]; then
     echo "bench-sweep: round $round: ipc-toolkit"
     {

@@ -58,10 +58,7 @@ int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *se
 
 int cli_part_self_collide(cli_part *part, int coherent, selfcol_contacts *contacts,
                           const selfcol_query_options *query) {
-    const int exact = query->method == SELFCOL_METHOD_EXACT ||
-                      query->method == SELFCOL_METHOD_BVH ||
-                      query->method == SELFCOL_METHOD_EXHAUSTIVE;
-    if (!coherent || !exact)
+    if (!coherent)
         return selfcol_hierarchy_self_collide(part->hierarchy, contacts, query);
     if (part->sequence == NULL) {
         int rc = selfcol_sequence_create(&part->sequence, NULL);
