@@ -551,8 +551,34 @@ static int separated_along(const double *const start[4], const double *const end
     return below || above;
 }
 
-int selfcol_narrow_sweep__separated(const double *const start[4], const double *const end[4],
-                                    int edge_edge, double delta) {
+// Direction k of the filter: the axes (k = 0, 1, 2), then the reference
+// normal at either end (k = 3: t = 0, k = 4: t = 1): the triangle's
+// (b - a) x (c - a), or the edges' (b - a) x (d - c).
+static int separated_by(const double *const start[4], const double *const end[4], int edge_edge,
+                        unsigned k, double delta, double m) {
+    const int na = edge_edge ? 2 : 1;
+    if (k < 3) {
+        const double n[3] = {k == 0, k == 1, k == 2};
+        return separated_along(start, end, na, n, delta, m);
+    }
+    const double *const *x = k == 3 ? start : end;
+    const double *o = edge_edge ? x[0] : x[1];
+    const double *p = edge_edge ? x[1] : x[2];
+    const double *q0 = edge_edge ? x[2] : x[1];
+    const double *q1 = x[3];
+    double u[3], w[3], n[3];
+    for (int i = 0; i < 3; ++i) {
+        u[i] = p[i] - o[i];
+        w[i] = q1[i] - q0[i];
+    }
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    return separated_along(start, end, na, n, delta, m);
+}
+
+int selfcol_narrow_sweep__separated_from(const double *const start[4], const double *const end[4],
+                                         int edge_edge, double delta, unsigned *hint) {
     if (!(delta >= 0.0))
         delta = 0.0;
     double m = 0.0;
@@ -566,30 +592,19 @@ int selfcol_narrow_sweep__separated(const double *const start[4], const double *
         }
     if (m > 0x1p200)
         return 0; // the products below could overflow
-    const int na = edge_edge ? 2 : 1;
-    // The axes, then the reference normal at either end: the triangle's
-    // (b - a) x (c - a), or the edges' (b - a) x (d - c).
-    for (int axis = 0; axis < 3; ++axis) {
-        const double n[3] = {axis == 0, axis == 1, axis == 2};
-        if (separated_along(start, end, na, n, delta, m))
+    const unsigned first = *hint < 5 ? *hint : 0;
+    if (separated_by(start, end, edge_edge, first, delta, m))
+        return 1;
+    for (unsigned k = 0; k < 5; ++k)
+        if (k != first && separated_by(start, end, edge_edge, k, delta, m)) {
+            *hint = k;
             return 1;
-    }
-    for (int end_i = 0; end_i < 2; ++end_i) {
-        const double *const *x = end_i == 0 ? start : end;
-        const double *o = edge_edge ? x[0] : x[1];
-        const double *p = edge_edge ? x[1] : x[2];
-        const double *q0 = edge_edge ? x[2] : x[1];
-        const double *q1 = x[3];
-        double u[3], w[3], n[3];
-        for (int i = 0; i < 3; ++i) {
-            u[i] = p[i] - o[i];
-            w[i] = q1[i] - q0[i];
         }
-        n[0] = u[1] * w[2] - u[2] * w[1];
-        n[1] = u[2] * w[0] - u[0] * w[2];
-        n[2] = u[0] * w[1] - u[1] * w[0];
-        if (separated_along(start, end, na, n, delta, m))
-            return 1;
-    }
     return 0;
+}
+
+int selfcol_narrow_sweep__separated(const double *const start[4], const double *const end[4],
+                                    int edge_edge, double delta) {
+    unsigned hint = 0;
+    return selfcol_narrow_sweep__separated_from(start, end, edge_edge, delta, &hint);
 }

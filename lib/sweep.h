@@ -68,6 +68,9 @@ typedef struct selfcol_sweep_query {
     // to the list); `earliest` is the least time found so far.
     int earliest_mode;
     double earliest;
+    // The direction that last showed a VF (0) or EE (1) candidate apart
+    // (selfcol_narrow_sweep__separated_from), tried first on the next.
+    unsigned separating_hint[2];
     // EARLIEST: a restart pays only while the boxes' sweep over [0, t_box],
     // t_box times the mean vertex motion over the step, exceeds this length
     // (sweep.c, "EARLIEST").

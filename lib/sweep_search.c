@@ -132,7 +132,9 @@ static int apart(selfcol_sweep_query *q, const uint32_t ids[4], const int meshes
     // sqrt(3) eps of the exact motion's at the same time: a pair the
     // computed motion keeps beyond separation + 4 eps is beyond the
     // separation (sweep.h).
-    if (!selfcol_narrow_sweep__separated(start, end, edge_edge, q->separation + 4.0 * q->eps))
+    // The broad phase runs on one thread: one direction hint per kind.
+    if (!selfcol_narrow_sweep__separated_from(start, end, edge_edge, q->separation + 4.0 * q->eps,
+                                              &q->separating_hint[edge_edge]))
         return 0;
     q->out->stats.separated++;
     return 1;
