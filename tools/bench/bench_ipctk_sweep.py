@@ -2,7 +2,10 @@
 # SPDX-License-Identifier: MIT
 """ipc-toolkit (PyPI `ipctk`) continuous checks on the steps selfcol-bench-sweep dumps.
 
-What is measured, one thread (ipctk's default), on the same start and end
+What is measured, on one thread unless --threads says otherwise (set
+explicitly: ipctk's default is every core, 2 on the 2-core benchmark
+machine, which the committed runs before 2026-11-26's sweep-earliest.md
+used while calling it one thread), on the same start and end
 positions as selfcol's continuous query, minimum distance 0, its default
 broad phase and its default narrow phase (Tight-Inclusion):
   - compute_collision_free_stepsize: the collision-free fraction, the number
@@ -11,7 +14,7 @@ broad phase and its default narrow phase (Tight-Inclusion):
 Its collision mesh (CollisionMesh with its edges) is built once and timed as
 build_ms. Medians over --reps runs, after none (a 6 s call needs no warm-up).
 
-usage: bench_ipctk_sweep.py --dump DIR --case NAME [--case NAME...] --reps N
+usage: bench_ipctk_sweep.py --dump DIR --case NAME [--case NAME...] --reps N [--threads T]
 prints markdown rows on stdout.
 """
 import argparse
@@ -38,7 +41,12 @@ def main():
     parser.add_argument("--dump", required=True)
     parser.add_argument("--case", action="append", required=True)
     parser.add_argument("--reps", type=int, default=3)
+    parser.add_argument("--threads", type=int, default=1)
     args = parser.parse_args()
+    ipctk.set_num_threads(args.threads)
+    if ipctk.get_num_threads() != args.threads:
+        raise SystemExit("bench_ipctk_sweep: ipctk runs %d threads, not %d"
+                         % (ipctk.get_num_threads(), args.threads))
     for case in args.case:
         path = os.path.join(args.dump, case + ".step")
         if not os.path.exists(path):

@@ -87,7 +87,7 @@ while [ "$round" -le "$rounds" ]; do
     echo "bench-sweep: round $round: ipc-toolkit"
     {
       echo
-      echo "## Round $round: ipc-toolkit $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("ipctk"))') (minimum distance 0, default broad phase, Tight-Inclusion)"
+      echo "## Round $round: ipc-toolkit $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("ipctk"))') (one thread, minimum distance 0, default broad phase, Tight-Inclusion)"
       echo
       echo "| case | triangles | collision-free stepsize ms (min-max) | stepsize | is_step_collision_free ms | collision free | build ms |"
       echo "|---|---|---|---|---|---|---|"
