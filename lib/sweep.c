@@ -312,10 +312,11 @@ static int narrow_all(selfcol_sweep_query *q, unsigned threads) {
 // again, so the pass runs to its end with its boxes. On cloth-ball 92 -> 93
 // (fraction 4e-6, vertices moving 1.4 mean edges) that leaves 4 passes
 // instead of 8, and 0.88M candidates instead of 1.79M: the last three
-// passes of the old policy each tested most of the ~680k neighbour pairs. The last pass runs to its
-// end with boxes over [0, t_box], t_box >= the final fraction, so every pair that could come within
-// the separation before the fraction was a candidate of that pass and was searched before it: the
-// fraction is as conservative as ALL's.
+// passes of the old policy each tested most of the ~680k neighbour pairs.
+// The last pass runs to its end with boxes over [0, t_box], t_box >= the
+// final fraction, so every pair that could come within the separation
+// before the fraction was a candidate of that pass and was searched before
+// it: the fraction is as conservative as ALL's.
 //
 // The positions at t_box < 1 are computed as fl(x0 + fl(t_box fl(x1 - x0))),
 // within 8 u M of the exact ones (u = 2^-53, M the largest |coordinate| of

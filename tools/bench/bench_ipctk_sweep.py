@@ -4,7 +4,7 @@
 
 What is measured, on one thread unless --threads says otherwise (set
 explicitly: ipctk's default is every core, 2 on the 2-core benchmark
-machine, which the committed runs before 2026-11-26's sweep-earliest.md
+machine, which results/sweep.md and the first results/sweep-earliest.md
 used while calling it one thread), on the same start and end
 positions as selfcol's continuous query, minimum distance 0, its default
 broad phase and its default narrow phase (Tight-Inclusion):
