@@ -125,54 +125,75 @@ static void blend(double *out, const fixture *flat, const fixture *crumpled, dou
         out[i] = flat->positions[i] + a * (crumpled->positions[i] - flat->positions[i]);
 }
 
-// A sheet crumpling slowly until it folds onto itself and crosses, frame
-// after frame, for each kind mask, method and thread count.
-static void run_crumpling(uint32_t method, uint32_t kinds, unsigned threads, double skin) {
-    fixture flat = {0}, crumpled = {0};
-    assert_int_equal(fixture_grid(&flat, 24, 24, 1.0), 0);
-    assert_int_equal(fixture_crumpled(&crumpled, 24, 24, 7, 3.0), 0);
-    assert_int_equal(flat.vertex_count, crumpled.vertex_count);
-    assert_memory_equal(flat.triangles, crumpled.triangles,
-                        3 * flat.triangle_count * sizeof(uint32_t));
-    const size_t V = flat.vertex_count;
-    double *x = malloc(3 * V * sizeof *x);
-    assert_non_null(x);
+// A sequence over an n x n sheet between flat and crumpled (seed,
+// amplitude): the rig starts flat, and each frame blends the two.
+typedef struct blend_run {
+    fixture flat, crumpled;
+    double *x;
     rig r;
-    rig_make(&r, &flat);
+    selfcol_sequence *seq;
+    selfcol_contacts *got, *want;
+} blend_run;
+
+static void blend_run_open(blend_run *b, unsigned n, unsigned seed, double amplitude, double skin) {
+    memset(b, 0, sizeof *b);
+    assert_int_equal(fixture_grid(&b->flat, n, n, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&b->crumpled, n, n, seed, amplitude), 0);
+    assert_int_equal(b->flat.vertex_count, b->crumpled.vertex_count);
+    assert_memory_equal(b->flat.triangles, b->crumpled.triangles,
+                        3 * b->flat.triangle_count * sizeof(uint32_t));
+    b->x = malloc(3 * b->flat.vertex_count * sizeof *b->x);
+    assert_non_null(b->x);
+    rig_make(&b->r, &b->flat);
     selfcol_sequence_options so;
     selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
     so.skin = skin;
-    selfcol_sequence *seq;
-    assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_OK);
-    selfcol_contacts *got, *want;
-    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_sequence_create(&b->seq, &so), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&b->got, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&b->want, NULL), SELFCOL_OK);
+}
+
+// The frame at blend a, checked against the fresh query (and EXHAUSTIVE
+// when asked); returns its contact count.
+static size_t blend_run_frame(blend_run *b, double a, const selfcol_query_options *o,
+                              int exhaustive, const char *where, int frame) {
+    blend(b->x, &b->flat, &b->crumpled, a);
+    rig_move(&b->r, b->x, b->flat.vertex_count);
+    check_self_frame(&b->r, b->seq, b->got, b->want, o, exhaustive, where, frame);
+    return selfcol_contacts_count(b->got);
+}
+
+static void blend_run_close(blend_run *b) {
+    selfcol_contacts_destroy(b->got);
+    selfcol_contacts_destroy(b->want);
+    selfcol_sequence_destroy(b->seq);
+    rig_free(&b->r);
+    free(b->x);
+    fixture_free(&b->flat);
+    fixture_free(&b->crumpled);
+}
+
+// A sheet crumpling slowly until it folds onto itself and crosses, frame
+// after frame, for each kind mask, method and thread count.
+static void run_crumpling(uint32_t method, uint32_t kinds, unsigned threads, double skin) {
+    blend_run b;
+    blend_run_open(&b, 24, 7, 3.0, skin);
     const selfcol_query_options o = query_options(method, 0.1, kinds, threads);
     const int frames = 80;
     uint64_t contacts_seen = 0;
-    for (int k = 0; k <= frames; ++k) {
+    for (int k = 0; k <= frames; ++k)
         // The crumple from 60 % to 80 % of its amplitude: folded, crossing,
         // each vertex moving about a hundredth of an edge per frame.
-        blend(x, &flat, &crumpled, 0.6 + 0.2 * k / frames);
-        rig_move(&r, x, V);
-        check_self_frame(&r, seq, got, want, &o, k % 20 == 0, "crumpling", k);
-        contacts_seen += selfcol_contacts_count(got);
-    }
+        contacts_seen +=
+            blend_run_frame(&b, 0.6 + 0.2 * k / frames, &o, k % 20 == 0, "crumpling", k);
     // The sheet folds and crosses: the sequence had something to find.
     assert_true(contacts_seen > 0);
     // Small steps: most frames come from the near list.
-    selfcol_sequence_run_stats st = run_stats(seq);
+    selfcol_sequence_run_stats st = run_stats(b.seq);
     assert_int_equal(st.frames, frames + 1);
     assert_true((st.rebuilds + st.fresh_frames) * 3 < st.frames);
     assert_true(st.skin > 0.0);
-
-    selfcol_contacts_destroy(got);
-    selfcol_contacts_destroy(want);
-    selfcol_sequence_destroy(seq);
-    rig_free(&r);
-    free(x);
-    fixture_free(&flat);
-    fixture_free(&crumpled);
+    blend_run_close(&b);
 }
 
 static void sequence__crumpling_sheet_equals_fresh_exact(void **state) {
@@ -202,71 +223,30 @@ static void sequence__a_wider_skin_equals_fresh(void **state) {
 // records still equal the fresh query's.
 static void sequence__fast_deformation_answers_fresh(void **state) {
     (void)state;
-    fixture flat = {0}, crumpled = {0};
-    assert_int_equal(fixture_grid(&flat, 20, 20, 1.0), 0);
-    assert_int_equal(fixture_crumpled(&crumpled, 20, 20, 9, 3.0), 0);
-    const size_t V = flat.vertex_count;
-    double *x = malloc(3 * V * sizeof *x);
-    assert_non_null(x);
-    rig r;
-    rig_make(&r, &flat);
-    selfcol_sequence *seq;
-    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
-    selfcol_contacts *got, *want;
-    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    blend_run b;
+    blend_run_open(&b, 20, 9, 3.0, 0.0);
     const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
-    for (int k = 0; k <= 12; ++k) {
-        blend(x, &flat, &crumpled, k / 12.0);
-        rig_move(&r, x, V);
-        check_self_frame(&r, seq, got, want, &o, k % 6 == 0, "fast", k);
-    }
-    selfcol_sequence_run_stats st = run_stats(seq);
+    for (int k = 0; k <= 12; ++k)
+        blend_run_frame(&b, k / 12.0, &o, k % 6 == 0, "fast", k);
+    selfcol_sequence_run_stats st = run_stats(b.seq);
     assert_int_equal(st.frames, 13);
     assert_true(st.fresh_frames >= 10);
-    selfcol_contacts_destroy(got);
-    selfcol_contacts_destroy(want);
-    selfcol_sequence_destroy(seq);
-    rig_free(&r);
-    free(x);
-    fixture_free(&flat);
-    fixture_free(&crumpled);
+    blend_run_close(&b);
 }
 
 // Interferences only (d = 0): the automatic skin is a tenth of an edge.
 static void sequence__zero_distance_equals_fresh(void **state) {
     (void)state;
-    fixture flat = {0}, crumpled = {0};
-    assert_int_equal(fixture_grid(&flat, 20, 20, 1.0), 0);
-    assert_int_equal(fixture_crumpled(&crumpled, 20, 20, 3, 3.0), 0);
-    const size_t V = flat.vertex_count;
-    double *x = malloc(3 * V * sizeof *x);
-    assert_non_null(x);
-    rig r;
-    rig_make(&r, &flat);
-    selfcol_sequence *seq;
-    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
-    selfcol_contacts *got, *want;
-    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    blend_run b;
+    blend_run_open(&b, 20, 3, 3.0, 0.0);
     const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.0, SELFCOL_KIND_ALL, 1);
     uint64_t crossings = 0;
-    for (int k = 0; k <= 60; ++k) {
-        blend(x, &flat, &crumpled, k / 60.0);
-        rig_move(&r, x, V);
-        check_self_frame(&r, seq, got, want, &o, k % 30 == 0, "zero distance", k);
-        crossings += selfcol_contacts_count(got);
-    }
+    for (int k = 0; k <= 60; ++k)
+        crossings += blend_run_frame(&b, k / 60.0, &o, k % 30 == 0, "zero distance", k);
     assert_true(crossings > 0);
-    selfcol_sequence_run_stats st = run_stats(seq);
-    assert_true(fabs(st.skin - 0.1 * selfcol_mesh_mean_edge_length(r.mesh)) <= 0.05 * st.skin);
-    selfcol_contacts_destroy(got);
-    selfcol_contacts_destroy(want);
-    selfcol_sequence_destroy(seq);
-    rig_free(&r);
-    free(x);
-    fixture_free(&flat);
-    fixture_free(&crumpled);
+    selfcol_sequence_run_stats st = run_stats(b.seq);
+    assert_true(fabs(st.skin - 0.1 * selfcol_mesh_mean_edge_length(b.r.mesh)) <= 0.05 * st.skin);
+    blend_run_close(&b);
 }
 
 static void rotate_z(double *x, size_t V, double angle) {
@@ -441,33 +421,18 @@ static void sequence__two_surfaces_equal_fresh(void **state) {
 // exact method starts afresh.
 static void sequence__approximate_methods_answer_fresh(void **state) {
     (void)state;
-    fixture flat = {0}, crumpled = {0};
-    assert_int_equal(fixture_grid(&flat, 16, 16, 1.0), 0);
-    assert_int_equal(fixture_crumpled(&crumpled, 16, 16, 5, 3.0), 0);
-    const size_t V = flat.vertex_count;
-    double *x = malloc(3 * V * sizeof *x);
-    assert_non_null(x);
-    rig r;
-    rig_make(&r, &crumpled);
-    selfcol_sequence *seq;
-    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
-    selfcol_contacts *got, *want;
-    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    blend_run b;
+    blend_run_open(&b, 16, 5, 3.0, 0.0);
     const uint32_t methods[8] = {SELFCOL_METHOD_EXACT, SELFCOL_METHOD_EXACT, SELFCOL_METHOD_EXACT,
                                  SELFCOL_METHOD_SEED,  SELFCOL_METHOD_CONE,  SELFCOL_METHOD_CONE,
                                  SELFCOL_METHOD_EXACT, SELFCOL_METHOD_EXACT};
     size_t total = 0;
     for (int frame = 0; frame < 8; ++frame) {
-        blend(x, &flat, &crumpled, 1.0 + 0.0005 * frame);
-        rig_move(&r, x, V);
         const selfcol_query_options o = query_options(methods[frame], 0.1, SELFCOL_KIND_ALL, 1);
-        check_self_frame(&r, seq, got, want, &o, 0, "approximate", frame);
-        total += selfcol_contacts_count(got);
-        const selfcol_sequence_run_stats st = run_stats(seq);
+        total += blend_run_frame(&b, 1.0 + 0.0005 * frame, &o, 0, "approximate", frame);
+        const selfcol_sequence_run_stats st = run_stats(b.seq);
         assert_int_equal(st.frames, (uint64_t)frame + 1);
-        const int approximate = methods[frame] != SELFCOL_METHOD_EXACT;
-        if (approximate) {
+        if (methods[frame] != SELFCOL_METHOD_EXACT) {
             assert_int_equal(st.last_answer, SELFCOL_SEQUENCE_FRESH);
             assert_int_equal(st.last_reason, 3);
             assert_int_equal(st.near_pairs, 0);
@@ -478,15 +443,8 @@ static void sequence__approximate_methods_answer_fresh(void **state) {
         }
     }
     assert_true(total > 0);
-    const selfcol_sequence_run_stats st = run_stats(seq);
-    assert_true(st.fresh_frames >= 5); // frames 0, 3, 4, 5 and 6 at least
-    selfcol_contacts_destroy(got);
-    selfcol_contacts_destroy(want);
-    selfcol_sequence_destroy(seq);
-    rig_free(&r);
-    free(x);
-    fixture_free(&flat);
-    fixture_free(&crumpled);
+    assert_true(run_stats(b.seq).fresh_frames >= 5); // frames 0, 3, 4, 5 and 6 at least
+    blend_run_close(&b);
 }
 
 static void sequence__refuses_bad_input(void **state) {
