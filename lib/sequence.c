@@ -833,6 +833,13 @@ static void tag_clusters(selfcol_sequence *s, const selfcol_mesh *const mesh[2])
     }
 }
 
+// The ordinary query of the hierarchies (a self query when they are one).
+static int query(selfcol_hierarchy *const h[2], selfcol_contacts *out,
+                 const selfcol_query_options *o) {
+    return h[0] == h[1] ? selfcol_hierarchy_self_collide(h[0], out, o)
+                        : selfcol_hierarchy_collide(h[0], h[1], out, o);
+}
+
 // Refits the hierarchies that are stale (none for EXHAUSTIVE).
 static int refit_stale(selfcol_hierarchy *const h[2], uint32_t method) {
     const int meshes = h[0] == h[1] ? 1 : 2;
@@ -863,8 +870,7 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     if (o->kinds & SELFCOL_KIND_EF)
         r.kinds = SELFCOL_KIND_ALL;
     if (status == SELFCOL_OK)
-        status = s->self ? selfcol_hierarchy_self_collide(h[0], scratch, &r)
-                         : selfcol_hierarchy_collide(h[0], h[1], scratch, &r);
+        status = query(h, scratch, &r);
     if (status == SELFCOL_OK)
         status = build_list(s, mesh, scratch->items, scratch->count, &scratch->work);
     selfcol_contacts_clear(scratch);
@@ -887,8 +893,7 @@ static int approximate(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     selfcol_contacts_clear(contacts);
     int status = refit_stale(h, o->method);
     if (status == SELFCOL_OK)
-        status = h[0] == h[1] ? selfcol_hierarchy_self_collide(h[0], contacts, o)
-                              : selfcol_hierarchy_collide(h[0], h[1], contacts, o);
+        status = query(h, contacts, o);
     if (status != SELFCOL_OK)
         return status;
     s->stats.frames++;
@@ -963,8 +968,7 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         s->state = STATE_NONE;
         status = refit_stale(h, o.method);
         if (status == SELFCOL_OK)
-            status = s->self ? selfcol_hierarchy_self_collide(h[0], contacts, &o)
-                             : selfcol_hierarchy_collide(h[0], h[1], contacts, &o);
+            status = query(h, contacts, &o);
         // The contacts' statistics are the fresh query's own.
         const selfcol_query_stats kept = contacts->stats;
         choose_skin(s, h);

@@ -90,8 +90,9 @@ typedef struct selfcol_sweep_query {
 int selfcol_sweep__push_candidate(selfcol_sweep *s, const selfcol_sweep_candidate *c);
 
 // EARLIEST: the root search of one candidate before q->earliest (sweep.c).
-// SELFCOL_OK, or SELFCOL_SWEEP__RESTART when the time found is below a
-// quarter of q->t_box (or 0).
+// SELFCOL_OK, or SELFCOL_SWEEP__RESTART when the time found is 0, or below
+// a quarter of q->t_box while the boxes' sweep still exceeds
+// q->restart_sweep (sweep.c, "EARLIEST").
 int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_candidate *c);
 
 // Broad phases (sweep_search.c): fill q->out's candidates (the pairs whose
