@@ -18,9 +18,9 @@
 // come from the meshes' topology, and its geometry (distance, weights,
 // direction) is computed when the caller copies the records
 // (selfcol_store_copy_contacts), from the positions the update saw. Only the
-// directions the links compare live through an update, in a scratch array
-// that the vote then reuses. Every array is kept and grown: a steady state
-// allocates nothing.
+// directions the links compare live through an update (as floats), and the
+// vote's tallies reuse the neighbour search's arrays. Every array is kept
+// and grown: a steady state allocates nothing.
 #include <selfcol/store.h>
 
 #include "alloc.h"
@@ -37,6 +37,13 @@
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
+
+// Entries are indexed by uint32_t, and the neighbour search keeps two flags
+// (PAIR_FIRST_IS_LO, PAIR_VOTES) in the top bits of an entry's index.
+#define SELFCOL_STORE_MAX_ENTRIES ((1u << 30) - 1u)
+#define PAIR_FIRST_IS_LO (1u << 31)
+#define PAIR_VOTES (1u << 30)
+#define PAIR_INDEX (PAIR_VOTES - 1u)
 
 // One held contact. Its vertices are its elements' (mesh topology), its
 // geometry is recomputed on demand: nothing here is a double.
@@ -66,25 +73,21 @@ struct selfcol_store {
     size_t count, capacity;       // capacity of every per-entry array
 
     // Per entry, for one update: the grouping union-find, the voting
-    // union-find with parity, and a scratch area of 24 bytes per entry:
-    // each VF/EE entry's direction (the links compare them), then, once the
-    // links are made, the vote's tallies (4 int32 per group root), oldest
-    // entry per root and region label per root.
+    // union-find with parity, and each VF/EE entry's direction (the links
+    // compare them; floats, as the cached normals they are compared with).
     uint32_t *group_parent, *vote_parent;
     int8_t *vote_parity;
-    double *scratch; // 3 per entry
+    float *direction; // 3 per entry
 
     selfcol_store_region *regions; // the last update's, grown apart from the entries
     size_t region_count, region_capacity;
 
-    // The neighbour search (link_neighbours): per vertex-pair occurrence one
-    // word (its pair's hi end, then its first occurrence, then for a first
-    // occurrence its entry) and one bit (the first occurrence's
-    // first_is_lo); pair_capacity occurrences. Per bucket (lo end's mesh
-    // and vertex, hi end's mesh) an offset; per mesh slot and vertex, the
-    // stamp and first position of the bucket pass.
-    uint32_t *pair_item;
-    unsigned char *pair_bit;
+    // The neighbour search (link_neighbours): per vertex-pair occurrence its
+    // pair's hi end and its entry (with the PAIR_ bits); pair_capacity
+    // occurrences. Per bucket (lo end's mesh and vertex, hi end's mesh) an
+    // offset, counted during the merge; per mesh slot and vertex, the stamp
+    // and first position of the bucket pass.
+    uint32_t *pair_hi, *pair_entry;
     size_t pair_capacity;
     uint32_t *bucket_offset;
     size_t bucket_count; // offsets: bucket_count + 1
@@ -206,19 +209,15 @@ static void free_entry_arrays(selfcol_store *s) {
     selfcol_alloc__free_array(al, s->group_parent, n, sizeof *s->group_parent);
     selfcol_alloc__free_array(al, s->vote_parent, n, sizeof *s->vote_parent);
     selfcol_alloc__free_array(al, s->vote_parity, n, sizeof *s->vote_parity);
-    selfcol_alloc__free_array(al, s->scratch, 3 * n, sizeof *s->scratch);
-}
-
-static size_t bit_bytes(size_t bits) {
-    return bits / 8 + 1;
+    selfcol_alloc__free_array(al, s->direction, 3 * n, sizeof *s->direction);
 }
 
 static void free_pair_arrays(selfcol_store *s) {
     const selfcol_allocator *al = &s->allocator;
-    selfcol_alloc__free_array(al, s->pair_item, s->pair_capacity, sizeof *s->pair_item);
-    selfcol_alloc__free_array(al, s->pair_bit, bit_bytes(s->pair_capacity), 1);
-    s->pair_item = NULL;
-    s->pair_bit = NULL;
+    selfcol_alloc__free_array(al, s->pair_hi, s->pair_capacity, sizeof *s->pair_hi);
+    selfcol_alloc__free_array(al, s->pair_entry, s->pair_capacity, sizeof *s->pair_entry);
+    s->pair_hi = NULL;
+    s->pair_entry = NULL;
     s->pair_capacity = 0;
 }
 
@@ -266,11 +265,11 @@ void selfcol_store_clear(selfcol_store *store) {
 static int reserve_entries(selfcol_store *s, size_t n) {
     if (n <= s->capacity)
         return SELFCOL_OK;
-    if (n > UINT32_MAX - 1)
-        return SELFCOL_ERANGE; // entries are indexed by uint32_t
+    if (n > SELFCOL_STORE_MAX_ENTRIES)
+        return SELFCOL_ERANGE;
     size_t cap = grown_capacity(n);
-    if (cap > UINT32_MAX - 1)
-        cap = UINT32_MAX - 1;
+    if (cap > SELFCOL_STORE_MAX_ENTRIES)
+        cap = SELFCOL_STORE_MAX_ENTRIES;
     const selfcol_allocator *al = &s->allocator;
     selfcol_store grown = *s;
     grown.capacity = cap;
@@ -279,9 +278,9 @@ static int reserve_entries(selfcol_store *s, size_t n) {
     grown.group_parent = selfcol_alloc__array(al, cap, sizeof *grown.group_parent);
     grown.vote_parent = selfcol_alloc__array(al, cap, sizeof *grown.vote_parent);
     grown.vote_parity = selfcol_alloc__array(al, cap, sizeof *grown.vote_parity);
-    grown.scratch = selfcol_alloc__array(al, 3 * cap, sizeof *grown.scratch);
+    grown.direction = selfcol_alloc__array(al, 3 * cap, sizeof *grown.direction);
     if (grown.entries == NULL || grown.spare == NULL || grown.group_parent == NULL ||
-        grown.vote_parent == NULL || grown.vote_parity == NULL || grown.scratch == NULL) {
+        grown.vote_parent == NULL || grown.vote_parity == NULL || grown.direction == NULL) {
         free_entry_arrays(&grown);
         return SELFCOL_ENOMEM;
     }
@@ -293,7 +292,7 @@ static int reserve_entries(selfcol_store *s, size_t n) {
     s->group_parent = grown.group_parent;
     s->vote_parent = grown.vote_parent;
     s->vote_parity = grown.vote_parity;
-    s->scratch = grown.scratch;
+    s->direction = grown.direction;
     s->capacity = cap;
     return SELFCOL_OK;
 }
@@ -309,16 +308,16 @@ static int reserve_pairs(selfcol_store *s, size_t keys) {
         return SELFCOL_OK;
     const size_t cap = grown_capacity(keys);
     const selfcol_allocator *al = &s->allocator;
-    uint32_t *item = selfcol_alloc__array(al, cap, sizeof *item);
-    unsigned char *bit = selfcol_alloc__array(al, bit_bytes(cap), 1);
-    if (item == NULL || bit == NULL) {
-        selfcol_alloc__free_array(al, item, cap, sizeof *item);
-        selfcol_alloc__free_array(al, bit, bit_bytes(cap), 1);
+    uint32_t *hi = selfcol_alloc__array(al, cap, sizeof *hi);
+    uint32_t *entry = selfcol_alloc__array(al, cap, sizeof *entry);
+    if (hi == NULL || entry == NULL) {
+        selfcol_alloc__free_array(al, hi, cap, sizeof *hi);
+        selfcol_alloc__free_array(al, entry, cap, sizeof *entry);
         return SELFCOL_ENOMEM;
     }
     free_pair_arrays(s);
-    s->pair_item = item;
-    s->pair_bit = bit;
+    s->pair_hi = hi;
+    s->pair_entry = entry;
     s->pair_capacity = cap;
     return SELFCOL_OK;
 }
@@ -698,27 +697,24 @@ static int side_relation(const double n[3], const double dx[3], const double dy[
 }
 
 // Two entries linked through a shared vertex pair {u, w} (u of mesh
-// u_mesh, w of w_mesh): group them; if both vote (VF/EE), link their
-// orientations. Each direction (the record's, kept in the scratch for the
-// update: doubles, so that the links are those the record's direction
-// makes) points from the second element to the first, so it says which
-// side of the surface at u (and at w) the entry's first element is on.
-// That side is what is compared, not the directions themselves: two
+// u_mesh, w of w_mesh; either order): group them; if both vote (VF/EE and
+// not oriented), link their orientations. Each direction (the record's,
+// kept for the update) points from the second element to the first, so it
+// says which side of the surface at u (and at w) the entry's first element
+// is on. That side is what is compared, not the directions themselves: two
 // directions leaning opposite ways off the normal (closest points on
 // opposite borders, frequent when the gap is small against d) point to the
 // same side, although their dot product is negative (seed 3.2.1 propagates
 // the surfaces' orientation; this is its local form). Same roles (parity
 // +1) should point to the same side, crosswise ones (-1) to opposite sides:
-// o_i = parity * relation * o_j. The link is made only where the geometry
-// is clear: the two surfaces within 60 degrees of parallel or antiparallel,
-// every direction within 60 degrees of both normals' lines, and the same
-// relation through both normals.
-static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles, uint32_t u,
-                         uint32_t u_mesh, uint32_t w, uint32_t w_mesh) {
+// o_i = parity * relation * o_j. The link is made only
+// where the geometry is clear: the two surfaces within 60 degrees of
+// parallel or antiparallel, every direction within 60 degrees of both
+// normals' lines, and the same relation through both normals.
+static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles, int both_vote,
+                         uint32_t u, uint32_t u_mesh, uint32_t w, uint32_t w_mesh) {
     group_unite(s->group_parent, i, j);
-    const store_entry *x = &s->entries[i], *y = &s->entries[j];
-    if (x->kind == SELFCOL_CONTACT_EF || y->kind == SELFCOL_CONTACT_EF ||
-        ((x->flags | y->flags) & SELFCOL_STORE_ORIENTED))
+    if (!both_vote)
         return; // only voting contacts are linked for the vote
     int parity_unused;
     if (vote_find(s->vote_parent, s->vote_parity, i, &parity_unused) ==
@@ -728,7 +724,8 @@ static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_role
     if (!vertex_normal(s, u_mesh, u, nu) || !vertex_normal(s, w_mesh, w, nw) ||
         !(fabs(vec3_dot(nu, nw)) >= SELFCOL_STORE_LINK_COS))
         return;
-    const double *dx = s->scratch + 3 * (size_t)i, *dy = s->scratch + 3 * (size_t)j;
+    const float *fx = s->direction + 3 * (size_t)i, *fy = s->direction + 3 * (size_t)j;
+    const double dx[3] = {fx[0], fx[1], fx[2]}, dy[3] = {fy[0], fy[1], fy[2]};
     const int through_u = side_relation(nu, dx, dy);
     if (through_u == 0 || side_relation(nw, dx, dy) != through_u)
         return;
@@ -740,68 +737,69 @@ static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_role
 // before (mw, w). An entry has pairs_of_kind() of them, taken in the order
 // p over the first element's vertices, q over the second's. bucket: the
 // neighbour search's bucket of the pair (lo end's mesh and vertex, hi
-// end's mesh: buckets_of()); hi_mesh, hi: its hi end.
+// end's mesh: buckets_of()); hi: its hi end.
 typedef struct vertex_pair {
-    uint32_t u, w, mu, mw;
     int first_is_lo;
-    uint32_t hi, hi_mesh;
+    uint32_t hi;
     size_t bucket;
 } vertex_pair;
 
 static vertex_pair pair_of(const store_entry *e, const uint32_t a[2], const uint32_t b[3], int k,
                            size_t n0) {
     const int nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
+    const uint32_t u = a[k / nb], w = b[k % nb], mu = first_mesh(e), mw = second_mesh(e);
     vertex_pair v;
-    v.u = a[k / nb];
-    v.w = b[k % nb];
-    v.mu = first_mesh(e);
-    v.mw = second_mesh(e);
-    v.first_is_lo = v.mu < v.mw || (v.mu == v.mw && v.u < v.w);
-    const uint32_t lo = v.first_is_lo ? v.u : v.w, lo_mesh = v.first_is_lo ? v.mu : v.mw;
-    v.hi = v.first_is_lo ? v.w : v.u;
-    v.hi_mesh = v.first_is_lo ? v.mw : v.mu;
+    v.first_is_lo = mu < mw || (mu == mw && u < w);
+    const uint32_t lo = v.first_is_lo ? u : w, lo_mesh = v.first_is_lo ? mu : mw;
+    const uint32_t hi_mesh = v.first_is_lo ? mw : mu;
+    v.hi = v.first_is_lo ? w : u;
     // (0, lo, 0) at lo, (0, lo, 1) at n0 + lo, (1, lo, 1) at 2 n0 + lo.
-    v.bucket = (lo_mesh + v.hi_mesh) * n0 + lo;
+    v.bucket = (lo_mesh + hi_mesh) * n0 + lo;
     return v;
 }
 
+// Counts an entry's vertex pairs into their buckets (bucket_offset[b + 1]),
+// with the vertices the merge has just read (link_neighbours sorts them).
+static void count_pairs(selfcol_store *s, const store_entry *e, const uint32_t a[2],
+                        const uint32_t b[3]) {
+    const size_t n0 = s->meshes[0]->vertex_count;
+    for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k)
+        s->bucket_offset[pair_of(e, a, b, k, n0).bucket + 1]++;
+}
+
 // Entries sharing a vertex pair are neighbours (link_entries). Each
-// occurrence of a pair is linked to the pair's first occurrence (in entry
-// order), and the links are made in entry order: a link that closes a
-// cycle against the relation is ignored, so the order decides which links
-// win. The first occurrences are found without a sort or a hash (a hash of
-// a few million pairs is a cache miss per probe): a counting sort of the
-// occurrences into buckets by their lo end (stable, so each bucket lists
-// its occurrences in entry order), then one pass per bucket in which a
-// stamp per hi vertex marks the first occurrence of each pair; then the
-// occurrences are replayed in entry order, each bucket read from its start
-// again. One word per occurrence: the pair's hi end, then the position of
-// its first occurrence, then (for a first occurrence, once replayed) its
-// entry; the first occurrence's first_is_lo goes in a bit.
+// occurrence of a pair is linked to the pair's first occurrence. The
+// occurrences are found without a sort or a hash (a hash of a few million
+// pairs is a cache miss per probe): a counting sort into buckets by their
+// lo end (counted during the merge; stable, so each bucket lists its
+// occurrences in entry order), then one pass per bucket, in which a stamp
+// per hi vertex marks each pair's first occurrence and every later one is
+// linked to it at once. The links are made in that order: buckets by lo
+// end, then entry order. A link that closes a cycle against the relation
+// is ignored, so the order decides which links win; it is fixed by the
+// entries and the meshes alone. (Making the links in entry order instead,
+// by replaying the occurrences, cost a random read per occurrence: 20-30 %
+// of the update on cloth-ball 92 -> 93.) The links of one bucket share its
+// lo vertex, whose normal stays in cache.
 static void link_neighbours(selfcol_store *s) {
     const size_t n0 = s->meshes[0]->vertex_count;
     const size_t buckets = buckets_of(s->meshes);
-    uint32_t *off = s->bucket_offset, *item = s->pair_item;
-    unsigned char *bit = s->pair_bit;
-    // Count (off[b + 1]), then exclusive sums: off[b] = start of bucket b.
-    memset(off, 0, (buckets + 1) * sizeof *off);
-    for (uint32_t i = 0; i < s->count; ++i) {
-        const store_entry *e = &s->entries[i];
-        uint32_t a[2], b[3];
-        entry_vertices(s, e, a, b);
-        for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k)
-            off[pair_of(e, a, b, k, n0).bucket + 1]++;
-    }
+    uint32_t *off = s->bucket_offset, *hi = s->pair_hi, *entry = s->pair_entry;
+    // Exclusive sums of the counts (off[b + 1]): off[b] = start of bucket b.
     for (size_t x = 0; x < buckets; ++x)
         off[x + 1] += off[x];
-    // Scatter the hi ends: off[b] becomes the end of bucket b.
+    // Scatter in entry order: off[b] becomes the end of bucket b.
     for (uint32_t i = 0; i < s->count; ++i) {
         const store_entry *e = &s->entries[i];
         uint32_t a[2], b[3];
         entry_vertices(s, e, a, b);
+        const uint32_t votes =
+            e->kind != SELFCOL_CONTACT_EF && !(e->flags & SELFCOL_STORE_ORIENTED) ? PAIR_VOTES : 0;
         for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k) {
             const vertex_pair v = pair_of(e, a, b, k, n0);
-            item[off[v.bucket]++] = v.hi;
+            const uint32_t p = off[v.bucket]++;
+            hi[p] = v.hi;
+            entry[p] = i | votes | (v.first_is_lo ? PAIR_FIRST_IS_LO : 0);
         }
     }
     // Per bucket, the first occurrence of each hi end: stamps unique to the
@@ -814,44 +812,24 @@ static void link_neighbours(selfcol_store *s) {
     }
     for (size_t x = 0; x < buckets; ++x) {
         const uint32_t start = x == 0 ? 0 : off[x - 1], end = off[x];
-        if (start == end)
-            continue;
+        if (end - start < 2)
+            continue; // one occurrence links nothing
         const uint32_t stamp = ++s->bucket_stamp;
-        const int hm = x >= n0 ? 1 : 0; // buckets (0, v, 1) and (1, v, 1): hi in mesh 1
-        uint32_t *seen = s->hi_stamp[hm], *first = s->hi_first[hm];
+        const uint32_t hi_mesh = x >= n0 ? 1 : 0, lo_mesh = x >= 2 * n0 ? 1 : 0;
+        const uint32_t lo = (uint32_t)(x - (lo_mesh + hi_mesh) * n0);
+        uint32_t *seen = s->hi_stamp[hi_mesh], *first = s->hi_first[hi_mesh];
         for (uint32_t p = start; p < end; ++p) {
-            const uint32_t y = item[p];
+            const uint32_t y = hi[p];
             if (seen[y] != stamp) {
                 seen[y] = stamp;
                 first[y] = p;
-            }
-            item[p] = first[y];
-        }
-    }
-    // Back to the starts, and the replay in entry order.
-    for (size_t x = buckets; x > 0; --x)
-        off[x] = off[x - 1];
-    off[0] = 0;
-    for (uint32_t i = 0; i < s->count; ++i) {
-        const store_entry *e = &s->entries[i];
-        uint32_t a[2], b[3];
-        entry_vertices(s, e, a, b);
-        for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k) {
-            const vertex_pair v = pair_of(e, a, b, k, n0);
-            const uint32_t p = off[v.bucket]++, fp = item[p];
-            if (fp == p) { // the pair's first occurrence: its entry, for the later ones
-                item[p] = i;
-                if (v.first_is_lo)
-                    bit[p / 8] |= (unsigned char)(1u << (p % 8));
-                else
-                    bit[p / 8] &= (unsigned char)~(1u << (p % 8));
                 continue;
             }
-            const uint32_t j = item[fp];
-            if (j == i)
-                continue; // the pair's first occurrence is this entry's
-            const int j_first_is_lo = (bit[fp / 8] >> (fp % 8)) & 1;
-            link_entries(s, i, j, j_first_is_lo == v.first_is_lo, v.u, v.mu, v.w, v.mw);
+            const uint32_t ei = entry[p], ej = entry[first[y]];
+            const uint32_t i = ei & PAIR_INDEX, j = ej & PAIR_INDEX;
+            if (i != j)
+                link_entries(s, i, j, ((ei ^ ej) & PAIR_FIRST_IS_LO) == 0,
+                             (ei & ej & PAIR_VOTES) != 0, lo, lo_mesh, y, hi_mesh);
         }
     }
 }
@@ -859,20 +837,37 @@ static void link_neighbours(selfcol_store *s) {
 // ---------------------------------------------------------------------------
 // The vote
 
+// The vote's arrays, per group root r: the votes for o = +1 and o = -1 of
+// contacts new in this update (new_votes[2 r], [2 r + 1]) and of contacts
+// held from earlier updates (held_votes), the group's oldest contact, and
+// the region label of r's grouping root. They live in the neighbour
+// search's two arrays, free once the links are made: each holds a word per
+// vertex pair, at least 3 per entry.
+typedef struct tally {
+    uint32_t *new_votes, *held_votes, *oldest, *label;
+} tally;
+
+static tally tally_of(const selfcol_store *s) {
+    const size_t n = s->count;
+    tally t = {NULL, NULL, NULL, NULL};
+    if (n > 0) {
+        t.new_votes = s->pair_hi;
+        t.oldest = s->pair_hi + 2 * n;
+        t.held_votes = s->pair_entry;
+        t.label = s->pair_entry + 2 * n;
+    }
+    return t;
+}
+
 // Tallies each voting group's votes and numbers the regions by their first
-// entry (entry regions set); returns the number of regions. The scratch
-// (the directions, no longer needed) holds, per root r: votes[4 r .. 4 r +
-// 3], then oldest[r], then label[r].
+// entry (entry regions set); returns the number of regions.
 static size_t tally_and_label(selfcol_store *s, selfcol_store_update_stats *st) {
     const size_t n = s->count;
-    int32_t *votes = (int32_t *)(void *)s->scratch;
-    uint32_t *oldest = (uint32_t *)(votes + 4 * n), *label = oldest + n;
-    // Per group root r: [4 r] and [4 r + 1] count the votes for o = +1 and
-    // o = -1 of contacts new in this update, [4 r + 2] and [4 r + 3] those of
-    // contacts held from earlier updates.
+    const tally t = tally_of(s);
     for (size_t i = 0; i < n; ++i) {
-        votes[4 * i] = votes[4 * i + 1] = votes[4 * i + 2] = votes[4 * i + 3] = 0;
-        oldest[i] = SELFCOL_INVALID_INDEX;
+        t.new_votes[2 * i] = t.new_votes[2 * i + 1] = 0;
+        t.held_votes[2 * i] = t.held_votes[2 * i + 1] = 0;
+        t.oldest[i] = SELFCOL_INVALID_INDEX;
     }
     // Tally: contact i's vote, in its group's frame, is sigma_i * o_i with
     // sigma_i = side * right_side (+1 on its right side). Contacts whose
@@ -885,21 +880,21 @@ static size_t tally_and_label(selfcol_store *s, selfcol_store_update_stats *st) 
         int o;
         const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
         const int vote = side_of(e) * right_side_of(e) * o;
-        const int held = (e->flags & SELFCOL_STORE_NEW) == 0;
-        votes[4 * r + 2 * held + (vote > 0 ? 0 : 1)]++;
-        const uint32_t old = oldest[r];
+        uint32_t *votes = (e->flags & SELFCOL_STORE_NEW) ? t.new_votes : t.held_votes;
+        votes[2 * r + (vote > 0 ? 0 : 1)]++;
+        const uint32_t old = t.oldest[r];
         if (old == SELFCOL_INVALID_INDEX || e->age > s->entries[old].age)
-            oldest[r] = i;
+            t.oldest[r] = i;
     }
     // Regions, numbered by their first entry.
     for (size_t i = 0; i < n; ++i)
-        label[i] = SELFCOL_INVALID_INDEX;
+        t.label[i] = SELFCOL_INVALID_INDEX;
     size_t regions = 0;
     for (uint32_t i = 0; i < n; ++i) {
         const uint32_t g = selfcol_union_find__root(s->group_parent, i);
-        if (label[g] == SELFCOL_INVALID_INDEX)
-            label[g] = (uint32_t)regions++;
-        s->entries[i].region = label[g];
+        if (t.label[g] == SELFCOL_INVALID_INDEX)
+            t.label[g] = (uint32_t)regions++;
+        s->entries[i].region = t.label[g];
     }
     return regions;
 }
@@ -908,8 +903,7 @@ static size_t tally_and_label(selfcol_store *s, selfcol_store_update_stats *st) 
 // records (s->regions holds `regions`).
 static void impose(selfcol_store *s, size_t regions, selfcol_store_update_stats *st) {
     const size_t n = s->count;
-    const int32_t *votes = (const int32_t *)(const void *)s->scratch;
-    const uint32_t *oldest = (const uint32_t *)(votes + 4 * n);
+    const tally t = tally_of(s);
     if (regions > 0)
         memset(s->regions, 0, regions * sizeof *s->regions);
     for (uint32_t i = 0; i < n; ++i) {
@@ -932,8 +926,9 @@ static void impose(selfcol_store *s, size_t regions, selfcol_store_update_stats 
         // contact's right side carries memory (of its side before a
         // crossing, or of an earlier vote), a new contact's is a guess (its
         // current side). New contacts decide only groups of new contacts.
-        const int32_t *v = votes + 4 * r + (votes[4 * r + 2] + votes[4 * r + 3] > 0 ? 2 : 0);
-        const int32_t plus = v[0], minus = v[1];
+        const uint32_t *h = t.held_votes + 2 * r;
+        const uint32_t *v = h[0] + h[1] > 0 ? h : t.new_votes + 2 * r;
+        const uint32_t plus = v[0], minus = v[1];
         const int side = side_of(e);
         if (side == 0) {
             reg->abstained++;
@@ -946,10 +941,10 @@ static void impose(selfcol_store *s, size_t regions, selfcol_store_update_stats 
             majority = 0; // nobody voted: nothing to impose
         } else {
             // Tie: the oldest contact keeps its right side.
-            const store_entry *t = &s->entries[oldest[r]];
+            const store_entry *oldest = &s->entries[t.oldest[r]];
             int ot;
-            vote_find(s->vote_parent, s->vote_parity, oldest[r], &ot);
-            majority = side_of(t) * right_side_of(t) * ot;
+            vote_find(s->vote_parent, s->vote_parity, t.oldest[r], &ot);
+            majority = side_of(oldest) * right_side_of(oldest) * ot;
             reg->flags |= SELFCOL_REGION_TIE;
         }
         // A decided side always has a right side (track_side).
@@ -1079,10 +1074,10 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     st.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 
     // 1. Merge the held entries (sorted) with the records (sorted). The
-    // direction of each VF/EE entry goes to the scratch for the links: the
-    // record's, or a remnant's recomputed.
+    // direction of each VF/EE entry is kept for the links: the record's, or
+    // a remnant's recomputed.
     store_entry *out = store->spare;
-    double *direction = store->scratch;
+    memset(store->bucket_offset, 0, (buckets_of(meshes) + 1) * sizeof *store->bucket_offset);
     size_t i = 0, j = 0, n = 0;
     const store_entry *held = store->entries;
     while (i < store->count || j < m) {
@@ -1118,15 +1113,17 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
         }
         uint32_t a[2], b[3];
         entry_vertices(store, e, a, b);
+        count_pairs(store, e, a, b);
         if (e->kind != SELFCOL_CONTACT_EF) {
-            double *dir = direction + 3 * n;
-            if (c >= 0) {
-                memcpy(dir, rec[j].direction, 3 * sizeof *dir);
-            } else {
-                selfcol_narrow_result r;
+            float *dir = store->direction + 3 * n;
+            const double *from = c >= 0 ? rec[j].direction : NULL;
+            selfcol_narrow_result r;
+            if (from == NULL) {
                 geometry(store, e, a, b, &r);
-                memcpy(dir, r.direction, 3 * sizeof *dir);
+                from = r.direction;
             }
+            for (int k = 0; k < 3; ++k)
+                dir[k] = (float)from[k];
         }
         j += c >= 0;
         track_side(store, e, a, b, &st);
@@ -1247,10 +1244,9 @@ size_t selfcol_store_byte_count(const selfcol_store *store) {
     if (store == NULL)
         return 0;
     const size_t per_entry =
-        2 * sizeof(store_entry) + 2 * sizeof(uint32_t) + sizeof(int8_t) + 3 * sizeof(double);
+        2 * sizeof(store_entry) + 2 * sizeof(uint32_t) + sizeof(int8_t) + 3 * sizeof(float);
     size_t bytes = sizeof *store + store->capacity * per_entry +
-                   store->pair_capacity * sizeof(uint32_t) +
-                   (store->pair_capacity > 0 ? bit_bytes(store->pair_capacity) : 0) +
+                   store->pair_capacity * 2 * sizeof(uint32_t) +
                    store->region_capacity * sizeof(selfcol_store_region);
     if (store->bucket_offset != NULL)
         bytes += (store->bucket_count + 1) * sizeof(uint32_t);

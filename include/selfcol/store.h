@@ -279,8 +279,9 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  *         not sorted as a query sorts them; SELFCOL_EMISMATCH when the meshes
  *         are not those of the store's earlier updates, or a record does not
  *         match them (an index out of range, vertices that are not its
- *         elements'); SELFCOL_ERANGE when the held and detected contacts
- *         together exceed 2^32 - 2; SELFCOL_ENOMEM.
+ *         elements'); SELFCOL_ERANGE when the contacts the update would
+ *         hold (detected ones and remnants) exceed 2^30 - 1, or their vertex
+ *         pairs 2^32 - 1; SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                                      const selfcol_mesh *second, const selfcol_contacts *detected);
