@@ -17,9 +17,9 @@
 // An entry holds its key, counters and sides only (24 bytes): its vertices
 // come from the meshes' topology, and its geometry (distance, weights,
 // direction) is computed when the caller copies the records
-// (selfcol_store_copy_contacts), from the positions the update saw. Only the
-// directions the links compare live through an update (as floats), and the
-// vote's tallies reuse the neighbour search's arrays. Every array is kept
+// (selfcol_store_copy_contacts), from the positions the update saw. What
+// the links compare is read from each entry's direction once, into 16 bits
+// (link_code), and the vote's tallies reuse the neighbour search's arrays. Every array is kept
 // and grown: a steady state allocates nothing.
 #include <selfcol/store.h>
 
@@ -38,12 +38,14 @@
 #include <stddef.h>
 #include <string.h>
 
-// Entries are indexed by uint32_t, and the neighbour search keeps two flags
-// (PAIR_FIRST_IS_LO, PAIR_VOTES) in the top bits of an entry's index.
-#define SELFCOL_STORE_MAX_ENTRIES ((1u << 30) - 1u)
+// Entries are indexed by uint32_t, and the neighbour search keeps five bits
+// in the top of an entry's index (link_neighbours): PAIR_FIRST_IS_LO and
+// the entry's side codes at the pair's lo and hi ends (link_code).
+#define SELFCOL_STORE_MAX_ENTRIES ((1u << 27) - 1u)
 #define PAIR_FIRST_IS_LO (1u << 31)
-#define PAIR_VOTES (1u << 30)
-#define PAIR_INDEX (PAIR_VOTES - 1u)
+#define PAIR_LO_SHIFT 29
+#define PAIR_HI_SHIFT 27
+#define PAIR_INDEX ((1u << 27) - 1u)
 
 // One held contact. Its vertices are its elements' (mesh topology), its
 // geometry is recomputed on demand: nothing here is a double.
@@ -73,11 +75,10 @@ struct selfcol_store {
     size_t count, capacity;       // capacity of every per-entry array
 
     // Per entry, for one update: the grouping union-find, the voting
-    // union-find with parity, and each VF/EE entry's direction (the links
-    // compare them; floats, as the cached normals they are compared with).
+    // union-find with parity, and the entry's link code (link_code).
     uint32_t *group_parent, *vote_parent;
     int8_t *vote_parity;
-    float *direction; // 3 per entry
+    uint16_t *link_code;
 
     selfcol_store_region *regions; // the last update's, grown apart from the entries
     size_t region_count, region_capacity;
@@ -209,7 +210,7 @@ static void free_entry_arrays(selfcol_store *s) {
     selfcol_alloc__free_array(al, s->group_parent, n, sizeof *s->group_parent);
     selfcol_alloc__free_array(al, s->vote_parent, n, sizeof *s->vote_parent);
     selfcol_alloc__free_array(al, s->vote_parity, n, sizeof *s->vote_parity);
-    selfcol_alloc__free_array(al, s->direction, 3 * n, sizeof *s->direction);
+    selfcol_alloc__free_array(al, s->link_code, n, sizeof *s->link_code);
 }
 
 static void free_pair_arrays(selfcol_store *s) {
@@ -278,9 +279,9 @@ static int reserve_entries(selfcol_store *s, size_t n) {
     grown.group_parent = selfcol_alloc__array(al, cap, sizeof *grown.group_parent);
     grown.vote_parent = selfcol_alloc__array(al, cap, sizeof *grown.vote_parent);
     grown.vote_parity = selfcol_alloc__array(al, cap, sizeof *grown.vote_parity);
-    grown.direction = selfcol_alloc__array(al, 3 * cap, sizeof *grown.direction);
+    grown.link_code = selfcol_alloc__array(al, cap, sizeof *grown.link_code);
     if (grown.entries == NULL || grown.spare == NULL || grown.group_parent == NULL ||
-        grown.vote_parent == NULL || grown.vote_parity == NULL || grown.direction == NULL) {
+        grown.vote_parent == NULL || grown.vote_parity == NULL || grown.link_code == NULL) {
         free_entry_arrays(&grown);
         return SELFCOL_ENOMEM;
     }
@@ -292,14 +293,9 @@ static int reserve_entries(selfcol_store *s, size_t n) {
     s->group_parent = grown.group_parent;
     s->vote_parent = grown.vote_parent;
     s->vote_parity = grown.vote_parity;
-    s->direction = grown.direction;
+    s->link_code = grown.link_code;
     s->capacity = cap;
     return SELFCOL_OK;
-}
-
-// Vertex pairs an entry has: |first's vertices| x |second's|.
-static size_t pairs_of_kind(uint32_t kind) {
-    return kind == SELFCOL_CONTACT_VF ? 3 : kind == SELFCOL_CONTACT_EE ? 4 : 6;
 }
 
 // The neighbour search's arrays for `keys` vertex-pair occurrences.
@@ -686,50 +682,79 @@ static int vertex_normal(selfcol_store *s, uint32_t mesh, uint32_t v, double nor
 // layer edge-on, whose directions point every way).
 #define SELFCOL_STORE_LINK_COS 0.5
 
-// The orientation relation of two entries through the surface normal n:
-// +1 or -1 as both directions point to the same side of n or to opposite
-// sides; 0 when one of them leans too far from n to tell.
-static int side_relation(const double n[3], const double dx[3], const double dy[3]) {
-    const double px = vec3_dot(dx, n), py = vec3_dot(dy, n);
-    if (!(fabs(px) >= SELFCOL_STORE_LINK_COS && fabs(py) >= SELFCOL_STORE_LINK_COS))
-        return 0;
-    return (px > 0) == (py > 0) ? 1 : -1;
+// Vertex pairs an entry has: |first's vertices| x |second's|.
+static int pairs_of_kind(uint32_t kind) {
+    return kind == SELFCOL_CONTACT_VF ? 3 : kind == SELFCOL_CONTACT_EE ? 4 : 6;
 }
 
-// Two entries linked through a shared vertex pair {u, w} (u of mesh
-// u_mesh, w of w_mesh; either order): group them; if both vote (VF/EE and
-// not oriented), link their orientations. Each direction (the record's,
-// kept for the update) points from the second element to the first, so it
-// says which side of the surface at u (and at w) the entry's first element
-// is on. That side is what is compared, not the directions themselves: two
-// directions leaning opposite ways off the normal (closest points on
-// opposite borders, frequent when the gap is small against d) point to the
-// same side, although their dot product is negative (seed 3.2.1 propagates
-// the surfaces' orientation; this is its local form). Same roles (parity
-// +1) should point to the same side, crosswise ones (-1) to opposite sides:
-// o_i = parity * relation * o_j. The link is made only
+// Neighbours i and j sharing a vertex pair {u, w} are compared through the
+// surface normals at u and at w (store.h, "Consistency rule"). Each
+// direction (the record's) points from the second element to the first, so
+// it says which side of the surface at u (and at w) the entry's first
+// element is on. That side is what is compared, not the directions
+// themselves: two directions leaning opposite ways off the normal (closest
+// points on opposite borders, frequent when the gap is small against d)
+// point to the same side, although their dot product is negative (seed
+// 3.2.1 propagates the surfaces' orientation; this is its local form). Same
+// roles (parity +1) should point to the same side, crosswise ones (-1) to
+// opposite sides: o_i = parity * relation * o_j. The link is made only
 // where the geometry is clear: the two surfaces within 60 degrees of
 // parallel or antiparallel, every direction within 60 degrees of both
 // normals' lines, and the same relation through both normals.
-static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles, int both_vote,
-                         uint32_t u, uint32_t u_mesh, uint32_t w, uint32_t w_mesh) {
+//
+// All of that reads from each entry alone, once per update: its link code.
+// Per vertex slot (a[0], a[1], b[0], b[1], b[2]: bits 2 k and 2 k + 1) the
+// side code of its direction at that vertex's normal: 1 for the normal's
+// side, 2 for the other, 0 when it leans more than 60 degrees off the
+// normal's line or the vertex has no normal. Per vertex pair in pair_of()'s
+// order (bit 10 + k), whether the normals at its ends are within 60 degrees
+// of parallel or antiparallel. Entries that do not vote (EF, oriented) have
+// code 0. A link then compares two side codes per end (link_entries).
+#define SIDE_CLEAR(code, slot) (((code) >> (2 * (slot))) & 3u)
+#define PAIR_CLEAR(code, k) (((code) >> (10 + (k))) & 1u)
+
+static uint16_t link_code(selfcol_store *s, const store_entry *e, const uint32_t a[2],
+                          const uint32_t b[3], const double direction[3]) {
+    const int na = e->kind == SELFCOL_CONTACT_VF ? 1 : 2,
+              nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
+    const uint32_t vertex[5] = {a[0], a[1], b[0], b[1], b[2]};
+    const uint32_t mesh[5] = {first_mesh(e), first_mesh(e), second_mesh(e), second_mesh(e),
+                              second_mesh(e)};
+    double normal[5][3];
+    int has_normal[5] = {0, 0, 0, 0, 0};
+    unsigned code = 0;
+    for (int slot = 0; slot < 5; ++slot) {
+        if ((slot >= na && slot < 2) || slot >= 2 + nb)
+            continue;
+        has_normal[slot] = vertex_normal(s, mesh[slot], vertex[slot], normal[slot]);
+        const double p = vec3_dot(direction, normal[slot]);
+        if (has_normal[slot] && fabs(p) >= SELFCOL_STORE_LINK_COS)
+            code |= (p > 0 ? 1u : 2u) << (2 * slot);
+    }
+    const int pairs = pairs_of_kind(e->kind);
+    for (int k = 0; k < pairs; ++k) {
+        const int su = k / nb, sw = 2 + k % nb;
+        if (has_normal[su] && has_normal[sw] &&
+            fabs(vec3_dot(normal[su], normal[sw])) >= SELFCOL_STORE_LINK_COS)
+            code |= 1u << (10 + k);
+    }
+    return (uint16_t)code;
+}
+
+// Two entries sharing a vertex pair: group them, and link their
+// orientations where both side codes read clearly through the normals at
+// both ends and give the same relation (link_code). lo_i, hi_i, lo_j,
+// hi_j: each entry's side code at the pair's two ends, 0 where the pair's
+// normals are not clear.
+static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles, uint32_t lo_i,
+                         uint32_t hi_i, uint32_t lo_j, uint32_t hi_j) {
     group_unite(s->group_parent, i, j);
-    if (!both_vote)
-        return; // only voting contacts are linked for the vote
-    int parity_unused;
-    if (vote_find(s->vote_parent, s->vote_parity, i, &parity_unused) ==
-        vote_find(s->vote_parent, s->vote_parity, j, &parity_unused))
-        return; // already in one group: the link would be ignored (vote_unite)
-    double nu[3], nw[3];
-    if (!vertex_normal(s, u_mesh, u, nu) || !vertex_normal(s, w_mesh, w, nw) ||
-        !(fabs(vec3_dot(nu, nw)) >= SELFCOL_STORE_LINK_COS))
+    if (lo_i == 0 || lo_j == 0 || hi_i == 0 || hi_j == 0)
         return;
-    const float *fx = s->direction + 3 * (size_t)i, *fy = s->direction + 3 * (size_t)j;
-    const double dx[3] = {fx[0], fx[1], fx[2]}, dy[3] = {fy[0], fy[1], fy[2]};
-    const int through_u = side_relation(nu, dx, dy);
-    if (through_u == 0 || side_relation(nw, dx, dy) != through_u)
+    const int through_lo = lo_i == lo_j ? 1 : -1, through_hi = hi_i == hi_j ? 1 : -1;
+    if (through_lo != through_hi)
         return;
-    vote_unite(s->vote_parent, s->vote_parity, i, j, (same_roles ? 1 : -1) * through_u);
+    vote_unite(s->vote_parent, s->vote_parity, i, j, (same_roles ? 1 : -1) * through_lo);
 }
 
 // One vertex pair {u, w} of an entry: u a vertex of its first element (of
@@ -740,6 +765,7 @@ static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_role
 // end's mesh: buckets_of()); hi: its hi end.
 typedef struct vertex_pair {
     int first_is_lo;
+    int u_slot, w_slot; // of u and w in link_code's order
     uint32_t hi;
     size_t bucket;
 } vertex_pair;
@@ -749,6 +775,8 @@ static vertex_pair pair_of(const store_entry *e, const uint32_t a[2], const uint
     const int nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
     const uint32_t u = a[k / nb], w = b[k % nb], mu = first_mesh(e), mw = second_mesh(e);
     vertex_pair v;
+    v.u_slot = k / nb;
+    v.w_slot = 2 + k % nb;
     v.first_is_lo = mu < mw || (mu == mw && u < w);
     const uint32_t lo = v.first_is_lo ? u : w, lo_mesh = v.first_is_lo ? mu : mw;
     const uint32_t hi_mesh = v.first_is_lo ? mw : mu;
@@ -763,7 +791,8 @@ static vertex_pair pair_of(const store_entry *e, const uint32_t a[2], const uint
 static void count_pairs(selfcol_store *s, const store_entry *e, const uint32_t a[2],
                         const uint32_t b[3]) {
     const size_t n0 = s->meshes[0]->vertex_count;
-    for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k)
+    const int pairs = pairs_of_kind(e->kind);
+    for (int k = 0; k < pairs; ++k)
         s->bucket_offset[pair_of(e, a, b, k, n0).bucket + 1]++;
 }
 
@@ -779,8 +808,9 @@ static void count_pairs(selfcol_store *s, const store_entry *e, const uint32_t a
 // is ignored, so the order decides which links win; it is fixed by the
 // entries and the meshes alone. (Making the links in entry order instead,
 // by replaying the occurrences, cost a random read per occurrence: 20-30 %
-// of the update on cloth-ball 92 -> 93.) The links of one bucket share its
-// lo vertex, whose normal stays in cache.
+// of the update on cloth-ball 92 -> 93.) Each occurrence carries its
+// entry's side codes at the pair's ends (link_code), so a link reads
+// nothing of either entry but its union-find parents.
 static void link_neighbours(selfcol_store *s) {
     const size_t n0 = s->meshes[0]->vertex_count;
     const size_t buckets = buckets_of(s->meshes);
@@ -793,13 +823,20 @@ static void link_neighbours(selfcol_store *s) {
         const store_entry *e = &s->entries[i];
         uint32_t a[2], b[3];
         entry_vertices(s, e, a, b);
-        const uint32_t votes =
-            e->kind != SELFCOL_CONTACT_EF && !(e->flags & SELFCOL_STORE_ORIENTED) ? PAIR_VOTES : 0;
-        for (int k = 0; k < (int)pairs_of_kind(e->kind); ++k) {
+        const unsigned code = s->link_code[i];
+        const int pairs = pairs_of_kind(e->kind);
+        for (int k = 0; k < pairs; ++k) {
             const vertex_pair v = pair_of(e, a, b, k, n0);
             const uint32_t p = off[v.bucket]++;
+            uint32_t side_u = 0, side_w = 0;
+            if (PAIR_CLEAR(code, k)) {
+                side_u = SIDE_CLEAR(code, v.u_slot);
+                side_w = SIDE_CLEAR(code, v.w_slot);
+            }
             hi[p] = v.hi;
-            entry[p] = i | votes | (v.first_is_lo ? PAIR_FIRST_IS_LO : 0);
+            entry[p] = i | (v.first_is_lo ? PAIR_FIRST_IS_LO | side_u << PAIR_LO_SHIFT |
+                                                side_w << PAIR_HI_SHIFT
+                                          : side_w << PAIR_LO_SHIFT | side_u << PAIR_HI_SHIFT);
         }
     }
     // Per bucket, the first occurrence of each hi end: stamps unique to the
@@ -815,8 +852,7 @@ static void link_neighbours(selfcol_store *s) {
         if (end - start < 2)
             continue; // one occurrence links nothing
         const uint32_t stamp = ++s->bucket_stamp;
-        const uint32_t hi_mesh = x >= n0 ? 1 : 0, lo_mesh = x >= 2 * n0 ? 1 : 0;
-        const uint32_t lo = (uint32_t)(x - (lo_mesh + hi_mesh) * n0);
+        const int hi_mesh = x >= n0 ? 1 : 0;
         uint32_t *seen = s->hi_stamp[hi_mesh], *first = s->hi_first[hi_mesh];
         for (uint32_t p = start; p < end; ++p) {
             const uint32_t y = hi[p];
@@ -828,8 +864,9 @@ static void link_neighbours(selfcol_store *s) {
             const uint32_t ei = entry[p], ej = entry[first[y]];
             const uint32_t i = ei & PAIR_INDEX, j = ej & PAIR_INDEX;
             if (i != j)
-                link_entries(s, i, j, ((ei ^ ej) & PAIR_FIRST_IS_LO) == 0,
-                             (ei & ej & PAIR_VOTES) != 0, lo, lo_mesh, y, hi_mesh);
+                link_entries(s, i, j, ((ei ^ ej) & PAIR_FIRST_IS_LO) == 0, ei >> PAIR_LO_SHIFT & 3u,
+                             ei >> PAIR_HI_SHIFT & 3u, ej >> PAIR_LO_SHIFT & 3u,
+                             ej >> PAIR_HI_SHIFT & 3u);
         }
     }
 }
@@ -1073,9 +1110,9 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     memset(&st, 0, sizeof st);
     st.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 
-    // 1. Merge the held entries (sorted) with the records (sorted). The
-    // direction of each VF/EE entry is kept for the links: the record's, or
-    // a remnant's recomputed.
+    // 1. Merge the held entries (sorted) with the records (sorted). Each
+    // voting entry's link code comes from its direction: the record's, or a
+    // remnant's recomputed.
     store_entry *out = store->spare;
     memset(store->bucket_offset, 0, (buckets_of(meshes) + 1) * sizeof *store->bucket_offset);
     size_t i = 0, j = 0, n = 0;
@@ -1112,21 +1149,27 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
             st.remnant++;
         }
         uint32_t a[2], b[3];
-        entry_vertices(store, e, a, b);
-        count_pairs(store, e, a, b);
-        if (e->kind != SELFCOL_CONTACT_EF) {
-            float *dir = store->direction + 3 * n;
-            const double *from = c >= 0 ? rec[j].direction : NULL;
-            selfcol_narrow_result r;
-            if (from == NULL) {
-                geometry(store, e, a, b, &r);
-                from = r.direction;
-            }
-            for (int k = 0; k < 3; ++k)
-                dir[k] = (float)from[k];
+        if (c >= 0) { // the record's vertices (record_matches: the topology's)
+            memcpy(a, rec[j].a, sizeof a);
+            memcpy(b, rec[j].b, sizeof b);
+            if (e->kind == SELFCOL_CONTACT_EE)
+                b[2] = SELFCOL_INVALID_INDEX;
+        } else {
+            entry_vertices(store, e, a, b);
         }
+        count_pairs(store, e, a, b);
+        const double *direction = c >= 0 ? rec[j].direction : NULL;
         j += c >= 0;
         track_side(store, e, a, b, &st);
+        store->link_code[n] = 0;
+        if (e->kind != SELFCOL_CONTACT_EF && !(e->flags & SELFCOL_STORE_ORIENTED)) {
+            selfcol_narrow_result r;
+            if (direction == NULL) { // a remnant's, at the current positions
+                geometry(store, e, a, b, &r);
+                direction = r.direction;
+            }
+            store->link_code[n] = link_code(store, e, a, b, direction);
+        }
         if (e->kind == SELFCOL_CONTACT_EF)
             st.interferences++;
         else
@@ -1244,7 +1287,7 @@ size_t selfcol_store_byte_count(const selfcol_store *store) {
     if (store == NULL)
         return 0;
     const size_t per_entry =
-        2 * sizeof(store_entry) + 2 * sizeof(uint32_t) + sizeof(int8_t) + 3 * sizeof(float);
+        2 * sizeof(store_entry) + 2 * sizeof(uint32_t) + sizeof(int8_t) + sizeof(uint16_t);
     size_t bytes = sizeof *store + store->capacity * per_entry +
                    store->pair_capacity * 2 * sizeof(uint32_t) +
                    store->region_capacity * sizeof(selfcol_store_region);

@@ -647,6 +647,102 @@ static void test_regions(void **state) {
     fixture_free(&a);
 }
 
+// The regions against a brute-force reference: the connected components of
+// the held contacts (EF included) in which two contacts are neighbours when
+// they share an unordered vertex pair {u, w}, u of one's first element and
+// w of its second, numbered by their first contact in the store's order.
+// On a self-crossing crumpled sheet over frames that deepen its folds (VF,
+// EE, EF, remnants), every contact's region and every region's counts.
+static size_t vertex_pairs_of(const selfcol_store_contact *c, uint64_t pairs[6]) {
+    const int na = c->kind == SELFCOL_CONTACT_VF ? 1 : 2;
+    const int nb = c->kind == SELFCOL_CONTACT_EE ? 2 : 3;
+    size_t n = 0;
+    for (int p = 0; p < na; ++p)
+        for (int q = 0; q < nb; ++q) {
+            const uint64_t lo = c->a[p] < c->b[q] ? c->a[p] : c->b[q];
+            const uint64_t hi = c->a[p] < c->b[q] ? c->b[q] : c->a[p];
+            pairs[n++] = lo << 32 | hi;
+        }
+    return n;
+}
+
+static size_t reference_root(size_t *parent, size_t x) {
+    while (parent[x] != x)
+        x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+static void test_regions_are_the_shared_vertex_pair_components(void **state) {
+    (void)state;
+    fixture s, g;
+    assert_int_equal(fixture_crumpled(&s, 24, 24, 3, 5.0), 0);
+    assert_int_equal(fixture_grid(&g, 24, 24, 1.0), 0);
+    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
+    double *pos = malloc(3 * s.vertex_count * sizeof *pos);
+    assert_non_null(pos);
+    size_t checked_regions = 0, checked_ef = 0;
+    for (int f = 0; f < 4; ++f) {
+        const double k = 1.0 + 0.1 * f;
+        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
+            pos[i] = g.positions[i] + k * (s.positions[i] - g.positions[i]);
+        advance(&r, pos, 0.1 * selfcol_mesh_mean_edge_length(r.mesh));
+        size_t n;
+        const selfcol_store_contact *c = records_of(&r, &n);
+        assert_true(n > 100);
+        size_t *parent = malloc(n * sizeof *parent), *label = malloc(n * sizeof *label);
+        uint64_t(*pairs)[6] = malloc(n * sizeof *pairs);
+        size_t *pair_count = malloc(n * sizeof *pair_count);
+        assert_true(parent != NULL && label != NULL && pairs != NULL && pair_count != NULL);
+        for (size_t i = 0; i < n; ++i) {
+            parent[i] = i;
+            label[i] = SIZE_MAX;
+            pair_count[i] = vertex_pairs_of(&c[i], pairs[i]);
+            checked_ef += c[i].kind == SELFCOL_CONTACT_EF;
+        }
+        for (size_t i = 0; i < n; ++i)
+            for (size_t j = i + 1; j < n; ++j) {
+                int shared = 0;
+                for (size_t p = 0; p < pair_count[i] && !shared; ++p)
+                    for (size_t q = 0; q < pair_count[j] && !shared; ++q)
+                        shared = pairs[i][p] == pairs[j][q];
+                if (shared)
+                    parent[reference_root(parent, i)] = reference_root(parent, j);
+            }
+        size_t regions = 0;
+        for (size_t i = 0; i < n; ++i) {
+            const size_t root = reference_root(parent, i);
+            if (label[root] == SIZE_MAX)
+                label[root] = regions++;
+            assert_int_equal(c[i].region, label[root]);
+        }
+        const selfcol_store_region *reg;
+        size_t count;
+        assert_int_equal(selfcol_store_regions(r.store, &reg, &count), SELFCOL_OK);
+        assert_int_equal(count, regions);
+        for (size_t x = 0; x < regions; ++x) {
+            size_t contacts = 0, interferences = 0;
+            for (size_t i = 0; i < n; ++i)
+                if (c[i].region == x) {
+                    contacts += c[i].kind != SELFCOL_CONTACT_EF;
+                    interferences += c[i].kind == SELFCOL_CONTACT_EF;
+                }
+            assert_int_equal(reg[x].contacts, contacts);
+            assert_int_equal(reg[x].interferences, interferences);
+        }
+        checked_regions += regions;
+        free(parent);
+        free(label);
+        free(pairs);
+        free(pair_count);
+    }
+    assert_true(checked_regions > 4); // several regions, not one
+    assert_true(checked_ef > 0);      // the sheet crosses itself
+    free(pos);
+    free_rig(&r);
+    fixture_free(&s);
+    fixture_free(&g);
+}
+
 // Bad calls return an error and leave the store as it was.
 static void test_errors_leave_the_store_unchanged(void **state) {
     (void)state;
@@ -1013,6 +1109,7 @@ int main(void) {
         cmocka_unit_test(test_new_contacts_follow_the_held_side),
         cmocka_unit_test(test_tie_among_held_contacts_keeps_the_first),
         cmocka_unit_test(test_regions),
+        cmocka_unit_test(test_regions_are_the_shared_vertex_pair_components),
         cmocka_unit_test(test_errors_leave_the_store_unchanged),
         cmocka_unit_test(test_a_mesh_at_a_destroyed_mesh_address_is_another_mesh),
         cmocka_unit_test(test_memory),

@@ -280,7 +280,7 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  *         are not those of the store's earlier updates, or a record does not
  *         match them (an index out of range, vertices that are not its
  *         elements'); SELFCOL_ERANGE when the contacts the update would
- *         hold (detected ones and remnants) exceed 2^30 - 1, or their vertex
+ *         hold (detected ones and remnants) exceed 2^27 - 1, or their vertex
  *         pairs 2^32 - 1; SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
