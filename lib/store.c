@@ -19,8 +19,8 @@
 // direction) is computed when the caller copies the records
 // (selfcol_store_copy_contacts), from the positions the update saw. What
 // the links compare is read from each entry's direction once, into 16 bits
-// (link_code), and the vote's tallies reuse the neighbour search's arrays. Every array is kept
-// and grown: a steady state allocates nothing.
+// (link_code), and the vote's tallies reuse the neighbour search's arrays.
+// Every array is kept and grown: a steady state allocates nothing.
 #include <selfcol/store.h>
 
 #include "alloc.h"
@@ -710,7 +710,7 @@ static int pairs_of_kind(uint32_t kind) {
 // order (bit 10 + k), whether the normals at its ends are within 60 degrees
 // of parallel or antiparallel. Entries that do not vote (EF, oriented) have
 // code 0. A link then compares two side codes per end (link_entries).
-#define SIDE_CLEAR(code, slot) (((code) >> (2 * (slot))) & 3u)
+#define SIDE_CODE(code, slot) (((code) >> (2 * (slot))) & 3u)
 #define PAIR_CLEAR(code, k) (((code) >> (10 + (k))) & 1u)
 
 static uint16_t link_code(selfcol_store *s, const store_entry *e, const uint32_t a[2],
@@ -830,8 +830,8 @@ static void link_neighbours(selfcol_store *s) {
             const uint32_t p = off[v.bucket]++;
             uint32_t side_u = 0, side_w = 0;
             if (PAIR_CLEAR(code, k)) {
-                side_u = SIDE_CLEAR(code, v.u_slot);
-                side_w = SIDE_CLEAR(code, v.w_slot);
+                side_u = SIDE_CODE(code, v.u_slot);
+                side_w = SIDE_CODE(code, v.w_slot);
             }
             hi[p] = v.hi;
             entry[p] = i | (v.first_is_lo ? PAIR_FIRST_IS_LO | side_u << PAIR_LO_SHIFT |
