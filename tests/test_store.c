@@ -107,6 +107,41 @@ static selfcol_store_update_stats stats_of(const rig *r) {
     return s;
 }
 
+// An n x n sheet crumpling from flat (fixture_crumpled at amplitude 5):
+// at factor k its positions are the flat grid's plus k times the crumpled
+// displacement (k = 1: the crumpled sheet).
+typedef struct crumpling {
+    fixture crumpled, flat;
+    double *positions;
+} crumpling;
+
+static crumpling make_crumpling(unsigned n, unsigned seed) {
+    crumpling c;
+    assert_int_equal(fixture_crumpled(&c.crumpled, n, n, seed, 5.0), 0);
+    assert_int_equal(fixture_grid(&c.flat, n, n, 1.0), 0);
+    c.positions = malloc(3 * c.crumpled.vertex_count * sizeof *c.positions);
+    assert_non_null(c.positions);
+    return c;
+}
+
+static const double *crumpling_at(crumpling *c, double k) {
+    const double *s = c->crumpled.positions, *g = c->flat.positions;
+    for (size_t i = 0; i < 3 * c->crumpled.vertex_count; ++i)
+        c->positions[i] = g[i] + k * (s[i] - g[i]);
+    return c->positions;
+}
+
+static rig crumpling_rig(const crumpling *c) {
+    const fixture *s = &c->crumpled;
+    return make_rig(s->positions, s->vertex_count, s->triangles, s->triangle_count, NULL);
+}
+
+static void free_crumpling(crumpling *c) {
+    free(c->positions);
+    fixture_free(&c->crumpled);
+    fixture_free(&c->flat);
+}
+
 // Triangle T = (0 1 2) in z = 0, and a tall triangle P = (3 4 5) whose
 // lowest corner p = 3 hovers over T's interior at height h: the only
 // contact within d = 0.2 is VF(p, T).
@@ -674,18 +709,12 @@ static size_t reference_root(size_t *parent, size_t x) {
 
 static void test_regions_are_the_shared_vertex_pair_components(void **state) {
     (void)state;
-    fixture s, g;
-    assert_int_equal(fixture_crumpled(&s, 24, 24, 3, 5.0), 0);
-    assert_int_equal(fixture_grid(&g, 24, 24, 1.0), 0);
-    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
-    double *pos = malloc(3 * s.vertex_count * sizeof *pos);
-    assert_non_null(pos);
+    crumpling sheet = make_crumpling(24, 3);
+    rig r = crumpling_rig(&sheet);
     size_t checked_regions = 0, checked_ef = 0;
     for (int f = 0; f < 4; ++f) {
-        const double k = 1.0 + 0.1 * f;
-        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
-            pos[i] = g.positions[i] + k * (s.positions[i] - g.positions[i]);
-        advance(&r, pos, 0.1 * selfcol_mesh_mean_edge_length(r.mesh));
+        advance(&r, crumpling_at(&sheet, 1.0 + 0.1 * f),
+                0.1 * selfcol_mesh_mean_edge_length(r.mesh));
         size_t n;
         const selfcol_store_contact *c = records_of(&r, &n);
         assert_true(n > 100);
@@ -737,10 +766,8 @@ static void test_regions_are_the_shared_vertex_pair_components(void **state) {
     }
     assert_true(checked_regions > 4); // several regions, not one
     assert_true(checked_ef > 0);      // the sheet crosses itself
-    free(pos);
     free_rig(&r);
-    fixture_free(&s);
-    fixture_free(&g);
+    free_crumpling(&sheet);
 }
 
 // Bad calls return an error and leave the store as it was.
@@ -907,10 +934,8 @@ static void assert_same_geometry(const selfcol_store_contact *c, const selfcol_c
 
 static void test_copied_records_are_the_query_records(void **state) {
     (void)state;
-    fixture s, g;
-    assert_int_equal(fixture_crumpled(&s, 16, 16, 1, 5.0), 0);
-    assert_int_equal(fixture_grid(&g, 16, 16, 1.0), 0);
-    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
+    crumpling sheet = make_crumpling(16, 1);
+    rig r = crumpling_rig(&sheet);
     selfcol_contacts *wide;
     assert_int_equal(selfcol_contacts_create(&wide, NULL), SELFCOL_OK);
     const double d = 0.1;
@@ -918,13 +943,7 @@ static void test_copied_records_are_the_query_records(void **state) {
     for (int f = 0; f < 4; ++f) {
         // The crumple grows by 20 % a frame: contacts part (remnants) and
         // appear.
-        const double k = 1.0 + 0.2 * f;
-        double *pos = malloc(3 * s.vertex_count * sizeof *pos);
-        assert_non_null(pos);
-        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
-            pos[i] = g.positions[i] + k * (s.positions[i] - g.positions[i]);
-        advance(&r, pos, d);
-        free(pos);
+        advance(&r, crumpling_at(&sheet, 1.0 + 0.2 * f), d);
         // A detected contact: the record the query gave; a remnant: the
         // record a query at a larger distance gives at these positions (the
         // closed form, from scratch).
@@ -959,8 +978,7 @@ static void test_copied_records_are_the_query_records(void **state) {
     assert_true(interferences > 100);
     selfcol_contacts_destroy(wide);
     free_rig(&r);
-    fixture_free(&s);
-    fixture_free(&g);
+    free_crumpling(&sheet);
 }
 
 static void test_copy_checks_its_range_and_the_meshes(void **state) {
@@ -1018,26 +1036,18 @@ static void test_copy_checks_its_range_and_the_meshes(void **state) {
 // grow from update to update (the arrays grow with slack): at most 200.
 static void test_bytes_per_contact(void **state) {
     (void)state;
-    fixture s, g;
-    assert_int_equal(fixture_crumpled(&s, 100, 100, 1, 5.0), 0);
-    assert_int_equal(fixture_grid(&g, 100, 100, 1.0), 0);
-    rig r = make_rig(s.positions, s.vertex_count, s.triangles, s.triangle_count, NULL);
-    double *pos = malloc(3 * s.vertex_count * sizeof *pos);
-    assert_non_null(pos);
+    crumpling sheet = make_crumpling(100, 1);
+    rig r = crumpling_rig(&sheet);
     for (int f = 0; f < 4; ++f) {
-        const double k = 1.0 + 0.05 * f;
-        for (size_t i = 0; i < 3 * s.vertex_count; ++i)
-            pos[i] = g.positions[i] + k * (s.positions[i] - g.positions[i]);
-        advance(&r, pos, 0.1 * selfcol_mesh_mean_edge_length(r.mesh));
+        advance(&r, crumpling_at(&sheet, 1.0 + 0.05 * f),
+                0.1 * selfcol_mesh_mean_edge_length(r.mesh));
         const selfcol_store_update_stats st = stats_of(&r);
         assert_true(st.contacts > 10000);
         const double per_contact = (double)selfcol_store_byte_count(r.store) / (double)st.contacts;
         assert_true(per_contact <= 200.0);
     }
-    free(pos);
     free_rig(&r);
-    fixture_free(&s);
-    fixture_free(&g);
+    free_crumpling(&sheet);
 }
 
 static void test_memory(void **state) {
