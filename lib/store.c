@@ -21,6 +21,7 @@
 // the links compare is read from each entry's direction once, into 16 bits
 // (link_code), and the vote's tallies reuse the neighbour search's arrays.
 // Every array is kept and grown: a steady state allocates nothing.
+#include <selfcol/hierarchy.h>
 #include <selfcol/store.h>
 
 #include "alloc.h"
@@ -29,6 +30,7 @@
 #include "mesh.h"
 #include "narrow.h"
 #include "narrow_sweep.h"
+#include "parallel.h"
 #include "predicates.h"
 #include "store.h"
 #include "union_find.h"
@@ -36,6 +38,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <string.h>
 
 // Entries are indexed by uint32_t, and the neighbour search keeps five bits
@@ -61,6 +64,7 @@ typedef struct store_entry {
 
 struct selfcol_store {
     selfcol_allocator allocator;
+    unsigned threads; // of an update (selfcol_store_options)
     uint32_t remnance;
     int consistency;
     int orientation[2];            // per mesh slot: 0 none, +1 / -1 (store.h)
@@ -74,8 +78,9 @@ struct selfcol_store {
     store_entry *entries, *spare; // held entries; the merge's destination
     size_t count, capacity;       // capacity of every per-entry array
 
-    // Per entry, for one update: the grouping union-find, the voting
-    // union-find with parity, and the entry's link code (link_code).
+    // Per entry, for one update: the grouping union-find (until the links,
+    // the entry's source in the merge: its record, or SOURCE_REMNANT), the
+    // voting union-find with parity, and the entry's link code (link_code).
     uint32_t *group_parent, *vote_parent;
     int8_t *vote_parity;
     uint16_t *link_code;
@@ -85,20 +90,24 @@ struct selfcol_store {
 
     // The neighbour search (link_neighbours): per vertex-pair occurrence its
     // pair's hi end and its entry (with the PAIR_ bits); pair_capacity
-    // occurrences. Per bucket (lo end's mesh and vertex, hi end's mesh) an
-    // offset, counted during the merge; per mesh slot and vertex, the stamp
-    // and first position of the bucket pass.
+    // occurrences. Per chunk of the entries (at most `threads`: chunk c's
+    // array at bucket_offset + c * bucket_count) and per bucket (lo end's
+    // mesh and vertex, hi end's mesh): the count of the chunk's occurrences
+    // in the bucket, taken during the merge, then where the chunk writes
+    // its next one (sort_pairs). Per mesh slot and vertex, the stamp and
+    // first position of the bucket pass.
     uint32_t *pair_hi, *pair_entry;
     size_t pair_capacity;
     uint32_t *bucket_offset;
-    size_t bucket_count; // offsets: bucket_count + 1
+    size_t bucket_count; // per chunk; threads * bucket_count offsets
     uint32_t *hi_stamp[2], *hi_first[2];
     size_t hi_count[2];
     uint32_t bucket_stamp;
 
     // Per mesh slot: the surface normal at each vertex (vertex_normal), kept
-    // for one update: valid where normal_stamp equals stamp. Sized to the
-    // mesh's vertices at its first update (a store's meshes are fixed until
+    // for one update: valid where normal_stamp equals stamp (even), being
+    // written by one thread where it is stamp + 1. Sized to the mesh's
+    // vertices at its first update (a store's meshes are fixed until
     // selfcol_store_clear), so no update clears them.
     float *normals[2];
     uint32_t *normal_stamp[2];
@@ -161,23 +170,30 @@ int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version
     SELFCOL_CHECK(opts != NULL);
     if (version == 0 || version > SELFCOL_STORE_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    memset(opts, 0, sizeof *opts);
+    // A version 1 caller's struct ends before `threads`: write no further.
+    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_store_options, threads));
     opts->version = version;
     opts->remnance_frames = SELFCOL_STORE_DEFAULT_REMNANCE;
     opts->consistency = 1;
+    if (version >= 2)
+        opts->threads = 1;
     return SELFCOL_OK;
 }
 
 int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts) {
     SELFCOL_CHECK_VERSION(opts, SELFCOL_STORE_OPTIONS_VERSION);
     selfcol_store_options_init(out, SELFCOL_STORE_OPTIONS_VERSION);
-    if (opts != NULL)
-        *out = *opts; // version 1 is the only layout so far
+    if (opts != NULL) {
+        // Version 1 callers' structs end before `threads` (read as 1).
+        memcpy(out, opts,
+               opts->version >= 2 ? sizeof *out : offsetof(selfcol_store_options, threads));
+    }
     out->version = SELFCOL_STORE_OPTIONS_VERSION;
     SELFCOL_CHECK(selfcol_alloc__valid(&out->allocator));
     SELFCOL_CHECK(out->consistency == 0 || out->consistency == 1);
     SELFCOL_CHECK(out->first_orientation >= -1 && out->first_orientation <= 1);
     SELFCOL_CHECK(out->second_orientation >= -1 && out->second_orientation <= 1);
+    SELFCOL_CHECK(out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS);
     return SELFCOL_OK;
 }
 
@@ -197,6 +213,7 @@ int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts)
     s->consistency = o.consistency;
     s->orientation[0] = o.first_orientation;
     s->orientation[1] = o.second_orientation;
+    s->threads = o.threads;
     s->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
     *out = s;
     return SELFCOL_OK;
@@ -231,7 +248,8 @@ static void free_mesh_arrays(selfcol_store *s) {
         selfcol_alloc__free_array(al, s->hi_stamp[k], s->hi_count[k], sizeof *s->hi_stamp[k]);
         selfcol_alloc__free_array(al, s->hi_first[k], s->hi_count[k], sizeof *s->hi_first[k]);
     }
-    selfcol_alloc__free_array(al, s->bucket_offset, s->bucket_count + 1, sizeof *s->bucket_offset);
+    selfcol_alloc__free_array(al, s->bucket_offset, s->threads * s->bucket_count,
+                              sizeof *s->bucket_offset);
 }
 
 // Grown capacities: the need plus a quarter, so that a sequence whose
@@ -361,10 +379,10 @@ static int reserve_mesh_arrays(selfcol_store *s, const selfcol_mesh *const meshe
     }
     const size_t buckets = buckets_of(meshes);
     if (buckets > s->bucket_count || s->bucket_offset == NULL) {
-        uint32_t *offset = selfcol_alloc__array(al, buckets + 1, sizeof *offset);
+        uint32_t *offset = selfcol_alloc__array(al, s->threads * buckets, sizeof *offset);
         if (offset == NULL)
             return SELFCOL_ENOMEM;
-        selfcol_alloc__free_array(al, s->bucket_offset, s->bucket_count + 1,
+        selfcol_alloc__free_array(al, s->bucket_offset, s->threads * s->bucket_count,
                                   sizeof *s->bucket_offset);
         s->bucket_offset = offset;
         s->bucket_count = buckets;
@@ -657,20 +675,35 @@ static void vote_unite(uint32_t *parent, int8_t *parity, uint32_t x, uint32_t y,
 // area-weighted sum of its triangles' normals. 0 when v has none usable (no
 // triangle, degenerate ones, or a one-ring whose winding cancels, as at a
 // fold's hinge).
+// Kept as floats (12 bytes per vertex); computed once per update, by the
+// first thread that needs it. A thread that finds it missing computes it
+// (the same floats whoever computes them) and publishes it if no other
+// thread has claimed the vertex: a claim (stamp + 1) and the publication
+// (stamp) are atomic, so a cached normal is read only once it is written.
 static int vertex_normal(selfcol_store *s, uint32_t mesh, uint32_t v, double normal[3]) {
     float *cached = s->normals[mesh] + 3 * (size_t)v;
-    if (s->normal_stamp[mesh][v] != s->stamp) {
+    uint32_t *stamp = &s->normal_stamp[mesh][v];
+    const uint32_t ready = s->stamp, claimed = s->stamp + 1;
+    uint32_t seen = SELFCOL_ATOMIC_LOAD(stamp);
+    if (seen == ready) {
+        for (int k = 0; k < 3; ++k)
+            normal[k] = cached[k];
+    } else {
         const selfcol_mesh *m = s->meshes[mesh];
         double n[3] = {0.0, 0.0, 0.0}, u[3] = {0.0, 0.0, 0.0};
         for (uint32_t k = m->vertex_tri_offsets[v]; k < m->vertex_tri_offsets[v + 1]; ++k)
             add_triangle_normal(m, m->vertex_tris[k], n);
         vec3_normalize(u, n); // (0, 0, 0) when there is none
-        for (int k = 0; k < 3; ++k)
-            cached[k] = (float)u[k];
-        s->normal_stamp[mesh][v] = s->stamp;
+        float f[3];
+        for (int k = 0; k < 3; ++k) {
+            f[k] = (float)u[k];
+            normal[k] = f[k];
+        }
+        if (seen != claimed && SELFCOL_ATOMIC_CAS(stamp, &seen, claimed)) {
+            memcpy(cached, f, sizeof f);
+            SELFCOL_ATOMIC_STORE(stamp, ready);
+        }
     }
-    for (int k = 0; k < 3; ++k)
-        normal[k] = cached[k];
     return normal[0] != 0.0 || normal[1] != 0.0 || normal[2] != 0.0;
 }
 
@@ -786,40 +819,44 @@ static vertex_pair pair_of(const store_entry *e, const uint32_t a[2], const uint
     return v;
 }
 
-// Counts an entry's vertex pairs into their buckets (bucket_offset[b + 1]),
-// with the vertices the merge has just read (link_neighbours sorts them).
-static void count_pairs(selfcol_store *s, const store_entry *e, const uint32_t a[2],
-                        const uint32_t b[3]) {
+// Counts an entry's vertex pairs into their buckets (count[b]: the counts
+// of the entry's chunk), with the vertices the merge has just read
+// (sort_pairs sorts them).
+static void count_pairs(const selfcol_store *s, uint32_t *count, const store_entry *e,
+                        const uint32_t a[2], const uint32_t b[3]) {
     const size_t n0 = s->meshes[0]->vertex_count;
     const int pairs = pairs_of_kind(e->kind);
     for (int k = 0; k < pairs; ++k)
-        s->bucket_offset[pair_of(e, a, b, k, n0).bucket + 1]++;
+        count[pair_of(e, a, b, k, n0).bucket]++;
 }
 
-// Entries sharing a vertex pair are neighbours (link_entries). Each
-// occurrence of a pair is linked to the pair's first occurrence. The
-// occurrences are found without a sort or a hash (a hash of a few million
-// pairs is a cache miss per probe): a counting sort into buckets by their
-// lo end (counted during the merge; stable, so each bucket lists its
-// occurrences in entry order), then one pass per bucket, in which a stamp
-// per hi vertex marks each pair's first occurrence and every later one is
-// linked to it at once. The links are made in that order: buckets by lo
-// end, then entry order. A link that closes a cycle against the relation
-// is ignored, so the order decides which links win; it is fixed by the
-// entries and the meshes alone. (Making the links in entry order instead,
-// by replaying the occurrences, cost a random read per occurrence: 20-30 %
-// of the update on cloth-ball 92 -> 93.) Each occurrence carries its
-// entry's side codes at the pair's ends (link_code), so a link reads
-// nothing of either entry but its union-find parents.
-static void link_neighbours(selfcol_store *s) {
-    const size_t n0 = s->meshes[0]->vertex_count;
+// The counts of every chunk (bucket_offset) become the position where the
+// chunk writes its first occurrence of each bucket: buckets in order, and
+// inside a bucket the chunks in order, so the sort is stable whatever the
+// number of chunks.
+static void bucket_starts(selfcol_store *s, size_t chunks) {
     const size_t buckets = buckets_of(s->meshes);
-    uint32_t *off = s->bucket_offset, *hi = s->pair_hi, *entry = s->pair_entry;
-    // Exclusive sums of the counts (off[b + 1]): off[b] = start of bucket b.
-    for (size_t x = 0; x < buckets; ++x)
-        off[x + 1] += off[x];
-    // Scatter in entry order: off[b] becomes the end of bucket b.
-    for (uint32_t i = 0; i < s->count; ++i) {
+    uint32_t running = 0;
+    for (size_t x = 0; x < buckets; ++x) {
+        for (size_t c = 0; c < chunks; ++c) {
+            uint32_t *slot = &s->bucket_offset[c * s->bucket_count + x];
+            const uint32_t count = *slot;
+            *slot = running;
+            running += count;
+        }
+    }
+}
+
+// Lists the vertex-pair occurrences of entries lo .. hi - 1 (chunk c) in
+// their buckets (the counting sort's scatter): each with its pair's hi end,
+// and its entry with the entry's side codes at the pair's ends (link_code).
+// Afterwards the chunk's offsets are its ends in each bucket, and the last
+// chunk's are the buckets' ends.
+static void sort_pairs(selfcol_store *s, size_t c, size_t lo, size_t hi_index) {
+    const size_t n0 = s->meshes[0]->vertex_count;
+    uint32_t *off = s->bucket_offset + c * s->bucket_count, *hi = s->pair_hi,
+             *entry = s->pair_entry;
+    for (uint32_t i = (uint32_t)lo; i < hi_index; ++i) {
         const store_entry *e = &s->entries[i];
         uint32_t a[2], b[3];
         entry_vertices(s, e, a, b);
@@ -839,6 +876,28 @@ static void link_neighbours(selfcol_store *s) {
                                           : side_w << PAIR_LO_SHIFT | side_u << PAIR_HI_SHIFT);
         }
     }
+}
+
+// Entries sharing a vertex pair are neighbours (link_entries). Each
+// occurrence of a pair is linked to the pair's first occurrence. The
+// occurrences are found without a sort or a hash (a hash of a few million
+// pairs is a cache miss per probe): a counting sort into buckets by their
+// lo end (counted during the merge, listed by sort_pairs; stable, so each
+// bucket lists its occurrences in entry order), then one pass per bucket,
+// in which a stamp per hi vertex marks each pair's first occurrence and
+// every later one is linked to it at once. The links are made in that
+// order: buckets by lo end, then entry order. A link that closes a cycle
+// against the relation is ignored, so the order decides which links win;
+// it is fixed by the entries and the meshes alone (not by the threads).
+// (Making the links in entry order instead, by replaying the occurrences,
+// cost a random read per occurrence: 20-30 % of the update on cloth-ball
+// 92 -> 93.) Each occurrence carries its entry's side codes at the pair's
+// ends (link_code), so a link reads nothing of either entry but its
+// union-find parents. bucket_end: the buckets' ends (sort_pairs).
+static void link_neighbours(selfcol_store *s, const uint32_t *bucket_end) {
+    const size_t n0 = s->meshes[0]->vertex_count;
+    const size_t buckets = buckets_of(s->meshes);
+    const uint32_t *hi = s->pair_hi, *entry = s->pair_entry;
     // Per bucket, the first occurrence of each hi end: stamps unique to the
     // bucket (a running count, cleared when it would wrap).
     if (s->bucket_stamp > UINT32_MAX - buckets - 1) {
@@ -848,7 +907,7 @@ static void link_neighbours(selfcol_store *s) {
         s->bucket_stamp = 0;
     }
     for (size_t x = 0; x < buckets; ++x) {
-        const uint32_t start = x == 0 ? 0 : off[x - 1], end = off[x];
+        const uint32_t start = x == 0 ? 0 : bucket_end[x - 1], end = bucket_end[x];
         if (end - start < 2)
             continue; // one occurrence links nothing
         const uint32_t stamp = ++s->bucket_stamp;
@@ -1035,6 +1094,144 @@ static void merge_size(const selfcol_store *s, const selfcol_contact *rec, size_
     *keys_out = keys;
 }
 
+// ---------------------------------------------------------------------------
+// The update's work in parallel
+
+// An entry's source in the merge (group_parent until the links): the index
+// of its record, or this for a remnant (recomputed from the meshes).
+#define SOURCE_REMNANT UINT32_MAX
+
+// The least entries (or records) per chunk worth a thread: a chunk's work
+// (about 0.3 us per entry) then outweighs a thread's start (tens of us).
+#define SELFCOL_STORE_MIN_CHUNK 4096u
+
+// Chunks for `total` items: at most `threads`, each of at least
+// SELFCOL_STORE_MIN_CHUNK items (1 chunk below that).
+static size_t chunks_for(size_t total, unsigned threads) {
+    const size_t most = total / SELFCOL_STORE_MIN_CHUNK;
+    return most < 1 ? 1 : most < threads ? most : threads;
+}
+
+// First item of chunk c of `chunks` over `total` items.
+static size_t chunk_start(size_t total, size_t chunks, size_t c) {
+    return (size_t)((uint64_t)total * c / chunks);
+}
+
+enum update_stage { STAGE_VALIDATE, STAGE_ENTRIES, STAGE_SORT };
+
+// One parallel stage of an update: chunks of the records (validation) or of
+// the entries, taken by the workers from a shared counter. Each chunk writes
+// only its own items and its own results, so a chunk's result does not
+// depend on which worker ran it.
+typedef struct update_job {
+    selfcol_store *s;
+    const selfcol_mesh *const *meshes;
+    const selfcol_contact *rec;
+    size_t total, chunks;
+    enum update_stage stage;
+    size_t next_chunk; // atomic
+    // STAGE_VALIDATE: per chunk, its first bad record (SIZE_MAX: none) and why.
+    size_t bad[SELFCOL_MAX_THREADS];
+    int bad_status[SELFCOL_MAX_THREADS];
+    // STAGE_ENTRIES: per chunk, the counters track_side keeps.
+    selfcol_store_update_stats stats[SELFCOL_MAX_THREADS];
+} update_job;
+
+// Records lo .. hi - 1: each must match the meshes and follow the one
+// before it in key order (the query's sort).
+static void validate_records(update_job *job, size_t c, size_t lo, size_t hi) {
+    job->bad[c] = SIZE_MAX;
+    for (size_t j = lo; j < hi; ++j) {
+        int status = SELFCOL_OK;
+        if (!record_matches(job->meshes, &job->rec[j]))
+            status = SELFCOL_EMISMATCH;
+        else if (j > 0 && record_compare(&job->rec[j - 1], &job->rec[j]) >= 0)
+            status = SELFCOL_EINVAL;
+        if (status != SELFCOL_OK) {
+            job->bad[c] = j;
+            job->bad_status[c] = status;
+            return;
+        }
+    }
+}
+
+// Entries lo .. hi - 1, after the merge: the side of each VF/EE entry
+// (track_side) and what its links compare (link_code), from its record's
+// direction or, for a remnant, its direction at the current positions.
+static void settle_entries(update_job *job, size_t c, size_t lo, size_t hi) {
+    selfcol_store *s = job->s;
+    selfcol_store_update_stats *st = &job->stats[c];
+    for (size_t n = lo; n < hi; ++n) {
+        store_entry *e = &s->entries[n];
+        const uint32_t source = s->group_parent[n];
+        uint32_t a[2], b[3];
+        const double *direction = NULL;
+        if (source != SOURCE_REMNANT) { // the record's vertices (record_matches: the topology's)
+            const selfcol_contact *r = &job->rec[source];
+            memcpy(a, r->a, sizeof a);
+            memcpy(b, r->b, sizeof b);
+            if (e->kind == SELFCOL_CONTACT_EE)
+                b[2] = SELFCOL_INVALID_INDEX;
+            direction = r->direction;
+        } else {
+            entry_vertices(s, e, a, b);
+        }
+        track_side(s, e, a, b, st);
+        s->link_code[n] = 0;
+        if (e->kind != SELFCOL_CONTACT_EF && !(e->flags & SELFCOL_STORE_ORIENTED)) {
+            selfcol_narrow_result r;
+            if (direction == NULL) { // a remnant's, at the current positions
+                geometry(s, e, a, b, &r);
+                direction = r.direction;
+            }
+            s->link_code[n] = link_code(s, e, a, b, direction);
+        }
+    }
+}
+
+// Entries lo .. hi - 1 (chunk c): their vertex pairs listed in their
+// buckets, and their union-find nodes started (their sources are read).
+static void sort_chunk(update_job *job, size_t c, size_t lo, size_t hi) {
+    selfcol_store *s = job->s;
+    sort_pairs(s, c, lo, hi);
+    for (size_t k = lo; k < hi; ++k) {
+        s->group_parent[k] = s->vote_parent[k] = (uint32_t)k;
+        s->vote_parity[k] = 1;
+    }
+}
+
+static int update_worker(void *context, unsigned worker) {
+    (void)worker;
+    update_job *job = context;
+    for (;;) {
+        const size_t c = SELFCOL_ATOMIC_FETCH_ADD(&job->next_chunk, (size_t)1);
+        if (c >= job->chunks)
+            return SELFCOL_OK;
+        const size_t lo = chunk_start(job->total, job->chunks, c),
+                     hi = chunk_start(job->total, job->chunks, c + 1);
+        if (job->stage == STAGE_VALIDATE)
+            validate_records(job, c, lo, hi);
+        else if (job->stage == STAGE_ENTRIES)
+            settle_entries(job, c, lo, hi);
+        else
+            sort_chunk(job, c, lo, hi);
+    }
+}
+
+// Runs one stage over `total` items in `chunks` chunks, on at most
+// store->threads workers (the calling thread alone for one chunk).
+static void run_stage(update_job *job, enum update_stage stage, size_t total, size_t chunks) {
+    job->stage = stage;
+    job->total = total;
+    job->chunks = chunks;
+    job->next_chunk = 0;
+    const unsigned workers = chunks < job->s->threads ? (unsigned)chunks : job->s->threads;
+    if (workers <= 1)
+        update_worker(job, 0);
+    else
+        selfcol_parallel__run(workers, update_worker, job);
+}
+
 static int start_valid(const double *start, size_t vertex_count) {
     for (size_t i = 0; i < 3 * vertex_count; ++i)
         if (!(fabs(start[i]) <= SELFCOL_MESH_MAX_COORDINATE)) // NaN fails too
@@ -1071,14 +1268,18 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     const selfcol_mesh *const meshes[2] = {first, second};
     const selfcol_contact *rec = detected->items;
     const size_t m = detected->count;
-    // Validate and reserve everything before changing anything.
+    update_job job;
+    job.s = store;
+    job.meshes = meshes;
+    job.rec = rec;
+    // Validate and reserve everything before changing anything. The first
+    // bad record decides the status, whatever the threads.
     int status = SELFCOL_OK;
-    for (size_t j = 0; j < m && status == SELFCOL_OK; ++j) {
-        if (!record_matches(meshes, &rec[j]))
-            status = SELFCOL_EMISMATCH;
-        else if (j > 0 && record_compare(&rec[j - 1], &rec[j]) >= 0)
-            status = SELFCOL_EINVAL;
-    }
+    const size_t record_chunks = chunks_for(m, store->threads);
+    run_stage(&job, STAGE_VALIDATE, m, record_chunks);
+    for (size_t c = 0; c < record_chunks && status == SELFCOL_OK; ++c)
+        if (job.bad[c] != SIZE_MAX)
+            status = job.bad_status[c];
     // The merge's outcome, counted first (a dry run of step 1), so that
     // every array is sized to the entries the update keeps, not to held +
     // detected (which was twice as much on cloth-ball 92 -> 93).
@@ -1099,23 +1300,28 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     const selfcol_mesh *const old_meshes[2] = {store->meshes[0], store->meshes[1]};
     store->meshes[0] = first;
     store->meshes[1] = second;
-    if (++store->stamp == 0) { // wrapped: forget every cached normal
+    store->stamp += 2; // even: stamp + 1 marks a normal being written (vertex_normal)
+    if (store->stamp > UINT32_MAX - 2) { // wrapping: forget every cached normal
         for (int k = 0; k < 2; ++k)
             if (store->normal_count[k] > 0)
                 memset(store->normal_stamp[k], 0,
                        store->normal_count[k] * sizeof *store->normal_stamp[k]);
-        store->stamp = 1;
+        store->stamp = 2;
     }
     selfcol_store_update_stats st;
     memset(&st, 0, sizeof st);
     st.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 
-    // 1. Merge the held entries (sorted) with the records (sorted). Each
-    // voting entry's link code comes from its direction: the record's, or a
-    // remnant's recomputed.
+    // 1. Merge the held entries (sorted) with the records (sorted): which
+    // entries are kept, new, remnant or dropped, in one thread (an entry's
+    // place is the count before it). Each entry's source (its record or
+    // SOURCE_REMNANT) goes into group_parent, and its vertex pairs are
+    // counted into the buckets of its chunk of the entries.
+    const size_t chunks = chunks_for(kept_entries, store->threads);
+    memset(store->bucket_offset, 0, chunks * store->bucket_count * sizeof *store->bucket_offset);
     store_entry *out = store->spare;
-    memset(store->bucket_offset, 0, (buckets_of(meshes) + 1) * sizeof *store->bucket_offset);
-    size_t i = 0, j = 0, n = 0;
+    size_t i = 0, j = 0, n = 0, chunk = 0, chunk_end = chunk_start(kept_entries, chunks, 1);
+    uint32_t *count = store->bucket_offset;
     const store_entry *held = store->entries;
     while (i < store->count || j < m) {
         int c = i == store->count ? 1 : j == m ? -1 : entry_record_compare(&held[i], &rec[j]);
@@ -1148,28 +1354,23 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
             e->flags = (uint8_t)((e->flags & SELFCOL_STORE_SETTLED) | SELFCOL_STORE_REMNANT);
             st.remnant++;
         }
+        while (n == chunk_end) { // the next chunk's counts
+            ++chunk;
+            count = store->bucket_offset + chunk * store->bucket_count;
+            chunk_end = chunk_start(kept_entries, chunks, chunk + 1);
+        }
         uint32_t a[2], b[3];
         if (c >= 0) { // the record's vertices (record_matches: the topology's)
             memcpy(a, rec[j].a, sizeof a);
             memcpy(b, rec[j].b, sizeof b);
             if (e->kind == SELFCOL_CONTACT_EE)
                 b[2] = SELFCOL_INVALID_INDEX;
+            store->group_parent[n] = (uint32_t)j++;
         } else {
             entry_vertices(store, e, a, b);
+            store->group_parent[n] = SOURCE_REMNANT;
         }
-        count_pairs(store, e, a, b);
-        const double *direction = c >= 0 ? rec[j].direction : NULL;
-        j += c >= 0;
-        track_side(store, e, a, b, &st);
-        store->link_code[n] = 0;
-        if (e->kind != SELFCOL_CONTACT_EF && !(e->flags & SELFCOL_STORE_ORIENTED)) {
-            selfcol_narrow_result r;
-            if (direction == NULL) { // a remnant's, at the current positions
-                geometry(store, e, a, b, &r);
-                direction = r.direction;
-            }
-            store->link_code[n] = link_code(store, e, a, b, direction);
-        }
+        count_pairs(store, count, e, a, b);
         if (e->kind == SELFCOL_CONTACT_EF)
             st.interferences++;
         else
@@ -1181,13 +1382,20 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     store->entries = out;
     store->count = n;
 
-    // 2. Regions and voting groups.
-    for (uint32_t k = 0; k < n; ++k) {
-        store->group_parent[k] = store->vote_parent[k] = k;
-        store->vote_parity[k] = 1;
+    // 2. Per entry, in parallel: its side and link code.
+    for (size_t c = 0; c < chunks; ++c)
+        memset(&job.stats[c], 0, sizeof job.stats[c]);
+    run_stage(&job, STAGE_ENTRIES, n, chunks);
+    for (size_t c = 0; c < chunks; ++c) {
+        st.flipped += job.stats[c].flipped;
+        st.passed_around += job.stats[c].passed_around;
     }
-    link_neighbours(store);
-    // 3. The vote.
+    // 3. Regions and voting groups: the vertex pairs sorted by bucket (in
+    // parallel), then linked in one thread.
+    bucket_starts(store, chunks);
+    run_stage(&job, STAGE_SORT, n, chunks);
+    link_neighbours(store, store->bucket_offset + (chunks - 1) * store->bucket_count);
+    // 4. The vote.
     const size_t regions = tally_and_label(store, &st);
     status = reserve_regions(store, regions);
     if (status != SELFCOL_OK) { // the store as it was
@@ -1292,7 +1500,7 @@ size_t selfcol_store_byte_count(const selfcol_store *store) {
                    store->pair_capacity * 2 * sizeof(uint32_t) +
                    store->region_capacity * sizeof(selfcol_store_region);
     if (store->bucket_offset != NULL)
-        bytes += (store->bucket_count + 1) * sizeof(uint32_t);
+        bytes += store->threads * store->bucket_count * sizeof(uint32_t);
     for (int k = 0; k < 2; ++k)
         bytes += store->normal_count[k] * (3 * sizeof(float) + sizeof(uint32_t)) +
                  store->hi_count[k] * 2 * sizeof(uint32_t);

@@ -7,6 +7,8 @@
 // standard d; an allocation failure inside a worker must give SELFCOL_ENOMEM,
 // an empty set and no leak; old option structs keep working; and queries on
 // one hierarchy from several threads at once hold to the README's contract.
+// Store updates on several threads (selfcol_store_options.threads) hold
+// the records, regions and counters of one thread.
 #define _POSIX_C_SOURCE 200112L // posix_memalign
 #include <setjmp.h>
 #include <stdarg.h>
@@ -398,6 +400,161 @@ static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
     fixture_free(&to);
 }
 
+// Store updates (selfcol_store_options.threads): every record, region and
+// counter (times aside) of a store updated on 2, 3 or 8 threads is that of
+// one thread, byte for byte, over a sequence that adds, keeps, drops and
+// remembers contacts (the sheet crumples, then eases back: remnants), on
+// one mesh and on two. The sheets hold more than 4 chunks' worth of
+// contacts, so every thread count splits them differently.
+typedef struct store_run {
+    selfcol_store *store;
+    selfcol_store_contact *records;
+    size_t count;
+} store_run;
+
+static void copy_store(store_run *r, selfcol_store_region **regions, size_t *region_count,
+                       selfcol_store_update_stats *st) {
+    r->count = selfcol_store_contact_count(r->store);
+    free(r->records);
+    r->records = malloc((r->count + 1) * sizeof *r->records);
+    assert_non_null(r->records);
+    assert_int_equal(selfcol_store_copy_contacts(r->store, 0, r->count, r->records), SELFCOL_OK);
+    const selfcol_store_region *reg;
+    assert_int_equal(selfcol_store_regions(r->store, &reg, region_count), SELFCOL_OK);
+    *regions = malloc((*region_count + 1) * sizeof **regions);
+    assert_non_null(*regions);
+    if (*region_count > 0)
+        memcpy(*regions, reg, *region_count * sizeof *reg);
+    memset(st, 0, sizeof *st);
+    st->version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    assert_int_equal(selfcol_store_stats(r->store, st), SELFCOL_OK);
+    st->seconds = 0.0;
+}
+
+static void check_store_threads(const built *a, const built *b, const fixture *crumpled,
+                                const fixture *flat, const char *name) {
+    const unsigned threads[] = {1, 2, 3, 8};
+    enum { RUNS = sizeof threads / sizeof threads[0] };
+    store_run run[RUNS];
+    for (int k = 0; k < RUNS; ++k) {
+        selfcol_store_options o;
+        assert_int_equal(selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION),
+                         SELFCOL_OK);
+        o.threads = threads[k];
+        run[k].records = NULL;
+        assert_int_equal(selfcol_store_create(&run[k].store, &o), SELFCOL_OK);
+    }
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    const double d = 0.1 * selfcol_mesh_mean_edge_length(a->mesh);
+    const double factors[] = {1.0, 1.04, 1.08, 1.0, 0.9, 0.9, 1.1};
+    double *positions = malloc(3 * crumpled->vertex_count * sizeof *positions);
+    assert_non_null(positions);
+    size_t most = 0, remnants = 0, dropped = 0, flipped = 0;
+    for (size_t f = 0; f < sizeof factors / sizeof factors[0]; ++f) {
+        for (size_t i = 0; i < 3 * crumpled->vertex_count; ++i)
+            positions[i] =
+                flat->positions[i] + factors[f] * (crumpled->positions[i] - flat->positions[i]);
+        const built *moved[2] = {a, b};
+        for (int m = 0; m < (b != NULL ? 2 : 1); ++m) {
+            assert_int_equal(
+                selfcol_mesh_set_positions(moved[m]->mesh, positions, crumpled->vertex_count),
+                SELFCOL_OK);
+            if (m == 1) // the second sheet: the first, 1.5 mean edges higher
+                for (size_t i = 0; i < crumpled->vertex_count; ++i)
+                    positions[3 * i + 2] += 15.0 * d;
+            if (m == 1)
+                assert_int_equal(selfcol_mesh_set_positions(moved[m]->mesh, positions,
+                                                            crumpled->vertex_count),
+                                 SELFCOL_OK);
+            assert_int_equal(selfcol_hierarchy_refit(moved[m]->hierarchy), SELFCOL_OK);
+        }
+        assert_int_equal(query(a, b, c, SELFCOL_METHOD_EXACT, d, 1), SELFCOL_OK);
+        selfcol_store_region *reg1 = NULL;
+        size_t regions1 = 0;
+        selfcol_store_update_stats st1;
+        for (int k = 0; k < RUNS; ++k) {
+            assert_int_equal(selfcol_store_update(run[k].store, a->mesh,
+                                                  b != NULL ? b->mesh : NULL, c),
+                             SELFCOL_OK);
+            selfcol_store_region *reg;
+            size_t regions;
+            selfcol_store_update_stats st;
+            copy_store(&run[k], &reg, &regions, &st);
+            if (k == 0) {
+                reg1 = reg;
+                regions1 = regions;
+                st1 = st;
+                most = run[0].count > most ? run[0].count : most;
+                remnants += st.remnant;
+                dropped += st.dropped;
+                flipped += st.flipped;
+                continue;
+            }
+            if (run[k].count != run[0].count ||
+                memcmp(run[k].records, run[0].records, run[0].count * sizeof *run[0].records))
+                fail_msg("%s, frame %zu: %u threads hold other records than one thread", name, f,
+                         threads[k]);
+            if (regions != regions1 || memcmp(reg, reg1, regions * sizeof *reg) != 0)
+                fail_msg("%s, frame %zu: %u threads give other regions", name, f, threads[k]);
+            if (memcmp(&st, &st1, sizeof st) != 0)
+                fail_msg("%s, frame %zu: %u threads give other counters", name, f, threads[k]);
+            free(reg);
+        }
+        free(reg1);
+    }
+    // The sequence did what it is for: more contacts than 4 chunks of the
+    // store's smallest (4096), remnants, drops and crossings.
+    if (most < 4 * 4096 || remnants == 0 || dropped == 0 || flipped == 0)
+        fail_msg("%s: %zu contacts at most, %zu remnants, %zu dropped, %zu flipped", name, most,
+                 remnants, dropped, flipped);
+    for (int k = 0; k < RUNS; ++k) {
+        free(run[k].records);
+        selfcol_store_destroy(run[k].store);
+    }
+    free(positions);
+    selfcol_contacts_destroy(c);
+}
+
+static void test_threads_store_updates_give_the_store_of_one_thread(void **state) {
+    (void)state;
+    fixture crumpled, flat;
+    assert_int_equal(fixture_crumpled(&crumpled, 70, 70, 2, 5.0), 0);
+    assert_int_equal(fixture_grid(&flat, 70, 70, 1.0), 0);
+    built a = build(&crumpled), b = build(&crumpled);
+    check_store_threads(&a, NULL, &crumpled, &flat, "self");
+    check_store_threads(&a, &b, &crumpled, &flat, "two meshes");
+    release(&a);
+    release(&b);
+    fixture_free(&crumpled);
+    fixture_free(&flat);
+}
+
+static void test_threads_store_option_bounds_and_old_structs(void **state) {
+    (void)state;
+    selfcol_store_options o;
+    assert_int_equal(selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION), SELFCOL_OK);
+    assert_int_equal(o.threads, 1); // the documented default
+    selfcol_store *s = NULL;
+    o.threads = 0;
+    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_EINVAL);
+    assert_null(s);
+    o.threads = SELFCOL_MAX_THREADS + 1;
+    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_EINVAL);
+    o.threads = SELFCOL_MAX_THREADS;
+    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_OK);
+    selfcol_store_destroy(s);
+    // A version-1 caller's struct ends before `threads`: init of version 1
+    // does not write it, and create does not read it (one thread).
+    o.threads = 77;
+    assert_int_equal(selfcol_store_options_init(&o, 1), SELFCOL_OK);
+    assert_int_equal(o.threads, 77);
+    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_OK);
+    selfcol_store_destroy(s);
+    o.version = SELFCOL_STORE_OPTIONS_VERSION + 1;
+    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_EVERSION);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_give_the_records_and_counters_of_one_thread),
@@ -405,6 +562,8 @@ int main(void) {
         cmocka_unit_test(test_threads_option_bounds_and_old_structs),
         cmocka_unit_test(test_threads_concurrent_queries_on_one_hierarchy),
         cmocka_unit_test(test_threads_sweep_gives_the_hits_of_one_thread),
+        cmocka_unit_test(test_threads_store_updates_give_the_store_of_one_thread),
+        cmocka_unit_test(test_threads_store_option_bounds_and_old_structs),
     };
     return cmocka_run_group_tests_name("threads", tests, NULL, NULL);
 }

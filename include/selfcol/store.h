@@ -88,9 +88,21 @@ typedef struct selfcol_store_options {
     int first_orientation;
     /** Orientation of the second mesh of a two-mesh query, as first_orientation. */
     int second_orientation;
+    /* Version 2 */
+    /**
+     * Threads an update may use, 1 (default) to SELFCOL_MAX_THREADS. The
+     * per-contact work (exact sides, remnants' geometry, what each contact's
+     * links compare) and the sort of the contacts' vertex pairs are shared
+     * among them; the merge's decisions, the links and the vote stay in one
+     * thread, in the same order, so the result is the same for every count.
+     * Threads are started and joined inside each update, only above a few
+     * thousand contacts.
+     */
+    unsigned int threads;
 } selfcol_store_options;
 
-#define SELFCOL_STORE_OPTIONS_VERSION 1
+/** 2 since 0.3 (threads). A version 1 struct is read as 1 thread. */
+#define SELFCOL_STORE_OPTIONS_VERSION 2
 
 /** Bits of selfcol_store_contact.flags, about the last update (VOTED excepted). */
 typedef enum selfcol_store_contact_flag {
@@ -189,7 +201,7 @@ typedef struct selfcol_store_update_stats {
 
 /**
  * Writes the defaults into opts (remnance SELFCOL_STORE_DEFAULT_REMNANCE,
- * consistency on).
+ * consistency on, 1 thread; a version 1 struct is written up to its end).
  * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
  */
 SELFCOL_API int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version);
@@ -199,7 +211,8 @@ SELFCOL_API int selfcol_store_options_init(selfcol_store_options *opts, unsigned
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_store_destroy().
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, half-set allocator,
- *         consistency not 0 or 1); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ *         consistency not 0 or 1, an orientation not -1, 0 or +1, threads
+ *         outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION; SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts);
 

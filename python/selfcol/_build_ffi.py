@@ -121,7 +121,7 @@ int selfcol_hierarchy_collide(const selfcol_hierarchy *first, const selfcol_hier
 typedef struct selfcol_store selfcol_store;
 typedef struct selfcol_store_options {
     unsigned int version; selfcol_allocator allocator; uint32_t remnance_frames;
-    int consistency; int first_orientation; int second_orientation;
+    int consistency; int first_orientation; int second_orientation; unsigned int threads;
 } selfcol_store_options;
 typedef struct selfcol_store_contact {
     uint32_t kind; uint32_t first; uint32_t second; uint32_t first_mesh; uint32_t second_mesh;

@@ -834,7 +834,7 @@ def _orientation(value: int, what: str) -> int:
 
 
 def _store_options(remnance: int, consistency: bool, first_orientation: int,
-                   second_orientation: int, into: Any = None) -> Any:
+                   second_orientation: int, threads: int = 1, into: Any = None) -> Any:
     opts = into if into is not None else ffi.new("selfcol_store_options *")
     _check(lib.selfcol_store_options_init(opts, lib.SELFCOL_STORE_OPTIONS_VERSION),
            "selfcol_store_options_init")
@@ -844,6 +844,9 @@ def _store_options(remnance: int, consistency: bool, first_orientation: int,
     opts.consistency = 1 if consistency else 0
     opts.first_orientation = _orientation(first_orientation, "first_orientation")
     opts.second_orientation = _orientation(second_orientation, "second_orientation")
+    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
+        raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
+    opts.threads = min(int(threads), 1 << 31)
     return opts
 
 
@@ -855,8 +858,9 @@ class Store:
     """
 
     def __init__(self, remnance: int = 4, consistency: bool = True, first_orientation: int = 0,
-                 second_orientation: int = 0) -> None:
-        opts = _store_options(remnance, consistency, first_orientation, second_orientation)
+                 second_orientation: int = 0, threads: int = 1) -> None:
+        opts = _store_options(remnance, consistency, first_orientation, second_orientation,
+                              threads)
         out = ffi.new("selfcol_store **")
         _check(lib.selfcol_store_create(out, opts), "selfcol_store_create")
         self._h = ffi.gc(out[0], lib.selfcol_store_destroy)
@@ -969,7 +973,7 @@ class Scene:
                "selfcol_scene_options_init")
         q = _query_options(distance, method, kinds, threads, "closed")
         opts.query = q[0]
-        _store_options(remnance, consistency, 0, 0, into=ffi.addressof(opts, "store"))
+        _store_options(remnance, consistency, 0, 0, threads, into=ffi.addressof(opts, "store"))
         if collider_tolerance is not None:
             opts.collider_tolerance = float(collider_tolerance)
         opts.coherent = 1 if coherent else 0

@@ -117,7 +117,8 @@ static const char track_help[] =
     "  --remnance N        updates a contact stays after it was last detected\n"
     "                      (default 4; 0: none)\n"
     "  --no-consistency    track sides only, no region vote\n"
-    "  --threads N         threads per query, 1 to " CLI_MAX_THREADS_TEXT " (default 1);\n"
+    "  --threads N         threads per query and store update, 1 to " CLI_MAX_THREADS_TEXT
+    " (default 1);\n"
     "                      the contacts, counters and outputs do not depend on N,\n"
     "                      only the times do\n"
     "  --jsonl FILE|-      one JSON object per frame (JSON Lines); with '-' the\n"

@@ -226,6 +226,7 @@ int cli_command_track(const cli_options *o) {
         selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
         so.remnance_frames = o->remnance;
         so.consistency = o->no_consistency ? 0 : 1;
+        so.threads = o->threads;
         rc = selfcol_store_create(&st.store, &so);
     }
     if (rc != SELFCOL_OK) {

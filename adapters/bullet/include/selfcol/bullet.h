@@ -130,8 +130,8 @@ typedef struct selfcol_bullet_options {
     selfcol_query_options query;
     /**
      * The contact stores: remnance_frames (default
-     * SELFCOL_STORE_DEFAULT_REMNANCE) and consistency (the region vote,
-     * default 1). Its allocator and orientations must stay zero: the
+     * SELFCOL_STORE_DEFAULT_REMNANCE), consistency (the region vote,
+     * default 1) and threads (default 1). Its allocator and orientations must stay zero: the
      * adapter's allocator serves the stores, and cloth has no orientation.
      */
     selfcol_store_options store;
