@@ -78,9 +78,8 @@ struct selfcol_store {
     store_entry *entries, *spare; // held entries; the merge's destination
     size_t count, capacity;       // capacity of every per-entry array
 
-    // Per entry, for one update: the grouping union-find (until the links,
-    // the entry's source in the merge: its record, or SOURCE_REMNANT), the
-    // voting union-find with parity, and the entry's link code (link_code).
+    // Per entry, for one update: the grouping union-find, the voting
+    // union-find with parity, and the entry's link code (link_code).
     uint32_t *group_parent, *vote_parent;
     int8_t *vote_parity;
     uint16_t *link_code;
@@ -1069,37 +1068,21 @@ static void impose(selfcol_store *s, size_t regions, selfcol_store_update_stats 
 // ---------------------------------------------------------------------------
 // The update
 
-// The entries step 1 keeps (held and detected again, new, or remnant) and
-// the vertex pairs they produce, without changing anything.
-static void merge_size(const selfcol_store *s, const selfcol_contact *rec, size_t m,
-                       size_t *entries_out, size_t *keys_out) {
-    size_t i = 0, j = 0, n = 0, keys = 0;
-    const store_entry *held = s->entries;
-    while (i < s->count || j < m) {
-        const int c = i == s->count ? 1 : j == m ? -1 : entry_record_compare(&held[i], &rec[j]);
-        uint32_t kind;
-        if (c >= 0) {
-            kind = rec[j++].kind;
-            i += c == 0;
-        } else {
-            const store_entry *h = &held[i++];
-            if (h->kind == SELFCOL_CONTACT_EF || h->missed >= s->remnance)
-                continue; // dropped
-            kind = h->kind;
-        }
-        ++n;
-        keys += pairs_of_kind(kind);
-    }
-    *entries_out = n;
-    *keys_out = keys;
+// The merge (step 1) of held entries i0 .. i1 - 1 with records j0 .. j1 - 1,
+// both sorted by key: per step, the held entry (c < 0), the record (c > 0),
+// or both (c == 0, the same key).
+static int merge_step(const selfcol_store *s, const selfcol_contact *rec, size_t i, size_t i1,
+                      size_t j, size_t j1) {
+    return i == i1 ? 1 : j == j1 ? -1 : entry_record_compare(&s->entries[i], &rec[j]);
+}
+
+// A held entry that is not detected again and goes (EF, or remnance over).
+static int dropped(const selfcol_store *s, const store_entry *e) {
+    return e->kind == SELFCOL_CONTACT_EF || e->missed >= s->remnance;
 }
 
 // ---------------------------------------------------------------------------
 // The update's work in parallel
-
-// An entry's source in the merge (group_parent until the links): the index
-// of its record, or this for a remnant (recomputed from the meshes).
-#define SOURCE_REMNANT UINT32_MAX
 
 // The least entries (or records) per chunk worth a thread: a chunk's work
 // (about 0.3 us per entry) then outweighs a thread's start (tens of us).
@@ -1117,31 +1100,38 @@ static size_t chunk_start(size_t total, size_t chunks, size_t c) {
     return (size_t)((uint64_t)total * c / chunks);
 }
 
-enum update_stage { STAGE_VALIDATE, STAGE_ENTRIES, STAGE_SORT };
+enum update_stage { STAGE_VALIDATE, STAGE_SIZE, STAGE_MERGE, STAGE_SORT };
 
-// One parallel stage of an update: chunks of the records (validation) or of
-// the entries, taken by the workers from a shared counter. Each chunk writes
-// only its own items and its own results, so a chunk's result does not
-// depend on which worker ran it.
+// The parallel stages of an update. Chunk c of a stage covers the records
+// record_at[c] .. record_at[c + 1] - 1 and the held entries held_at[c] ..
+// held_at[c + 1] - 1 (a range of keys: the merge's chunks), and makes the
+// entries entry_at[c] .. entry_at[c + 1] - 1. The workers take chunks from
+// a shared counter; a chunk writes only its own items and results, so the
+// store does not depend on which worker ran which chunk, nor on how many
+// chunks there were.
 typedef struct update_job {
     selfcol_store *s;
     const selfcol_mesh *const *meshes;
     const selfcol_contact *rec;
-    size_t total, chunks;
+    store_entry *out; // the merge's destination
+    size_t chunks;
     enum update_stage stage;
     size_t next_chunk; // atomic
-    // STAGE_VALIDATE: per chunk, its first bad record (SIZE_MAX: none) and why.
-    size_t bad[SELFCOL_MAX_THREADS];
+    size_t record_at[SELFCOL_MAX_THREADS + 1], held_at[SELFCOL_MAX_THREADS + 1],
+        entry_at[SELFCOL_MAX_THREADS + 1];
+    // STAGE_VALIDATE: its first bad record (SIZE_MAX: none) and why.
+    // STAGE_SIZE: the entries the chunk keeps and their vertex pairs.
+    size_t bad[SELFCOL_MAX_THREADS], kept[SELFCOL_MAX_THREADS], keys[SELFCOL_MAX_THREADS];
     int bad_status[SELFCOL_MAX_THREADS];
-    // STAGE_ENTRIES: per chunk, the counters track_side keeps.
+    // STAGE_MERGE: the chunk's counters.
     selfcol_store_update_stats stats[SELFCOL_MAX_THREADS];
 } update_job;
 
-// Records lo .. hi - 1: each must match the meshes and follow the one
-// before it in key order (the query's sort).
-static void validate_records(update_job *job, size_t c, size_t lo, size_t hi) {
+// Records of chunk c: each must match the meshes and follow the one before
+// it in key order (the query's sort).
+static void validate_records(update_job *job, size_t c) {
     job->bad[c] = SIZE_MAX;
-    for (size_t j = lo; j < hi; ++j) {
+    for (size_t j = job->record_at[c]; j < job->record_at[c + 1]; ++j) {
         int status = SELFCOL_OK;
         if (!record_matches(job->meshes, &job->rec[j]))
             status = SELFCOL_EMISMATCH;
@@ -1155,27 +1145,175 @@ static void validate_records(update_job *job, size_t c, size_t lo, size_t hi) {
     }
 }
 
-// Entries lo .. hi - 1, after the merge: the side of each VF/EE entry
-// (track_side) and what its links compare (link_code), from its record's
-// direction or, for a remnant, its direction at the current positions.
-static void settle_entries(update_job *job, size_t c, size_t lo, size_t hi) {
+// An EF entry's share of the merge's work against a VF or EE entry's: it
+// has no side, geometry or link code (measured: about a quarter).
+#define EF_WORK 0.25
+
+// Where chunk c of `chunks` starts in `total` items sorted by kind whose EF
+// ones start at ef_start, in equal shares of work (EF_WORK): on cloth-ball
+// 93 a fifth of the entries are EF, and an equal split by count gave one
+// chunk 2.7 times the contacts of the other.
+static size_t work_split(size_t total, size_t ef_start, size_t chunks, size_t c) {
+    const double work = (double)ef_start + EF_WORK * (double)(total - ef_start);
+    const double share = work * (double)c / (double)chunks;
+    const double at = share <= (double)ef_start
+                          ? share
+                          : (double)ef_start + (share - (double)ef_start) / EF_WORK;
+    return at < (double)total ? (size_t)at : total;
+}
+
+// The first EF record and the first EF held entry (both sorted by kind).
+static size_t first_ef_record(const selfcol_contact *rec, size_t m) {
+    size_t lo = 0, hi = m;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (rec[mid].kind < SELFCOL_CONTACT_EF)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+static size_t first_ef_entry(const store_entry *e, size_t n) {
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (e[mid].kind < SELFCOL_CONTACT_EF)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+// The merge's chunks: ranges of keys, split at every chunk's share of the
+// work (work_split) in the longer of the held entries and the records (the
+// other split where its keys reach the split key). Needs the records
+// validated (sorted).
+static void split_by_keys(update_job *job, size_t records, size_t chunks) {
+    const selfcol_store *s = job->s;
+    const size_t held = s->count, m = records;
+    const size_t ef_split = m >= held ? first_ef_record(job->rec, m) : first_ef_entry(s->entries, held);
+    job->chunks = chunks;
+    for (size_t c = 0; c <= chunks; ++c) {
+        size_t i, j;
+        if (c == 0) {
+            i = j = 0;
+        } else if (c == chunks) {
+            i = held;
+            j = m;
+        } else if (m >= held) { // held entries before the split record's key
+            j = work_split(m, ef_split, chunks, c);
+            size_t lo = 0, hi = held;
+            while (lo < hi) {
+                const size_t mid = lo + (hi - lo) / 2;
+                if (j < m && entry_record_compare(&s->entries[mid], &job->rec[j]) < 0)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            i = j < m ? lo : held;
+        } else { // records before the split entry's key
+            i = work_split(held, ef_split, chunks, c);
+            size_t lo = 0, hi = i < held ? m : 0;
+            while (lo < hi) {
+                const size_t mid = lo + (hi - lo) / 2;
+                if (entry_record_compare(&s->entries[i], &job->rec[mid]) > 0)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            j = i < held ? lo : m;
+        }
+        job->held_at[c] = i;
+        job->record_at[c] = j;
+    }
+}
+
+// A dry run of the merge of chunk c: the entries it keeps (held and
+// detected again, new, or remnant) and their vertex pairs.
+static void size_chunk(update_job *job, size_t c) {
+    const selfcol_store *s = job->s;
+    size_t i = job->held_at[c], j = job->record_at[c], n = 0, keys = 0;
+    const size_t i1 = job->held_at[c + 1], j1 = job->record_at[c + 1];
+    while (i < i1 || j < j1) {
+        const int step = merge_step(s, job->rec, i, i1, j, j1);
+        uint32_t kind;
+        if (step >= 0) {
+            kind = job->rec[j++].kind;
+            i += step == 0;
+        } else {
+            const store_entry *h = &s->entries[i++];
+            if (dropped(s, h))
+                continue;
+            kind = h->kind;
+        }
+        ++n;
+        keys += (size_t)pairs_of_kind(kind);
+    }
+    job->kept[c] = n;
+    job->keys[c] = keys;
+}
+
+// The merge of chunk c into entries entry_at[c] ..: each entry kept, new or
+// remnant, its side tracked (track_side), what its links compare
+// (link_code, from its record's direction or, for a remnant, its direction
+// at the current positions), and its vertex pairs counted into the chunk's
+// buckets.
+static void merge_chunk(update_job *job, size_t c) {
     selfcol_store *s = job->s;
-    selfcol_store_update_stats *st = &job->stats[c];
-    for (size_t n = lo; n < hi; ++n) {
-        store_entry *e = &s->entries[n];
-        const uint32_t source = s->group_parent[n];
+    const selfcol_contact *rec = job->rec;
+    // Counted here, written once (the chunks' records share cache lines).
+    selfcol_store_update_stats counters;
+    memset(&counters, 0, sizeof counters);
+    selfcol_store_update_stats *st = &counters;
+    uint32_t *count = s->bucket_offset + c * s->bucket_count;
+    size_t i = job->held_at[c], j = job->record_at[c], n = job->entry_at[c];
+    const size_t i1 = job->held_at[c + 1], j1 = job->record_at[c + 1];
+    const store_entry *held = s->entries;
+    while (i < i1 || j < j1) {
+        const int step = merge_step(s, rec, i, i1, j, j1);
+        store_entry *e = &job->out[n];
+        if (step < 0 && dropped(s, &held[i])) {
+            ++i;
+            st->dropped++;
+            continue;
+        }
+        if (step == 0) { // held and detected again
+            *e = held[i++];
+            e->age += e->age < UINT32_MAX;
+            e->missed = 0;
+            e->flags &= SELFCOL_STORE_SETTLED; // the only flag that persists
+            st->kept += e->kind != SELFCOL_CONTACT_EF;
+        } else if (step > 0) { // new
+            memset(e, 0, sizeof *e);
+            e->kind = (uint8_t)rec[j].kind;
+            e->meshes = (uint8_t)(rec[j].first_mesh | rec[j].second_mesh << 1);
+            e->first = rec[j].first;
+            e->second = rec[j].second;
+            set_sides(e, 0, 0);
+            e->flags = SELFCOL_STORE_NEW;
+            st->new_contacts += e->kind != SELFCOL_CONTACT_EF;
+        } else { // held, not detected, remnant
+            *e = held[i++];
+            e->age += e->age < UINT32_MAX;
+            e->missed++;
+            e->flags = (uint8_t)((e->flags & SELFCOL_STORE_SETTLED) | SELFCOL_STORE_REMNANT);
+            st->remnant++;
+        }
         uint32_t a[2], b[3];
         const double *direction = NULL;
-        if (source != SOURCE_REMNANT) { // the record's vertices (record_matches: the topology's)
-            const selfcol_contact *r = &job->rec[source];
-            memcpy(a, r->a, sizeof a);
-            memcpy(b, r->b, sizeof b);
+        if (step >= 0) { // the record's vertices (record_matches: the topology's)
+            memcpy(a, rec[j].a, sizeof a);
+            memcpy(b, rec[j].b, sizeof b);
             if (e->kind == SELFCOL_CONTACT_EE)
                 b[2] = SELFCOL_INVALID_INDEX;
-            direction = r->direction;
+            direction = rec[j++].direction;
         } else {
             entry_vertices(s, e, a, b);
         }
+        count_pairs(s, count, e, a, b);
         track_side(s, e, a, b, st);
         s->link_code[n] = 0;
         if (e->kind != SELFCOL_CONTACT_EF && !(e->flags & SELFCOL_STORE_ORIENTED)) {
@@ -1186,13 +1324,20 @@ static void settle_entries(update_job *job, size_t c, size_t lo, size_t hi) {
             }
             s->link_code[n] = link_code(s, e, a, b, direction);
         }
+        if (e->kind == SELFCOL_CONTACT_EF)
+            st->interferences++;
+        else
+            st->contacts++;
+        ++n;
     }
+    job->stats[c] = counters;
 }
 
-// Entries lo .. hi - 1 (chunk c): their vertex pairs listed in their
-// buckets, and their union-find nodes started (their sources are read).
-static void sort_chunk(update_job *job, size_t c, size_t lo, size_t hi) {
+// Entries of chunk c: their vertex pairs listed in their buckets
+// (sort_pairs), and their union-find nodes started.
+static void sort_chunk(update_job *job, size_t c) {
     selfcol_store *s = job->s;
+    const size_t lo = job->entry_at[c], hi = job->entry_at[c + 1];
     sort_pairs(s, c, lo, hi);
     for (size_t k = lo; k < hi; ++k) {
         s->group_parent[k] = s->vote_parent[k] = (uint32_t)k;
@@ -1207,25 +1352,24 @@ static int update_worker(void *context, unsigned worker) {
         const size_t c = SELFCOL_ATOMIC_FETCH_ADD(&job->next_chunk, (size_t)1);
         if (c >= job->chunks)
             return SELFCOL_OK;
-        const size_t lo = chunk_start(job->total, job->chunks, c),
-                     hi = chunk_start(job->total, job->chunks, c + 1);
         if (job->stage == STAGE_VALIDATE)
-            validate_records(job, c, lo, hi);
-        else if (job->stage == STAGE_ENTRIES)
-            settle_entries(job, c, lo, hi);
+            validate_records(job, c);
+        else if (job->stage == STAGE_SIZE)
+            size_chunk(job, c);
+        else if (job->stage == STAGE_MERGE)
+            merge_chunk(job, c);
         else
-            sort_chunk(job, c, lo, hi);
+            sort_chunk(job, c);
     }
 }
 
-// Runs one stage over `total` items in `chunks` chunks, on at most
-// store->threads workers (the calling thread alone for one chunk).
-static void run_stage(update_job *job, enum update_stage stage, size_t total, size_t chunks) {
+// Runs one stage over the job's chunks, on at most store->threads workers
+// (the calling thread alone for one chunk).
+static void run_stage(update_job *job, enum update_stage stage) {
     job->stage = stage;
-    job->total = total;
-    job->chunks = chunks;
     job->next_chunk = 0;
-    const unsigned workers = chunks < job->s->threads ? (unsigned)chunks : job->s->threads;
+    const unsigned workers =
+        job->chunks < job->s->threads ? (unsigned)job->chunks : job->s->threads;
     if (workers <= 1)
         update_worker(job, 0);
     else
@@ -1275,19 +1419,29 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     // Validate and reserve everything before changing anything. The first
     // bad record decides the status, whatever the threads.
     int status = SELFCOL_OK;
-    const size_t record_chunks = chunks_for(m, store->threads);
-    run_stage(&job, STAGE_VALIDATE, m, record_chunks);
-    for (size_t c = 0; c < record_chunks && status == SELFCOL_OK; ++c)
+    job.chunks = chunks_for(m, store->threads);
+    for (size_t c = 0; c <= job.chunks; ++c)
+        job.record_at[c] = chunk_start(m, job.chunks, c);
+    run_stage(&job, STAGE_VALIDATE);
+    for (size_t c = 0; c < job.chunks && status == SELFCOL_OK; ++c)
         if (job.bad[c] != SIZE_MAX)
             status = job.bad_status[c];
+    if (status != SELFCOL_OK)
+        return status;
     // The merge's outcome, counted first (a dry run of step 1), so that
     // every array is sized to the entries the update keeps, not to held +
-    // detected (which was twice as much on cloth-ball 92 -> 93).
-    size_t kept_entries = 0, keys = 0;
-    if (status == SELFCOL_OK)
-        merge_size(store, rec, m, &kept_entries, &keys);
-    if (status == SELFCOL_OK)
-        status = reserve_entries(store, kept_entries > store->count ? kept_entries : store->count);
+    // detected (which was twice as much on cloth-ball 92 -> 93), and each
+    // chunk knows where its entries go.
+    split_by_keys(&job, m, chunks_for(store->count > m ? store->count : m, store->threads));
+    run_stage(&job, STAGE_SIZE);
+    size_t keys = 0;
+    job.entry_at[0] = 0;
+    for (size_t c = 0; c < job.chunks; ++c) {
+        job.entry_at[c + 1] = job.entry_at[c] + job.kept[c];
+        keys += job.keys[c];
+    }
+    const size_t kept_entries = job.entry_at[job.chunks];
+    status = reserve_entries(store, kept_entries > store->count ? kept_entries : store->count);
     if (status == SELFCOL_OK)
         status = reserve_mesh_arrays(store, meshes);
     if (status == SELFCOL_OK)
@@ -1312,95 +1466,40 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     memset(&st, 0, sizeof st);
     st.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
 
-    // 1. Merge the held entries (sorted) with the records (sorted): which
-    // entries are kept, new, remnant or dropped, in one thread (an entry's
-    // place is the count before it). Each entry's source (its record or
-    // SOURCE_REMNANT) goes into group_parent, and its vertex pairs are
-    // counted into the buckets of its chunk of the entries.
-    const size_t chunks = chunks_for(kept_entries, store->threads);
-    memset(store->bucket_offset, 0, chunks * store->bucket_count * sizeof *store->bucket_offset);
-    store_entry *out = store->spare;
-    size_t i = 0, j = 0, n = 0, chunk = 0, chunk_end = chunk_start(kept_entries, chunks, 1);
-    uint32_t *count = store->bucket_offset;
-    const store_entry *held = store->entries;
-    while (i < store->count || j < m) {
-        int c = i == store->count ? 1 : j == m ? -1 : entry_record_compare(&held[i], &rec[j]);
-        store_entry *e = &out[n];
-        if (c <= 0 &&
-            !(c == 0 || (held[i].kind != SELFCOL_CONTACT_EF && held[i].missed < store->remnance))) {
-            ++i; // held, not detected, dropped
-            st.dropped++;
-            continue;
-        }
-        if (c == 0) { // held and detected again
-            *e = held[i++];
-            e->age += e->age < UINT32_MAX;
-            e->missed = 0;
-            e->flags &= SELFCOL_STORE_SETTLED; // the only flag that persists
-            st.kept += e->kind != SELFCOL_CONTACT_EF;
-        } else if (c > 0) { // new
-            memset(e, 0, sizeof *e);
-            e->kind = (uint8_t)rec[j].kind;
-            e->meshes = (uint8_t)(rec[j].first_mesh | rec[j].second_mesh << 1);
-            e->first = rec[j].first;
-            e->second = rec[j].second;
-            set_sides(e, 0, 0);
-            e->flags = SELFCOL_STORE_NEW;
-            st.new_contacts += e->kind != SELFCOL_CONTACT_EF;
-        } else { // held, not detected, remnant
-            *e = held[i++];
-            e->age += e->age < UINT32_MAX;
-            e->missed++;
-            e->flags = (uint8_t)((e->flags & SELFCOL_STORE_SETTLED) | SELFCOL_STORE_REMNANT);
-            st.remnant++;
-        }
-        while (n == chunk_end) { // the next chunk's counts
-            ++chunk;
-            count = store->bucket_offset + chunk * store->bucket_count;
-            chunk_end = chunk_start(kept_entries, chunks, chunk + 1);
-        }
-        uint32_t a[2], b[3];
-        if (c >= 0) { // the record's vertices (record_matches: the topology's)
-            memcpy(a, rec[j].a, sizeof a);
-            memcpy(b, rec[j].b, sizeof b);
-            if (e->kind == SELFCOL_CONTACT_EE)
-                b[2] = SELFCOL_INVALID_INDEX;
-            store->group_parent[n] = (uint32_t)j++;
-        } else {
-            entry_vertices(store, e, a, b);
-            store->group_parent[n] = SOURCE_REMNANT;
-        }
-        count_pairs(store, count, e, a, b);
-        if (e->kind == SELFCOL_CONTACT_EF)
-            st.interferences++;
-        else
-            st.contacts++;
-        ++n;
+    // 1. Merge the held entries (sorted) with the records (sorted), chunk
+    // by chunk of keys: kept, new, remnant or dropped; sides and link codes;
+    // each chunk's vertex pairs counted into its buckets.
+    job.out = store->spare;
+    memset(store->bucket_offset, 0,
+           job.chunks * store->bucket_count * sizeof *store->bucket_offset);
+    run_stage(&job, STAGE_MERGE);
+    for (size_t c = 0; c < job.chunks; ++c) {
+        const selfcol_store_update_stats *cs = &job.stats[c];
+        st.contacts += cs->contacts;
+        st.interferences += cs->interferences;
+        st.new_contacts += cs->new_contacts;
+        st.kept += cs->kept;
+        st.remnant += cs->remnant;
+        st.dropped += cs->dropped;
+        st.flipped += cs->flipped;
+        st.passed_around += cs->passed_around;
     }
     const size_t old_count = store->count;
     store->spare = store->entries;
-    store->entries = out;
-    store->count = n;
+    store->entries = job.out;
+    store->count = kept_entries;
 
-    // 2. Per entry, in parallel: its side and link code.
-    for (size_t c = 0; c < chunks; ++c)
-        memset(&job.stats[c], 0, sizeof job.stats[c]);
-    run_stage(&job, STAGE_ENTRIES, n, chunks);
-    for (size_t c = 0; c < chunks; ++c) {
-        st.flipped += job.stats[c].flipped;
-        st.passed_around += job.stats[c].passed_around;
-    }
-    // 3. Regions and voting groups: the vertex pairs sorted by bucket (in
-    // parallel), then linked in one thread.
-    bucket_starts(store, chunks);
-    run_stage(&job, STAGE_SORT, n, chunks);
-    link_neighbours(store, store->bucket_offset + (chunks - 1) * store->bucket_count);
-    // 4. The vote.
+    // 2. Regions and voting groups: the vertex pairs sorted by bucket,
+    // chunk by chunk of the entries (stable), then linked in one thread.
+    bucket_starts(store, job.chunks);
+    run_stage(&job, STAGE_SORT);
+    link_neighbours(store, store->bucket_offset + (job.chunks - 1) * store->bucket_count);
+    // 3. The vote.
     const size_t regions = tally_and_label(store, &st);
     status = reserve_regions(store, regions);
     if (status != SELFCOL_OK) { // the store as it was
         store->entries = store->spare;
-        store->spare = out;
+        store->spare = job.out;
         store->count = old_count;
         store->meshes[0] = old_meshes[0];
         store->meshes[1] = old_meshes[1];

@@ -1072,9 +1072,9 @@ static double sample_value(const store_sample *sm, int what) {
     }
 }
 
-// One STORE or STORE-FIRST row from n samples.
-static int store_row(context *cx, const char *method, const store_sample *sm, size_t n,
-                     const char *note) {
+// One STORE or STORE-FIRST row from n samples of updates on `threads`.
+static int store_row(context *cx, const char *method, unsigned threads, const store_sample *sm,
+                     size_t n, const char *note) {
     double *t = malloc((n ? n : 1) * sizeof *t);
     if (t == NULL || n == 0) {
         free(t);
@@ -1085,7 +1085,7 @@ static int store_row(context *cx, const char *method, const store_sample *sm, si
     r.method = method;
     r.narrow = "closed-form";
     r.reference = "none";
-    r.threads = 1;
+    r.threads = threads;
     timing *out[3] = {&r.refit, &r.query, &r.update};
     for (int w = S_REFIT; w <= S_BYTES; ++w) {
         for (size_t i = 0; i < n; ++i)
@@ -1137,6 +1137,14 @@ static void store_options(selfcol_query_options *o, double d) {
     o->threads = 1;
 }
 
+// A store with default options on `threads` threads.
+static int store_create(selfcol_store **store, unsigned threads) {
+    selfcol_store_options so;
+    selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
+    so.threads = threads;
+    return selfcol_store_create(store, &so);
+}
+
 static void store_context(context *cx, const store_case *sc, const char *subset_name,
                           const fixture *s, const selfcol_mesh *mesh, double scale) {
     memset(cx, 0, sizeof *cx);
@@ -1170,11 +1178,12 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     selfcol_mesh *mesh = NULL;
     selfcol_hierarchy *h = NULL;
     selfcol_contacts *c = NULL;
-    selfcol_store *store = NULL;
+    selfcol_store *store = NULL, *store2 = NULL;
     store_sample *first = calloc(runs, sizeof *first);
     store_sample *steady = calloc((size_t)runs * (frames - 2), sizeof *steady);
+    store_sample *steady2 = calloc((size_t)runs * (frames - 2), sizeof *steady2);
     double *pos = NULL;
-    int rc = frames >= 3 && first && steady ? SELFCOL_OK : SELFCOL_ENOMEM;
+    int rc = frames >= 3 && first && steady && steady2 ? SELFCOL_OK : SELFCOL_ENOMEM;
     if (rc == SELFCOL_OK &&
         (fixture_crumpled(&s, n, n, seed, 5.0) != 0 || fixture_grid(&g, n, n, 1.0) != 0))
         rc = SELFCOL_ENOMEM;
@@ -1198,7 +1207,9 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     }
     size_t ns = 0;
     for (unsigned run = 0; rc == SELFCOL_OK && run < runs; ++run) {
-        rc = selfcol_store_create(&store, NULL);
+        rc = store_create(&store, 1);
+        if (rc == SELFCOL_OK)
+            rc = store_create(&store2, 2);
         for (unsigned f = 0; rc == SELFCOL_OK && f < frames; ++f) {
             const double k = 1.0 + step * f;
             for (size_t i = 0; i < 3 * s.vertex_count; ++i)
@@ -1214,8 +1225,11 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
                 rc = selfcol_hierarchy_self_collide(h, c, &o);
             sm.refit = t1 - t0;
             sm.query = now() - t1;
+            store_sample sm2 = sm;
             if (rc == SELFCOL_OK)
                 rc = store_measure(store, mesh, c, &sm);
+            if (rc == SELFCOL_OK) // the same update on two threads, right after
+                rc = store_measure(store2, mesh, c, &sm2);
             if (rc != SELFCOL_OK)
                 break;
             if (run == 0) {
@@ -1225,11 +1239,14 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
             }
             if (f == 0)
                 first[run] = sm;
-            else if (f >= 2)
+            else if (f >= 2) {
+                steady2[ns] = sm2;
                 steady[ns++] = sm;
+            }
         }
         selfcol_store_destroy(store);
-        store = NULL;
+        selfcol_store_destroy(store2);
+        store = store2 = NULL;
     }
     int status = rc == SELFCOL_OK ? 0 : 1;
     if (rc != SELFCOL_OK)
@@ -1239,12 +1256,15 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
         snprintf(note, sizeof note,
                  "crumpled %ux%u seed %u; update 1 of %u runs (fresh store; arrays grow)", n, n,
                  seed, runs);
-        status |= store_row(&cx, "STORE-FIRST", first, runs, note);
+        status |= store_row(&cx, "STORE-FIRST", 1, first, runs, note);
         snprintf(note, sizeof note,
                  "crumpled %ux%u seed %u; amplitude 5(1+%g f) f=0..%u; updates 3..%u x %u runs; "
                  "counters: means; arrays grew in %d of %zu",
                  n, n, seed, step, frames - 1, frames, runs, count_grew(steady, ns), ns);
-        status |= store_row(&cx, "STORE", steady, ns, note);
+        status |= store_row(&cx, "STORE", 1, steady, ns, note);
+        snprintf(note, sizeof note,
+                 "as STORE, a second store on 2 threads updated right after it, each frame");
+        status |= store_row(&cx, "STORE", 2, steady2, ns, note);
     }
     selfcol_contacts_destroy(c);
     selfcol_hierarchy_destroy(h);
@@ -1252,6 +1272,7 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     free(pos);
     free(first);
     free(steady);
+    free(steady2);
     fixture_free(&s);
     fixture_free(&g);
     return status;
@@ -1282,11 +1303,12 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
     selfcol_hierarchy *h = NULL;
     selfcol_contacts *ca = NULL, *cb = NULL;
     selfcol_store *store = NULL;
-    store_sample first[MAX_REPS], fresh[MAX_REPS], steady[MAX_REPS];
+    store_sample first[MAX_REPS], fresh[MAX_REPS], steady[MAX_REPS], steady2[MAX_REPS];
     double qa[MAX_REPS], qb[MAX_REPS], refit[MAX_REPS];
     memset(first, 0, sizeof first);
     memset(fresh, 0, sizeof fresh);
     memset(steady, 0, sizeof steady);
+    memset(steady2, 0, sizeof steady2);
     int rc = selfcol_mesh_create(&mesh, a.vertex_count, a.positions, a.triangle_count, a.triangles,
                                  NULL);
     // The scale rule of run_case (mean edge at least 5 cm), so that these rows
@@ -1337,7 +1359,7 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
     }
     // a then b on a fresh store, reps times: STORE-FIRST, and b's growth.
     for (unsigned i = 0; rc == SELFCOL_OK && i < reps; ++i) {
-        rc = selfcol_store_create(&store, NULL);
+        rc = store_create(&store, 1);
         if (rc == SELFCOL_OK)
             rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
         if (rc == SELFCOL_OK)
@@ -1352,23 +1374,29 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
         store = NULL;
     }
     // b on a store holding a, its arrays grown: one untimed pair, then clear
-    // (memory kept), a, timed b, reps times.
-    if (rc == SELFCOL_OK)
-        rc = selfcol_store_create(&store, NULL);
+    // (memory kept), a, timed b, reps times; on one thread and on two,
+    // alternately (one store each).
+    selfcol_store *stores[2] = {NULL, NULL};
+    store_sample *samples[2] = {steady, steady2};
+    for (int t = 0; t < 2 && rc == SELFCOL_OK; ++t)
+        rc = store_create(&stores[t], (unsigned)t + 1);
     for (unsigned i = 0; rc == SELFCOL_OK && i <= reps; ++i) {
-        store_sample warm;
-        selfcol_store_clear(store);
-        rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
-        if (rc == SELFCOL_OK)
-            rc = selfcol_store_update(store, mesh, NULL, ca);
-        if (rc == SELFCOL_OK)
-            rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
-        if (rc == SELFCOL_OK)
-            rc = store_measure(store, mesh, cb, i > 0 ? &steady[i - 1] : &warm);
-        if (i > 0)
-            steady[i - 1].query = qb[i - 1], steady[i - 1].refit = refit[i - 1];
+        for (int t = 0; t < 2 && rc == SELFCOL_OK; ++t) {
+            store_sample warm;
+            selfcol_store_clear(stores[t]);
+            rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
+            if (rc == SELFCOL_OK)
+                rc = selfcol_store_update(stores[t], mesh, NULL, ca);
+            if (rc == SELFCOL_OK)
+                rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
+            if (rc == SELFCOL_OK)
+                rc = store_measure(stores[t], mesh, cb, i > 0 ? &samples[t][i - 1] : &warm);
+            if (i > 0)
+                samples[t][i - 1].query = qb[i - 1], samples[t][i - 1].refit = refit[i - 1];
+        }
     }
-    selfcol_store_destroy(store);
+    selfcol_store_destroy(stores[0]);
+    selfcol_store_destroy(stores[1]);
     int status = rc == SELFCOL_OK ? 0 : 1;
     if (rc != SELFCOL_OK)
         fprintf(stderr, "selfcol-bench: %s: %s\n", sc->name, selfcol_status_string(rc));
@@ -1385,12 +1413,14 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
             t[i] = fresh[i].update;
         const timing tf = summarize(t, reps);
         snprintf(note, sizeof note, "frame %g update on a fresh store; %u reps", sc->p[1], reps);
-        status |= store_row(&cx, "STORE-FIRST", first, reps, note);
+        status |= store_row(&cx, "STORE-FIRST", 1, first, reps, note);
         snprintf(note, sizeof note,
                  "frame %g update after %g (store cleared between reps: arrays grown); on a "
                  "fresh store %.2f ms",
                  sc->p[2], sc->p[1], 1e3 * tf.med);
-        status |= store_row(&cx, "STORE", steady, reps, note);
+        status |= store_row(&cx, "STORE", 1, steady, reps, note);
+        snprintf(note, sizeof note, "as STORE on 2 threads, alternating with it");
+        status |= store_row(&cx, "STORE", 2, steady2, reps, note);
     }
     selfcol_contacts_destroy(ca);
     selfcol_contacts_destroy(cb);

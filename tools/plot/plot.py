@@ -420,9 +420,16 @@ def table_exact_check(rows):
     return "\n".join(out)
 
 
+def store_row_name(r):
+    """STORE or STORE-FIRST, and the threads of the update when more than one."""
+    threads = int(float(r.get("threads") or 1))
+    return r["method"] + ("" if threads == 1 else " (%d threads)" % threads)
+
+
 def table_store(rows):
-    """Contact-store rows: selfcol_store_update per frame, against the frame's
-    EXACT refit and query (d = 0.1 x mean edge, one thread)."""
+    """Contact-store rows: selfcol_store_update per frame (one thread, and
+    the STORE rows again on two), against the frame's EXACT refit and query
+    (d = 0.1 x mean edge, one thread)."""
     if not rows:
         return ("(no contact-store rows in this run's CSV: `make bench` adds them; "
                 "the numbers below the table were measured on their own)")
@@ -434,7 +441,7 @@ def table_store(rows):
         frame = r["refit_ms"] + r["query_ms"] + r["store_update_ms"]
         out.append("| %s | %s | %s | %d | %.0f (%s / %s) | %s | %.0f | %s (%s-%s) | %.0f | "
                    "%.0f / %.0f / %.0f / %.0f | %.0f | %.0f | %.1f | %.0f | %s + %s | %.0f%% |" % (
-                       r["case"], kilo(r["triangles"]), r["method"], int(r["reps"]),
+                       r["case"], kilo(r["triangles"]), store_row_name(r), int(r["reps"]),
                        r["store_contacts"], fmt_int(r["vf"]), fmt_int(r["ee"]), fmt_int(r["ef"]),
                        r["store_regions"], fmt_ms(r["store_update_ms"]),
                        fmt_ms(r["store_update_min_ms"]), fmt_ms(r["store_update_max_ms"]),
