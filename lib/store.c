@@ -21,6 +21,12 @@
 // the links compare is read from each entry's direction once, into 16 bits
 // (link_code), and the vote's tallies reuse the neighbour search's arrays.
 // Every array is kept and grown: a steady state allocates nothing.
+// With threads (selfcol_store_options.threads), step 1 runs in chunks of
+// keys (each merging its ranges of held entries and records into a place
+// counted beforehand by a dry run) and the vertex pairs are sorted in chunks
+// of entries with per-chunk bucket counts, both stable; the links and the
+// vote, whose order decides conflicting cycles, stay in one thread. The
+// store is the same for every thread count.
 #include <selfcol/hierarchy.h>
 #include <selfcol/store.h>
 
@@ -629,6 +635,40 @@ static void group_unite(uint32_t *parent, uint32_t x, uint32_t y) {
         parent[x < y ? y : x] = x < y ? x : y; // the smaller index is the root
 }
 
+// group_unite for threads sharing the parents (the wait-free union-find of
+// Anderson and Woll 1991, linking by index): every parent is read and
+// written atomically; a root goes under the smaller root by a compare-and-
+// swap that fails if it stopped being a root meanwhile (then both roots are
+// found again); path halving writes a grandparent, an ancestor whichever
+// thread writes it. Each group's root is its smallest entry whatever the
+// order of the links, as with group_unite: the regions do not depend on the
+// threads.
+static uint32_t group_root_shared(uint32_t *parent, uint32_t x) {
+    for (;;) {
+        const uint32_t p = __atomic_load_n(&parent[x], __ATOMIC_RELAXED);
+        if (p == x)
+            return x;
+        const uint32_t g = __atomic_load_n(&parent[p], __ATOMIC_RELAXED);
+        if (g != p)
+            __atomic_store_n(&parent[x], g, __ATOMIC_RELAXED);
+        x = g;
+    }
+}
+
+static void group_unite_shared(uint32_t *parent, uint32_t x, uint32_t y) {
+    for (;;) {
+        x = group_root_shared(parent, x);
+        y = group_root_shared(parent, y);
+        if (x == y)
+            return;
+        const uint32_t root = x < y ? x : y, child = x < y ? y : x;
+        uint32_t expected = child;
+        if (__atomic_compare_exchange_n(&parent[child], &expected, root, 0, __ATOMIC_RELAXED,
+                                        __ATOMIC_RELAXED))
+            return;
+    }
+}
+
 // Root of x in the voting union-find, and x's parity relative to it
 // (o_x = parity * o_root), compressing the path (two iterative passes).
 static uint32_t vote_find(uint32_t *parent, int8_t *parity, uint32_t x, int *parity_out) {
@@ -773,14 +813,13 @@ static uint16_t link_code(selfcol_store *s, const store_entry *e, const uint32_t
     return (uint16_t)code;
 }
 
-// Two entries sharing a vertex pair: group them, and link their
-// orientations where both side codes read clearly through the normals at
-// both ends and give the same relation (link_code). lo_i, hi_i, lo_j,
-// hi_j: each entry's side code at the pair's two ends, 0 where the pair's
-// normals are not clear.
+// Two entries sharing a vertex pair: link their orientations where both
+// side codes read clearly through the normals at both ends and give the
+// same relation (link_code). lo_i, hi_i, lo_j, hi_j: each entry's side
+// code at the pair's two ends, 0 where the pair's normals are not clear.
+// (They are grouped too, by the caller.)
 static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles, uint32_t lo_i,
                          uint32_t hi_i, uint32_t lo_j, uint32_t hi_j) {
-    group_unite(s->group_parent, i, j);
     if (lo_i == 0 || lo_j == 0 || hi_i == 0 || hi_j == 0)
         return;
     const int through_lo = lo_i == lo_j ? 1 : -1, through_hi = hi_i == hi_j ? 1 : -1;
@@ -893,10 +932,15 @@ static void sort_pairs(selfcol_store *s, size_t c, size_t lo, size_t hi_index) {
 // 92 -> 93.) Each occurrence carries its entry's side codes at the pair's
 // ends (link_code), so a link reads nothing of either entry but its
 // union-find parents. bucket_end: the buckets' ends (sort_pairs).
-static void link_neighbours(selfcol_store *s, const uint32_t *bucket_end) {
+// The grouping union-find (regions), whose result does not depend on the
+// order of its links, is done here when group_here, else by threads
+// afterwards (group_chunk): each occurrence's hi end is then replaced by
+// the entry it is grouped with (its own where it links nothing).
+static void link_neighbours(selfcol_store *s, const uint32_t *bucket_end, int group_here) {
     const size_t n0 = s->meshes[0]->vertex_count;
     const size_t buckets = buckets_of(s->meshes);
-    const uint32_t *hi = s->pair_hi, *entry = s->pair_entry;
+    uint32_t *hi = s->pair_hi;
+    const uint32_t *entry = s->pair_entry;
     // Per bucket, the first occurrence of each hi end: stamps unique to the
     // bucket (a running count, cleared when it would wrap).
     if (s->bucket_stamp > UINT32_MAX - buckets - 1) {
@@ -907,24 +951,33 @@ static void link_neighbours(selfcol_store *s, const uint32_t *bucket_end) {
     }
     for (size_t x = 0; x < buckets; ++x) {
         const uint32_t start = x == 0 ? 0 : bucket_end[x - 1], end = bucket_end[x];
-        if (end - start < 2)
-            continue; // one occurrence links nothing
+        if (end - start < 2) { // one occurrence links nothing
+            if (end > start && !group_here)
+                hi[start] = entry[start] & PAIR_INDEX;
+            continue;
+        }
         const uint32_t stamp = ++s->bucket_stamp;
         const int hi_mesh = x >= n0 ? 1 : 0;
         uint32_t *seen = s->hi_stamp[hi_mesh], *first = s->hi_first[hi_mesh];
         for (uint32_t p = start; p < end; ++p) {
-            const uint32_t y = hi[p];
+            const uint32_t y = hi[p], ei = entry[p], i = ei & PAIR_INDEX;
             if (seen[y] != stamp) {
                 seen[y] = stamp;
                 first[y] = p;
+                if (!group_here)
+                    hi[p] = i;
                 continue;
             }
-            const uint32_t ei = entry[p], ej = entry[first[y]];
-            const uint32_t i = ei & PAIR_INDEX, j = ej & PAIR_INDEX;
-            if (i != j)
-                link_entries(s, i, j, ((ei ^ ej) & PAIR_FIRST_IS_LO) == 0, ei >> PAIR_LO_SHIFT & 3u,
-                             ei >> PAIR_HI_SHIFT & 3u, ej >> PAIR_LO_SHIFT & 3u,
-                             ej >> PAIR_HI_SHIFT & 3u);
+            const uint32_t ej = entry[first[y]], j = ej & PAIR_INDEX;
+            if (!group_here)
+                hi[p] = j;
+            if (i == j)
+                continue;
+            if (group_here)
+                group_unite(s->group_parent, i, j);
+            link_entries(s, i, j, ((ei ^ ej) & PAIR_FIRST_IS_LO) == 0, ei >> PAIR_LO_SHIFT & 3u,
+                         ei >> PAIR_HI_SHIFT & 3u, ej >> PAIR_LO_SHIFT & 3u,
+                         ej >> PAIR_HI_SHIFT & 3u);
         }
     }
 }
@@ -1100,7 +1153,7 @@ static size_t chunk_start(size_t total, size_t chunks, size_t c) {
     return (size_t)((uint64_t)total * c / chunks);
 }
 
-enum update_stage { STAGE_VALIDATE, STAGE_SIZE, STAGE_MERGE, STAGE_SORT };
+enum update_stage { STAGE_VALIDATE, STAGE_SIZE, STAGE_MERGE, STAGE_SORT, STAGE_GROUP };
 
 // The parallel stages of an update. Chunk c of a stage covers the records
 // record_at[c] .. record_at[c + 1] - 1 and the held entries held_at[c] ..
@@ -1117,6 +1170,7 @@ typedef struct update_job {
     size_t chunks;
     enum update_stage stage;
     size_t next_chunk; // atomic
+    size_t pairs;      // STAGE_GROUP: vertex-pair occurrences, in equal chunks
     size_t record_at[SELFCOL_MAX_THREADS + 1], held_at[SELFCOL_MAX_THREADS + 1],
         entry_at[SELFCOL_MAX_THREADS + 1];
     // STAGE_VALIDATE: its first bad record (SIZE_MAX: none) and why.
@@ -1156,9 +1210,8 @@ static void validate_records(update_job *job, size_t c) {
 static size_t work_split(size_t total, size_t ef_start, size_t chunks, size_t c) {
     const double work = (double)ef_start + EF_WORK * (double)(total - ef_start);
     const double share = work * (double)c / (double)chunks;
-    const double at = share <= (double)ef_start
-                          ? share
-                          : (double)ef_start + (share - (double)ef_start) / EF_WORK;
+    const double at =
+        share <= (double)ef_start ? share : (double)ef_start + (share - (double)ef_start) / EF_WORK;
     return at < (double)total ? (size_t)at : total;
 }
 
@@ -1194,7 +1247,8 @@ static size_t first_ef_entry(const store_entry *e, size_t n) {
 static void split_by_keys(update_job *job, size_t records, size_t chunks) {
     const selfcol_store *s = job->s;
     const size_t held = s->count, m = records;
-    const size_t ef_split = m >= held ? first_ef_record(job->rec, m) : first_ef_entry(s->entries, held);
+    const size_t ef_split =
+        m >= held ? first_ef_record(job->rec, m) : first_ef_entry(s->entries, held);
     job->chunks = chunks;
     for (size_t c = 0; c <= chunks; ++c) {
         size_t i, j;
@@ -1345,6 +1399,20 @@ static void sort_chunk(update_job *job, size_t c) {
     }
 }
 
+// Occurrences of chunk c of the vertex pairs: each entry grouped with the
+// entry link_neighbours put in its place.
+static void group_chunk(update_job *job, size_t c) {
+    selfcol_store *s = job->s;
+    const size_t lo = chunk_start(job->pairs, job->chunks, c),
+                 hi = chunk_start(job->pairs, job->chunks, c + 1);
+    const uint32_t *partner = s->pair_hi, *entry = s->pair_entry;
+    for (size_t p = lo; p < hi; ++p) {
+        const uint32_t i = entry[p] & PAIR_INDEX, j = partner[p];
+        if (i != j)
+            group_unite_shared(s->group_parent, i, j);
+    }
+}
+
 static int update_worker(void *context, unsigned worker) {
     (void)worker;
     update_job *job = context;
@@ -1358,8 +1426,10 @@ static int update_worker(void *context, unsigned worker) {
             size_chunk(job, c);
         else if (job->stage == STAGE_MERGE)
             merge_chunk(job, c);
-        else
+        else if (job->stage == STAGE_SORT)
             sort_chunk(job, c);
+        else
+            group_chunk(job, c);
     }
 }
 
@@ -1493,7 +1563,14 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
     // chunk by chunk of the entries (stable), then linked in one thread.
     bucket_starts(store, job.chunks);
     run_stage(&job, STAGE_SORT);
-    link_neighbours(store, store->bucket_offset + (job.chunks - 1) * store->bucket_count);
+    const uint32_t *bucket_end = store->bucket_offset + (job.chunks - 1) * store->bucket_count;
+    job.pairs = keys;
+    const size_t group_chunks = chunks_for(keys, store->threads);
+    link_neighbours(store, bucket_end, group_chunks == 1);
+    if (group_chunks > 1) {
+        job.chunks = group_chunks;
+        run_stage(&job, STAGE_GROUP);
+    }
     // 3. The vote.
     const size_t regions = tally_and_label(store, &st);
     status = reserve_regions(store, regions);

@@ -438,8 +438,7 @@ static void check_store_threads(const built *a, const built *b, const fixture *c
     store_run run[RUNS];
     for (int k = 0; k < RUNS; ++k) {
         selfcol_store_options o;
-        assert_int_equal(selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION),
-                         SELFCOL_OK);
+        assert_int_equal(selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION), SELFCOL_OK);
         o.threads = threads[k];
         run[k].records = NULL;
         assert_int_equal(selfcol_store_create(&run[k].store, &o), SELFCOL_OK);
@@ -464,9 +463,9 @@ static void check_store_threads(const built *a, const built *b, const fixture *c
                 for (size_t i = 0; i < crumpled->vertex_count; ++i)
                     positions[3 * i + 2] += 15.0 * d;
             if (m == 1)
-                assert_int_equal(selfcol_mesh_set_positions(moved[m]->mesh, positions,
-                                                            crumpled->vertex_count),
-                                 SELFCOL_OK);
+                assert_int_equal(
+                    selfcol_mesh_set_positions(moved[m]->mesh, positions, crumpled->vertex_count),
+                    SELFCOL_OK);
             assert_int_equal(selfcol_hierarchy_refit(moved[m]->hierarchy), SELFCOL_OK);
         }
         assert_int_equal(query(a, b, c, SELFCOL_METHOD_EXACT, d, 1), SELFCOL_OK);
@@ -474,9 +473,9 @@ static void check_store_threads(const built *a, const built *b, const fixture *c
         size_t regions1 = 0;
         selfcol_store_update_stats st1;
         for (int k = 0; k < RUNS; ++k) {
-            assert_int_equal(selfcol_store_update(run[k].store, a->mesh,
-                                                  b != NULL ? b->mesh : NULL, c),
-                             SELFCOL_OK);
+            assert_int_equal(
+                selfcol_store_update(run[k].store, a->mesh, b != NULL ? b->mesh : NULL, c),
+                SELFCOL_OK);
             selfcol_store_region *reg;
             size_t regions;
             selfcol_store_update_stats st;

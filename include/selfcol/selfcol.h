@@ -15,9 +15,12 @@
  * that mesh (refits and queries of its hierarchies included), a refit with a
  * query on that hierarchy, two queries into one selfcol_contacts, or any call
  * with the destruction of a handle it uses. The library starts threads only
- * inside a query with selfcol_query_options.threads > 1 and joins them before
- * it returns; the contacts' allocator may then be called from them at once.
- * Every other callback runs on the calling thread.
+ * inside a query with selfcol_query_options.threads > 1 (or a continuous
+ * one, selfcol_sweep_options.threads) and inside a store update with
+ * selfcol_store_options.threads > 1, and joins them before the call
+ * returns; the contacts' allocator may then be called from them at once (a
+ * store allocates before its threads start). Every other callback runs on
+ * the calling thread.
  */
 #ifndef SELFCOL_SELFCOL_H
 #define SELFCOL_SELFCOL_H
