@@ -148,8 +148,9 @@ typedef struct selfcol_scene_options {
      */
     selfcol_query_options query;
     /**
-     * Every store's remnance_frames and consistency (defaults as
-     * selfcol_store_options_init()). Its allocator must be all-zero and its
+     * Every store's remnance_frames, consistency and threads (defaults as
+     * selfcol_store_options_init(): one thread, whatever query.threads
+     * says). Its allocator must be all-zero and its
      * orientations 0: the scene's allocator serves every store, and a
      * surface's orientation comes from its kind (selfcol_scene_surface_options).
      */

@@ -125,6 +125,8 @@ def test_store_mismatch():
         selfcol.Store(first_orientation=2)
     with pytest.raises(selfcol.InvalidArgument):
         selfcol.Store(remnance=-1)
+    with pytest.raises(selfcol.InvalidArgument):
+        selfcol.Store(threads=0)
 
 
 def test_sweep_errors():

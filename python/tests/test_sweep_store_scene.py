@@ -85,6 +85,28 @@ def test_store_across_frames():
     assert len(s) == 0
 
 
+def test_store_threads_hold_the_same_records():
+    # Two sheets closer than d: tens of thousands of contacts, enough for
+    # the update to split them among threads (store.c: 4096 per chunk).
+    V, F = grid(60, 60)
+    h1 = selfcol.Hierarchy(selfcol.Mesh(V, F))
+    m2 = selfcol.Mesh(V + [0, 0, 0.008], F)
+    h2 = selfcol.Hierarchy(m2)
+    stores = [selfcol.Store(), selfcol.Store(threads=2), selfcol.Store(threads=3)]
+    for k in range(3):
+        m2.set_positions(V + [0, 0, 0.008 * (1 + 0.1 * k)])
+        h2.refit()
+        c = h1.collide(h2, 0.01)
+        stats = [s.update(c) for s in stores]
+        assert stats[0]["contacts"] > 3 * 4096
+        held = [s.contacts() for s in stores]
+        for other, st in zip(held[1:], stats[1:]):
+            assert np.array_equal(other.records, held[0].records)
+            assert np.array_equal(other.regions, held[0].regions)
+            assert {k: v for k, v in st.items() if k != "seconds"} == \
+                {k: v for k, v in stats[0].items() if k != "seconds"}
+
+
 def test_store_two_meshes_swept_needs_both_starts():
     V, F = grid(6, 6)
     c = selfcol.collide(V, F, V + [0, 0, 0.01], F, distance=0.05)
