@@ -23,10 +23,11 @@
 // Every array is kept and grown: a steady state allocates nothing.
 // With threads (selfcol_store_options.threads), step 1 runs in chunks of
 // keys (each merging its ranges of held entries and records into a place
-// counted beforehand by a dry run) and the vertex pairs are sorted in chunks
-// of entries with per-chunk bucket counts, both stable; the links and the
-// vote, whose order decides conflicting cycles, stay in one thread. The
-// store is the same for every thread count.
+// counted beforehand by a dry run), the vertex pairs are sorted in chunks
+// of entries with per-chunk bucket counts (both stable), and the grouping
+// union-find runs on threads (its roots do not depend on the link order);
+// the voting links, whose order decides conflicting cycles, and the vote
+// stay in one thread. The store is the same for every thread count.
 #include <selfcol/hierarchy.h>
 #include <selfcol/store.h>
 

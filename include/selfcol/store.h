@@ -91,12 +91,13 @@ typedef struct selfcol_store_options {
     /* Version 2 */
     /**
      * Threads an update may use, 1 (default) to SELFCOL_MAX_THREADS. The
-     * per-contact work (exact sides, remnants' geometry, what each contact's
-     * links compare) and the sort of the contacts' vertex pairs are shared
-     * among them; the merge's decisions, the links and the vote stay in one
-     * thread, in the same order, so the result is the same for every count.
-     * Threads are started and joined inside each update, only above a few
-     * thousand contacts.
+     * merge (in chunks of keys, with each contact's exact side, a remnant's
+     * geometry and what its links compare), the sort of the contacts'
+     * vertex pairs and the regions' union-find are shared among them; the
+     * links the vote follows and the vote stay in one thread, in the same
+     * order, so the result is the same for every count. Threads are
+     * started and joined inside each update, only above a few thousand
+     * contacts (4096 per thread).
      */
     unsigned int threads;
 } selfcol_store_options;
