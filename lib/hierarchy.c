@@ -6,14 +6,18 @@
 #include "alloc.h"
 #include "core.h"
 
+#include <stddef.h>
 #include <string.h>
 
 int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
     if (version == 0 || version > SELFCOL_HIERARCHY_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    memset(opts, 0, sizeof *opts);
+    // A version 1 caller's struct ends before `threads`: write no further.
+    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_hierarchy_options, threads));
     opts->version = version;
+    if (version >= 2)
+        opts->threads = 1;
     return SELFCOL_OK;
 }
 
@@ -24,9 +28,14 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
     SELFCOL_CHECK(mesh != NULL);
     SELFCOL_CHECK_VERSION(opts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
     selfcol_allocator allocator = {NULL, NULL, NULL};
-    if (opts != NULL)
+    unsigned threads = 1; // also for a version 1 struct, which ends before `threads`
+    if (opts != NULL) {
         allocator = opts->allocator;
+        if (opts->version >= 2)
+            threads = opts->threads;
+    }
     SELFCOL_CHECK(selfcol_alloc__valid(&allocator));
+    SELFCOL_CHECK(threads >= 1 && threads <= SELFCOL_MAX_THREADS);
     selfcol_hierarchy *h = selfcol_alloc__raw(&allocator, sizeof *h);
     if (h == NULL)
         return SELFCOL_ENOMEM;
@@ -35,7 +44,10 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
     h->mesh = mesh;
     h->mesh_identity = mesh->identity;
     h->triangle_count = mesh->triangle_count;
+    h->refit_workers = 1;
     int status = selfcol_hierarchy__build(h);
+    if (status == SELFCOL_OK)
+        status = selfcol_hierarchy__plan_refit(h, threads);
     if (status != SELFCOL_OK) {
         selfcol_hierarchy_destroy(h);
         return status;
@@ -59,6 +71,7 @@ void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy) {
                               sizeof(uint32_t));
     selfcol_alloc__free_array(&allocator, hierarchy->min_altitude, hierarchy->node_count,
                               sizeof(float));
+    selfcol_hierarchy__free_plan(hierarchy);
     selfcol_alloc__free(&allocator, hierarchy, sizeof *hierarchy);
 }
 
@@ -93,5 +106,10 @@ size_t selfcol_hierarchy_byte_count(const selfcol_hierarchy *hierarchy) {
     size_t F = hierarchy->triangle_count;
     return sizeof *hierarchy + hierarchy->node_count * sizeof(selfcol_node) +
            F * (sizeof(uint32_t) + sizeof(uint8_t)) + hierarchy->bedge_total * sizeof(uint32_t) +
-           hierarchy->node_count * sizeof(float);
+           hierarchy->node_count * sizeof(float) +
+           (hierarchy->subtree_count == 0
+                ? 0
+                : (2 * (size_t)hierarchy->subtree_count + 1 +
+                   2 * (size_t)hierarchy->subtree_level_offset[hierarchy->subtree_count]) *
+                      sizeof(uint32_t));
 }

@@ -89,6 +89,20 @@ struct selfcol_hierarchy {
     size_t bedge_total;     // entries allocated
     float *min_altitude;    // node_count: lower bound of the patch's triangle altitudes
     uint64_t refit_version; // the mesh's positions_version at the last refit
+    // Parallel refit (hierarchy_refit.c), planned at creation when the
+    // options ask for more than one thread and the mesh is large enough:
+    // nodes [0, cap) are refit on the calling thread after the subtrees
+    // rooted at [cap, cap + subtree_count) are refit on the workers. A
+    // subtree's nodes at each depth are one contiguous range (breadth-first
+    // layout); subtree_level holds those ranges, (begin, end) pairs from the
+    // deepest level up, subtree_level_offset[t] .. [t + 1] for task t, and
+    // subtree_root[t] is task t's root (largest subtrees first).
+    unsigned refit_workers;         // 1: no plan, refit on the calling thread
+    uint32_t cap;                   // nodes above the subtrees
+    uint32_t subtree_count;         // tasks
+    uint32_t *subtree_root;         // subtree_count
+    uint32_t *subtree_level_offset; // subtree_count + 1, in pairs
+    uint32_t *subtree_level;        // 2 x subtree_level_offset[subtree_count]
 };
 
 // Builds the tree (hierarchy_build.c, with the stages of hierarchy_build.h);
@@ -96,7 +110,16 @@ struct selfcol_hierarchy {
 // (arrays built so far are freed by destroy).
 int selfcol_hierarchy__build(selfcol_hierarchy *hierarchy);
 
-// Recomputes boxes, masks and cones (hierarchy_refit.c).
+// Plans the parallel refit for `threads` (hierarchy_refit.c): sets
+// refit_workers and, when it exceeds 1, the subtree arrays. SELFCOL_OK or
+// SELFCOL_ENOMEM (arrays made so far are freed by destroy).
+int selfcol_hierarchy__plan_refit(selfcol_hierarchy *hierarchy, unsigned threads);
+
+// Frees the plan's arrays.
+void selfcol_hierarchy__free_plan(selfcol_hierarchy *hierarchy);
+
+// Recomputes boxes, masks and cones (hierarchy_refit.c), on the planned
+// workers. The result does not depend on their number.
 void selfcol_hierarchy__refit(selfcol_hierarchy *hierarchy);
 
 // Checks the invariants (hierarchy_validate.c): the triangle order is a

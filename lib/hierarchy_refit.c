@@ -17,10 +17,15 @@
 // of its patch; two cones merge into the smallest cone containing both
 // (the axis turns in the plane of the two axes; cone.c). A half-angle of
 // pi/2 or more means no half-space contains the normals.
+//
+// With threads (selfcol_hierarchy_options.threads), subtrees are refit side
+// by side; see "Refit on threads" below.
 #include "hierarchy.h"
 
+#include "alloc.h"
 #include "box.h"
 #include "cone.h"
+#include "parallel.h"
 
 #include <math.h>
 
@@ -214,41 +219,190 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
     *altitude_out = min_altitude > 0.0 ? round_down(min_altitude) : 0.0f;
 }
 
-void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
-    for (size_t id = h->node_count; id-- > 0;) {
-        selfcol_node *n = &h->nodes[id];
-        if (n->child_count == 0) {
-            refit_leaf(h, n, &h->min_altitude[id]);
-            continue;
-        }
-        const selfcol_node *c = &h->nodes[n->first_child];
-        *n = (selfcol_node){.first_child = n->first_child,
-                            .tri_begin = n->tri_begin,
-                            .tri_count = n->tri_count,
-                            .boundary_begin = n->boundary_begin,
-                            .boundary_count = n->boundary_count,
-                            .child_count = n->child_count,
-                            .flags = n->flags};
-        for (int k = 0; k < 3; ++k) {
-            n->lo[k] = c->lo[k];
-            n->hi[k] = c->hi[k];
-        }
-        n->mask = c->mask;
-        h->min_altitude[id] = h->min_altitude[n->first_child];
-        selfcol_cone acc;
-        load_cone(&acc, c);
-        for (uint32_t i = 1; i < n->child_count; ++i) {
-            const selfcol_node *ci = &h->nodes[n->first_child + i];
-            selfcol_box__merge_float(n->lo, n->hi, ci->lo, ci->hi);
-            n->mask &= ci->mask;
-            float alt = h->min_altitude[n->first_child + i];
-            if (alt < h->min_altitude[id])
-                h->min_altitude[id] = alt;
-            selfcol_cone other;
-            load_cone(&other, ci);
-            selfcol_cone__merge(&acc, &other);
-        }
-        store_cone(n, &acc);
+// One node from its triangles (a leaf) or from its children's refit boxes,
+// masks, altitudes and cones (an internal node).
+static void refit_node(selfcol_hierarchy *h, size_t id) {
+    selfcol_node *n = &h->nodes[id];
+    if (n->child_count == 0) {
+        refit_leaf(h, n, &h->min_altitude[id]);
+        return;
     }
+    const selfcol_node *c = &h->nodes[n->first_child];
+    *n = (selfcol_node){.first_child = n->first_child,
+                        .tri_begin = n->tri_begin,
+                        .tri_count = n->tri_count,
+                        .boundary_begin = n->boundary_begin,
+                        .boundary_count = n->boundary_count,
+                        .child_count = n->child_count,
+                        .flags = n->flags};
+    for (int k = 0; k < 3; ++k) {
+        n->lo[k] = c->lo[k];
+        n->hi[k] = c->hi[k];
+    }
+    n->mask = c->mask;
+    h->min_altitude[id] = h->min_altitude[n->first_child];
+    selfcol_cone acc;
+    load_cone(&acc, c);
+    for (uint32_t i = 1; i < n->child_count; ++i) {
+        const selfcol_node *ci = &h->nodes[n->first_child + i];
+        selfcol_box__merge_float(n->lo, n->hi, ci->lo, ci->hi);
+        n->mask &= ci->mask;
+        float alt = h->min_altitude[n->first_child + i];
+        if (alt < h->min_altitude[id])
+            h->min_altitude[id] = alt;
+        selfcol_cone other;
+        load_cone(&other, ci);
+        selfcol_cone__merge(&acc, &other);
+    }
+    store_cone(n, &acc);
+}
+
+// ---------------------------------------------------------------------------
+// Refit on threads
+//
+// A node depends only on its children, so any order that refits children
+// before parents gives the same floats; the threads only choose the order.
+// The plan cuts the tree once, at creation: the first nodes of the
+// breadth-first layout (the "cap") stay on the calling thread, and the
+// subtrees hanging from the cap are tasks handed out by a counter, largest
+// first (longest-processing-time order), each refit bottom-up by itself. A
+// task needs no parent links and no stack: in the breadth-first layout the
+// nodes of a subtree at one depth are contiguous (children of consecutive
+// nodes are consecutive), so a task is a list of ranges, deepest first.
+// Every node is written by one task; its children were written by the same
+// task, or (for the cap) before the join.
+
+// A worker refits at least this many triangles (starting a thread costs
+// about what refitting a few hundred triangles does).
+#define REFIT_MIN_TRIANGLES_PER_WORKER 4096u
+// Tasks per worker: enough that the counter evens out unequal subtrees.
+#define REFIT_TASKS_PER_WORKER 8u
+
+void selfcol_hierarchy__free_plan(selfcol_hierarchy *h) {
+    const selfcol_allocator *al = &h->allocator;
+    size_t pairs = h->subtree_level_offset != NULL ? h->subtree_level_offset[h->subtree_count] : 0;
+    selfcol_alloc__free_array(al, h->subtree_level, 2 * pairs, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, h->subtree_level_offset, h->subtree_count + 1, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, h->subtree_root, h->subtree_count, sizeof(uint32_t));
+    h->subtree_level = h->subtree_level_offset = h->subtree_root = NULL;
+    h->subtree_count = 0;
+    h->cap = 0;
+    h->refit_workers = 1;
+}
+
+// The range of the nodes one level below [begin, end) (children of its
+// internal nodes); empty when [begin, end) holds only leaves.
+static void next_level(const selfcol_hierarchy *h, uint32_t *begin, uint32_t *end) {
+    uint32_t lo = 0, hi = 0;
+    for (uint32_t id = *begin; id < *end; ++id)
+        if (h->nodes[id].child_count != 0) {
+            lo = h->nodes[id].first_child;
+            break;
+        }
+    for (uint32_t id = *end; id-- > *begin;)
+        if (h->nodes[id].child_count != 0) {
+            hi = h->nodes[id].first_child + h->nodes[id].child_count;
+            break;
+        }
+    *begin = lo;
+    *end = hi;
+}
+
+// Larger subtrees first; ties by root (any fixed order would do).
+static int larger_subtree_first(const selfcol_hierarchy *h, uint32_t a, uint32_t b) {
+    uint32_t ta = h->nodes[a].tri_count, tb = h->nodes[b].tri_count;
+    return ta != tb ? ta > tb : a < b;
+}
+
+int selfcol_hierarchy__plan_refit(selfcol_hierarchy *h, unsigned threads) {
+    const selfcol_allocator *al = &h->allocator;
+    selfcol_hierarchy__free_plan(h);
+    const size_t most = h->triangle_count / REFIT_MIN_TRIANGLES_PER_WORKER;
+    const unsigned workers = threads < most ? threads : (unsigned)most;
+    if (workers < 2)
+        return SELFCOL_OK;
+    // The cap: the fewest first nodes whose children outside the cap (the
+    // nodes [cap, end): breadth-first, they follow the cap) are enough tasks.
+    const size_t target = (size_t)REFIT_TASKS_PER_WORKER * workers;
+    size_t cap = 0, end = 1;
+    while (cap < end && end - cap < target)
+        end += h->nodes[cap++].child_count;
+    if (cap == end)
+        return SELFCOL_OK; // too few nodes to share: one thread
+    const uint32_t count = (uint32_t)(end - cap);
+    h->subtree_root = selfcol_alloc__array(al, count, sizeof(uint32_t));
+    h->subtree_level_offset = selfcol_alloc__array(al, count + 1, sizeof(uint32_t));
+    if (h->subtree_root == NULL || h->subtree_level_offset == NULL) {
+        selfcol_alloc__free_array(al, h->subtree_root, count, sizeof(uint32_t));
+        selfcol_alloc__free_array(al, h->subtree_level_offset, count + 1, sizeof(uint32_t));
+        h->subtree_root = h->subtree_level_offset = NULL;
+        return SELFCOL_ENOMEM;
+    }
+    // Roots, largest first (insertion sort: a few hundred at most).
+    for (uint32_t t = 0; t < count; ++t) {
+        uint32_t root = (uint32_t)cap + t, at = t;
+        for (; at > 0 && larger_subtree_first(h, root, h->subtree_root[at - 1]); --at)
+            h->subtree_root[at] = h->subtree_root[at - 1];
+        h->subtree_root[at] = root;
+    }
+    // Levels per task, then the ranges, deepest first.
+    size_t pairs = 0;
+    h->subtree_level_offset[0] = 0;
+    for (uint32_t t = 0; t < count; ++t) {
+        uint32_t begin = h->subtree_root[t], stop = begin + 1;
+        for (; begin < stop; next_level(h, &begin, &stop))
+            ++pairs;
+        h->subtree_level_offset[t + 1] = (uint32_t)pairs;
+    }
+    h->subtree_count = count;
+    h->subtree_level = selfcol_alloc__array(al, 2 * pairs, sizeof(uint32_t));
+    if (h->subtree_level == NULL) {
+        selfcol_hierarchy__free_plan(h);
+        return SELFCOL_ENOMEM;
+    }
+    for (uint32_t t = 0; t < count; ++t) {
+        uint32_t begin = h->subtree_root[t], stop = begin + 1;
+        for (uint32_t at = h->subtree_level_offset[t + 1]; begin < stop;
+             next_level(h, &begin, &stop)) {
+            --at;
+            h->subtree_level[2 * at] = begin;
+            h->subtree_level[2 * at + 1] = stop;
+        }
+    }
+    h->cap = (uint32_t)cap;
+    h->refit_workers = workers;
+    return SELFCOL_OK;
+}
+
+typedef struct refit_job {
+    selfcol_hierarchy *h;
+    uint32_t next_task; // atomic
+} refit_job;
+
+static int refit_worker(void *context, unsigned worker) {
+    (void)worker;
+    refit_job *job = context;
+    selfcol_hierarchy *h = job->h;
+    for (;;) {
+        uint32_t t = SELFCOL_ATOMIC_FETCH_ADD(&job->next_task, 1u);
+        if (t >= h->subtree_count)
+            return SELFCOL_OK;
+        for (uint32_t l = h->subtree_level_offset[t]; l < h->subtree_level_offset[t + 1]; ++l)
+            for (uint32_t id = h->subtree_level[2 * l + 1]; id-- > h->subtree_level[2 * l];)
+                refit_node(h, id);
+    }
+}
+
+void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
+    size_t above = h->node_count;
+    if (h->refit_workers > 1) {
+        refit_job job = {h, 0};
+        // Workers that cannot be started leave their tasks to the others
+        // (worker 0 runs here), so every subtree is refit before the join.
+        (void)selfcol_parallel__run(h->refit_workers, refit_worker, &job);
+        above = h->cap;
+    }
+    for (size_t id = above; id-- > 0;)
+        refit_node(h, id);
     h->refit_version = h->mesh->positions_version;
 }

@@ -281,6 +281,7 @@ int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
     selfcol_hierarchy_options hopts;
     selfcol_hierarchy_options_init(&hopts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
     hopts.allocator = scene->allocator;
+    hopts.threads = scene->query.threads; // a refit is part of the query's work
     if (status == SELFCOL_OK)
         status = selfcol_hierarchy_create(&add.hierarchy, mesh, &hopts);
     if (status == SELFCOL_OK)
@@ -351,6 +352,7 @@ int selfcol_scene_rebuild_surface(selfcol_scene *scene, uint32_t id) {
     selfcol_hierarchy_options hopts;
     selfcol_hierarchy_options_init(&hopts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
     hopts.allocator = scene->allocator;
+    hopts.threads = scene->query.threads; // a refit is part of the query's work
     selfcol_hierarchy *rebuilt = NULL;
     int status = selfcol_hierarchy_create(&rebuilt, s->mesh, &hopts);
     if (status == SELFCOL_OK)

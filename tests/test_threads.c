@@ -8,7 +8,9 @@
 // an empty set and no leak; old option structs keep working; and queries on
 // one hierarchy from several threads at once hold to the README's contract.
 // Store updates on several threads (selfcol_store_options.threads) hold
-// the records, regions and counters of one thread.
+// the records, regions and counters of one thread. Hierarchy options with
+// refit threads are checked for bounds and old structs here (their nodes:
+// test_refit_internal).
 #define _POSIX_C_SOURCE 200112L // posix_memalign
 #include <setjmp.h>
 #include <stdarg.h>
@@ -550,6 +552,77 @@ static void test_threads_store_option_bounds_and_old_structs(void **state) {
     assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_EVERSION);
 }
 
+// selfcol_hierarchy_options.threads (the refit's threads; that their refits
+// give the nodes of one thread is test_refit_internal's): defaults, bounds,
+// and version 1 structs, through the public API.
+static void test_threads_hierarchy_option_bounds_and_old_structs(void **state) {
+    (void)state;
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 64, 64, 2, 3.0), 0); // 8,192 triangles: 2 workers
+    selfcol_mesh *m = NULL;
+    assert_int_equal(
+        selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
+        SELFCOL_OK);
+    selfcol_hierarchy_options o;
+    assert_int_equal(selfcol_hierarchy_options_init(&o, SELFCOL_HIERARCHY_OPTIONS_VERSION),
+                     SELFCOL_OK);
+    assert_int_equal(o.threads, 1); // the documented default
+    selfcol_hierarchy *h = NULL;
+    o.threads = 0;
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_EINVAL);
+    assert_null(h);
+    o.threads = SELFCOL_MAX_THREADS + 1;
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_EINVAL);
+    assert_null(h);
+    // Threads beyond the mesh's share (one per 4,096 triangles): accepted,
+    // and the queries after its refits find what those of one thread do.
+    o.threads = SELFCOL_MAX_THREADS;
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_OK);
+    selfcol_hierarchy *one = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&one, m, NULL), SELFCOL_OK);
+    fixture next;
+    assert_int_equal(fixture_crumpled(&next, 64, 64, 2, 3.5), 0);
+    assert_int_equal(selfcol_mesh_set_positions(m, next.positions, next.vertex_count), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_refit(one), SELFCOL_OK);
+    selfcol_contacts *a = NULL, *b = NULL;
+    assert_int_equal(selfcol_contacts_create(&a, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&b, NULL), SELFCOL_OK);
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.distance = 0.1 * selfcol_mesh_mean_edge_length(m);
+    assert_int_equal(selfcol_hierarchy_self_collide(h, a, &q), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_self_collide(one, b, &q), SELFCOL_OK);
+    const selfcol_contact *xa = NULL, *xb = NULL;
+    size_t na = 0, nb = 0;
+    assert_int_equal(selfcol_contacts_data(a, &xa, &na), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_data(b, &xb, &nb), SELFCOL_OK);
+    assert_true(na > 0);
+    assert_int_equal(na, nb);
+    assert_memory_equal(xa, xb, na * sizeof *xa);
+    selfcol_contacts_destroy(a);
+    selfcol_contacts_destroy(b);
+    selfcol_hierarchy_destroy(one);
+    selfcol_hierarchy_destroy(h);
+    // A version-1 caller's struct ends before `threads`: init of version 1
+    // does not write it, and create does not read it (one thread).
+    struct {
+        selfcol_hierarchy_options v1;
+    } old;
+    memset(&old, 0, sizeof old);
+    old.v1.threads = 77;
+    assert_int_equal(selfcol_hierarchy_options_init(&old.v1, 1), SELFCOL_OK);
+    assert_int_equal(old.v1.threads, 77);
+    h = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &old.v1), SELFCOL_OK);
+    selfcol_hierarchy_destroy(h);
+    old.v1.version = SELFCOL_HIERARCHY_OPTIONS_VERSION + 1;
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &old.v1), SELFCOL_EVERSION);
+    selfcol_mesh_destroy(m);
+    fixture_free(&next);
+    fixture_free(&s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_give_the_records_and_counters_of_one_thread),
@@ -559,6 +632,7 @@ int main(void) {
         cmocka_unit_test(test_threads_sweep_gives_the_hits_of_one_thread),
         cmocka_unit_test(test_threads_store_updates_give_the_store_of_one_thread),
         cmocka_unit_test(test_threads_store_option_bounds_and_old_structs),
+        cmocka_unit_test(test_threads_hierarchy_option_bounds_and_old_structs),
     };
     return cmocka_run_group_tests_name("threads", tests, NULL, NULL);
 }

@@ -24,9 +24,18 @@ typedef struct selfcol_hierarchy selfcol_hierarchy;
 typedef struct selfcol_hierarchy_options {
     unsigned int version;        /**< SELFCOL_HIERARCHY_OPTIONS_VERSION */
     selfcol_allocator allocator; /**< all-zero: malloc/free */
+    /* Version 2 */
+    /** Threads a refit may use (selfcol_hierarchy_refit(), and the refit
+     *  that ends selfcol_hierarchy_create()), 1 to SELFCOL_MAX_THREADS;
+     *  default 1. The boxes, masks and cones are identical for every count.
+     *  With more than one, the refit starts and joins its threads itself
+     *  (never more than one per 4096 triangles); the build stays on the
+     *  calling thread. A version 1 struct is read as 1. Queries take their
+     *  own count (selfcol_query_options.threads). */
+    unsigned int threads;
 } selfcol_hierarchy_options;
 
-#define SELFCOL_HIERARCHY_OPTIONS_VERSION 1
+#define SELFCOL_HIERARCHY_OPTIONS_VERSION 2
 
 /**
  * Writes the defaults into opts.
@@ -58,9 +67,9 @@ SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
  *            reading out of its arrays or answering from stale boxes.
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out or mesh, a half-set
- *         allocator); SELFCOL_EVERSION; SELFCOL_ENOMEM; SELFCOL_ERANGE (more
- *         than (2^32 - 2) / 6 = 715827882 triangles: the build's adjacency
- *         offsets are 32-bit).
+ *         allocator, threads outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION; SELFCOL_ENOMEM;
+ * SELFCOL_ERANGE (more than (2^32 - 2) / 6 = 715827882 triangles: the build's adjacency offsets are
+ * 32-bit).
  */
 SELFCOL_API int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
                                          const selfcol_hierarchy_options *opts);
@@ -78,7 +87,8 @@ SELFCOL_API const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *
 /**
  * Recomputes the bounding boxes, direction masks and normal cones from the
  * mesh's current positions (after selfcol_mesh_set_positions()). O(n), no
- * allocation. Queries with a hierarchy method (BVH, SEED, CONE, EXACT) on a
+ * allocation. On the threads of selfcol_hierarchy_options.threads, with
+ * the same result for every count. Queries with a hierarchy method (BVH, SEED, CONE, EXACT) on a
  * hierarchy whose mesh moved since the last refit return SELFCOL_ESTALE.
  * @param[in,out] hierarchy the hierarchy
  * @return SELFCOL_OK; SELFCOL_EINVAL for NULL; SELFCOL_EMISMATCH (the mesh

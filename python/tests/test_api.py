@@ -149,6 +149,31 @@ def test_kinds_and_threads():
     assert np.array_equal(t.records, full.records)
 
 
+def test_hierarchy_refit_threads_find_the_same_contacts():
+    # Two wavy 70 x 70 sheets 0.001 apart in one mesh (19,600 triangles:
+    # up to four refit workers, one per 4096 triangles).
+    def layers(k):
+        V, F = grid(70, 70, lambda u, v: (u, v, 0.05 * np.sin(9 * u + k) * np.cos(7 * v)))
+        return np.concatenate([V, V + [0, 0, 0.001]]), np.concatenate([F, F + len(V)])
+    mesh = selfcol.Mesh(*layers(0))
+    one, two = selfcol.Hierarchy(mesh), selfcol.Hierarchy(mesh, threads=2)
+    folded_sheet = selfcol.Mesh(*folded())
+    for k in range(3):
+        mesh.set_positions(layers(0.5 * k)[0])
+        one.refit()
+        two.refit()
+        a, b = one.self_collide(), two.self_collide()
+        assert len(a) > 0
+        assert np.array_equal(a.records, b.records)
+    for bad in (0, -1, 1.5, True):
+        try:
+            selfcol.Hierarchy(folded_sheet, threads=bad)
+        except selfcol.InvalidArgument:
+            pass
+        else:
+            raise AssertionError("threads=%r accepted" % (bad,))
+
+
 def test_frames_with_handles():
     V, F = folded()
     mesh = selfcol.Mesh(V, F)

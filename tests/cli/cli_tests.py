@@ -1549,7 +1549,7 @@ def test_threads_usage():
             check(status == 0 and err == '', '%s --threads %s: exit %d, %r' % (cmd, good, status,
                                                                                err))
         _, out, _ = run(cmd, '--help', expect=0)
-        check(re.search(r'--threads N +threads per query( and store update)?, 1 to %d '
+        check(re.search(r'--threads N +threads per query(, refit and store update| and refit), 1 to %d '
                         r'\(default 1\)' % limit, out),
               '%s --help does not describe --threads' % cmd)
         check('There is no --threads' not in out, '%s --help still says there is no --threads'

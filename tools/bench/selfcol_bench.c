@@ -678,6 +678,9 @@ static timing time_refit(selfcol_hierarchy *h, unsigned reps) {
     return summarize(refit_t, reps);
 }
 
+// Cases from this size on get two-thread rows.
+#define TWO_THREAD_ROWS_MIN_TRIANGLES 20000
+
 // What the rows of one case share.
 typedef struct case_run {
     const bench_case *bc;
@@ -689,7 +692,8 @@ typedef struct case_run {
     double build_s;
     size_t hier_bytes;
     timing refit;
-    bench_bullet *bb; /* NULL: no Bullet rows */
+    timing refit_two_threads; /* of a hierarchy with threads = 2 (two-thread rows) */
+    bench_bullet *bb;         /* NULL: no Bullet rows */
     double bullet_build_s;
     size_t bullet_bytes;
 } case_run;
@@ -752,7 +756,7 @@ static int method_row(case_run *run, const method_spec *m, keyset *ref, const ch
     r.method = vf_only ? "EXACT-VF" : method_name(m->method);
     r.narrow = m->narrow == SELFCOL_NARROW_LIBCCD ? "libccd" : "closed-form";
     r.reference = *ref_name;
-    r.refit = run->refit;
+    r.refit = m->threads == 2 ? run->refit_two_threads : run->refit;
     r.build_ms = 1e3 * run->build_s;
     r.struct_bytes = m->method == SELFCOL_METHOD_EXHAUSTIVE ? 0 : run->hier_bytes;
     // The reference is sorted by kind, VF first: its VF set is a prefix.
@@ -787,9 +791,10 @@ static int rows_at_distance(case_run *run, double factor) {
     // does (it has no edge-edge test and reports no crossing), so that the
     // two compare like for like; it is held to the reference's VF set alone.
     // EXACT on two threads too, from 20k triangles (below, a query takes a
-    // few milliseconds and one thread is the setting that matters).
+    // few milliseconds and one thread is the setting that matters); its
+    // refit is that of a hierarchy refitting on two threads.
     const int exhaustive = triangles <= run->lim.exhaustive;
-    const int two_threads = triangles >= 20000;
+    const int two_threads = triangles >= TWO_THREAD_ROWS_MIN_TRIANGLES;
     const method_spec methods[] = {
         {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, exhaustive},
         {SELFCOL_METHOD_EXACT, SELFCOL_NARROW_CLOSED_FORM, SELFCOL_KIND_ALL, 1, 1},
@@ -851,12 +856,28 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     }
     run.hier_bytes = selfcol_hierarchy_byte_count(run.h);
     int status = 0;
+    // The two-thread rows' refit: the same tree (built at the same
+    // positions) refit on two threads.
+    selfcol_hierarchy *two = NULL;
+    if (run.cx.triangles >= TWO_THREAD_ROWS_MIN_TRIANGLES) {
+        selfcol_hierarchy_options ho;
+        selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+        ho.threads = 2;
+        if (selfcol_hierarchy_create(&two, mesh, &ho) != SELFCOL_OK) {
+            fprintf(stderr, "selfcol-bench: %s: hierarchy on two threads failed\n", bc->name);
+            status = 1;
+        }
+    }
     if (refit_case && selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count) != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
         status = 1;
     }
     fixture_free(&prev);
     run.refit = time_refit(run.h, run.lim.reps);
+    if (two != NULL) {
+        run.refit_two_threads = time_refit(two, run.lim.reps);
+        selfcol_hierarchy_destroy(two);
+    }
 #ifdef SELFCOL_BENCH_BULLET
     make_bullet_body(&run, &s, mesh);
 #endif

@@ -52,7 +52,8 @@ static const char check_help[] =
     "  --view AZ,EL        view angles in degrees for --png (default 35,25; y is up)\n"
     "  --size WxH          picture size in pixels, 16 to 4096 each (default 1024x768)\n"
     "  --fail-on WHAT      interference (default) or proximity: what makes exit status 1\n"
-    "  --threads N         threads per query, 1 to " CLI_MAX_THREADS_TEXT " (default 1);\n"
+    "  --threads N         threads per query and refit, 1 to " CLI_MAX_THREADS_TEXT
+    " (default 1);\n"
     "                      the contacts, counts and outputs do not depend on N,\n"
     "                      only the times do\n"
     "  --no-weld           keep vertices as the file has them (no welding)\n"
@@ -117,7 +118,7 @@ static const char track_help[] =
     "  --remnance N        updates a contact stays after it was last detected\n"
     "                      (default 4; 0: none)\n"
     "  --no-consistency    track sides only, no region vote\n"
-    "  --threads N         threads per query and store update, 1 to " CLI_MAX_THREADS_TEXT
+    "  --threads N         threads per query, refit and store update, 1 to " CLI_MAX_THREADS_TEXT
     " (default 1);\n"
     "                      the contacts, counters and outputs do not depend on N,\n"
     "                      only the times do\n"

@@ -444,7 +444,7 @@ static int load_parts(check_state *st, check_inputs *in, cli_error *err) {
     }
     st->info.seconds_load = cli_now() - t0;
     for (int i = 0; i < in->count; ++i)
-        if (cli_part_create(parts[i], o->no_weld, 1, &st->info.seconds_topology,
+        if (cli_part_create(parts[i], o->no_weld, 1, o->threads, &st->info.seconds_topology,
                             &st->info.seconds_hierarchy, err) != 0)
             return -1;
     parts[1]->vertex_offset = (uint32_t)parts[0]->file.vertex_count;

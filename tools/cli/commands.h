@@ -94,11 +94,11 @@ void cli_part_free(cli_part *part);
 
 /**
  * Welds part->file (unless no_weld) and creates its library mesh and, when
- * build_hierarchy, its hierarchy; adds the time taken to the two counters.
- * Returns 0, or -1 with err set.
+ * build_hierarchy, its hierarchy (refit on `threads`); adds the time taken
+ * to the two counters. Returns 0, or -1 with err set.
  */
-int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *seconds_topology,
-                    double *seconds_hierarchy, cli_error *err);
+int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, unsigned threads,
+                    double *seconds_topology, double *seconds_hierarchy, cli_error *err);
 
 /**
  * Reads a later frame of a sequence into part: same vertex count and file

@@ -20,8 +20,8 @@ void cli_part_free(cli_part *part) {
 // Welds (unless no_weld) and creates the library mesh: its vertices are the
 // file's vertices (duplicates stay, unreferenced), so library indices are
 // file indices and each welded group is named by its lowest file index.
-int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *seconds_topology,
-                    double *seconds_hierarchy, cli_error *err) {
+int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, unsigned threads,
+                    double *seconds_topology, double *seconds_hierarchy, cli_error *err) {
     size_t nv = part->file.vertex_count, nt = part->file.triangle_count;
     part->welded_triangles = malloc(3 * nt * sizeof(uint32_t) + 1);
     uint32_t *representative = malloc(nv * sizeof(uint32_t) + 1);
@@ -48,8 +48,12 @@ int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, double *se
                                  NULL);
     double mid = cli_now();
     *seconds_topology += mid - start;
-    if (rc == SELFCOL_OK && build_hierarchy)
-        rc = selfcol_hierarchy_create(&part->hierarchy, part->mesh, NULL);
+    if (rc == SELFCOL_OK && build_hierarchy) {
+        selfcol_hierarchy_options ho;
+        selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+        ho.threads = threads;
+        rc = selfcol_hierarchy_create(&part->hierarchy, part->mesh, &ho);
+    }
     *seconds_hierarchy += cli_now() - mid;
     if (rc != SELFCOL_OK)
         return cli_fail(err, "%s: %s", part->path, selfcol_status_string(rc));

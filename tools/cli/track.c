@@ -217,7 +217,8 @@ int cli_command_track(const cli_options *o) {
     if (cli_read_mesh(part.path, &part.file, &err, &progress) != 0)
         goto done;
     double seconds_topology = 0.0, seconds_hierarchy = 0.0;
-    if (cli_part_create(&part, o->no_weld, 1, &seconds_topology, &seconds_hierarchy, &err) != 0)
+    if (cli_part_create(&part, o->no_weld, 1, o->threads, &seconds_topology, &seconds_hierarchy,
+                        &err) != 0)
         goto done;
 
     rc = selfcol_contacts_create(&st.contacts, NULL);

@@ -1,0 +1,174 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Refits on several threads (selfcol_hierarchy_options.threads): every node's
+// box, mask, cone and altitude bound must be those of a one-thread refit,
+// byte for byte, frame after frame (and every box must hold its triangles:
+// the validator); the plan must really share the tree (so the
+// comparison is not one thread against itself), stay off small meshes, and
+// fail cleanly when it cannot allocate. Run under ThreadSanitizer in CI.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <string.h>
+
+#include "fixtures.h"
+#include "hierarchy.h"
+#include "mesh.h"
+#include "test_alloc.h"
+
+static selfcol_hierarchy *create(const selfcol_mesh *m, unsigned threads) {
+    selfcol_hierarchy_options o;
+    assert_int_equal(selfcol_hierarchy_options_init(&o, SELFCOL_HIERARCHY_OPTIONS_VERSION),
+                     SELFCOL_OK);
+    o.threads = threads;
+    selfcol_hierarchy *h = NULL;
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_OK);
+    return h;
+}
+
+static void assert_same_nodes(const selfcol_hierarchy *a, const selfcol_hierarchy *b) {
+    assert_int_equal(a->node_count, b->node_count);
+    assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof(selfcol_node));
+    assert_memory_equal(a->min_altitude, b->min_altitude, a->node_count * sizeof(float));
+}
+
+// A 128 x 128 crumpled sheet (32,768 triangles: 8 workers of 4,096) and, in
+// the same mesh, a few small sheets of other sizes, so that subtrees differ
+// in size and the cap holds whole small components (leaves among them).
+static void sheet_with_islands(fixture *s, double amplitude) {
+    assert_int_equal(fixture_crumpled(s, 128, 128, 3, amplitude), 0);
+    const unsigned sizes[3] = {3, 9, 30};
+    for (int i = 0; i < 3; ++i) {
+        fixture island;
+        assert_int_equal(fixture_crumpled(&island, sizes[i], sizes[i] + 1, 5 + i, amplitude), 0);
+        const double offset[3] = {140.0 + 40.0 * i, 0.0, 0.0};
+        fixture_translate(&island, offset);
+        assert_int_equal(fixture_append(s, &island), 0);
+        fixture_free(&island);
+    }
+}
+
+static void test_refit_threads_give_the_nodes_of_one_thread(void **state) {
+    (void)state;
+    fixture s;
+    sheet_with_islands(&s, 3.0);
+    selfcol_mesh *m = NULL;
+    assert_int_equal(
+        selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
+        SELFCOL_OK);
+    enum { COUNTS = 4 };
+    const unsigned threads[COUNTS] = {1, 2, 3, 8};
+    selfcol_hierarchy *h[COUNTS];
+    for (int i = 0; i < COUNTS; ++i)
+        h[i] = create(m, threads[i]);
+    // The plan shares the tree: one task list, several workers, most nodes
+    // below the cap.
+    assert_int_equal(h[0]->refit_workers, 1);
+    assert_int_equal(h[0]->subtree_count, 0);
+    for (int i = 1; i < COUNTS; ++i) {
+        assert_int_equal(h[i]->refit_workers, threads[i]);
+        assert_true(h[i]->subtree_count >= 8 * threads[i]);
+        assert_true(h[i]->cap < h[i]->node_count / 8);
+        assert_true(selfcol_hierarchy_byte_count(h[i]) > selfcol_hierarchy_byte_count(h[0]));
+        assert_true(selfcol_hierarchy_byte_count(h[i]) < 64 * s.triangle_count);
+        // Every node below the cap belongs to exactly one task.
+        size_t covered = 0;
+        for (uint32_t l = 0; l < h[i]->subtree_level_offset[h[i]->subtree_count]; ++l)
+            covered += h[i]->subtree_level[2 * l + 1] - h[i]->subtree_level[2 * l];
+        assert_int_equal(covered + h[i]->cap, h[i]->node_count);
+    }
+    for (int i = 1; i < COUNTS; ++i)
+        assert_same_nodes(h[0], h[i]); // the refit that ends creation
+    // Frames: the crumple deepens, then a large jump (the sheet flattened).
+    const double amplitudes[5] = {3.2, 3.6, 4.4, 5.0, 0.5};
+    for (int f = 0; f < 5; ++f) {
+        fixture next;
+        sheet_with_islands(&next, amplitudes[f]);
+        assert_int_equal(next.vertex_count, s.vertex_count);
+        assert_int_equal(selfcol_mesh_set_positions(m, next.positions, next.vertex_count),
+                         SELFCOL_OK);
+        for (int i = 0; i < COUNTS; ++i) {
+            assert_int_equal(selfcol_hierarchy_refit(h[i]), SELFCOL_OK);
+            assert_int_equal(selfcol_hierarchy__validate(h[i], 1), 1);
+        }
+        for (int i = 1; i < COUNTS; ++i)
+            assert_same_nodes(h[0], h[i]);
+        fixture_free(&next);
+    }
+    for (int i = 0; i < COUNTS; ++i)
+        selfcol_hierarchy_destroy(h[i]);
+    selfcol_mesh_destroy(m);
+    fixture_free(&s);
+}
+
+static void test_refit_plan_bounds_and_allocation_failure(void **state) {
+    (void)state;
+    // Fewer than 2 x 4,096 triangles: no plan, whatever the threads.
+    fixture small;
+    assert_int_equal(fixture_crumpled(&small, 60, 60, 1, 2.0), 0); // 7,200 triangles
+    selfcol_mesh *m = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, small.vertex_count, small.positions,
+                                         small.triangle_count, small.triangles, NULL),
+                     SELFCOL_OK);
+    selfcol_hierarchy *h = create(m, SELFCOL_MAX_THREADS);
+    assert_int_equal(h->refit_workers, 1);
+    assert_null(h->subtree_root);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(m);
+    fixture_free(&small);
+
+    // 8,192 triangles: two workers at most, whatever the threads asked.
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 64, 64, 1, 2.0), 0);
+    assert_int_equal(s.triangle_count, 8192);
+    assert_int_equal(
+        selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
+        SELFCOL_OK);
+    h = create(m, SELFCOL_MAX_THREADS);
+    assert_int_equal(h->refit_workers, 2);
+    selfcol_hierarchy *one = create(m, 1);
+    assert_same_nodes(one, h);
+    selfcol_hierarchy_destroy(one);
+    selfcol_hierarchy_destroy(h);
+
+    // Every allocation of a planned creation may fail: SELFCOL_ENOMEM and
+    // nothing left allocated, until one succeeds with the plan made.
+    int succeeded = 0;
+    for (long fail_at = 1; fail_at < 200 && !succeeded; ++fail_at) {
+        test_allocator_state st = {0};
+        st.fail_at = fail_at;
+        selfcol_hierarchy_options o;
+        selfcol_hierarchy_options_init(&o, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+        o.allocator = test_allocator(&st);
+        o.threads = 2;
+        h = NULL;
+        int status = selfcol_hierarchy_create(&h, m, &o);
+        if (status == SELFCOL_OK) {
+            succeeded = 1;
+            assert_int_equal(h->refit_workers, 2);
+            assert_true(st.calls < fail_at); // no failed allocation was skipped
+            selfcol_hierarchy_destroy(h);
+        } else {
+            assert_int_equal(status, SELFCOL_ENOMEM);
+            assert_null(h);
+        }
+        assert_int_equal(st.live, 0);
+        assert_int_equal(st.misaligned, 0);
+    }
+    assert_true(succeeded);
+    selfcol_mesh_destroy(m);
+    fixture_free(&s);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_refit_threads_give_the_nodes_of_one_thread),
+        cmocka_unit_test(test_refit_plan_bounds_and_allocation_failure),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
