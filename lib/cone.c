@@ -8,7 +8,8 @@
 void selfcol_cone__turn_axis(double out[3], const double u[3], const double v[3], double phi,
                              double turn) {
     double t = turn / phi;
-    double s0 = sin((1.0 - t) * phi) / sin(phi), s1 = sin(t * phi) / sin(phi);
+    double sin_phi = sin(phi); // once: libm calls are not merged (errno)
+    double s0 = sin((1.0 - t) * phi) / sin_phi, s1 = sin(t * phi) / sin_phi;
     double len = 0.0;
     for (int k = 0; k < 3; ++k) {
         out[k] = s0 * u[k] + s1 * v[k];

@@ -28,27 +28,47 @@
 #include "parallel.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 const double selfcol_hierarchy__directions[SELFCOL_DIRECTIONS][3] = {
     {1, 1, 1},    {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1},
     {-1, -1, -1}, {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1}};
 
-// |selfcol_hierarchy__directions[j]|: sqrt(3) for the 8 diagonals, 1 for the
-// 6 axes.
+// |selfcol_hierarchy__directions[j]| of the 8 diagonals (the 6 axes: 1).
 #define SQRT3 1.7320508075688772
-static const double direction_length[SELFCOL_DIRECTIONS] = {
-    SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, SQRT3, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+
+// The next float toward -infinity (+infinity) of a finite f: what
+// nextafterf(f, -INFINITY) gives, without a libm call per box bound (six per
+// node at every refit). Finite floats are ordered like their magnitudes'
+// bit patterns, so one step is one unit of the pattern away from zero or
+// toward it; from +-0 the step is the smallest subnormal of the other sign.
+static float float_below(float f) {
+    uint32_t bits;
+    memcpy(&bits, &f, sizeof bits);
+    if ((bits & 0x7fffffffu) == 0)
+        bits = 0x80000001u; // -smallest subnormal
+    else
+        bits = (bits & 0x80000000u) ? bits + 1u : bits - 1u;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+static float float_above(float f) {
+    return -float_below(-f);
+}
 
 // Outward rounding of a double bound to float, so float boxes stay
-// conservative.
+// conservative. x is finite and inside the float range (mesh coordinates
+// are bounded by SELFCOL_MESH_MAX_COORDINATE).
 static float round_down(double x) {
     float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+    return (double)f > x ? float_below(f) : f;
 }
 
 static float round_up(double x) {
     float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
+    return (double)f < x ? float_above(f) : f;
 }
 
 static void store_cone(selfcol_node *n, const selfcol_cone *c) {
@@ -137,6 +157,24 @@ static selfcol_cone leaf_cone(const double (*n)[3], size_t count, double slack) 
     return c;
 }
 
+// Bit j set when nrm . selfcol_hierarchy__directions[j] exceeds the margin
+// 1e-9 |nrm| |direction j|. The directions' components are -1, 0 or 1, so
+// each dot product is a signed sum of the normal's components: (+-n0 +- n1)
+// +- n2 rounds exactly as the three products summed left to right would
+// (products by +-1 and 0 are exact, negation commutes with rounding), and
+// four sums give the eight diagonals, the opposite ones by sign.
+static uint16_t direction_bits(const double nrm[3], double len) {
+    const double diagonal = 1e-9 * len * SQRT3, axis = 1e-9 * len * 1.0;
+    const double p = nrm[0] + nrm[1], q = nrm[0] - nrm[1];
+    const double a = p + nrm[2], b = p - nrm[2], c = q + nrm[2], d = q - nrm[2];
+    // Bits in the order of selfcol_hierarchy__directions.
+    return (uint16_t)((a > diagonal) << 0 | (b > diagonal) << 1 | (c > diagonal) << 2 |
+                      (d > diagonal) << 3 | (-d > diagonal) << 4 | (-c > diagonal) << 5 |
+                      (-b > diagonal) << 6 | (-a > diagonal) << 7 | (nrm[0] > axis) << 8 |
+                      (-nrm[0] > axis) << 9 | (nrm[1] > axis) << 10 | (-nrm[1] > axis) << 11 |
+                      (nrm[2] > axis) << 12 | (-nrm[2] > axis) << 13);
+}
+
 static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altitude_out) {
     const selfcol_mesh *m = h->mesh;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -172,26 +210,19 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
         double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
         uint16_t bits = 0;
         if (len > 0.0) {
-            for (int j = 0; j < SELFCOL_DIRECTIONS; ++j) {
-                const double *d = selfcol_hierarchy__directions[j];
-                if (nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] >
-                    1e-9 * len * direction_length[j])
-                    bits |= (uint16_t)(1u << j);
-            }
+            bits = direction_bits(nrm, len);
             // The exact normal is within err of the computed one: inside the
             // cone of selfcol_cone__of_normal.
             selfcol_cone one = selfcol_cone__of_normal(nrm, len, err);
             // Smallest altitude = twice the area over the longest side, with
             // the area bounded below through the same error bound.
-            double l2 = 0.0;
-            for (int i = 0; i < 3; ++i) {
-                double e2 = 0.0;
-                for (int k = 0; k < 3; ++k) {
-                    double x = p[(i + 1) % 3][k] - p[i][k];
-                    e2 += x * x;
-                }
-                l2 = e2 > l2 ? e2 : l2;
-            }
+            // Sides p1 - p0 = u, p2 - p1 and p0 - p2 = -v.
+            double w[3] = {p[2][0] - p[1][0], p[2][1] - p[1][1], p[2][2] - p[1][2]};
+            double l2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+            double e2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+            l2 = e2 > l2 ? e2 : l2;
+            e2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            l2 = e2 > l2 ? e2 : l2;
             double altitude = (len - err) / (sqrt(l2) * (1.0 + 1e-12)) * (1.0 - 1e-12);
             min_altitude = altitude < min_altitude ? altitude : min_altitude;
             if (one.angle >= SELFCOL_NO_CONE)
