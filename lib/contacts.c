@@ -5,6 +5,7 @@
 
 #include "alloc.h"
 #include "core.h"
+#include "parallel.h"
 
 #include <stddef.h>
 #include <string.h>
@@ -187,16 +188,111 @@ static uint32_t digit_of(const sort_item *it, int pass) {
     return (uint32_t)(key >> shift) & (RADIX_SIZE - 1u);
 }
 
-int selfcol_contacts__sort(selfcol_contacts *c) {
+// On threads (the query's count), the keys are built, counted and
+// scattered in chunks of the array: each chunk keeps its own bucket counts,
+// and a bucket's slots are laid out chunk by chunk, so every item lands
+// where the one-chunk sort puts it (an LSD radix sort is stable), whatever
+// the number of chunks. A pass's histogram over the whole array does not
+// depend on the order, so the build's counts decide which passes to skip;
+// a chunk's counts do, so each chunk counts again before every pass but the
+// first it makes. Chunks are tasks handed out by a counter (a worker that
+// could not be started leaves its chunks to the others).
+
+// Items per chunk at least: below that, starting threads (twice per pass)
+// costs about what the chunk's share of the sort does.
+#define SORT_MIN_CHUNK 65536u
+
+enum { SORT_BUILD, SORT_COUNT, SORT_SCATTER, SORT_PERMUTE };
+
+typedef struct sort_job {
+    selfcol_contacts *c;
+    sort_item *items, *other;
+    size_t *count; // count[(chunk * RADIX_PASSES + pass) * RADIX_SIZE + digit]
+    size_t n;
+    unsigned chunks;
+    int stage, pass;
+    uint32_t next_chunk; // atomic task counter
+} sort_job;
+
+static size_t *chunk_counts(const sort_job *job, unsigned chunk, int pass) {
+    return job->count + ((size_t)chunk * RADIX_PASSES + (size_t)pass) * RADIX_SIZE;
+}
+
+static void sort_chunk(sort_job *job, unsigned chunk) {
+    // Chunk k: n / chunks items, one more for the first n % chunks chunks.
+    const size_t share = job->n / job->chunks, extra = job->n % job->chunks;
+    const size_t begin = share * chunk + (chunk < extra ? chunk : extra);
+    const size_t end = begin + share + (chunk < extra);
+    sort_item *items = job->items;
+    switch (job->stage) {
+    case SORT_BUILD: {
+        size_t *count = chunk_counts(job, chunk, 0);
+        memset(count, 0, RADIX_PASSES * RADIX_SIZE * sizeof *count);
+        for (size_t i = begin; i < end; ++i) {
+            const selfcol_contact *r = &job->c->items[i];
+            sort_item *it = &items[i];
+            it->hi = ((uint64_t)(r->kind * 2u + r->first_mesh) << 32) | r->first;
+            it->lo = ((uint64_t)r->second_mesh << 32) | r->second;
+            it->index = i;
+            for (int pass = 0; pass < RADIX_PASSES; ++pass)
+                count[pass * RADIX_SIZE + digit_of(it, pass)]++;
+        }
+        break;
+    }
+    case SORT_COUNT: {
+        size_t *count = chunk_counts(job, chunk, job->pass);
+        memset(count, 0, RADIX_SIZE * sizeof *count);
+        for (size_t i = begin; i < end; ++i)
+            count[digit_of(&items[i], job->pass)]++;
+        break;
+    }
+    case SORT_SCATTER: {
+        size_t *slot = chunk_counts(job, chunk, job->pass); // offsets by now
+        for (size_t i = begin; i < end; ++i)
+            job->other[slot[digit_of(&items[i], job->pass)]++] = items[i];
+        break;
+    }
+    default: // SORT_PERMUTE
+        for (size_t i = begin; i < end; ++i)
+            job->c->spare[i] = job->c->items[items[i].index];
+        break;
+    }
+}
+
+static int sort_worker(void *context, unsigned worker) {
+    (void)worker;
+    sort_job *job = context;
+    for (;;) {
+        uint32_t chunk = SELFCOL_ATOMIC_FETCH_ADD(&job->next_chunk, 1u);
+        if (chunk >= job->chunks)
+            return SELFCOL_OK;
+        sort_chunk(job, chunk);
+    }
+}
+
+static void sort_stage(sort_job *job, int stage, int pass) {
+    job->stage = stage;
+    job->pass = pass;
+    job->next_chunk = 0;
+    if (job->chunks == 1)
+        sort_chunk(job, 0);
+    else
+        (void)selfcol_parallel__run(job->chunks, sort_worker, job);
+}
+
+int selfcol_contacts__sort(selfcol_contacts *c, unsigned threads) {
     size_t n = c->count;
     size_t i = 1;
     while (i < n && !contact_less(&c->items[i], &c->items[i - 1]))
         ++i;
     if (i >= n)
         return SELFCOL_OK; // already sorted (the exhaustive search emits in order)
-    if (n > (SIZE_MAX - RADIX_PASSES * RADIX_SIZE * sizeof(size_t)) / (2 * sizeof(sort_item)))
+    const size_t most = n / SORT_MIN_CHUNK;
+    const unsigned chunks = most < 2 ? 1u : threads < most ? threads : (unsigned)most;
+    const size_t count_bytes = (size_t)chunks * RADIX_PASSES * RADIX_SIZE * sizeof(size_t);
+    if (n > (SIZE_MAX - count_bytes) / (2 * sizeof(sort_item)))
         return SELFCOL_ENOMEM;
-    size_t bytes = 2 * n * sizeof(sort_item) + RADIX_PASSES * RADIX_SIZE * sizeof(size_t);
+    size_t bytes = 2 * n * sizeof(sort_item) + count_bytes;
     sort_item *items = selfcol_workspace__buffer(&c->work, SELFCOL_SCRATCH_SORT, bytes, 0);
     if (items == NULL)
         return SELFCOL_ENOMEM;
@@ -208,36 +304,36 @@ int selfcol_contacts__sort(selfcol_contacts *c) {
         c->spare = spare;
         c->spare_capacity = c->capacity;
     }
-    sort_item *other = items + n;
-    size_t *count = (size_t *)(other + n);
-    memset(count, 0, RADIX_PASSES * RADIX_SIZE * sizeof *count);
-    for (i = 0; i < n; ++i) {
-        const selfcol_contact *r = &c->items[i];
-        sort_item *it = &items[i];
-        it->hi = ((uint64_t)(r->kind * 2u + r->first_mesh) << 32) | r->first;
-        it->lo = ((uint64_t)r->second_mesh << 32) | r->second;
-        it->index = i;
-        for (int pass = 0; pass < RADIX_PASSES; ++pass)
-            count[pass * RADIX_SIZE + digit_of(it, pass)]++;
-    }
+    sort_job job = {c, items, items + n, (size_t *)(items + 2 * n), n, chunks, 0, 0, 0};
+    sort_stage(&job, SORT_BUILD, 0);
+    int scattered = 0;
     for (int pass = 0; pass < RADIX_PASSES; ++pass) {
-        size_t *bucket = count + pass * RADIX_SIZE;
-        if (bucket[digit_of(&items[0], pass)] == n)
+        // A pass's counts are the build's until the pass itself: their sum
+        // over the chunks is the histogram of any order.
+        const uint32_t first_digit = digit_of(&job.items[0], pass);
+        size_t same = 0;
+        for (unsigned k = 0; k < chunks; ++k)
+            same += chunk_counts(&job, k, pass)[first_digit];
+        if (same == n)
             continue; // every key has this digit
+        if (scattered && chunks > 1)
+            sort_stage(&job, SORT_COUNT, pass); // each chunk's, in the current order
+        // Offsets: bucket by bucket, chunk by chunk inside a bucket.
         size_t sum = 0;
-        for (uint32_t b = 0; b < RADIX_SIZE; ++b) {
-            size_t k = bucket[b];
-            bucket[b] = sum;
-            sum += k;
-        }
-        for (i = 0; i < n; ++i)
-            other[bucket[digit_of(&items[i], pass)]++] = items[i];
-        sort_item *swap = items;
-        items = other;
-        other = swap;
+        for (uint32_t b = 0; b < RADIX_SIZE; ++b)
+            for (unsigned k = 0; k < chunks; ++k) {
+                size_t *slot = &chunk_counts(&job, k, pass)[b];
+                size_t here = *slot;
+                *slot = sum;
+                sum += here;
+            }
+        sort_stage(&job, SORT_SCATTER, pass);
+        sort_item *swap = job.items;
+        job.items = job.other;
+        job.other = swap;
+        scattered = 1;
     }
-    for (i = 0; i < n; ++i)
-        c->spare[i] = c->items[items[i].index];
+    sort_stage(&job, SORT_PERMUTE, 0);
     selfcol_contact *swap = c->items;
     c->items = c->spare;
     c->spare = swap;

@@ -27,9 +27,10 @@ int selfcol_contacts__push(selfcol_contacts *contacts, const selfcol_contact *co
 
 // Sorts the records by (kind, first_mesh, first, second_mesh, second): an LSD
 // radix sort of their keys, then one permutation of the records. O(n); no
-// allocation once the spare buffer has grown. SELFCOL_OK or SELFCOL_ENOMEM
-// (the records are then left unsorted).
-int selfcol_contacts__sort(selfcol_contacts *contacts);
+// allocation once the spare buffer has grown. On up to `threads` threads
+// (one per 65536 records at most), with the same order for every count.
+// SELFCOL_OK or SELFCOL_ENOMEM (the records are then left unsorted).
+int selfcol_contacts__sort(selfcol_contacts *contacts, unsigned threads);
 
 // Appends worker's records to c and adds its counters (and contour time) to
 // c's statistics. SELFCOL_OK or SELFCOL_ENOMEM (c then keeps its own records).

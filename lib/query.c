@@ -92,7 +92,7 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
                  : selfcol_traverse__run(&q, first, second, opts->method, threads);
     double sort_start = selfcol_core__seconds();
     if (status == SELFCOL_OK)
-        status = selfcol_contacts__sort(contacts);
+        status = selfcol_contacts__sort(contacts, threads);
     if (status != SELFCOL_OK) {
         selfcol_contacts_clear(contacts);
         return status;

@@ -733,7 +733,7 @@ static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2]
         status = selfcol_contacts__absorb(out, e.out[w]);
     // Chunks went to whichever worker took them: restore the record order.
     if (status == SELFCOL_OK)
-        status = selfcol_contacts__sort(out);
+        status = selfcol_contacts__sort(out, workers);
     return status;
 }
 

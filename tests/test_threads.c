@@ -10,7 +10,7 @@
 // Store updates on several threads (selfcol_store_options.threads) hold
 // the records, regions and counters of one thread. Hierarchy options with
 // refit threads are checked for bounds and old structs here (their nodes:
-// test_refit_internal).
+// test_threads_internal).
 #define _POSIX_C_SOURCE 200112L // posix_memalign
 #include <setjmp.h>
 #include <stdarg.h>
@@ -553,7 +553,7 @@ static void test_threads_store_option_bounds_and_old_structs(void **state) {
 }
 
 // selfcol_hierarchy_options.threads (the refit's threads; that their refits
-// give the nodes of one thread is test_refit_internal's): defaults, bounds,
+// give the nodes of one thread is test_threads_internal's): defaults, bounds,
 // and version 1 structs, through the public API.
 static void test_threads_hierarchy_option_bounds_and_old_structs(void **state) {
     (void)state;

@@ -1,12 +1,20 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Refits on several threads (selfcol_hierarchy_options.threads): every node's
+// Internal stages on several threads, held to their one-thread results.
+//
+// Refits (selfcol_hierarchy_options.threads): every node's
 // box, mask, cone and altitude bound must be those of a one-thread refit,
 // byte for byte, frame after frame (and every box must hold its triangles:
 // the validator); the plan must really share the tree (so the
 // comparison is not one thread against itself), stay off small meshes, and
-// fail cleanly when it cannot allocate. Run under ThreadSanitizer in CI.
+// fail cleanly when it cannot allocate.
+//
+// The record sort (selfcol_contacts__sort, on the query's threads): the
+// order of one thread for every count, a stable sort of the keys, records
+// with equal keys included.
+//
+// Run under ThreadSanitizer in CI.
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -16,6 +24,7 @@
 
 #include <string.h>
 
+#include "contacts.h"
 #include "fixtures.h"
 #include "hierarchy.h"
 #include "mesh.h"
@@ -165,10 +174,80 @@ static void test_refit_plan_bounds_and_allocation_failure(void **state) {
     fixture_free(&s);
 }
 
+// n records with keys drawn from small ranges (so that many repeat), their
+// push order in `distance`, fields past the key drawn too.
+static selfcol_contacts *random_records(size_t n, uint32_t seed) {
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1u;
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t draw[4];
+        for (int k = 0; k < 4; ++k) {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            draw[k] = (uint32_t)(state >> 33);
+        }
+        selfcol_contact r;
+        memset(&r, 0, sizeof r);
+        r.kind = draw[0] % 3;
+        r.first_mesh = (draw[0] >> 2) & 1u;
+        r.second_mesh = (draw[0] >> 3) & 1u;
+        // Wide enough for every digit of the sort to vary, narrow enough
+        // for keys to repeat.
+        r.first = draw[1] % 3000u * 997u;
+        r.second = draw[2] % 50u << (draw[3] % 28u);
+        r.a[0] = draw[3];
+        r.distance = (double)i;
+        assert_int_equal(selfcol_contacts__push(c, &r), SELFCOL_OK);
+    }
+    return c;
+}
+
+static int key_order(const selfcol_contact *a, const selfcol_contact *b) {
+    const uint32_t ka[5] = {a->kind, a->first_mesh, a->first, a->second_mesh, a->second};
+    const uint32_t kb[5] = {b->kind, b->first_mesh, b->first, b->second_mesh, b->second};
+    for (int i = 0; i < 5; ++i)
+        if (ka[i] != kb[i])
+            return ka[i] < kb[i] ? -1 : 1;
+    return 0;
+}
+
+static void test_sort_threads_give_the_order_of_one_thread(void **state) {
+    (void)state;
+    // 4 x 65,536 records and a few: 4 chunks at most; the sizes just below
+    // and at a chunk's bound too.
+    const size_t sizes[3] = {262147, 131072, 131071};
+    const unsigned threads[4] = {2, 3, 4, 8};
+    for (int z = 0; z < 3; ++z) {
+        selfcol_contacts *one = random_records(sizes[z], 7);
+        assert_int_equal(selfcol_contacts__sort(one, 1), SELFCOL_OK);
+        const selfcol_contact *x = NULL;
+        size_t n = 0;
+        assert_int_equal(selfcol_contacts_data(one, &x, &n), SELFCOL_OK);
+        assert_int_equal(n, sizes[z]);
+        // Sorted by key; equal keys in push order (stable).
+        for (size_t i = 1; i < n; ++i) {
+            int order = key_order(&x[i - 1], &x[i]);
+            assert_true(order < 0 || (order == 0 && x[i - 1].distance < x[i].distance));
+        }
+        for (int t = 0; t < 4; ++t) {
+            selfcol_contacts *many = random_records(sizes[z], 7);
+            assert_int_equal(selfcol_contacts__sort(many, threads[t]), SELFCOL_OK);
+            const selfcol_contact *y = NULL;
+            size_t m = 0;
+            assert_int_equal(selfcol_contacts_data(many, &y, &m), SELFCOL_OK);
+            assert_int_equal(m, n);
+            assert_memory_equal(x, y, n * sizeof *x);
+            selfcol_contacts_destroy(many);
+        }
+        selfcol_contacts_destroy(one);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_refit_threads_give_the_nodes_of_one_thread),
         cmocka_unit_test(test_refit_plan_bounds_and_allocation_failure),
+        cmocka_unit_test(test_sort_threads_give_the_order_of_one_thread),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
