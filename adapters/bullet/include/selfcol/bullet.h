@@ -116,7 +116,8 @@ typedef struct selfcol_bullet_options {
         allocator; /**< of the adapter and its selfcol handles; all-zero: malloc/free */
     /**
      * The queries (selfcol_query_options_init() defaults: kinds VF|EE|EF,
-     * method EXACT, closed-form narrow phase, threads 1). `distance` is the
+     * method EXACT, closed-form narrow phase, threads 1; the bodies'
+     * refits use the same threads). `distance` is the
      * detection distance and cloth thickness d, in world units, at most
      * SELFCOL_MESH_MAX_COORDINATE; 0 (the default here): distance_factor x
      * the mean edge length of the bodies attached at the first step, so that
