@@ -1424,7 +1424,7 @@ def same_for_every_count(args, what, files=()):
     return base[1], base[2]
 
 
-def thread_frames(name, count=3):
+def thread_frames(name, count=3, size=(64, 20)):
     """count frames of a 64x20 sheet (2560 triangles) closing into a figure
     eight; frames 1 and 2 cross. Returns (paths, pattern, meshes). Large
     enough that, at --distance 0.01, every method but exhaustive hands the
@@ -1437,7 +1437,7 @@ def thread_frames(name, count=3):
             x, y, z = fx.figure_eight(u, v)
             s = 0.5 + 0.25 * k
             return (x * s + (1 - s) * (u - 0.5), y, z * s)
-        meshes.append(fx.grid_sheet(64, 20, surface, jitter=0.002, seed=11))
+        meshes.append(fx.grid_sheet(size[0], size[1], surface, jitter=0.002, seed=11))
         paths.append(work('threads/%s_%03d.ply' % (name, k)))
         fx.write_ply(paths[-1], meshes[-1][0], meshes[-1][1], 'binary_little_endian', 'double')
     return paths, work('threads/%s_%%03d.ply' % name), meshes
@@ -1507,6 +1507,14 @@ def test_threads_identical():
         objs = [json.loads(x) for x in out.splitlines()]
         check(len(objs) == 3 and objs[-1]['interferences'] > 0 and objs[-1]['contacts'] > 0 and
               objs[-1]['query_ms'] == 0, '%s: %s' % (what, objs))
+    # 128 x 40 quads (10,240 triangles): with --threads 2 and 4 the refits
+    # run on threads too (one per 4096 triangles, lib/hierarchy_refit.c).
+    big, _, _ = thread_frames('big', count=2, size=(128, 40))
+    status, out = same_for_every_count(['track', '--distance', '0.005'] + big, 'track BIG')
+    check(status == 1 and 'worst frame' in out, 'track BIG: %d %r' % (status, out))
+    status, out = same_for_every_count(['check', '--distance', '0.005', '--json', '-',
+                                        '--frames'] + big, 'check --frames BIG')
+    check(json.loads(out.splitlines()[-1])['counts']['ef'] > 0, 'BIG: no interference')
     # --threads=N is the same option.
     _, a, _ = run('check', '--threads=4', '--json', '-', ribbon, expect=1)
     _, b, _ = run('check', '--json', '-', ribbon, expect=1)
