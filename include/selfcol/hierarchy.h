@@ -67,9 +67,9 @@ SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
  *            reading out of its arrays or answering from stale boxes.
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out or mesh, a half-set
- *         allocator, threads outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION; SELFCOL_ENOMEM;
- * SELFCOL_ERANGE (more than (2^32 - 2) / 6 = 715827882 triangles: the build's adjacency offsets are
- * 32-bit).
+ *         allocator, threads outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION;
+ *         SELFCOL_ENOMEM; SELFCOL_ERANGE (more than (2^32 - 2) / 6 = 715827882
+ *         triangles: the build's adjacency offsets are 32-bit).
  */
 SELFCOL_API int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
                                          const selfcol_hierarchy_options *opts);
@@ -88,8 +88,9 @@ SELFCOL_API const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *
  * Recomputes the bounding boxes, direction masks and normal cones from the
  * mesh's current positions (after selfcol_mesh_set_positions()). O(n), no
  * allocation. On the threads of selfcol_hierarchy_options.threads, with
- * the same result for every count. Queries with a hierarchy method (BVH, SEED, CONE, EXACT) on a
- * hierarchy whose mesh moved since the last refit return SELFCOL_ESTALE.
+ * the same result for every count. Queries with a hierarchy method (BVH,
+ * SEED, CONE, EXACT) on a hierarchy whose mesh moved since the last refit
+ * return SELFCOL_ESTALE.
  * @param[in,out] hierarchy the hierarchy
  * @return SELFCOL_OK; SELFCOL_EINVAL for NULL; SELFCOL_EMISMATCH (the mesh
  *         is not the one the hierarchy was built on: selfcol_hierarchy_create()).

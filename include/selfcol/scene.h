@@ -144,8 +144,9 @@ typedef struct selfcol_scene_options {
      * The surface queries: distance (> 0, no default: it depends on the
      * scale), kinds (default VF|EE|EF), method (default EXACT), narrow
      * phase, threads (also those of the surfaces' refits:
-     * selfcol_hierarchy_options.threads). Initialised by selfcol_scene_options_init() with
-     * SELFCOL_QUERY_OPTIONS_VERSION; read as its own version says.
+     * selfcol_hierarchy_options.threads). Initialised by
+     * selfcol_scene_options_init() with SELFCOL_QUERY_OPTIONS_VERSION; read
+     * as its own version says.
      */
     selfcol_query_options query;
     /**
