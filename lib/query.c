@@ -62,17 +62,20 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     int status = selfcol_query__options(&checked, given);
     if (status != SELFCOL_OK)
         return status;
-    const selfcol_query_options *opts = &checked;
-    const unsigned threads = opts->threads;
-
     if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||
         !selfcol_mesh__is(second->mesh, &second->mesh_identity))
         return SELFCOL_EMISMATCH;
-    if (opts->method != SELFCOL_METHOD_EXHAUSTIVE &&
+    if (checked.method != SELFCOL_METHOD_EXHAUSTIVE &&
         (first->refit_version != first->mesh->positions_version ||
          second->refit_version != second->mesh->positions_version))
         return SELFCOL_ESTALE;
+    return selfcol_query__run(first, second, contacts, &checked, NULL);
+}
 
+int selfcol_query__run(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
+                       selfcol_contacts *contacts, const selfcol_query_options *opts,
+                       const selfcol_node_filter *filter) {
+    const unsigned threads = opts->threads;
     double start = selfcol_core__seconds();
     selfcol_contacts_clear(contacts);
     selfcol_query q;
@@ -86,10 +89,11 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
     // inflation radius) are asked to 1e-7 of the detection distance.
     q.ccd_tolerance = 1e-7 * q.distance;
     q.out = contacts;
+    q.filter = filter;
 
-    status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
-                 ? selfcol_exhaustive__run(&q)
-                 : selfcol_traverse__run(&q, first, second, opts->method, threads);
+    int status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
+                     ? selfcol_exhaustive__run(&q)
+                     : selfcol_traverse__run(&q, first, second, opts->method, threads);
     double sort_start = selfcol_core__seconds();
     if (status == SELFCOL_OK)
         status = selfcol_contacts__sort(contacts, threads);

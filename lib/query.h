@@ -14,6 +14,20 @@
 #include "contacts.h"
 #include "mesh.h"
 
+// A restriction of a hierarchy traversal to some node pairs (the sequence's
+// partial rebuild, sequence.c). keep(context, a, b) says whether node pair
+// (a, b) of the two hierarchies (a == b in a self query: Self(a)) may hold a
+// triangle pair the caller wants; the traversal drops the pairs it refuses,
+// with everything under them. A refusal must hold for every pair of
+// descendants too. Dropping node pairs only drops candidate triangle pairs,
+// so the records are exactly those of the unrestricted query that come from
+// triangle pairs under kept node pairs. EXHAUSTIVE ignores the filter (its
+// records are then a superset, which such a caller must accept).
+typedef struct selfcol_node_filter {
+    int (*keep)(const void *context, uint32_t a, uint32_t b);
+    const void *context;
+} selfcol_node_filter;
+
 typedef struct selfcol_query {
     const selfcol_mesh *mesh[2]; // mesh[1] == mesh[0] for a self query
     int self;
@@ -22,6 +36,7 @@ typedef struct selfcol_query {
     uint32_t narrow;
     double ccd_tolerance; // absolute tolerance for libccd (relative to the distance)
     selfcol_contacts *out;
+    const selfcol_node_filter *filter; // NULL: every node pair
 } selfcol_query;
 
 // Reads a caller's query options (NULL: the defaults) as their version says
@@ -29,5 +44,13 @@ typedef struct selfcol_query {
 // SELFCOL_EVERSION or SELFCOL_EINVAL. Every user of query options (queries,
 // scenes, adapters through scenes) goes through it.
 int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts);
+
+// A query with options already checked by selfcol_query__options, restricted
+// by `filter` (NULL: none): what selfcol_hierarchy_self_collide (first ==
+// second) and selfcol_hierarchy_collide do after their checks. The sorted
+// records go to contacts (cleared first); on failure it is left empty.
+int selfcol_query__run(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
+                       selfcol_contacts *contacts, const selfcol_query_options *checked,
+                       const selfcol_node_filter *filter);
 
 #endif // SELFCOL_QUERY_H

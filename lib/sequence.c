@@ -38,7 +38,39 @@
 // records, and for each VF record (v, t) the edges at v, for each EE record
 // (e, f) the pairs (e, t) with t at f and (f, t') with t' at e (no shared
 // vertex for a self query, no repeated triangle).
-#include <selfcol/sequence.h>
+//
+// Partial rebuilds. When the check fails, usually only a few cluster pairs
+// fail (crumpling 20k sheet: 86 of 8,256, holding 7 % of the list), so only
+// the pairs whose spread has used PARTIAL_SHARE of what they allow are
+// queried again; the others keep their near pairs. Every cluster takes the
+// current positions x1 as its new reference, and a kept pair (I, J) keeps
+// the proof of its old reference x0 through a carry: with D0 = x - x0, D1 =
+// x - x1 and Delta = x1 - x0 = D0 - D1, for p in I and q in J
+//   |D0(p) - D0(q)| <= |D1(p) - D1(q)| + |Delta(p) - Delta(q)|,
+// so spread0(I, J) <= spread1(I, J) + carry(I, J), the carry being the
+// pair's spread at the rebuild (carries add up over several rebuilds). Each
+// cluster pair therefore keeps what it allows (`allowed`, from the gap at
+// its own reference) and its carry, and the check and the per-pair skip use
+// spread + carry. The pairs queried again get carry 0 and the allowance of
+// the new reference. A kept pair may take the new allowance too where it is
+// larger: that happens only when gap1 - d exceeds the skin, and then
+// spread1 <= spread1 + carry <= gap1 - d - margin proves by the first
+// argument, from x1 alone, that no pair of (I, J) is within d.
+// The query of a partial rebuild is the ordinary one restricted to the node
+// pairs that can hold what the re-queried pairs need (query.h's node
+// filter). A near pair belongs to the cluster pair of its primitives' owner
+// triangles: a vertex's or an edge's first triangle (tag_clusters), which is
+// also its owner in the pair tests (hierarchy_orient.c), and they generate a
+// VF or EE record from the triangle pair of its primitives' owners, an EF
+// record from the edge's owner and the triangle. A pair (P, Q) owned by
+// (I, J) is so found from a triangle pair in I x J. An EF candidate (e, t)
+// owned by (I, J) comes from the records (v, t) of e's ends, (e, f) of t's
+// edges and (f, t') for t' at e, and (e, t) itself, whose owner triangles
+// share a vertex with e's owner (in I) and with t (in J). So the query keeps
+// a node pair (A, B) when A holds a triangle that shares a vertex with a
+// triangle of I, and B one with J, for some re-queried (I, J) (node_masks);
+// its records that belong to kept pairs are dropped.
+#include "sequence.h"
 
 #include "alloc.h"
 #include "box.h"
@@ -66,6 +98,23 @@
 // A rebuild pays when the new list is expected to last this many frames
 // (run()'s policy).
 #define REBUILD_LIFE 3.0
+
+// A partial rebuild queries again the cluster pairs whose spread has used
+// this share of what they allow (the pair that failed and those about to).
+#define PARTIAL_SHARE 0.5
+
+// ... unless those pairs hold more than this share of the near list: then
+// the surface deforms all over, and a full rebuild costs less (no filter,
+// no merge) and leaves no carries (crumpling 20k sheet, 40 frames: 43.5
+// against 42.2 ms a frame with partial rebuilds only).
+#define PARTIAL_MOST 0.5
+
+// Sets of clusters as bits: words per set.
+#define MASK_WORDS ((CLUSTERS + 63) / 64)
+
+// The computed spread and gap err by a few ulps of their size: 1e-12
+// relative covers it many times over.
+#define ROUND (1.0 + 1e-12)
 
 // What the sequence holds: nothing; a reference (positions and clusters)
 // from a fresh frame; or a reference and its near list.
@@ -123,8 +172,18 @@ struct selfcol_sequence {
     buffer reference[2]; // 3 V doubles per mesh
     cluster_set clusters[2];
     buffer pairs;  // near_pair, in record order
-    buffer spread; // float per cluster pair (first mesh's x second's), rounded up
+    // Per cluster pair (first mesh's x second's; both orders for a self
+    // query): its spread since its reference plus its carry, rounded up; its
+    // carry from the references before (partial rebuilds), rounded up; what
+    // it allows, from the gap at its own reference, rounded down (0: nothing).
+    buffer spread, carry, allowed;
     size_t pair_count;
+    buffer fresh; // near_pair: a partial rebuild's new pairs
+    buffer masks; // uint64_t: a partial rebuild's node masks (partial_filter)
+    // A partial rebuild's choice: per cluster of the first mesh, its
+    // re-queried partners in the second (partial_filter).
+    uint64_t partners[CLUSTERS * MASK_WORDS];
+    int partial_checkable; // the last query was a partial rebuild (selfcol_sequence__check_partial)
     buffer stamps; // rebuild: a uint32_t per vertex (the clusters' vertex sets)
 
     selfcol_sequence_run_stats stats;
@@ -204,6 +263,10 @@ void selfcol_sequence_destroy(selfcol_sequence *s) {
     }
     release(&a, &s->pairs);
     release(&a, &s->spread);
+    release(&a, &s->carry);
+    release(&a, &s->allowed);
+    release(&a, &s->fresh);
+    release(&a, &s->masks);
     release(&a, &s->stamps);
     selfcol_alloc__free(&a, s, sizeof *s);
 }
@@ -227,7 +290,8 @@ int selfcol_sequence_stats(const selfcol_sequence *s, selfcol_sequence_run_stats
 size_t selfcol_sequence_byte_count(const selfcol_sequence *s) {
     if (s == NULL)
         return 0;
-    size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes + s->spread.bytes;
+    size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes + s->spread.bytes +
+                   s->carry.bytes + s->allowed.bytes + s->fresh.bytes + s->masks.bytes;
     for (int m = 0; m < 2; ++m) {
         const cluster_set *c = &s->clusters[m];
         bytes += s->reference[m].bytes + c->offsets.bytes + c->vertices.bytes + c->ref_box.bytes +
@@ -339,48 +403,60 @@ static double gap(const double *a, const double *b) {
     return sqrt(sum);
 }
 
+// What cluster pair (i, j) allows at the current reference: the gap of
+// their reference boxes less d, or the skin when that is more, less the
+// proof's margin (the proof above).
+static double allowance(const selfcol_sequence *s, unsigned i, unsigned j) {
+    const double *r0 = s->clusters[0].ref_box.data;
+    const double *r1 = s->clusters[s->self ? 0 : 1].ref_box.data;
+    const double apart = gap(r0 + 6 * (size_t)i, r1 + 6 * (size_t)j) / ROUND - s->distance;
+    return (apart > s->skin ? apart : s->skin) - MARGIN * s->reach;
+}
+
 // The check of the proof above over every pair of clusters: the largest
-// ratio of a pair's spread to what the pair allows (the near list holds
-// while it is below 1; INFINITY when some pair allows nothing). All pairs are
-// visited: the ratio also measures how fast the surface deforms (run()),
-// and fills the spread of every pair for the list's per-pair skips; but the
-// check stops at the first pair above stop_above (the caller then needs no
-// more).
+// ratio of a pair's spread (plus its carry) to what the pair allows (the
+// near list holds while it is below 1; INFINITY when some pair allows
+// nothing). It fills the spread of every pair for the list's per-pair skips
+// and for a partial rebuild. *since gets the largest ratio of a pair's
+// spread since the reference to what a list taken at the reference would
+// allow it, which measures how fast the surface deforms (run()); the check
+// stops once that exceeds stop_above (the caller then needs no more).
 static double deformation_ratio(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
-                                double stop_above) {
+                                double stop_above, double *since) {
     const int meshes = s->self ? 1 : 2;
     for (int m = 0; m < meshes; ++m)
         displacement_boxes(s, m, mesh[m]);
     const cluster_set *c0 = &s->clusters[0], *c1 = &s->clusters[s->self ? 0 : 1];
-    const double *r0 = c0->ref_box.data, *r1 = c1->ref_box.data;
     const double *d0 = c0->disp_box.data, *d1 = c1->disp_box.data;
-    const double margin = MARGIN * s->reach;
-    // The computed spread and gap err by a few ulps of their size: 1e-12
-    // relative covers it many times over.
-    const double round = 1.0 + 1e-12;
     float *pair_spread = s->spread.data;
+    const float *carry = s->carry.data, *allowed = s->allowed.data;
     const size_t K1 = c1->count;
-    double worst = 0.0;
+    double worst = 0.0, fastest = 0.0;
+    *since = INFINITY;
     for (unsigned i = 0; i < c0->count; ++i) {
         for (unsigned j = s->self ? i : 0; j < c1->count; ++j) {
-            const double moved = spread(d0 + 6 * (size_t)i, d1 + 6 * (size_t)j) * round;
+            const size_t ij = i * K1 + j;
+            const double moved = spread(d0 + 6 * (size_t)i, d1 + 6 * (size_t)j) * ROUND;
+            const double fresh = allowance(s, i, j);
+            if (!(fresh > 0.0) || !(allowed[ij] > 0.0f))
+                return INFINITY;
             // Rounded up to a float (a relative 2^-24 at most).
-            const float up = (float)(moved * (1.0 + 1e-6));
-            pair_spread[i * K1 + j] = up;
+            const float up = (float)((moved + (double)carry[ij]) * (1.0 + 1e-6));
+            pair_spread[ij] = up;
             if (s->self)
                 pair_spread[(size_t)j * K1 + i] = up;
-            const double apart = gap(r0 + 6 * (size_t)i, r1 + 6 * (size_t)j) / round - s->distance;
-            const double allowed = (apart > s->skin ? apart : s->skin) - margin;
-            if (!(allowed > 0.0))
-                return INFINITY;
-            const double r = moved / allowed;
-            if (isnan(r))
+            const double r = (double)up / (double)allowed[ij], rate = moved / fresh;
+            if (isnan(r) || isnan(rate))
                 return INFINITY; // cannot happen below the coordinate bound; never trusted
             worst = r > worst ? r : worst;
-            if (worst > stop_above)
+            fastest = rate > fastest ? rate : fastest;
+            if (fastest > stop_above) {
+                *since = fastest;
                 return worst;
+            }
         }
     }
+    *since = fastest;
     return worst;
 }
 
@@ -546,15 +622,16 @@ static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, ne
 // (sorted, repeats dropped) whenever the buffer fills, so the list needs
 // about twice its final size, not the repeats' (each crossing pair is
 // derived from up to five records).
-static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
-                      const selfcol_contact *rec, size_t n, selfcol_workspace *work) {
+static int build_list(selfcol_sequence *s, buffer *into, size_t *pair_count,
+                      const selfcol_mesh *const mesh[2], const selfcol_contact *rec, size_t n,
+                      selfcol_workspace *work) {
     const selfcol_allocator *a = &s->allocator;
     size_t count = 0;
     for (size_t i = 0; i < n; ++i)
         count += rec[i].kind != SELFCOL_CONTACT_EF && (s->kinds & (1u << rec[i].kind));
-    if (reserve(a, &s->pairs, (3 * count + 1024) * sizeof(near_pair)) != SELFCOL_OK)
+    if (reserve(a, into, (3 * count + 1024) * sizeof(near_pair)) != SELFCOL_OK)
         return SELFCOL_ENOMEM;
-    near_pair *list = s->pairs.data;
+    near_pair *list = into->data;
     // VF then EE, in the records' order (kind first, so already sorted).
     count = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -567,7 +644,7 @@ static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
         size_t m = 0, compacted = 0; // EF candidates behind the list; of them, sorted
         for (size_t i = 0; i < n; ++i) {
             const size_t need = ef_bound(mesh, &rec[i]);
-            const size_t room = s->pairs.bytes / sizeof(near_pair) - count;
+            const size_t room = into->bytes / sizeof(near_pair) - count;
             if (m + need > room) {
                 if (m > compacted) {
                     m = compacted = sort_unique(s, work, list + count, m);
@@ -578,10 +655,10 @@ static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
                 // twice what is kept.
                 if (m + need > room || 4 * m > 3 * room) {
                     const size_t keep = (count + m) * sizeof(near_pair);
-                    if (reserve_keep(a, &s->pairs, (count + 2 * (m + need)) * sizeof(near_pair),
+                    if (reserve_keep(a, into, (count + 2 * (m + need)) * sizeof(near_pair),
                                      keep) != SELFCOL_OK)
                         return SELFCOL_ENOMEM;
-                    list = s->pairs.data;
+                    list = into->data;
                 }
             }
             m += ef_candidates(s, mesh, &rec[i], list + count + m);
@@ -591,7 +668,7 @@ static int build_list(selfcol_sequence *s, const selfcol_mesh *const mesh[2],
             return SELFCOL_ENOMEM;
         count += m;
     }
-    s->pair_count = count;
+    *pair_count = count;
     return SELFCOL_OK;
 }
 
@@ -713,6 +790,7 @@ static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2]
     e.base.narrow = o->narrow;
     e.base.ccd_tolerance = 1e-7 * o->distance; // as query.c
     e.base.out = out;
+    e.base.filter = NULL;
     // At most a worker per chunk.
     unsigned workers = o->threads;
     e.chunks = (s->pair_count + EVALUATION_CHUNK - 1) / EVALUATION_CHUNK;
@@ -785,6 +863,13 @@ static int same_setup(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
            s->kinds == o->kinds && s->narrow == o->narrow && s->method == o->method;
 }
 
+// What cluster pair (i, j) allows at the current reference as a float
+// rounded down; 0 when it allows nothing.
+static float float_allowance(const selfcol_sequence *s, unsigned i, unsigned j) {
+    const double allowed = allowance(s, i, j);
+    return allowed > 0.0 ? float_below(allowed) : 0.0f;
+}
+
 // The current positions become the reference: copied, with the clusters
 // and their boxes (the caller has chosen the skin for them).
 static int take_reference(selfcol_sequence *s, selfcol_hierarchy *const h[2]) {
@@ -803,21 +888,33 @@ static int take_reference(selfcol_sequence *s, selfcol_hierarchy *const h[2]) {
         status = reserve(&s->allocator, &s->stamps, stamp_bytes);
     for (int m = 0; m < meshes && status == SELFCOL_OK; ++m)
         status = build_clusters(s, m, h[m], s->stamps.data);
-    // No displacement yet: every cluster pair's spread is 0.
+    // No displacement yet: every cluster pair's spread and carry are 0, and
+    // each allows what the new reference gives it.
     const size_t K0 = s->clusters[0].count, K1 = s->clusters[s->self ? 0 : 1].count;
+    const size_t bytes = (K0 * K1 + 1) * sizeof(float);
     if (status == SELFCOL_OK)
-        status = reserve(&s->allocator, &s->spread, (K0 * K1 + 1) * sizeof(float));
+        status = reserve(&s->allocator, &s->spread, bytes);
     if (status == SELFCOL_OK)
-        memset(s->spread.data, 0, (K0 * K1 + 1) * sizeof(float));
-    return status;
+        status = reserve(&s->allocator, &s->carry, bytes);
+    if (status == SELFCOL_OK)
+        status = reserve(&s->allocator, &s->allowed, bytes);
+    if (status != SELFCOL_OK)
+        return status;
+    memset(s->spread.data, 0, bytes);
+    memset(s->carry.data, 0, bytes);
+    float *allowed = s->allowed.data;
+    for (unsigned i = 0; i < K0; ++i)
+        for (unsigned j = 0; j < K1; ++j)
+            allowed[i * K1 + j] = float_allowance(s, i, j);
+    return SELFCOL_OK;
 }
 
 // Writes the clusters of each near pair's primitives into its tag (after
 // take_reference: a vertex or an edge goes to the cluster of its first
 // triangle, whose vertex set holds it).
-static void tag_clusters(selfcol_sequence *s, const selfcol_mesh *const mesh[2]) {
-    near_pair *list = s->pairs.data;
-    for (size_t i = 0; i < s->pair_count; ++i) {
+static void tag_clusters(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
+                         near_pair *list, size_t count) {
+    for (size_t i = 0; i < count; ++i) {
         near_pair *p = &list[i];
         const uint32_t kind = TAG_KIND(p->tag);
         const uint32_t m1 = TAG_FIRST_MESH(p->tag), m2 = TAG_SECOND_MESH(p->tag);
@@ -872,13 +969,262 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     if (status == SELFCOL_OK)
         status = query(h, scratch, &r);
     if (status == SELFCOL_OK)
-        status = build_list(s, mesh, scratch->items, scratch->count, &scratch->work);
+        status = build_list(s, &s->pairs, &s->pair_count, mesh, scratch->items, scratch->count,
+                            &scratch->work);
     selfcol_contacts_clear(scratch);
     if (status == SELFCOL_OK)
         status = take_reference(s, h);
     if (status == SELFCOL_OK)
-        tag_clusters(s, mesh);
+        tag_clusters(s, mesh, s->pairs.data, s->pair_count);
     return status;
+}
+
+// ---------------------------------------------------------------------------
+// Partial rebuilds (the proof above)
+
+// Which node pairs a partial rebuild's query keeps: per node of each
+// hierarchy, the clusters having a triangle that shares a vertex with one
+// of the node's triangles (MASK_WORDS words each), and per cluster of the
+// first mesh, its re-queried partners in the second (the first for a self
+// query, where the relation is symmetric).
+typedef struct partial_filter {
+    const uint64_t *node_mask[2];
+    const uint64_t *partners;
+    uint64_t rows[MASK_WORDS]; // the clusters of the first mesh with a re-queried partner
+} partial_filter;
+
+static unsigned lowest_bit(uint64_t bits) {
+#if defined(__GNUC__) || defined(__clang__)
+    return (unsigned)__builtin_ctzll(bits);
+#else
+    unsigned k = 0;
+    while (!(bits & 1u)) {
+        bits >>= 1;
+        ++k;
+    }
+    return k;
+#endif
+}
+
+static int keep_node_pair(const void *context, uint32_t a, uint32_t b) {
+    const partial_filter *f = context;
+    const uint64_t *ma = f->node_mask[0] + MASK_WORDS * (size_t)a;
+    const uint64_t *mb = f->node_mask[1] + MASK_WORDS * (size_t)b;
+    for (unsigned w = 0; w < MASK_WORDS; ++w) {
+        for (uint64_t bits = ma[w] & f->rows[w]; bits != 0; bits &= bits - 1) {
+            const uint64_t *row = f->partners + MASK_WORDS * (64 * (size_t)w + lowest_bit(bits));
+            for (unsigned x = 0; x < MASK_WORDS; ++x)
+                if (row[x] & mb[x])
+                    return 1;
+        }
+    }
+    return 0;
+}
+
+// The node masks of mesh m's hierarchy (breadth-first layout: children
+// follow their parent, so one reverse sweep ORs them up).
+static void node_masks(const selfcol_sequence *s, int m, const selfcol_hierarchy *h,
+                       uint64_t *mask) {
+    const selfcol_mesh *mesh = h->mesh;
+    const uint8_t *of = s->clusters[m].of_triangle.data;
+    for (size_t n = h->node_count; n-- > 0;) {
+        const selfcol_node *node = &h->nodes[n];
+        uint64_t *out = mask + MASK_WORDS * n;
+        memset(out, 0, MASK_WORDS * sizeof *out);
+        for (uint32_t c = 0; c < node->child_count; ++c)
+            for (unsigned w = 0; w < MASK_WORDS; ++w)
+                out[w] |= mask[MASK_WORDS * ((size_t)node->first_child + c) + w];
+        if (node->child_count > 0)
+            continue;
+        for (uint32_t slot = node->tri_begin; slot < node->tri_begin + node->tri_count; ++slot) {
+            const uint32_t *tri = mesh->triangles + 3 * (size_t)h->tri_order[slot];
+            for (int i = 0; i < 3; ++i) {
+                const uint32_t v = tri[i];
+                for (uint32_t k = mesh->vertex_tri_offsets[v]; k < mesh->vertex_tri_offsets[v + 1];
+                     ++k) {
+                    const unsigned c = of[mesh->vertex_tris[k]];
+                    out[c / 64] |= (uint64_t)1 << (c % 64);
+                }
+            }
+        }
+    }
+}
+
+// Whether near pair p belongs to a re-queried cluster pair.
+static int requeried(const near_pair *p, const uint64_t *partners) {
+    const uint32_t c1 = TAG_FIRST_CLUSTER(p->tag), c2 = TAG_SECOND_CLUSTER(p->tag);
+    const int first = TAG_FIRST_MESH(p->tag) == 0;
+    const uint32_t i = first ? c1 : c2, j = first ? c2 : c1;
+    return (int)(partners[MASK_WORDS * (size_t)i + j / 64] >> (j % 64) & 1u);
+}
+
+// Keeps the pairs of list that are (want == 1) or are not (want == 0)
+// re-queried, in order; returns how many.
+static size_t keep_requeried(near_pair *list, size_t count, const uint64_t *partners, int want) {
+    size_t kept = 0;
+    for (size_t i = 0; i < count; ++i)
+        if (requeried(&list[i], partners) == want)
+            list[kept++] = list[i];
+    return kept;
+}
+
+// The near list's order: that of the records (contacts.c's keys).
+static int near_less(const near_pair *a, const near_pair *b) {
+    if (TAG_KIND(a->tag) != TAG_KIND(b->tag))
+        return TAG_KIND(a->tag) < TAG_KIND(b->tag);
+    if (TAG_FIRST_MESH(a->tag) != TAG_FIRST_MESH(b->tag))
+        return TAG_FIRST_MESH(a->tag) < TAG_FIRST_MESH(b->tag);
+    if (a->first != b->first)
+        return a->first < b->first;
+    if (TAG_SECOND_MESH(a->tag) != TAG_SECOND_MESH(b->tag))
+        return TAG_SECOND_MESH(a->tag) < TAG_SECOND_MESH(b->tag);
+    return a->second < b->second;
+}
+
+// What partial_rebuild returns when it declines (PARTIAL_MOST): nothing
+// was changed, and the caller rebuilds in full.
+#define PARTIAL_DECLINED 1
+
+// Re-queries the cluster pairs whose spread (this frame's check) has used
+// PARTIAL_SHARE of what they allow; every cluster takes the current
+// positions as its reference, the others carry their spread. `scratch` as
+// for rebuild().
+static int partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                           const selfcol_query_options *o, selfcol_contacts *scratch) {
+    const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
+    const int meshes = s->self ? 1 : 2;
+    const size_t K0 = s->clusters[0].count, K1 = s->clusters[s->self ? 0 : 1].count;
+    // Which pairs go again (a symmetric choice for a self query: the
+    // tables are).
+    partial_filter f;
+    memset(&f, 0, sizeof f);
+    uint64_t *partners = s->partners;
+    f.partners = partners;
+    memset(partners, 0, sizeof s->partners);
+    float *pair_spread = s->spread.data, *carry = s->carry.data, *allowed = s->allowed.data;
+    for (unsigned i = 0; i < K0; ++i) {
+        for (unsigned j = 0; j < K1; ++j) {
+            if ((double)pair_spread[i * K1 + j] >= PARTIAL_SHARE * (double)allowed[i * K1 + j]) {
+                partners[MASK_WORDS * i + j / 64] |= (uint64_t)1 << (j % 64);
+                f.rows[i / 64] |= (uint64_t)1 << (i % 64);
+            }
+        }
+    }
+    size_t held = 0;
+    const near_pair *list = s->pairs.data;
+    for (size_t i = 0; i < s->pair_count; ++i)
+        held += (size_t)requeried(&list[i], partners);
+    if ((double)held > PARTIAL_MOST * (double)s->pair_count)
+        return PARTIAL_DECLINED;
+    const size_t nodes0 = h[0]->node_count, nodes1 = s->self ? 0 : h[1]->node_count;
+    int status =
+        reserve(&s->allocator, &s->masks, (nodes0 + nodes1) * MASK_WORDS * sizeof(uint64_t));
+    if (status != SELFCOL_OK)
+        return status;
+    uint64_t *mask0 = s->masks.data;
+    f.node_mask[0] = mask0;
+    f.node_mask[1] = s->self ? mask0 : mask0 + MASK_WORDS * nodes0;
+    // The others carry this frame's spread.
+    for (unsigned i = 0; i < K0; ++i)
+        for (unsigned j = 0; j < K1; ++j)
+            carry[i * K1 + j] = partners[MASK_WORDS * i + j / 64] >> (j % 64) & 1u
+                                    ? 0.0f
+                                    : pair_spread[i * K1 + j];
+    // The new reference, and the allowances from it (re-queried pairs; kept
+    // pairs where it allows more). This frame's spread since the reference
+    // is 0: what remains is the carry.
+    for (int m = 0; m < meshes && status == SELFCOL_OK; ++m) {
+        memcpy(s->reference[m].data, mesh[m]->positions,
+               3 * mesh[m]->vertex_count * sizeof(double));
+        status = build_clusters(s, m, h[m], s->stamps.data); // the boxes
+    }
+    if (status != SELFCOL_OK)
+        return status;
+    for (unsigned i = 0; i < K0; ++i) {
+        for (unsigned j = 0; j < K1; ++j) {
+            const float now = float_allowance(s, i, j);
+            float *was = &allowed[i * K1 + j];
+            *was = partners[MASK_WORDS * i + j / 64] >> (j % 64) & 1u || now > *was ? now : *was;
+        }
+    }
+    memcpy(pair_spread, carry, K0 * K1 * sizeof(float));
+
+    // The reach query, restricted; its records that belong to re-queried
+    // pairs make their new near pairs.
+    status = refit_stale(h, o->method);
+    for (int m = 0; m < meshes; ++m)
+        node_masks(s, m, h[m], m == 0 ? mask0 : mask0 + MASK_WORDS * nodes0);
+    selfcol_query_options r = *o;
+    r.distance = s->reach;
+    r.narrow = SELFCOL_NARROW_CLOSED_FORM;
+    if (o->kinds & SELFCOL_KIND_EF)
+        r.kinds = SELFCOL_KIND_ALL;
+    const selfcol_node_filter filter = {keep_node_pair, &f};
+    size_t added = 0;
+    if (status == SELFCOL_OK)
+        status = selfcol_query__run(h[0], h[1], scratch, &r, &filter);
+    if (status == SELFCOL_OK)
+        status = build_list(s, &s->fresh, &added, mesh, scratch->items, scratch->count,
+                            &scratch->work);
+    selfcol_contacts_clear(scratch);
+    if (status != SELFCOL_OK)
+        return status;
+    near_pair *fresh = s->fresh.data;
+    tag_clusters(s, mesh, fresh, added);
+    added = keep_requeried(fresh, added, partners, 1);
+    size_t kept = keep_requeried(s->pairs.data, s->pair_count, partners, 0);
+    status = reserve_keep(&s->allocator, &s->pairs, (kept + added + 1) * sizeof(near_pair),
+                          kept * sizeof(near_pair));
+    if (status != SELFCOL_OK)
+        return status;
+    // Both runs are in record order (and disjoint): merged from the back.
+    near_pair *merged = s->pairs.data;
+    size_t i = kept, j = added, k = kept + added;
+    while (j > 0)
+        merged[--k] =
+            i > 0 && near_less(&fresh[j - 1], &merged[i - 1]) ? merged[--i] : fresh[--j];
+    s->pair_count = kept + added;
+    s->partial_checkable = 1;
+    return SELFCOL_OK;
+}
+
+int selfcol_sequence__check_partial(selfcol_sequence *s, selfcol_hierarchy *first,
+                                    selfcol_hierarchy *second, selfcol_contacts *scratch) {
+    SELFCOL_CHECK(s != NULL && first != NULL && second != NULL && scratch != NULL);
+    SELFCOL_CHECK(s->partial_checkable && s->state == STATE_LIST);
+    selfcol_hierarchy *const h[2] = {first, second};
+    const selfcol_mesh *const mesh[2] = {first->mesh, second->mesh};
+    selfcol_query_options r;
+    selfcol_query_options_init(&r, SELFCOL_QUERY_OPTIONS_VERSION);
+    r.method = s->method;
+    r.distance = s->reach;
+    r.kinds = s->kinds & SELFCOL_KIND_EF ? SELFCOL_KIND_ALL : s->kinds;
+    buffer full = {NULL, 0};
+    size_t n = 0;
+    int status = query(h, scratch, &r);
+    if (status == SELFCOL_OK)
+        status = build_list(s, &full, &n, mesh, scratch->items, scratch->count, &scratch->work);
+    selfcol_contacts_clear(scratch);
+    if (status != SELFCOL_OK) {
+        release(&s->allocator, &full);
+        return status;
+    }
+    near_pair *want = full.data;
+    tag_clusters(s, mesh, want, n);
+    n = keep_requeried(want, n, s->partners, 1);
+    const near_pair *list = s->pairs.data;
+    size_t k = 0;
+    int same = 1;
+    for (size_t i = 0; i < s->pair_count && same; ++i) {
+        if (!requeried(&list[i], s->partners))
+            continue;
+        same = k < n && list[i].tag == want[k].tag && list[i].first == want[k].first &&
+               list[i].second == want[k].second && list[i].near == want[k].near;
+        ++k;
+    }
+    same = same && k == n;
+    release(&s->allocator, &full);
+    return same;
 }
 
 // What the query does this frame (run()).
@@ -930,19 +1276,23 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
     // (about two fresh queries on folded cloth), so below REBUILD_LIFE
     // frames a fresh query at d is cheaper: it answers the frame and its
     // positions become the reference against which the next frame's rate
-    // is measured. The first frame has no rate: it is fresh.
+    // is measured. The first frame has no rate: it is fresh. A list that
+    // fails is rebuilt in part (partial_rebuild): only its cluster pairs
+    // near or past their bound are queried again.
     uint32_t reason = 0;
     double ratio = 0.0, rate = INFINITY;
     if (!same_setup(s, h, &o)) {
         reason = s->state != STATE_NONE ? 1u : 0u;
         setup(s, h, &o);
     } else {
-        // Above this, neither is the list valid nor would a new one pay.
+        // Above this, a new list would not pay; a list needs every pair's
+        // spread (for its skips, and for a partial rebuild).
         const double n = (double)(s->frames_since_reference + 1);
-        const double stop = s->state == STATE_LIST ? fmax(1.0, n / REBUILD_LIFE) : n / REBUILD_LIFE;
-        ratio = deformation_ratio(s, mesh, stop);
+        const double stop = s->state == STATE_LIST ? INFINITY : n / REBUILD_LIFE;
+        double since;
+        ratio = deformation_ratio(s, mesh, stop, &since);
         s->frames_since_reference++;
-        rate = ratio / n;
+        rate = since / n;
         reason = 2;
     }
     int answer;
@@ -952,9 +1302,16 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         answer = rate * REBUILD_LIFE <= 1.0 ? ANSWER_REBUILT : ANSWER_FRESH;
 
     double rebuild_seconds = 0.0;
+    int partial = answer == ANSWER_REBUILT && s->state == STATE_LIST;
+    s->partial_checkable = 0;
     if (answer == ANSWER_REBUILT) {
         s->state = STATE_NONE;
-        status = rebuild(s, h, &o, contacts);
+        if (partial)
+            status = partial_rebuild(s, h, &o, contacts);
+        if (!partial || status == PARTIAL_DECLINED) {
+            partial = 0;
+            status = rebuild(s, h, &o, contacts);
+        }
         if (status == SELFCOL_OK) {
             s->state = STATE_LIST;
             s->frames_since_reference = 0;
@@ -997,6 +1354,7 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         s->stats.last_reason = reason;
     if (answer == ANSWER_REBUILT) {
         s->stats.rebuilds++;
+        s->stats.partial_rebuilds += (uint64_t)partial;
         s->stats.rebuild_seconds = rebuild_seconds;
     }
     s->stats.fresh_frames += answer == ANSWER_FRESH;

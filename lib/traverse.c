@@ -317,6 +317,8 @@ static int visit(traversal *t, node_pair p) {
     st->nodes_visited++;
     if ((a->flags | b->flags) & SELFCOL_NODE_DUPLICATES)
         return SELFCOL_OK; // repeated triangles only: no contact can come of them
+    if (t->q.filter != NULL && !t->q.filter->keep(t->q.filter->context, p.a, p.b))
+        return SELFCOL_OK; // the caller wants nothing under this pair (query.h)
     if (self && p.a == p.b) {
         if (method == SELFCOL_METHOD_EXACT
                 ? a->tri_count >= CONTOUR_MIN_TRIANGLES &&

@@ -415,6 +415,120 @@ static void sequence__two_surfaces_equal_fresh(void **state) {
     fixture_free(&b);
 }
 
+// How much of vertex v moves in the local sequences below: all of it in the
+// strip x < 0.2 of the sheet's width, none beyond 0.3, a ramp between.
+static double local_weight(const fixture *flat, size_t v, double width) {
+    const double x = flat->positions[3 * v] / width;
+    return x < 0.2 ? 1.0 : x < 0.3 ? (0.3 - x) / 0.1 : 0.0;
+}
+
+// A sheet whose folds deepen in one strip only (the rest holds still), and
+// two surfaces of which one sinks at one end only: the lists fail in a few
+// cluster pairs, which a partial rebuild queries again while the others
+// keep their pairs through carries (sequence.c, "Partial rebuilds"); every
+// frame equals the fresh query (and EXHAUSTIVE now and then).
+static void run_local_crumpling(uint32_t method, unsigned threads) {
+    blend_run b;
+    blend_run_open(&b, 40, 3, 3.0, 0.0);
+    const selfcol_query_options o = query_options(method, 0.1, SELFCOL_KIND_ALL, threads);
+    const size_t V = b.flat.vertex_count;
+    double width = 0.0;
+    for (size_t v = 0; v < V; ++v)
+        width = fmax(width, b.flat.positions[3 * v]);
+    const int frames = 90;
+    uint64_t contacts_seen = 0;
+    for (int k = 0; k <= frames; ++k) {
+        // From 60 % of the crumple, deepening to 65 % in the strip.
+        for (size_t v = 0; v < V; ++v) {
+            const double a = 0.6 + 0.05 * local_weight(&b.flat, v, width) * k / frames;
+            for (size_t i = 3 * v; i < 3 * v + 3; ++i)
+                b.x[i] = b.flat.positions[i] + a * (b.crumpled.positions[i] - b.flat.positions[i]);
+        }
+        rig_move(&b.r, b.x, V);
+        check_self_frame(&b.r, b.seq, b.got, b.want, &o, k % 45 == 0, "local crumpling", k);
+        contacts_seen += selfcol_contacts_count(b.got);
+    }
+    assert_true(contacts_seen > 0);
+    selfcol_sequence_run_stats st = run_stats(b.seq);
+    assert_int_equal(st.frames, frames + 1);
+    // Several partial rebuilds, so that carries add up over more than one.
+    assert_true(st.partial_rebuilds >= 3);
+    assert_true(st.partial_rebuilds <= st.rebuilds);
+    assert_true((st.rebuilds + st.fresh_frames) * 3 < st.frames);
+    blend_run_close(&b);
+}
+
+static void sequence__local_crumpling_rebuilds_in_part_exact(void **state) {
+    (void)state;
+    run_local_crumpling(SELFCOL_METHOD_EXACT, 1);
+}
+
+static void sequence__local_crumpling_rebuilds_in_part_bvh_two_threads(void **state) {
+    (void)state;
+    run_local_crumpling(SELFCOL_METHOD_BVH, 2);
+}
+
+static void sequence__two_surfaces_one_end_sinking(void **state) {
+    (void)state;
+    fixture a = {0}, b = {0};
+    assert_int_equal(fixture_grid(&a, 32, 32, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&b, 32, 32, 5, 1.0), 0);
+    const double lift[3] = {0.3, 0.2, 0.0};
+    fixture_translate(&b, lift);
+    rig ra, rb;
+    rig_make(&ra, &a);
+    rig_make(&rb, &b);
+    const size_t V = b.vertex_count;
+    double width = 0.0;
+    for (size_t v = 0; v < V; ++v)
+        width = fmax(width, a.positions[3 * v]);
+    double *x = malloc(3 * V * sizeof *x);
+    assert_non_null(x);
+    selfcol_sequence *seq;
+    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
+    selfcol_contacts *got, *want;
+    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    uint64_t seen = 0;
+    for (int k = 0; k <= 100; ++k) {
+        memcpy(x, b.positions, 3 * V * sizeof *x);
+        for (size_t v = 0; v < V; ++v)
+            x[3 * v + 2] -= 0.01 * k * local_weight(&a, v, width);
+        rig_move(&rb, x, V);
+        // The sinking sheet second, then first: both orders of the meshes
+        // (the sequence starts afresh at the swap).
+        selfcol_hierarchy *first = k < 50 ? ra.coherent : rb.coherent;
+        selfcol_hierarchy *second = k < 50 ? rb.coherent : ra.coherent;
+        assert_int_equal(selfcol_sequence_collide(seq, first, second, got, &o), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_collide(k < 50 ? ra.fresh : rb.fresh,
+                                                   k < 50 ? rb.fresh : ra.fresh, want, &o),
+                         SELFCOL_OK);
+        assert_same_records(got, want, "one end sinking", k);
+        if (k % 25 == 0) {
+            selfcol_query_options e = o;
+            e.method = SELFCOL_METHOD_EXHAUSTIVE;
+            assert_int_equal(selfcol_hierarchy_collide(k < 50 ? ra.fresh : rb.fresh,
+                                                       k < 50 ? rb.fresh : ra.fresh, want, &e),
+                             SELFCOL_OK);
+            assert_same_records(got, want, "one end sinking (exhaustive)", k);
+        }
+        seen += selfcol_contacts_count(got);
+    }
+    assert_true(seen > 0);
+    selfcol_sequence_run_stats st = run_stats(seq);
+    assert_int_equal(st.fresh_frames, 2);
+    assert_true(st.partial_rebuilds >= 6);
+    selfcol_contacts_destroy(got);
+    selfcol_contacts_destroy(want);
+    selfcol_sequence_destroy(seq);
+    rig_free(&ra);
+    rig_free(&rb);
+    free(x);
+    fixture_free(&a);
+    fixture_free(&b);
+}
+
 // SEED and CONE (approximate skips, nothing a near list could reproduce)
 // are answered by their own fresh query every frame, between frames of an
 // exact method that the sequence answers from its list; after them the
@@ -580,6 +694,9 @@ int main(void) {
         cmocka_unit_test(sequence__fast_deformation_answers_fresh),
         cmocka_unit_test(sequence__jumps_rebuild_or_reuse_as_proven),
         cmocka_unit_test(sequence__two_surfaces_equal_fresh),
+        cmocka_unit_test(sequence__local_crumpling_rebuilds_in_part_exact),
+        cmocka_unit_test(sequence__local_crumpling_rebuilds_in_part_bvh_two_threads),
+        cmocka_unit_test(sequence__two_surfaces_one_end_sinking),
         cmocka_unit_test(sequence__approximate_methods_answer_fresh),
         cmocka_unit_test(sequence__refuses_bad_input),
         cmocka_unit_test(sequence__allocation_failure_is_clean),

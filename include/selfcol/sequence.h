@@ -29,7 +29,19 @@
  * outside the near list can have come within d: the near list is tested with
  * the ordinary narrow phase (the same functions on the same positions, so
  * the same records bit for bit). When it fails anywhere (a large step, a
- * teleport with rotation, a reset), the list is dropped.
+ * teleport with rotation, a reset), the list is rebuilt or dropped.
+ *
+ * **Partial rebuilds.** Where only part of the surface deforms (a sleeve
+ * moving, a garment at rest elsewhere), a list usually fails in a few
+ * cluster pairs. The sequence then queries again only the cluster pairs
+ * whose bound has used half of what they allow, restricted to the
+ * hierarchy nodes that can hold their pairs, and keeps the other pairs'
+ * near lists: every cluster takes the current positions as its new
+ * reference, and a kept pair carries its deformation so far into its next
+ * checks (the triangle inequality), so its old proof still holds. When the
+ * failing pairs hold more than half of the list (the whole surface
+ * deforms), it rebuilds in full. Either way the records are the fresh
+ * query's; selfcol_sequence_run_stats.partial_rebuilds counts them.
  *
  * **When to rebuild.** A rebuild costs one ordinary query at distance
  * d + s, about twice a fresh query on folded cloth, so it pays only if the
@@ -118,6 +130,9 @@ typedef struct selfcol_sequence_run_stats {
      *  allows (a list holds while it is below 1; 0 on a first frame). */
     double deformation_ratio;
     double rebuild_seconds; /**< time of the last rebuild (its query included) */
+    /** Of the rebuilds, those that queried again only the cluster pairs whose
+     *  bound failed or nearly did, keeping the others' near pairs. */
+    uint64_t partial_rebuilds;
 } selfcol_sequence_run_stats;
 
 #define SELFCOL_SEQUENCE_RUN_STATS_VERSION 1

@@ -204,7 +204,7 @@ typedef struct selfcol_sequence_options {
 typedef struct selfcol_sequence_run_stats {
     unsigned int version; uint64_t frames; uint64_t rebuilds; uint64_t fresh_frames;
     uint32_t last_answer; uint32_t last_reason; uint64_t near_pairs; double skin;
-    double deformation_ratio; double rebuild_seconds;
+    double deformation_ratio; double rebuild_seconds; uint64_t partial_rebuilds;
 } selfcol_sequence_run_stats;
 #define SELFCOL_SEQUENCE_RUN_STATS_VERSION ...
 int selfcol_sequence_options_init(selfcol_sequence_options *opts, unsigned int version);
