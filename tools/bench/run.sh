@@ -7,7 +7,8 @@
 # that peak memory is per case), and writes
 #   OUT/SUBSET.csv   one row per case x method x d (the header line first)
 #   OUT/SUBSET.meta  machine, date, commit, compiler, Bullet, command, runtime
-#   OUT/sequence-SUBSET.csv  fresh against coherent queries frame after frame
+#   OUT/sequence.csv (default; sequence-SUBSET.csv for the others)
+#                    fresh against coherent queries frame after frame
 # OUT defaults to tools/bench/results (with --only, to BUILD/bench-results:
 # a partial run never replaces the committed results). --only REGEX keeps the
 # cases whose name matches, e.g. --only '^store-' for the contact-store rows
@@ -139,13 +140,17 @@ fi
 mv "$tmp" "$csv"
 # Coherent queries (selfcol-bench-sequence, bench_sequence.c): a fresh query
 # against selfcol_sequence on the same frames, interleaved, every frame's
-# records compared bit for bit; its own CSV, OUT/sequence-SUBSET.csv.
+# records compared bit for bit; its own CSV, OUT/sequence.csv (the default
+# subset's, committed) or OUT/sequence-SUBSET.csv.
 seqrunner="$build/tools/bench/selfcol-bench-sequence"
 seqcsv="$out/sequence-$subset.csv"
+if [ "$subset" = default ]; then seqcsv="$out/sequence.csv"; fi
 case "$subset" in
   smoke) seqcases="crumpled-2k-slow"; seqframes=6; seqreps=1 ;;
-  default) seqcases="crumpled-20k-slow cloth-ball-92-93"; seqframes=30; seqreps=3 ;;
-  *) seqcases="crumpled-20k-slow crumpled-200k-slow cloth-ball-92-93"; seqframes=30; seqreps=3 ;;
+  default) seqcases="crumpled-20k-slow crumpled-20k-local cloth-ball-92-93"
+           seqframes=30; seqreps=3 ;;
+  *) seqcases="crumpled-20k-slow crumpled-20k-local crumpled-200k-slow crumpled-200k-local"
+     seqcases="$seqcases cloth-ball-92-93"; seqframes=30; seqreps=3 ;;
 esac
 if [ -x "$seqrunner" ]; then
   "$seqrunner" --header > "$seqcsv.tmp"
