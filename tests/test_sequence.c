@@ -427,6 +427,17 @@ static double local_weight(const fixture *flat, size_t v, double width) {
 // cluster pairs, which a partial rebuild queries again while the others
 // keep their pairs through carries (sequence.c, "Partial rebuilds"); every
 // frame equals the fresh query (and EXHAUSTIVE now and then).
+// Frame k of 90 of the local crumpling: from 60 % of the crumple, deepening
+// to 65 % in the strip.
+static void local_frame(double *x, const fixture *flat, const fixture *crumpled, double width,
+                        int k) {
+    for (size_t v = 0; v < flat->vertex_count; ++v) {
+        const double a = 0.6 + 0.05 * local_weight(flat, v, width) * k / 90.0;
+        for (size_t i = 3 * v; i < 3 * v + 3; ++i)
+            x[i] = flat->positions[i] + a * (crumpled->positions[i] - flat->positions[i]);
+    }
+}
+
 static void run_local_crumpling(uint32_t method, unsigned threads) {
     blend_run b;
     blend_run_open(&b, 40, 3, 3.0, 0.0);
@@ -438,12 +449,7 @@ static void run_local_crumpling(uint32_t method, unsigned threads) {
     const int frames = 90;
     uint64_t contacts_seen = 0;
     for (int k = 0; k <= frames; ++k) {
-        // From 60 % of the crumple, deepening to 65 % in the strip.
-        for (size_t v = 0; v < V; ++v) {
-            const double a = 0.6 + 0.05 * local_weight(&b.flat, v, width) * k / frames;
-            for (size_t i = 3 * v; i < 3 * v + 3; ++i)
-                b.x[i] = b.flat.positions[i] + a * (b.crumpled.positions[i] - b.flat.positions[i]);
-        }
+        local_frame(b.x, &b.flat, &b.crumpled, width, k);
         rig_move(&b.r, b.x, V);
         check_self_frame(&b.r, b.seq, b.got, b.want, &o, k % 45 == 0, "local crumpling", k);
         contacts_seen += selfcol_contacts_count(b.got);
@@ -684,6 +690,72 @@ static void sequence__allocation_failure_is_clean(void **state) {
     fixture_free(&f);
 }
 
+// Every allocation of a partial rebuild fails in turn: the query returns
+// SELFCOL_ENOMEM with no records, and the next one answers right (afresh).
+static void sequence__allocation_failure_in_a_partial_rebuild_is_clean(void **state) {
+    (void)state;
+    blend_run b;
+    blend_run_open(&b, 40, 3, 3.0, 0.0);
+    const size_t V = b.flat.vertex_count;
+    double width = 0.0;
+    for (size_t v = 0; v < V; ++v)
+        width = fmax(width, b.flat.positions[3 * v]);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    // The first frame answered by a partial rebuild.
+    int partial_frame = -1;
+    for (int k = 0; k <= 90 && partial_frame < 0; ++k) {
+        local_frame(b.x, &b.flat, &b.crumpled, width, k);
+        rig_move(&b.r, b.x, V);
+        assert_int_equal(selfcol_sequence_self_collide(b.seq, b.r.coherent, b.got, &o), SELFCOL_OK);
+        if (run_stats(b.seq).partial_rebuilds > 0)
+            partial_frame = k;
+    }
+    assert_true(partial_frame > 0);
+    int failures = 0;
+    for (long fail = 1;; ++fail) {
+        test_allocator_state st;
+        memset(&st, 0, sizeof st);
+        selfcol_sequence_options so;
+        selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+        so.allocator = test_allocator(&st);
+        selfcol_sequence *seq = NULL;
+        assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_OK);
+        for (int k = 0; k < partial_frame; ++k) {
+            local_frame(b.x, &b.flat, &b.crumpled, width, k);
+            rig_move(&b.r, b.x, V);
+            assert_int_equal(selfcol_sequence_self_collide(seq, b.r.coherent, b.got, &o),
+                             SELFCOL_OK);
+        }
+        local_frame(b.x, &b.flat, &b.crumpled, width, partial_frame);
+        rig_move(&b.r, b.x, V);
+        assert_int_equal(selfcol_hierarchy_self_collide(b.r.fresh, b.want, &o), SELFCOL_OK);
+        st.fail_at = st.calls + fail;
+        const int status = selfcol_sequence_self_collide(seq, b.r.coherent, b.got, &o);
+        const int done = st.calls < st.fail_at; // no allocation left to fail
+        if (done) {
+            assert_int_equal(status, SELFCOL_OK);
+            assert_int_equal(run_stats(seq).partial_rebuilds, 1);
+            assert_same_records(b.got, b.want, "partial, no failure", (int)fail);
+        } else {
+            assert_int_equal(status, SELFCOL_ENOMEM);
+            assert_int_equal(selfcol_contacts_count(b.got), 0);
+            st.fail_at = 0;
+            assert_int_equal(selfcol_sequence_self_collide(seq, b.r.coherent, b.got, &o),
+                             SELFCOL_OK);
+            assert_same_records(b.got, b.want, "partial, after ENOMEM", (int)fail);
+            failures++;
+        }
+        selfcol_sequence_destroy(seq);
+        assert_int_equal(st.live, 0);
+        assert_false(st.misaligned);
+        if (done)
+            break;
+    }
+    // The node masks and the new pairs' buffer at least.
+    assert_true(failures >= 2);
+    blend_run_close(&b);
+}
+
 int main(void) {
     const struct CMUnitTest sequence[] = {
         cmocka_unit_test(sequence__crumpling_sheet_equals_fresh_exact),
@@ -700,6 +772,7 @@ int main(void) {
         cmocka_unit_test(sequence__approximate_methods_answer_fresh),
         cmocka_unit_test(sequence__refuses_bad_input),
         cmocka_unit_test(sequence__allocation_failure_is_clean),
+        cmocka_unit_test(sequence__allocation_failure_in_a_partial_rebuild_is_clean),
     };
     return cmocka_run_group_tests_name("sequence", sequence, NULL, NULL);
 }
