@@ -702,7 +702,8 @@ class Sequence:
                 "last_answer": _SEQUENCE_ANSWERS.get(int(st.last_answer), "?"),
                 "last_reason": int(st.last_reason), "near_pairs": int(st.near_pairs),
                 "skin": float(st.skin), "deformation_ratio": float(st.deformation_ratio),
-                "rebuild_seconds": float(st.rebuild_seconds)}
+                "rebuild_seconds": float(st.rebuild_seconds),
+                "partial_rebuilds": int(st.partial_rebuilds)}
 
     @property
     def byte_count(self) -> int:

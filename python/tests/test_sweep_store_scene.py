@@ -252,6 +252,7 @@ def test_sequence_equals_fresh_queries():
     st = seq.stats()
     assert st["frames"] == 30
     assert st["rebuilds"] + st["fresh_frames"] < 10
+    assert 0 <= st["partial_rebuilds"] <= st["rebuilds"]
     assert st["last_answer"] in ("list", "rebuilt", "fresh")
     assert seq.byte_count > 0
     seq.reset()
