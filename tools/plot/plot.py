@@ -505,6 +505,47 @@ def chart_sweep(sweep, path):
     plt.close(fig)
 
 
+def load_sequence(path):
+    """Rows of selfcol-bench-sequence (tools/bench/bench_sequence.c):
+    [(case, fresh mean ms, coherent mean ms, partial rebuilds)] in file order."""
+    if not os.path.exists(path):
+        return []
+    fresh, out = {}, []
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            if r["method"] == "FRESH":
+                fresh[r["case"]] = float(r["frame_ms_mean"])
+            elif r["case"] in fresh:
+                out.append((r["case"], fresh[r["case"]], float(r["frame_ms_mean"]),
+                            int(r.get("partial_rebuilds") or 0)))
+    return out
+
+
+def chart_sequence(seq, path):
+    cases = [c for c, _, _, _ in seq]
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    xs = range(len(cases))
+    ax.bar([x - 0.2 for x in xs], [f for _, f, _, _ in seq], 0.4, label="fresh (refit + EXACT)",
+           color="#d62728")
+    ax.bar([x + 0.2 for x in xs], [c for _, _, c, _ in seq], 0.4,
+           label="coherent (selfcol_sequence)", color="#1f77b4")
+    for x, (_, f, c, partial) in zip(xs, seq):
+        label = "%.1fx" % (f / c) + (" (%d partial)" % partial if partial else "")
+        ax.text(x, max(f, c) * 1.15, label, ha="center", fontsize=7)
+    ax.set_yscale("log")
+    ax.set_ylim(top=max(f for _, f, _, _ in seq) * 4)  # room for the labels and legend
+    ax.set_xticks(list(xs))
+    ax.set_xticklabels(cases, fontsize=7)
+    ax.set_ylabel("ms per frame (mean over the sequence, log)", fontsize=8)
+    ax.set_title("The same self query frame after frame, d = 0.1 x mean edge, one thread: "
+                 "records equal on every frame", fontsize=9)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
 def replace_block(text, name, content):
     pat = re.compile(r"(<!-- generated:%s -->\n).*?(<!-- /generated:%s -->)" % (name, name), re.S)
     if not pat.search(text):
@@ -541,6 +582,12 @@ def main():
     if sweep:
         p = os.path.join(docs, "bench-sweep.png")
         chart_sweep(sweep, p)
+        written.append(p)
+    seq = load_sequence(os.path.join(
+        results, "sequence.csv" if a.subset == "default" else "sequence-%s.csv" % a.subset))
+    if seq:
+        p = os.path.join(docs, "bench-sequence.png")
+        chart_sequence(seq, p)
         written.append(p)
     md = os.path.join(docs, "benchmarks.md")
     text = open(md).read() if os.path.exists(md) else "# Benchmarks\n"

@@ -3,7 +3,8 @@
 # SPDX-License-Identifier: MIT
 # Usage: sh tools/plot/plot.sh [--subset default|full] [--results DIR] [--docs DIR]
 # Draws the benchmark charts (PNG) into docs/ and rewrites the generated
-# tables of docs/benchmarks.md from tools/bench/results/SUBSET.csv (`make plot`).
+# tables of docs/benchmarks.md from tools/bench/results/SUBSET.csv (`make plot`);
+# the coherent-query chart from sequence.csv (sequence-SUBSET.csv but for default).
 #
 # matplotlib comes from Debian (python3-matplotlib), which installs it for
 # /usr/bin/python3. On machines where `python3` is another build (pyenv,
