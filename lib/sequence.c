@@ -171,7 +171,7 @@ struct selfcol_sequence {
 
     buffer reference[2]; // 3 V doubles per mesh
     cluster_set clusters[2];
-    buffer pairs;  // near_pair, in record order
+    buffer pairs; // near_pair, in record order
     // Per cluster pair (first mesh's x second's; both orders for a self
     // query): its spread since its reference plus its carry, rounded up; its
     // carry from the references before (partial rebuilds), rounded up; what
@@ -183,7 +183,8 @@ struct selfcol_sequence {
     // A partial rebuild's choice: per cluster of the first mesh, its
     // re-queried partners in the second (partial_filter).
     uint64_t partners[CLUSTERS * MASK_WORDS];
-    int partial_checkable; // the last query was a partial rebuild (selfcol_sequence__check_partial)
+    // The last query was a partial rebuild (selfcol_sequence__check_partial).
+    int partial_checkable;
     buffer stamps; // rebuild: a uint32_t per vertex (the clusters' vertex sets)
 
     selfcol_sequence_run_stats stats;
@@ -290,8 +291,8 @@ int selfcol_sequence_stats(const selfcol_sequence *s, selfcol_sequence_run_stats
 size_t selfcol_sequence_byte_count(const selfcol_sequence *s) {
     if (s == NULL)
         return 0;
-    size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes + s->spread.bytes +
-                   s->carry.bytes + s->allowed.bytes + s->fresh.bytes + s->masks.bytes;
+    size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes + s->spread.bytes + s->carry.bytes +
+                   s->allowed.bytes + s->fresh.bytes + s->masks.bytes;
     for (int m = 0; m < 2; ++m) {
         const cluster_set *c = &s->clusters[m];
         bytes += s->reference[m].bytes + c->offsets.bytes + c->vertices.bytes + c->ref_box.bytes +
@@ -655,8 +656,8 @@ static int build_list(selfcol_sequence *s, buffer *into, size_t *pair_count,
                 // twice what is kept.
                 if (m + need > room || 4 * m > 3 * room) {
                     const size_t keep = (count + m) * sizeof(near_pair);
-                    if (reserve_keep(a, into, (count + 2 * (m + need)) * sizeof(near_pair),
-                                     keep) != SELFCOL_OK)
+                    if (reserve_keep(a, into, (count + 2 * (m + need)) * sizeof(near_pair), keep) !=
+                        SELFCOL_OK)
                         return SELFCOL_ENOMEM;
                     list = into->data;
                 }
@@ -1127,9 +1128,8 @@ static int partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     // The others carry this frame's spread.
     for (unsigned i = 0; i < K0; ++i)
         for (unsigned j = 0; j < K1; ++j)
-            carry[i * K1 + j] = partners[MASK_WORDS * i + j / 64] >> (j % 64) & 1u
-                                    ? 0.0f
-                                    : pair_spread[i * K1 + j];
+            carry[i * K1 + j] =
+                partners[MASK_WORDS * i + j / 64] >> (j % 64) & 1u ? 0.0f : pair_spread[i * K1 + j];
     // The new reference, and the allowances from it (re-queried pairs; kept
     // pairs where it allows more). This frame's spread since the reference
     // is 0: what remains is the carry.
@@ -1164,8 +1164,8 @@ static int partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     if (status == SELFCOL_OK)
         status = selfcol_query__run(h[0], h[1], scratch, &r, &filter);
     if (status == SELFCOL_OK)
-        status = build_list(s, &s->fresh, &added, mesh, scratch->items, scratch->count,
-                            &scratch->work);
+        status =
+            build_list(s, &s->fresh, &added, mesh, scratch->items, scratch->count, &scratch->work);
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK)
         return status;
@@ -1181,8 +1181,7 @@ static int partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     near_pair *merged = s->pairs.data;
     size_t i = kept, j = added, k = kept + added;
     while (j > 0)
-        merged[--k] =
-            i > 0 && near_less(&fresh[j - 1], &merged[i - 1]) ? merged[--i] : fresh[--j];
+        merged[--k] = i > 0 && near_less(&fresh[j - 1], &merged[i - 1]) ? merged[--i] : fresh[--j];
     s->pair_count = kept + added;
     s->partial_checkable = 1;
     return SELFCOL_OK;

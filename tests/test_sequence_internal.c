@@ -133,11 +133,11 @@ static void partial_rebuild_lists_as_full__two_surfaces(void **state) {
     double *x = malloc(3 * V * sizeof *x);
     assert_non_null(x);
     selfcol_mesh *ma, *mb;
-    assert_int_equal(selfcol_mesh_create(&ma, a.vertex_count, a.positions, a.triangle_count,
-                                         a.triangles, NULL),
-                     SELFCOL_OK);
     assert_int_equal(
-        selfcol_mesh_create(&mb, V, b.positions, b.triangle_count, b.triangles, NULL), SELFCOL_OK);
+        selfcol_mesh_create(&ma, a.vertex_count, a.positions, a.triangle_count, a.triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_create(&mb, V, b.positions, b.triangle_count, b.triangles, NULL),
+                     SELFCOL_OK);
     selfcol_hierarchy *ha, *hb;
     assert_int_equal(selfcol_hierarchy_create(&ha, ma, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_hierarchy_create(&hb, mb, NULL), SELFCOL_OK);

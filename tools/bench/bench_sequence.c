@@ -60,7 +60,8 @@ static double median(double *v, size_t n) {
 
 static const char *header =
     "case,triangles,vertices,frames,reps,threads,d,method,skin,frame_ms_mean,frame_ms_median,"
-    "frame_ms_max,rebuilds,fresh_frames,partial_rebuilds,near_pairs_mean,contacts_mean,misses,extras,struct_bytes,"
+    "frame_ms_max,rebuilds,fresh_frames,partial_rebuilds,near_pairs_mean,contacts_mean,misses,"
+    "extras,struct_bytes,"
     "bytes_per_tri,motion_mean,motion_max,note";
 
 // A sequence of frames over one topology.
@@ -310,9 +311,9 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
                    f->name, F, V, f->count, reps, threads, d, names[m], m == 0 ? 0.0 : so.skin,
                    1e3 * mean, 1e3 * med, 1e3 * most, m == 0 ? 0ULL : rebuilds,
                    m == 0 ? 0ULL : fresh_frames, m == 0 ? 0ULL : partials,
-                   m == 0 ? 0.0 : near_sum / (double)f->count,
-                   contacts_sum / (double)f->count, misses, extras, struct_bytes,
-                   (double)struct_bytes / (double)F, f->motion_mean, f->motion_max,
+                   m == 0 ? 0.0 : near_sum / (double)f->count, contacts_sum / (double)f->count,
+                   misses, extras, struct_bytes, (double)struct_bytes / (double)F, f->motion_mean,
+                   f->motion_max,
                    m == 0 ? "refit + EXACT query per frame"
                           : "selfcol_sequence per frame (rebuilds included); struct_bytes: "
                             "the sequence");
@@ -365,7 +366,7 @@ int main(int argc, char **argv) {
                 SELFCOL_MAX_THREADS);
         return 2;
     }
-    static const char *const names[] = {"crumpled-2k-slow", "crumpled-20k-slow",
+    static const char *const names[] = {"crumpled-2k-slow",   "crumpled-20k-slow",
                                         "crumpled-200k-slow", "cloth-ball-92-93",
                                         "crumpled-20k-local", "crumpled-200k-local"};
     static const unsigned sizes[] = {32, 100, 316, 0, 100, 316};
@@ -375,9 +376,8 @@ int main(int argc, char **argv) {
             continue; // the 2k case only when asked (the smoke run)
         frames f;
         memset(&f, 0, sizeof f);
-        const int ok =
-            sizes[c] ? crumpling(&f, sizes[c], (size_t)frame_count, names[c], c >= 4)
-                     : real_pair(&f, data);
+        const int ok = sizes[c] ? crumpling(&f, sizes[c], (size_t)frame_count, names[c], c >= 4)
+                                : real_pair(&f, data);
         if (!ok) {
             if (sizes[c] != 0)
                 status = 1;
