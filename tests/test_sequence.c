@@ -360,18 +360,32 @@ static void sequence__jumps_rebuild_or_reuse_as_proven(void **state) {
     fixture_free(&flat);
 }
 
-// Two surfaces: a crumpled sheet sinking slowly through a flat one.
-static void sequence__two_surfaces_equal_fresh(void **state) {
-    (void)state;
+// How much of vertex v moves in the local sequences below: all of it in the
+// strip x < 0.2 of the sheet's width, none beyond 0.3, a ramp between.
+static double local_weight(const fixture *flat, size_t v, double width) {
+    const double x = flat->positions[3 * v] / width;
+    return x < 0.2 ? 1.0 : x < 0.3 ? (0.3 - x) / 0.1 : 0.0;
+}
+
+// Two surfaces: a crumpled n x n sheet lifted by `lift` sinks through a flat
+// one by `sink` per frame, everywhere or (local) in the strip of
+// local_weight only; with `swap`, the meshes change order at frame 50 (the
+// sequence starts afresh). Every frame equals the fresh query, and
+// EXHAUSTIVE every 25 frames; returns the sequence's counters.
+static selfcol_sequence_run_stats run_two_surfaces(unsigned n, double lift, double sink, int local,
+                                                   int swap, const char *where) {
     fixture a = {0}, b = {0};
-    assert_int_equal(fixture_grid(&a, 16, 16, 1.0), 0);
-    assert_int_equal(fixture_crumpled(&b, 16, 16, 5, 1.0), 0);
-    const double lift[3] = {0.3, 0.2, 2.5};
-    fixture_translate(&b, lift);
+    assert_int_equal(fixture_grid(&a, n, n, 1.0), 0);
+    assert_int_equal(fixture_crumpled(&b, n, n, 5, 1.0), 0);
+    const double offset[3] = {0.3, 0.2, lift};
+    fixture_translate(&b, offset);
     rig ra, rb;
     rig_make(&ra, &a);
     rig_make(&rb, &b);
     const size_t V = b.vertex_count;
+    double width = 0.0;
+    for (size_t v = 0; v < V; ++v)
+        width = fmax(width, a.positions[3 * v]);
     double *x = malloc(3 * V * sizeof *x);
     assert_non_null(x);
     selfcol_sequence *seq;
@@ -384,27 +398,26 @@ static void sequence__two_surfaces_equal_fresh(void **state) {
     for (int k = 0; k <= 100; ++k) {
         memcpy(x, b.positions, 3 * V * sizeof *x);
         for (size_t v = 0; v < V; ++v)
-            x[3 * v + 2] -= 0.02 * k;
+            x[3 * v + 2] -= sink * k * (local ? local_weight(&a, v, width) : 1.0);
         rig_move(&rb, x, V);
-        assert_int_equal(selfcol_sequence_collide(seq, ra.coherent, rb.coherent, got, &o),
+        const int swapped = swap && k >= 50;
+        rig *first = swapped ? &rb : &ra, *second = swapped ? &ra : &rb;
+        assert_int_equal(selfcol_sequence_collide(seq, first->coherent, second->coherent, got, &o),
                          SELFCOL_OK);
-        assert_int_equal(selfcol_hierarchy_collide(ra.fresh, rb.fresh, want, &o), SELFCOL_OK);
-        assert_same_records(got, want, "two surfaces", k);
+        assert_int_equal(selfcol_hierarchy_collide(first->fresh, second->fresh, want, &o),
+                         SELFCOL_OK);
+        assert_same_records(got, want, where, k);
         if (k % 25 == 0) {
             selfcol_query_options e = o;
             e.method = SELFCOL_METHOD_EXHAUSTIVE;
-            assert_int_equal(selfcol_hierarchy_collide(ra.fresh, rb.fresh, want, &e), SELFCOL_OK);
-            assert_same_records(got, want, "two surfaces (exhaustive)", k);
+            assert_int_equal(selfcol_hierarchy_collide(first->fresh, second->fresh, want, &e),
+                             SELFCOL_OK);
+            assert_same_records(got, want, where, k);
         }
         seen += selfcol_contacts_count(got);
     }
     assert_true(seen > 0);
-    // The other surface stays still: the motion relative to it counts, so
-    // the list is rebuilt now and then (a fifth of the skin per frame: a
-    // list lasts about 5 frames), not every frame.
-    selfcol_sequence_run_stats st = run_stats(seq);
-    assert_true(st.rebuilds > 1);
-    assert_true((st.rebuilds + st.fresh_frames) * 2 < st.frames);
+    const selfcol_sequence_run_stats st = run_stats(seq);
     selfcol_contacts_destroy(got);
     selfcol_contacts_destroy(want);
     selfcol_sequence_destroy(seq);
@@ -413,13 +426,18 @@ static void sequence__two_surfaces_equal_fresh(void **state) {
     free(x);
     fixture_free(&a);
     fixture_free(&b);
+    return st;
 }
 
-// How much of vertex v moves in the local sequences below: all of it in the
-// strip x < 0.2 of the sheet's width, none beyond 0.3, a ramp between.
-static double local_weight(const fixture *flat, size_t v, double width) {
-    const double x = flat->positions[3 * v] / width;
-    return x < 0.2 ? 1.0 : x < 0.3 ? (0.3 - x) / 0.1 : 0.0;
+// A crumpled sheet sinking slowly through a flat one.
+static void sequence__two_surfaces_equal_fresh(void **state) {
+    (void)state;
+    const selfcol_sequence_run_stats st = run_two_surfaces(16, 2.5, 0.02, 0, 0, "two surfaces");
+    // The other surface stays still: the motion relative to it counts, so
+    // the list is rebuilt now and then (a fifth of the skin per frame: a
+    // list lasts about 5 frames), not every frame.
+    assert_true(st.rebuilds > 1);
+    assert_true((st.rebuilds + st.fresh_frames) * 2 < st.frames);
 }
 
 // A sheet whose folds deepen in one strip only (the rest holds still), and
@@ -476,63 +494,11 @@ static void sequence__local_crumpling_rebuilds_in_part_bvh_two_threads(void **st
 
 static void sequence__two_surfaces_one_end_sinking(void **state) {
     (void)state;
-    fixture a = {0}, b = {0};
-    assert_int_equal(fixture_grid(&a, 32, 32, 1.0), 0);
-    assert_int_equal(fixture_crumpled(&b, 32, 32, 5, 1.0), 0);
-    const double lift[3] = {0.3, 0.2, 0.0};
-    fixture_translate(&b, lift);
-    rig ra, rb;
-    rig_make(&ra, &a);
-    rig_make(&rb, &b);
-    const size_t V = b.vertex_count;
-    double width = 0.0;
-    for (size_t v = 0; v < V; ++v)
-        width = fmax(width, a.positions[3 * v]);
-    double *x = malloc(3 * V * sizeof *x);
-    assert_non_null(x);
-    selfcol_sequence *seq;
-    assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
-    selfcol_contacts *got, *want;
-    assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
-    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
-    uint64_t seen = 0;
-    for (int k = 0; k <= 100; ++k) {
-        memcpy(x, b.positions, 3 * V * sizeof *x);
-        for (size_t v = 0; v < V; ++v)
-            x[3 * v + 2] -= 0.01 * k * local_weight(&a, v, width);
-        rig_move(&rb, x, V);
-        // The sinking sheet second, then first: both orders of the meshes
-        // (the sequence starts afresh at the swap).
-        selfcol_hierarchy *first = k < 50 ? ra.coherent : rb.coherent;
-        selfcol_hierarchy *second = k < 50 ? rb.coherent : ra.coherent;
-        assert_int_equal(selfcol_sequence_collide(seq, first, second, got, &o), SELFCOL_OK);
-        assert_int_equal(selfcol_hierarchy_collide(k < 50 ? ra.fresh : rb.fresh,
-                                                   k < 50 ? rb.fresh : ra.fresh, want, &o),
-                         SELFCOL_OK);
-        assert_same_records(got, want, "one end sinking", k);
-        if (k % 25 == 0) {
-            selfcol_query_options e = o;
-            e.method = SELFCOL_METHOD_EXHAUSTIVE;
-            assert_int_equal(selfcol_hierarchy_collide(k < 50 ? ra.fresh : rb.fresh,
-                                                       k < 50 ? rb.fresh : ra.fresh, want, &e),
-                             SELFCOL_OK);
-            assert_same_records(got, want, "one end sinking (exhaustive)", k);
-        }
-        seen += selfcol_contacts_count(got);
-    }
-    assert_true(seen > 0);
-    selfcol_sequence_run_stats st = run_stats(seq);
+    // The sheets cross from the start, so contacts are held everywhere while
+    // only one end moves: partial rebuilds, in both orders of the meshes.
+    const selfcol_sequence_run_stats st = run_two_surfaces(32, 0.0, 0.01, 1, 1, "one end sinking");
     assert_int_equal(st.fresh_frames, 2);
     assert_true(st.partial_rebuilds >= 6);
-    selfcol_contacts_destroy(got);
-    selfcol_contacts_destroy(want);
-    selfcol_sequence_destroy(seq);
-    rig_free(&ra);
-    rig_free(&rb);
-    free(x);
-    fixture_free(&a);
-    fixture_free(&b);
 }
 
 // SEED and CONE (approximate skips, nothing a near list could reproduce)
