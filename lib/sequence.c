@@ -178,7 +178,6 @@ struct selfcol_sequence {
     // it allows, from the gap at its own reference, rounded down (0: nothing).
     buffer spread, carry, allowed;
     size_t pair_count;
-    buffer fresh; // near_pair: a partial rebuild's new pairs
     buffer masks; // uint64_t: a partial rebuild's node masks (partial_filter)
     // A partial rebuild's choice: per cluster of the first mesh, its
     // re-queried partners in the second (partial_filter).
@@ -266,7 +265,6 @@ void selfcol_sequence_destroy(selfcol_sequence *s) {
     release(&a, &s->spread);
     release(&a, &s->carry);
     release(&a, &s->allowed);
-    release(&a, &s->fresh);
     release(&a, &s->masks);
     release(&a, &s->stamps);
     selfcol_alloc__free(&a, s, sizeof *s);
@@ -292,7 +290,7 @@ size_t selfcol_sequence_byte_count(const selfcol_sequence *s) {
     if (s == NULL)
         return 0;
     size_t bytes = sizeof *s + s->pairs.bytes + s->stamps.bytes + s->spread.bytes + s->carry.bytes +
-                   s->allowed.bytes + s->fresh.bytes + s->masks.bytes;
+                   s->allowed.bytes + s->masks.bytes;
     for (int m = 0; m < 2; ++m) {
         const cluster_set *c = &s->clusters[m];
         bytes += s->reference[m].bytes + c->offsets.bytes + c->vertices.bytes + c->ref_box.bytes +
@@ -623,16 +621,18 @@ static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, ne
 // (sorted, repeats dropped) whenever the buffer fills, so the list needs
 // about twice its final size, not the repeats' (each crossing pair is
 // derived from up to five records).
-static int build_list(selfcol_sequence *s, buffer *into, size_t *pair_count,
+static int build_list(selfcol_sequence *s, buffer *into, size_t offset, size_t *pair_count,
                       const selfcol_mesh *const mesh[2], const selfcol_contact *rec, size_t n,
                       selfcol_workspace *work) {
     const selfcol_allocator *a = &s->allocator;
+    const size_t before = offset * sizeof(near_pair); // kept when `into` grows
     size_t count = 0;
     for (size_t i = 0; i < n; ++i)
         count += rec[i].kind != SELFCOL_CONTACT_EF && (s->kinds & (1u << rec[i].kind));
-    if (reserve(a, into, (3 * count + 1024) * sizeof(near_pair)) != SELFCOL_OK)
+    if (reserve_keep(a, into, (offset + 3 * count + 1024) * sizeof(near_pair), before) !=
+        SELFCOL_OK)
         return SELFCOL_ENOMEM;
-    near_pair *list = into->data;
+    near_pair *list = (near_pair *)into->data + offset;
     // VF then EE, in the records' order (kind first, so already sorted).
     count = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -645,7 +645,7 @@ static int build_list(selfcol_sequence *s, buffer *into, size_t *pair_count,
         size_t m = 0, compacted = 0; // EF candidates behind the list; of them, sorted
         for (size_t i = 0; i < n; ++i) {
             const size_t need = ef_bound(mesh, &rec[i]);
-            const size_t room = into->bytes / sizeof(near_pair) - count;
+            const size_t room = into->bytes / sizeof(near_pair) - offset - count;
             if (m + need > room) {
                 if (m > compacted) {
                     m = compacted = sort_unique(s, work, list + count, m);
@@ -655,11 +655,11 @@ static int build_list(selfcol_sequence *s, buffer *into, size_t *pair_count,
                 // Still short, or nearly full of distinct pairs: grow to
                 // twice what is kept.
                 if (m + need > room || 4 * m > 3 * room) {
-                    const size_t keep = (count + m) * sizeof(near_pair);
-                    if (reserve_keep(a, into, (count + 2 * (m + need)) * sizeof(near_pair), keep) !=
-                        SELFCOL_OK)
+                    const size_t keep = before + (count + m) * sizeof(near_pair);
+                    if (reserve_keep(a, into, before + (count + 2 * (m + need)) * sizeof(near_pair),
+                                     keep) != SELFCOL_OK)
                         return SELFCOL_ENOMEM;
-                    list = into->data;
+                    list = (near_pair *)into->data + offset;
                 }
             }
             m += ef_candidates(s, mesh, &rec[i], list + count + m);
@@ -970,7 +970,7 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     if (status == SELFCOL_OK)
         status = query(h, scratch, &r);
     if (status == SELFCOL_OK)
-        status = build_list(s, &s->pairs, &s->pair_count, mesh, scratch->items, scratch->count,
+        status = build_list(s, &s->pairs, 0, &s->pair_count, mesh, scratch->items, scratch->count,
                             &scratch->work);
     selfcol_contacts_clear(scratch);
     if (status == SELFCOL_OK)
@@ -1163,27 +1163,49 @@ static int partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     size_t added = 0;
     if (status == SELFCOL_OK)
         status = selfcol_query__run(h[0], h[1], scratch, &r, &filter);
+    // The kept pairs stay at the front of the list's buffer and the new
+    // ones are built behind them, in the slack that build_list leaves for EF
+    // candidates. (On failure the caller drops the list: state is
+    // STATE_NONE.)
+    const size_t kept = keep_requeried(s->pairs.data, s->pair_count, partners, 0);
     if (status == SELFCOL_OK)
-        status =
-            build_list(s, &s->fresh, &added, mesh, scratch->items, scratch->count, &scratch->work);
+        status = build_list(s, &s->pairs, kept, &added, mesh, scratch->items, scratch->count,
+                            &scratch->work);
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK)
         return status;
-    near_pair *fresh = s->fresh.data;
-    tag_clusters(s, mesh, fresh, added);
-    added = keep_requeried(fresh, added, partners, 1);
-    size_t kept = keep_requeried(s->pairs.data, s->pair_count, partners, 0);
-    status = reserve_keep(&s->allocator, &s->pairs, (kept + added + 1) * sizeof(near_pair),
-                          kept * sizeof(near_pair));
-    if (status != SELFCOL_OK)
-        return status;
-    // Both runs are in record order (and disjoint): merged from the back.
     near_pair *merged = s->pairs.data;
+    tag_clusters(s, mesh, merged + kept, added);
+    added = keep_requeried(merged + kept, added, partners, 1);
+    // Both runs are in record order (and disjoint). The new one is copied
+    // into the query's sort scratch (the workspace of the caller's contact
+    // set, sized for its records already), and the two merge from the back
+    // into the list: a write at i + j - 1 never reaches a kept pair not yet
+    // read (below i) while new pairs remain (j >= 1).
+    near_pair *fresh = selfcol_workspace__buffer(&scratch->work, SELFCOL_SCRATCH_SORT,
+                                                 added * sizeof(near_pair), 0);
+    if (added > 0 && fresh == NULL)
+        return SELFCOL_ENOMEM;
+    if (added > 0)
+        memcpy(fresh, merged + kept, added * sizeof(near_pair));
     size_t i = kept, j = added, k = kept + added;
     while (j > 0)
         merged[--k] = i > 0 && near_less(&fresh[j - 1], &merged[i - 1]) ? merged[--i] : fresh[--j];
     s->pair_count = kept + added;
     s->partial_checkable = 1;
+    return SELFCOL_OK;
+}
+
+int selfcol_sequence__trim_list(selfcol_sequence *s) {
+    SELFCOL_CHECK(s != NULL);
+    buffer exact = {NULL, 0};
+    const size_t count = s->pair_count > 0 ? s->pair_count : 1;
+    if (reserve(&s->allocator, &exact, count * sizeof(near_pair)) != SELFCOL_OK)
+        return SELFCOL_ENOMEM;
+    if (s->pair_count > 0)
+        memcpy(exact.data, s->pairs.data, s->pair_count * sizeof(near_pair));
+    release(&s->allocator, &s->pairs);
+    s->pairs = exact;
     return SELFCOL_OK;
 }
 
@@ -1202,7 +1224,7 @@ int selfcol_sequence__check_partial(selfcol_sequence *s, selfcol_hierarchy *firs
     size_t n = 0;
     int status = query(h, scratch, &r);
     if (status == SELFCOL_OK)
-        status = build_list(s, &full, &n, mesh, scratch->items, scratch->count, &scratch->work);
+        status = build_list(s, &full, 0, &n, mesh, scratch->items, scratch->count, &scratch->work);
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK) {
         release(&s->allocator, &full);

@@ -18,4 +18,9 @@
 int selfcol_sequence__check_partial(selfcol_sequence *s, selfcol_hierarchy *first,
                                     selfcol_hierarchy *second, selfcol_contacts *scratch);
 
+// Shrinks the near list's buffer to its pairs exactly, so that the next
+// rebuild has to grow it (a partial rebuild builds its new pairs behind the
+// kept ones, in that buffer). SELFCOL_ENOMEM leaves the list as it was.
+int selfcol_sequence__trim_list(selfcol_sequence *s);
+
 #endif // SELFCOL_SEQUENCE_PRIVATE_H

@@ -717,8 +717,10 @@ static void sequence__allocation_failure_in_a_partial_rebuild_is_clean(void **st
         if (done)
             break;
     }
-    // The node masks and the new pairs' buffer at least.
-    assert_true(failures >= 2);
+    // The node masks at least (the new pairs are built in the list's own
+    // buffer, which grows only when its slack is short:
+    // test_sequence_internal.c makes it grow).
+    assert_true(failures >= 1);
     blend_run_close(&b);
 }
 

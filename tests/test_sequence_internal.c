@@ -62,7 +62,32 @@ static int check_after(selfcol_sequence *seq, uint64_t *partials, selfcol_hierar
     return 1;
 }
 
-static void run_self(uint32_t method, unsigned threads) {
+// The records of `got` against a fresh query of h (a hierarchy of its own,
+// so that the sequence's is never refit here) at the same positions.
+static void assert_as_fresh(selfcol_hierarchy *h, const selfcol_contacts *got,
+                            selfcol_contacts *scratch, const selfcol_query_options *o, int frame) {
+    assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_self_collide(h, scratch, o), SELFCOL_OK);
+    const selfcol_contact *a, *b;
+    size_t na, nb;
+    assert_int_equal(selfcol_contacts_data(got, &a, &na), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_data(scratch, &b, &nb), SELFCOL_OK);
+    size_t same = 0;
+    while (same < na && same < nb && a[same].kind == b[same].kind &&
+           a[same].first == b[same].first && a[same].second == b[same].second &&
+           a[same].distance == b[same].distance)
+        ++same;
+    if (same != na || same != nb)
+        fail_msg("frame %d: %zu records against the fresh query's %zu, first difference at %zu",
+                 frame, na, nb, same);
+    selfcol_contacts_clear(scratch);
+}
+
+// trim: after every query, the near list's buffer is cut to its pairs
+// (selfcol_sequence__trim_list), so every partial rebuild grows it with the
+// kept pairs in front; the records are then also held equal to a fresh
+// query's on every frame.
+static void run_self(uint32_t method, unsigned threads, int trim) {
     fixture flat = {0}, crumpled = {0};
     assert_int_equal(fixture_grid(&flat, 40, 40, 1.0), 0);
     assert_int_equal(fixture_crumpled(&crumpled, 40, 40, 3, 3.0), 0);
@@ -74,8 +99,9 @@ static void run_self(uint32_t method, unsigned threads) {
     assert_int_equal(
         selfcol_mesh_create(&mesh, V, flat.positions, flat.triangle_count, flat.triangles, NULL),
         SELFCOL_OK);
-    selfcol_hierarchy *h;
+    selfcol_hierarchy *h, *fresh;
     assert_int_equal(selfcol_hierarchy_create(&h, mesh, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&fresh, mesh, NULL), SELFCOL_OK);
     selfcol_sequence *seq;
     assert_int_equal(selfcol_sequence_create(&seq, NULL), SELFCOL_OK);
     selfcol_contacts *got, *scratch;
@@ -97,12 +123,17 @@ static void run_self(uint32_t method, unsigned threads) {
         assert_int_equal(selfcol_mesh_set_positions(mesh, x, V), SELFCOL_OK);
         assert_int_equal(selfcol_sequence_self_collide(seq, h, got, &o), SELFCOL_OK);
         checked += check_after(seq, &partials, h, h, scratch, k);
+        if (trim) {
+            assert_as_fresh(fresh, got, scratch, &o, k);
+            assert_int_equal(selfcol_sequence__trim_list(seq), SELFCOL_OK);
+        }
     }
     assert_true(checked >= 3);
     selfcol_contacts_destroy(got);
     selfcol_contacts_destroy(scratch);
     selfcol_sequence_destroy(seq);
     selfcol_hierarchy_destroy(h);
+    selfcol_hierarchy_destroy(fresh);
     selfcol_mesh_destroy(mesh);
     free(x);
     fixture_free(&flat);
@@ -111,12 +142,17 @@ static void run_self(uint32_t method, unsigned threads) {
 
 static void partial_rebuild_lists_as_full__self_exact(void **state) {
     (void)state;
-    run_self(SELFCOL_METHOD_EXACT, 1);
+    run_self(SELFCOL_METHOD_EXACT, 1, 0);
 }
 
 static void partial_rebuild_lists_as_full__self_bvh_two_threads(void **state) {
     (void)state;
-    run_self(SELFCOL_METHOD_BVH, 2);
+    run_self(SELFCOL_METHOD_BVH, 2, 0);
+}
+
+static void partial_rebuild_grows_the_list_keeping_its_pairs(void **state) {
+    (void)state;
+    run_self(SELFCOL_METHOD_EXACT, 1, 1);
 }
 
 // A flat sheet through which a crumpled one sinks at one end; both orders
@@ -178,6 +214,7 @@ int main(void) {
         cmocka_unit_test(partial_rebuild_lists_as_full__self_exact),
         cmocka_unit_test(partial_rebuild_lists_as_full__self_bvh_two_threads),
         cmocka_unit_test(partial_rebuild_lists_as_full__two_surfaces),
+        cmocka_unit_test(partial_rebuild_grows_the_list_keeping_its_pairs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

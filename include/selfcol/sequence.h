@@ -199,7 +199,8 @@ SELFCOL_API int selfcol_sequence_stats(const selfcol_sequence *sequence,
 /** Bytes held by the sequence: reference positions, clusters and the near
  *  list (a rebuild's query at distance d + s runs in the caller's contact
  *  set, whose records it then replaces, so that set grows to the reach
- *  set's size). 0 for NULL. */
+ *  set's size; a partial rebuild also passes its new pairs through that
+ *  set's sort scratch). 0 for NULL. */
 SELFCOL_API size_t selfcol_sequence_byte_count(const selfcol_sequence *sequence);
 
 SELFCOL_END_DECLS

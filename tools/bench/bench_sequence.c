@@ -31,7 +31,8 @@
 // Prints CSV rows (tools/bench/run.sh collects them into sequence.csv).
 // With BENCH_SEQUENCE_STATS set in the environment, each frame of the first
 // repetition also prints the coherent query's statistics to stderr (list
-// pairs, pairs skipped, closed forms per kind, times).
+// pairs, pairs skipped, closed forms per kind, times, the contact set's
+// bytes).
 #include <selfcol/selfcol.h>
 
 #include "fixtures.h"
@@ -265,13 +266,14 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
                 selfcol_contacts_stats(coherent_c, &q);
                 fprintf(stderr,
                         "frame %zu: candidates %llu filtered %llu vf %llu ee %llu ef %llu "
-                        "contacts %llu/%llu/%llu broad %.2f narrow %.2f ms\n",
+                        "contacts %llu/%llu/%llu broad %.2f narrow %.2f ms, contact set %zu "
+                        "bytes\n",
                         k, (unsigned long long)q.candidate_pairs,
                         (unsigned long long)q.primitives_filtered, (unsigned long long)q.vf_tests,
                         (unsigned long long)q.ee_tests, (unsigned long long)q.ef_tests,
                         (unsigned long long)q.vf_contacts, (unsigned long long)q.ee_contacts,
                         (unsigned long long)q.ef_contacts, 1e3 * q.broad_seconds,
-                        1e3 * q.narrow_seconds);
+                        1e3 * q.narrow_seconds, selfcol_contacts_byte_count(coherent_c));
             }
             selfcol_sequence_run_stats st;
             st.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
