@@ -601,6 +601,16 @@ static void sequence__refuses_bad_input(void **state) {
     fixture_free(&f);
 }
 
+// Sequence options whose allocator counts into st (emptied) and fails the
+// allocation numbered st->fail_at (test_allocator).
+static selfcol_sequence_options counted_options(test_allocator_state *st) {
+    memset(st, 0, sizeof *st);
+    selfcol_sequence_options so;
+    selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    so.allocator = test_allocator(st);
+    return so;
+}
+
 // Out of memory at every allocation of creation and of the first (rebuild)
 // and second queries: ENOMEM, nothing leaked, and the next query with memory
 // answers right.
@@ -620,10 +630,7 @@ static void sequence__allocation_failure_is_clean(void **state) {
     int failures = 0;
     for (long fail = 1;; ++fail) {
         test_allocator_state st;
-        memset(&st, 0, sizeof st);
-        selfcol_sequence_options so;
-        selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
-        so.allocator = test_allocator(&st);
+        const selfcol_sequence_options so = counted_options(&st);
         st.fail_at = fail;
         selfcol_sequence *seq = NULL;
         int status = selfcol_sequence_create(&seq, &so);
@@ -680,10 +687,7 @@ static void sequence__allocation_failure_in_a_partial_rebuild_is_clean(void **st
     int failures = 0;
     for (long fail = 1;; ++fail) {
         test_allocator_state st;
-        memset(&st, 0, sizeof st);
-        selfcol_sequence_options so;
-        selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
-        so.allocator = test_allocator(&st);
+        const selfcol_sequence_options so = counted_options(&st);
         selfcol_sequence *seq = NULL;
         assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_OK);
         for (int k = 0; k < partial_frame; ++k) {
