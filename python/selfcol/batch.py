@@ -31,27 +31,42 @@ from __future__ import annotations
 import argparse
 import glob
 import json
+import math
 import os
 import sys
 import time
-from typing import Any, Dict, Iterable, Iterator, List, Optional
+from typing import Any, Dict, Iterable, Iterator, List, Optional, Tuple
 
 import numpy as np
 
-__all__ = ["check_frame", "expand_frames", "summarize", "run", "main"]
+__all__ = ["check_frame", "check_options", "check_outputs", "expand_frames", "summarize",
+           "run", "merge", "main"]
+
+
+_METHODS = ("exact", "bvh", "exhaustive", "seed", "cone")
+_MAX_THREADS = 64  # SELFCOL_MAX_THREADS (hierarchy.h)
 
 
 def expand_frames(patterns: Iterable[str]) -> List[str]:
     """Files, directories (their .obj/.ply files) and glob patterns, sorted
-    within each argument, in argument order, without repeats."""
+    within each argument, in argument order, without repeats. An argument
+    that names no frame (a missing file, a glob that matches nothing, a
+    directory without .obj or .ply files) raises ValueError naming it, so a
+    typo fails a pipeline instead of checking nothing."""
     out: List[str] = []
     seen = set()
     for p in patterns:
         if os.path.isdir(p):
             found = sorted(os.path.join(p, f) for f in os.listdir(p)
                            if f.lower().endswith((".obj", ".ply")))
+            if not found:
+                raise ValueError("%s: a directory with no .obj or .ply file" % p)
         elif any(c in p for c in "*?["):
             found = sorted(glob.glob(p))
+            if not found:
+                raise ValueError("%s: no file matches this pattern" % p)
+        elif not os.path.exists(p):
+            raise ValueError("%s: no such file or directory" % p)
         else:
             found = [p]
         for f in found:
@@ -59,6 +74,50 @@ def expand_frames(patterns: Iterable[str]) -> List[str]:
                 seen.add(f)
                 out.append(f)
     return out
+
+
+def _same_file(a: str, b: str) -> bool:
+    """Whether paths a and b name one file: through symbolic and hard links
+    (os.path.samefile when both exist), or by their resolved names when one
+    does not exist yet (a link that dangles towards the other)."""
+    try:
+        if os.path.exists(a) and os.path.exists(b):
+            return os.path.samefile(a, b)
+    except OSError:
+        pass
+    return os.path.realpath(a) == os.path.realpath(b)
+
+
+def check_outputs(outputs: Dict[str, Optional[str]], inputs: List[str]) -> None:
+    """Refuses (ValueError, before anything is created or truncated) an
+    output that is one of the inputs, or two outputs that are one file.
+    ``outputs``: option name -> path (None when not given)."""
+    given = [(name, path) for name, path in outputs.items() if path]
+    for name, path in given:
+        for inp in inputs:
+            if _same_file(path, inp):
+                raise ValueError("%s %s is the input %s: refusing to overwrite an input"
+                                 % (name, path, inp))
+    for i, (name, path) in enumerate(given):
+        for other, opath in given[i + 1:]:
+            if _same_file(path, opath):
+                raise ValueError("%s and %s name the same file %s" % (name, other, path))
+
+
+def check_options(distance: Optional[float] = None, distance_rel: float = 0.1,
+                  method: str = "exact", worst: int = 3, threads: int = 1) -> None:
+    """Refuses (ValueError naming the option) what every frame would refuse,
+    before any frame is read."""
+    if distance is not None and not (math.isfinite(distance) and distance >= 0):
+        raise ValueError("--distance must be a finite number >= 0, got %r" % distance)
+    if distance is None and not (math.isfinite(distance_rel) and distance_rel >= 0):
+        raise ValueError("--distance-rel must be a finite number >= 0, got %r" % distance_rel)
+    if str(method).lower() not in _METHODS:
+        raise ValueError("--method %r is not one of %s" % (method, ", ".join(_METHODS)))
+    if not 1 <= threads <= _MAX_THREADS:
+        raise ValueError("--threads must be 1 to %d, got %d" % (_MAX_THREADS, threads))
+    if worst < 0:
+        raise ValueError("--worst must be >= 0, got %d" % worst)
 
 
 def check_frame(path: str, index: int = 0, distance: Optional[float] = None,
@@ -91,8 +150,19 @@ def check_frame(path: str, index: int = 0, distance: Optional[float] = None,
         rec["status"] = "intersects" if counts["ef"] else "clean"
     except Exception as exc:  # a frame's failure is data, not a crash of the batch
         rec["status"] = "error"
-        rec["error"] = "%s: %s" % (type(exc).__name__, exc)
+        rec["error"] = _frame_error(path, exc)
     return rec
+
+
+def _frame_error(path: str, exc: BaseException) -> str:
+    """The message of a frame's error, naming the file: the readers' own
+    messages start with it; selfcol's errors name the array and the element."""
+    text = str(exc) or type(exc).__name__
+    if isinstance(exc, OSError) and exc.strerror:
+        text = exc.strerror
+    if text.startswith(path):
+        return text
+    return "%s: %s" % (path, text)
 
 
 def _worst_regions(sc: Any, mesh: Any, k: int) -> List[Dict[str, Any]]:
@@ -184,14 +254,13 @@ def run(frames: List[str], out: str, summary: Optional[str] = None, workers: int
     """Checks the frames and writes JSON Lines to ``out`` (one record per
     frame, then the summary line); returns the summary (also written to
     ``summary`` when given)."""
-    paths = expand_frames(frames)
-    indices = list(range(len(paths)))
-    if shard:
-        i, n = (int(x) for x in shard.split("/"))
-        if n < 1 or not 0 <= i < n:
-            raise ValueError("--shard I/N needs 0 <= I < N")
-        indices = indices[i::n]
-        paths = paths[i::n]
+    check_options(**{k: v for k, v in kw.items()
+                     if k in ("distance", "distance_rel", "method", "worst", "threads")})
+    shard_i, shard_n = _parse_shard(shard) if shard else (0, 1)
+    all_paths = expand_frames(frames)
+    check_outputs({"--out": out, "--summary": summary}, all_paths)
+    indices = list(range(len(all_paths)))[shard_i::shard_n]
+    paths = all_paths[shard_i::shard_n]
     start = time.perf_counter()
     timing = {"ready": start}
     records: List[Dict[str, Any]] = []
@@ -211,6 +280,16 @@ def run(frames: List[str], out: str, summary: Optional[str] = None, workers: int
     return summ
 
 
+def _parse_shard(shard: str) -> Tuple[int, int]:
+    try:
+        i, n = (int(x) for x in shard.split("/"))
+    except ValueError:
+        raise ValueError("--shard must be I/N (two integers), got %r" % shard) from None
+    if n < 1 or not 0 <= i < n:
+        raise ValueError("--shard I/N needs 0 <= I < N, got %r" % shard)
+    return i, n
+
+
 def write_summary(summ: Dict[str, Any], summary: Optional[str]) -> None:
     """Writes the run's summary as indented JSON to `summary`, when given."""
     if summary:
@@ -221,9 +300,11 @@ def write_summary(summ: Dict[str, Any], summary: Optional[str]) -> None:
 
 def merge(parts: List[str], out: str, summary: Optional[str] = None) -> Dict[str, Any]:
     """Joins the JSON Lines of several runs (e.g. Slurm array tasks)."""
+    files = expand_frames_files(parts)
+    check_outputs({"--out": out, "--summary": summary}, files)
     records: List[Dict[str, Any]] = []
     seconds = 0.0
-    for p in expand_frames_files(parts):
+    for p in files:
         with open(p) as fh:
             for line in fh:
                 if not line.strip():
@@ -244,9 +325,17 @@ def merge(parts: List[str], out: str, summary: Optional[str] = None) -> Dict[str
 
 
 def expand_frames_files(patterns: Iterable[str]) -> List[str]:
+    """The JSON Lines files of --merge: files and glob patterns; one that
+    names no file raises ValueError naming it."""
     out: List[str] = []
     for p in patterns:
-        out.extend(sorted(glob.glob(p)) if any(c in p for c in "*?[") else [p])
+        found = sorted(glob.glob(p)) if any(c in p for c in "*?[") else [p]
+        if not found:
+            raise ValueError("%s: no file matches this pattern" % p)
+        for f in found:
+            if not os.path.isfile(f):
+                raise ValueError("%s: no such file" % f)
+        out.extend(found)
     return out
 
 
@@ -271,12 +360,18 @@ def main(argv: Optional[List[str]] = None) -> int:
     ap.add_argument("--threads", type=int, default=1, help="threads per query (default 1)")
     ap.add_argument("--worst", type=int, default=3, help="worst regions kept per frame")
     args = ap.parse_args(argv)
+    if not args.frames:
+        ap.error("no %s given" % ("JSON Lines files" if args.merge else "frames"))
+    if args.workers < 1:
+        ap.error("--workers must be >= 1, got %d" % args.workers)
+    try:
+        check_options(args.distance, args.distance_rel, args.method, args.worst, args.threads)
+    except ValueError as exc:
+        ap.error(str(exc))
     try:
         if args.merge:
             summ = merge(args.frames, args.out, args.summary)
         else:
-            if not args.frames:
-                ap.error("no frames given")
             summ = run(args.frames, args.out, args.summary, workers=max(1, args.workers),
                        scheduler=args.scheduler, use_dask=not args.no_dask, shard=args.shard,
                        distance=args.distance, distance_rel=args.distance_rel,

@@ -88,7 +88,8 @@ def test_check_frame_matches_the_api(tmp_path):
     bad = tmp_path / "bad.obj"
     bad.write_text("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")
     rec = batch.check_frame(str(bad))
-    assert rec["status"] == "error" and "InvalidArgument" in rec["error"]
+    assert rec["status"] == "error"
+    assert rec["error"].startswith(str(bad)) and "V[1, 0] = nan is not finite" in rec["error"]
 
 
 def test_batch_on_a_two_worker_local_cluster(tmp_path):
@@ -137,3 +138,104 @@ def test_batch_shards_and_merge(tmp_path):
     assert whole == rc
     assert batch.main([str(tmp_path / "missing.obj"), "--no-dask",
                        "--out", str(tmp_path / "e.jsonl")]) == 2
+
+
+# ---------------------------------------------------------------------------
+# Hardening 0.4: outputs never overwrite inputs; usage errors up front;
+# errors name the file and what is wrong with it.
+
+def _batch(tmp_path, *args):
+    proc = subprocess.run([sys.executable, "-m", "selfcol.batch", *map(str, args)],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=300,
+                          cwd=str(tmp_path))
+    return proc.returncode, proc.stderr.decode()
+
+
+def _snapshot(paths):
+    return {str(p): (os.path.islink(p), open(p, "rb").read()) for p in paths}
+
+
+def test_batch_never_writes_over_an_input(tmp_path):
+    """--out F F and --summary F F overwrote the frame F with JSON (exit 0)."""
+    frame = make_frames(str(tmp_path / "f"), 1)[0]
+    link = tmp_path / "link.obj"
+    os.symlink(frame, link)
+    hard = tmp_path / "hard.obj"
+    os.link(frame, hard)
+    before = _snapshot([frame])
+    cases = [
+        ["--out", frame, frame],
+        ["--out", tmp_path / "r.jsonl", "--summary", frame, frame],
+        ["--out", link, frame],  # through a symbolic link
+        ["--out", frame, link],
+        ["--out", hard, frame],  # a hard link to the input
+        ["--out", tmp_path / "r.jsonl", "--summary", hard, str(tmp_path / "f")],
+        ["--out", tmp_path / "same.json", "--summary", tmp_path / "same.json", frame],
+    ]
+    for args in cases:
+        rc, err = _batch(tmp_path, "--no-dask", *args)
+        assert rc == 2, (args, err)
+        assert "refusing to overwrite an input" in err or "name the same file" in err, err
+        assert _snapshot([frame]) == before, args
+        assert not (tmp_path / "r.jsonl").exists() and not (tmp_path / "same.json").exists()
+    # merge: a part named as the output
+    part = tmp_path / "part.jsonl"
+    assert batch.main([frame, "--no-dask", "--out", str(part)]) in (0, 1)
+    text = part.read_text()
+    assert batch.main(["--merge", str(part), "--out", str(part)]) == 2
+    assert part.read_text() == text
+
+
+@pytest.mark.parametrize("args, says", [
+    (["nothing_*.obj"], "no file matches this pattern"),
+    (["empty_dir"], "a directory with no .obj or .ply file"),
+    (["missing.xyz"], "missing.xyz: no such file or directory"),
+    (["FRAME", "--threads", "0"], "--threads must be 1 to 64"),
+    (["FRAME", "--threads", "65"], "--threads must be 1 to 64"),
+    (["FRAME", "--distance", "-1"], "--distance must be a finite number >= 0"),
+    (["FRAME", "--distance", "nan"], "--distance must be a finite number >= 0"),
+    (["FRAME", "--distance-rel", "inf"], "--distance-rel must be a finite number >= 0"),
+    (["FRAME", "--method", "nope"], "--method 'nope' is not one of"),
+    (["FRAME", "--workers", "0"], "--workers must be >= 1"),
+    (["FRAME", "--shard", "2/2"], "--shard I/N needs 0 <= I < N"),
+])
+def test_batch_usage_errors_before_any_frame(tmp_path, args, says):
+    frame = make_frames(str(tmp_path / "f"), 1)[0]
+    os.makedirs(tmp_path / "empty_dir")
+    out = tmp_path / "r.jsonl"
+    args = [frame if a == "FRAME" else a for a in args]
+    rc, err = _batch(tmp_path, "--no-dask", "--out", out, *args)
+    assert rc == 2 and says in err, err
+    assert not out.exists()  # nothing created
+
+
+def _truncated(tmp_path, fmt):
+    V, F = folded(8, 4)
+    p = tmp_path / ("t_%s.ply" % fmt)
+    write_ply(p, V, F, fmt)
+    data = p.read_bytes()
+    p.write_bytes(data[:len(data) - 40])
+    return p
+
+
+@pytest.mark.parametrize("make, says", [
+    (lambda t: t / "empty.obj", "no triangles (0 vertices)"),
+    (lambda t: t / "text.ply", "not a PLY file"),
+    (lambda t: _truncated(t, "binary_little_endian"), "truncated PLY"),
+    (lambda t: _truncated(t, "ascii"), "truncated PLY: element 'face' ends in row"),
+    (lambda t: t / "badidx.obj", "triangle 0 names vertex 9, which is not in the file"),
+    (lambda t: t / "word.obj", ":2: a vertex coordinate is not a number"),
+    (lambda t: t / "far.obj", "V[1, 1] = 1e+300 is beyond the largest coordinate"),
+])
+def test_batch_errors_name_the_file_and_the_fault(tmp_path, make, says):
+    (tmp_path / "empty.obj").write_text("")
+    (tmp_path / "text.ply").write_text("this is no mesh\n")
+    (tmp_path / "badidx.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 10\n")
+    (tmp_path / "word.obj").write_text("v 0 0 0\nv one 0 0\nv 0 1 0\nf 1 2 3\n")
+    (tmp_path / "far.obj").write_text("v 0 0 0\nv 1 1e300 0\nv 0 1 0\nf 1 2 3\n")
+    path = str(make(tmp_path))
+    rec = batch.check_frame(path)
+    assert rec["status"] == "error"
+    assert rec["error"].startswith(path) and says in rec["error"], rec["error"]
+    for internal in ("IndexError", "buffer is smaller", "list index", "V is empty"):
+        assert internal not in rec["error"]
