@@ -84,6 +84,41 @@ def _check(status: int, what: str) -> None:
         raise cls(status, "%s: %s (status %d)" % (what, _status_text(status), status))
 
 
+def _check_mesh(status: int, what: str, P: np.ndarray, T: Optional[np.ndarray]) -> None:
+    """_check for the mesh functions: on EINVAL or ERANGE, names the first
+    element the C library refuses (mesh.h's contract) instead of the status
+    alone. Runs only on failure, so valid input pays nothing."""
+    if status == 0:
+        return
+    culprit = _mesh_culprit(P, T) if status in (int(lib.SELFCOL_EINVAL),
+                                                int(lib.SELFCOL_ERANGE)) else None
+    if culprit is None:
+        _check(status, what)
+    cls = _ERRORS.get(status, Error)
+    raise cls(status, "%s: %s (status %d)" % (what, culprit, status))
+
+
+def _mesh_culprit(P: np.ndarray, T: Optional[np.ndarray]) -> Optional[str]:
+    a = np.abs(np.asarray(P, dtype=np.float64))
+    hi, lo = 2.0 ** 200, 2.0 ** -200  # SELFCOL_MESH_MAX_COORDINATE, _MIN_ (mesh.h)
+    checks = ((~np.isfinite(a), "is not finite"),
+              (a > hi, "is beyond the largest coordinate magnitude 2^200 (about 1.6e60)"),
+              ((a > 0) & (a < lo), "is below the smallest nonzero coordinate magnitude 2^-200 "
+               "(about 6.2e-61; flush it to 0)"))
+    for bad, why in checks:
+        where = np.argwhere(bad)
+        if where.size:
+            v, c = (int(x) for x in where[0])
+            return "V[%d, %d] = %r %s" % (v, c, float(P[v, c]), why)
+    if T is not None:
+        where = np.argwhere(T >= P.shape[0])
+        if where.size:
+            t, c = (int(x) for x in where[0])
+            return "F[%d, %d] = %d is not a row of V (%d vertices)" % (t, c, int(T[t, c]),
+                                                                       P.shape[0])
+    return None
+
+
 def _invalid(message: str) -> InvalidArgument:
     return InvalidArgument(int(lib.SELFCOL_EINVAL), message)
 
@@ -179,7 +214,13 @@ def _kinds_mask(kinds: KindsArg) -> int:
     if isinstance(kinds, bool):
         raise _invalid("kinds must be names or a mask, got %r" % (kinds,))
     if isinstance(kinds, (int, np.integer)):
-        return int(kinds)
+        mask = int(kinds)
+        everything = int(lib.SELFCOL_KIND_ALL)
+        if mask <= 0 or mask & ~everything:
+            raise _invalid("kinds mask %r is not a nonzero combination of vf = %d, ee = %d and "
+                           "ef = %d (all = %d)" % (kinds, _KINDS["vf"], _KINDS["ee"],
+                                                  _KINDS["ef"], everything))
+        return mask
     if kinds == "all":
         return int(lib.SELFCOL_KIND_ALL)
     if isinstance(kinds, str):
@@ -201,6 +242,10 @@ def _kinds_mask(kinds: KindsArg) -> int:
 
 def _lookup(table: Dict[str, int], value: Union[str, int], what: str) -> int:
     if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        if int(value) not in table.values():
+            raise _invalid("unknown %s %r (one of %s, or their numbers %s)"
+                           % (what, value, ", ".join(sorted(table)),
+                              ", ".join(str(v) for v in sorted(set(table.values())))))
         return int(value)
     key = str(value).lower()
     if key not in table:
@@ -215,7 +260,7 @@ def _query_options(distance: float, method: Union[str, int], kinds: KindsArg, th
            "selfcol_query_options_init")
     opts.method = _lookup(_METHODS, method, "method")
     opts.narrow = _lookup(_NARROW, narrow, "narrow phase")
-    opts.kinds = _kinds_mask(kinds) & 0xFFFFFFFF
+    opts.kinds = _kinds_mask(kinds)
     try:
         opts.distance = float(distance)
     except (TypeError, ValueError):
@@ -296,7 +341,7 @@ class Mesh:
         else:
             st = lib.selfcol_mesh_create_float(out, P.shape[0], _ptr("float *", P), P.strides[0],
                                                T.shape[0], _ptr("uint32_t *", T), ffi.NULL)
-        _check(st, "selfcol_mesh_create")
+        _check_mesh(st, "selfcol_mesh_create", P, T)
         self._h = ffi.gc(out[0], lib.selfcol_mesh_destroy)
         self.vertex_count = int(P.shape[0])
         self.triangle_count = int(T.shape[0])
@@ -313,7 +358,7 @@ class Mesh:
         else:
             st = lib.selfcol_mesh_set_positions_float(self._h, _ptr("float *", P), P.strides[0],
                                                       P.shape[0])
-        _check(st, "selfcol_mesh_set_positions")
+        _check_mesh(st, "selfcol_mesh_set_positions", P, None)
 
     @property
     def positions(self) -> np.ndarray:
@@ -640,19 +685,32 @@ class Sequence:
         out = ffi.new("selfcol_sequence **")
         _check(lib.selfcol_sequence_create(out, opts), "selfcol_sequence_create")
         self._h = ffi.gc(out[0], lib.selfcol_sequence_destroy)
-        self._distance: Optional[float] = None
+        self._distance: Optional[float] = None  # d of the last distance=None call
+        self._rel_key: Any = None  # its distance_rel
+        self._rel_of: Tuple[Any, ...] = ()  # and its hierarchies
         self._keep: Tuple[Any, ...] = ()
 
     def _fixed_distance(self, distance: Optional[float], distance_rel: float,
                         *hierarchies: "Hierarchy") -> float:
-        # distance=None: distance_rel x the mean edge at the first frame, kept
-        # (a distance that changed every frame would restart the sequence).
+        # distance=None: distance_rel x the mean edge at the first frame of
+        # these hierarchies with this distance_rel, kept while both stay the
+        # same (a distance that followed the mean edge every frame would
+        # restart the sequence every frame). Another distance_rel or another
+        # hierarchy takes the mean edge anew: the arguments are honoured on
+        # every call, never answered at an earlier call's distance.
+        meshes = tuple(h.mesh for h in hierarchies)
         if distance is not None:
-            return hierarchies[0]._distance(distance, distance_rel,
-                                            *(h.mesh for h in hierarchies))
-        if self._distance is None:
-            self._distance = hierarchies[0]._distance(None, distance_rel,
-                                                      *(h.mesh for h in hierarchies))
+            return hierarchies[0]._distance(distance, distance_rel, *meshes)
+        key = (float(distance_rel) if isinstance(distance_rel, (int, float, np.number))
+               else distance_rel)
+        same = (self._distance is not None and self._rel_key == key
+                and len(self._rel_of) == len(hierarchies)
+                and all(a is b for a, b in zip(self._rel_of, hierarchies)))
+        if not same:
+            self._distance = hierarchies[0]._distance(None, distance_rel, *meshes)
+            self._rel_key = key
+            self._rel_of = hierarchies
+        assert self._distance is not None
         return self._distance
 
     def self_collide(self, hierarchy: "Hierarchy", distance: Optional[float] = None,
@@ -661,7 +719,11 @@ class Sequence:
                      narrow: Union[str, int] = "closed") -> Contacts:
         """Self-contacts of the hierarchy's mesh at its current positions,
         as Hierarchy.self_collide would return them (selfcol_sequence_self_collide).
-        ``method``: "exact", "bvh" or "exhaustive"."""
+        ``method``: "exact", "bvh" or "exhaustive". ``distance=None``:
+        distance_rel x the mean edge length when this hierarchy was first
+        queried with this distance_rel, kept over the following frames (a
+        change of distance_rel or of hierarchy measures it again); the
+        distance used is Contacts.distance_used."""
         if not isinstance(hierarchy, Hierarchy):
             raise _invalid("self_collide needs a selfcol.Hierarchy")
         d = self._fixed_distance(distance, distance_rel, hierarchy)
@@ -692,6 +754,7 @@ class Sequence:
         """Forgets the reference (the next frame is a first frame)."""
         lib.selfcol_sequence_reset(self._h)
         self._distance = None
+        self._rel_of = ()
 
     def stats(self) -> Dict[str, Union[int, float, str]]:
         st = ffi.new("selfcol_sequence_run_stats *")
@@ -724,7 +787,7 @@ def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg, 
     _check(lib.selfcol_sweep_options_init(opts, lib.SELFCOL_SWEEP_OPTIONS_VERSION),
            "selfcol_sweep_options_init")
     opts.method = _lookup(_SWEEP_METHODS, method, "sweep method")
-    opts.kinds = _kinds_mask(kinds) & 0xFFFFFFFF
+    opts.kinds = _kinds_mask(kinds)
     opts.mode = _lookup(_SWEEP_MODES, mode, "sweep mode")
     try:
         opts.separation = float(separation)

@@ -84,6 +84,9 @@ def test_set_positions_errors_keep_the_mesh():
     {"method": "fast"}, {"method": 99}, {"kinds": "vf,xx"}, {"kinds": ""}, {"kinds": 1 << 7},
     {"distance": -1.0}, {"distance": float("nan")}, {"distance": "far"}, {"threads": 0},
     {"threads": 65}, {"threads": 1.5}, {"narrow": "gjk"},
+    # silently masked to VF, or an OverflowError, before 0.4
+    {"kinds": 2**32 + 1}, {"kinds": 0}, {"kinds": -1}, {"method": -1}, {"method": 2**40},
+    {"method": 5}, {"narrow": 2**33},
 ])
 def test_bad_query_options(kw):
     h = selfcol.Hierarchy(selfcol.Mesh(V, F))
@@ -173,3 +176,30 @@ def test_intersecting_triangles_needs_self_query():
     c = selfcol.collide(V1, F1, V1 + 0.01, F1)
     with pytest.raises(selfcol.InvalidArgument):
         c.intersecting_triangles()
+
+
+def test_mesh_errors_name_the_element():
+    """A coordinate of 1e300 was "count or index out of the supported range";
+    a bad index "invalid argument or input data": both name the culprit."""
+    W = V.astype(np.float64).copy()
+    W[4, 2] = 1e300
+    with pytest.raises(selfcol.RangeError, match=r"V\[4, 2\] = 1e\+300 is beyond the largest "
+                       r"coordinate magnitude 2\^200"):
+        selfcol.Mesh(W, F)
+    W[4, 2] = 1e-310
+    with pytest.raises(selfcol.RangeError, match=r"V\[4, 2\] = 1e-310 is below the smallest"):
+        selfcol.Mesh(W, F)
+    W[4, 2] = np.nan
+    with pytest.raises(selfcol.InvalidArgument, match=r"V\[4, 2\] = nan is not finite"):
+        selfcol.Mesh(W, F)
+    G = F.astype(np.int64).copy()
+    G[3, 1] = len(V) + 5
+    with pytest.raises(selfcol.InvalidArgument,
+                       match=r"F\[3, 1\] = %d is not a row of V \(%d vertices\)"
+                       % (len(V) + 5, len(V))):
+        selfcol.Mesh(V, G)
+    m = selfcol.Mesh(V, F)
+    W = V.astype(np.float32).copy()
+    W[2, 0] = np.inf
+    with pytest.raises(selfcol.InvalidArgument, match=r"V\[2, 0\] = inf is not finite"):
+        m.set_positions(W)

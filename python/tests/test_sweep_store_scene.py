@@ -265,6 +265,32 @@ def test_sequence_equals_fresh_queries():
     assert st["last_answer"] == "fresh" and st["last_reason"] == 3
 
 
+def test_sequence_honours_distance_rel_and_hierarchy():
+    """distance=None kept the first call's d for ever: a later distance_rel
+    and a second hierarchy on a 10x larger mesh were answered at it."""
+    V, F = folded()
+    m = selfcol.Mesh(V, F)
+    h = selfcol.Hierarchy(m)
+    seq = selfcol.Sequence()
+    for rel in (0.1, 0.5, 0.1):
+        got = seq.self_collide(h, distance_rel=rel)
+        want = h.self_collide(distance_rel=rel)
+        assert got.distance_used == want.distance_used
+        assert np.array_equal(got.records, want.records), rel
+    assert len(seq.self_collide(h, distance_rel=0.5)) > len(seq.self_collide(h))
+    big = selfcol.Mesh(10 * V, F)
+    hb = selfcol.Hierarchy(big)
+    got = seq.self_collide(hb)
+    want = hb.self_collide()
+    assert got.distance_used == want.distance_used and len(want) > 0
+    assert np.array_equal(got.records, want.records)
+    # While the hierarchy and distance_rel stay, d stays the first frame's
+    # (a d that followed the mean edge would restart the sequence).
+    d0 = seq.self_collide(h).distance_used
+    m.set_positions(V * 1.01)
+    assert seq.self_collide(h).distance_used == d0
+
+
 def test_scene_coherent_option():
     V, F = folded()
     for coherent in (True, False):
