@@ -393,10 +393,13 @@ def test_malformed_input():
         (write_bytes('bare_f_comment.obj', obj_head + b'f # nothing\n'), 'at least 3', 4),
         # Defect 5: coordinates beyond the library's range (2^200, or a whole
         # mesh below 2^-200) are refused, not answered wrongly.
+        # The message names the coordinate and the limit (hardening 0.4).
         (write_bytes('huge.obj', b'v 0 0 0\nv 1e155 0 0\nv 0 1e155 0\nf 1 2 3\n'),
-         'range', None),
+         r'vertex 1, coordinate x = 1e\+155 is beyond the largest coordinate magnitude 2\^200',
+         None),
         (write_bytes('tiny.obj', b'v 0 0 0\nv 1e-200 0 0\nv 0 1e-200 0\nf 1 2 3\n'),
-         'range', None),
+         r'vertex 1, coordinate x = 1e-200 is below the smallest nonzero coordinate magnitude',
+         None),
         (write_bytes('empty.obj', b''), 'empty', None),
         (write_bytes('empty.ply', b''), 'empty', None),
         (write_bytes('truncated.ply', good[:len(good) - 7]), 'truncated', None),
@@ -513,6 +516,50 @@ def test_hostile_input():
               'info > /dev/full: exit %d' % proc.returncode)
     status, out, err = run('check', mesh, '--png', work('hostile/big.png'), '--size', '8192x8192')
     check(status == 2 and '4096' in err, '--size 8192x8192: exit %d, %r' % (status, err))
+
+
+def test_messages_name_the_culprit():
+    """Hardening 0.4: a coordinate beyond 2^200 (or nonzero below 2^-200)
+    was "count or index out of the supported range", and a frame whose
+    triangles differ only "topology differs (72 vertices, 100 triangles;
+    the first frame has 72 and 100)". Both name what is wrong now."""
+    pos, tris = fx.grid_sheet(4, 4, fx.flat)
+    for value, says in ((1e300, 'beyond the largest coordinate magnitude 2^200'),
+                        (-1e-310, 'below the smallest nonzero coordinate magnitude 2^-200')):
+        bad = [list(p) for p in pos]
+        bad[7][1] = value
+        bad = [tuple(p) for p in bad]
+        path = work('culprit/far_%g.obj' % abs(value))
+        fx.write_obj(path, bad, tris)
+        status, _, err = run('check', path)
+        check(status == 2 and 'vertex 7, coordinate y' in err and says in err and path in err,
+              '%g: exit %d, %r' % (value, status, err))
+        # The same coordinate in a later frame of a sequence.
+        first = work('culprit/first.obj')
+        fx.write_obj(first, pos, tris)
+        status, _, err = run('check', '--frames', first, path)
+        check(status == 2 and 'vertex 7, coordinate y' in err and says in err,
+              'frames, %g: exit %d, %r' % (value, status, err))
+    # Same counts, one triangle turned: the message names it and both versions.
+    first = work('culprit/topology_0.obj')
+    fx.write_obj(first, pos, tris)
+    turned = [list(t) for t in tris]
+    k = len(turned) // 2
+    turned[k] = [turned[k][0], turned[k][2], turned[k][1]]
+    second = work('culprit/topology_1.obj')
+    fx.write_obj(second, pos, turned)
+    for command in ('check', 'track'):
+        frames = ['--frames'] if command == 'check' else []
+        status, _, err = run(command, *frames, first, second)
+        want = ('triangle %d is (%d %d %d); in the first frame it is (%d %d %d)'
+                % ((k,) + tuple(turned[k]) + tuple(tris[k])))
+        check(status == 2 and want in err and second in err,
+              '%s: exit %d, %r (want %r)' % (command, status, err, want))
+    fewer = work('culprit/fewer.obj')
+    fx.write_obj(fewer, pos, tris[:-1])
+    status, _, err = run('check', '--frames', first, fewer)
+    check(status == 2 and '%d triangles; the first frame has %d' % (len(tris) - 1, len(tris))
+          in err, 'fewer triangles: exit %d, %r' % (status, err))
 
 
 def frame_positions(k):

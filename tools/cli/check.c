@@ -325,25 +325,44 @@ static double combined_mean_edge(cli_part *const *parts, int count) {
     return edges > 0 ? sum / edges : 0.0;
 }
 
+// 0 when a later frame has the first frame's vertex count and triangles,
+// else -1 with a message naming what differs: the counts, or the first
+// triangle whose vertices differ.
+static int frame_topology_differs(const char *path, const meshio_mesh *next,
+                                  const meshio_mesh *first, cli_error *err) {
+    if (next->vertex_count != first->vertex_count)
+        return cli_fail(err,
+                        "%s: %zu vertices; the first frame has %zu (frames must share one "
+                        "topology)",
+                        path, next->vertex_count, first->vertex_count);
+    if (next->triangle_count != first->triangle_count)
+        return cli_fail(err,
+                        "%s: %zu triangles; the first frame has %zu (frames must share one "
+                        "topology)",
+                        path, next->triangle_count, first->triangle_count);
+    for (size_t t = 0; t < next->triangle_count; ++t) {
+        const uint32_t *a = next->triangles + 3 * t, *b = first->triangles + 3 * t;
+        if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2])
+            return cli_fail(err,
+                            "%s: triangle %zu is (%lu %lu %lu); in the first frame it is "
+                            "(%lu %lu %lu) (frames must share one topology)",
+                            path, t, (unsigned long)a[0], (unsigned long)a[1], (unsigned long)a[2],
+                            (unsigned long)b[0], (unsigned long)b[1], (unsigned long)b[2]);
+    }
+    return 0;
+}
+
 // Positions of a later frame: same vertex count and triangles as frame 0.
 int cli_load_next_frame(cli_part *part, const char *path, cli_progress *progress,
                         size_t *split_groups, cli_error *err) {
     meshio_mesh next;
     if (cli_read_mesh(path, &next, err, progress) != 0)
         return -1;
-    int status = 0;
-    if (next.vertex_count != part->file.vertex_count ||
-        next.triangle_count != part->file.triangle_count ||
-        memcmp(next.triangles, part->file.triangles, 3 * next.triangle_count * sizeof(uint32_t)))
-        status = cli_fail(err,
-                          "%s: topology differs from the first frame (%zu vertices, %zu "
-                          "triangles; the first frame has %zu and %zu)",
-                          path, next.vertex_count, next.triangle_count, part->file.vertex_count,
-                          part->file.triangle_count);
+    int status = frame_topology_differs(path, &next, &part->file, err);
     if (status == 0) {
         int rc = selfcol_mesh_set_positions(part->mesh, next.positions, next.vertex_count);
         if (rc != SELFCOL_OK)
-            status = cli_fail(err, "%s: %s", path, selfcol_status_string(rc));
+            status = cli_fail_mesh(err, path, rc, next.positions, next.vertex_count, NULL, 0);
     }
     // The weld was decided on the first frame. A welded vertex that moved
     // away from its group's representative is a seam that tore: count them.

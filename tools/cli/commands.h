@@ -89,6 +89,12 @@ int cli_check_outputs(const char *command, const cli_output_file *outputs, int o
 int cli_frame_list(const cli_options *o, char ***names_out, long **numbers_out, long *count_out,
                    cli_error *err);
 
+/** Fails with the message of a failed selfcol_mesh_create/_set_positions
+ *  status rc: the first coordinate or index the library refuses, when it can
+ *  be named (triangles may be NULL), else the status string. Returns -1. */
+int cli_fail_mesh(cli_error *err, const char *path, int rc, const double *positions,
+                  size_t vertex_count, const uint32_t *triangles, size_t triangle_count);
+
 /** Frees what cli_part_create made and the mesh as read, and zeroes part. */
 void cli_part_free(cli_part *part);
 

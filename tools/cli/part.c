@@ -5,8 +5,40 @@
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+// The message of a failed selfcol_mesh_create or _set_positions: on
+// SELFCOL_EINVAL or SELFCOL_ERANGE the first element mesh.h's contract
+// refuses (a coordinate not finite or outside [2^-200, 2^200] in magnitude,
+// an index that is not a vertex), else the status. Scans only after a failure.
+int cli_fail_mesh(cli_error *err, const char *path, int rc, const double *positions,
+                  size_t vertex_count, const uint32_t *triangles, size_t triangle_count) {
+    if (rc == SELFCOL_EINVAL || rc == SELFCOL_ERANGE) {
+        for (size_t i = 0; i < 3 * vertex_count; ++i) {
+            double x = positions[i], m = fabs(x);
+            const char *why = NULL;
+            if (!isfinite(x))
+                why = "is not finite";
+            else if (m > SELFCOL_MESH_MAX_COORDINATE)
+                why = "is beyond the largest coordinate magnitude 2^200 (about 1.6e60)";
+            else if (m > 0.0 && m < SELFCOL_MESH_MIN_COORDINATE)
+                why = "is below the smallest nonzero coordinate magnitude 2^-200 (about "
+                      "6.2e-61; flush it to 0)";
+            if (why != NULL)
+                return cli_fail(err, "%s: vertex %zu, coordinate %c = %g %s", path, i / 3,
+                                "xyz"[i % 3], x, why);
+        }
+        for (size_t i = 0; triangles != NULL && i < 3 * triangle_count; ++i)
+            if (triangles[i] >= vertex_count)
+                return cli_fail(err,
+                                "%s: triangle %zu names vertex %lu, not in the file (%zu "
+                                "vertices)",
+                                path, i / 3, (unsigned long)triangles[i], vertex_count);
+    }
+    return cli_fail(err, "%s: %s", path, selfcol_status_string(rc));
+}
 
 void cli_part_free(cli_part *part) {
     selfcol_sequence_destroy(part->sequence);
@@ -55,6 +87,9 @@ int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, unsigned t
         rc = selfcol_hierarchy_create(&part->hierarchy, part->mesh, &ho);
     }
     *seconds_hierarchy += cli_now() - mid;
+    if (rc != SELFCOL_OK && part->mesh == NULL)
+        return cli_fail_mesh(err, part->path, rc, part->file.positions, nv, part->file.triangles,
+                             nt);
     if (rc != SELFCOL_OK)
         return cli_fail(err, "%s: %s", part->path, selfcol_status_string(rc));
     return 0;
