@@ -67,6 +67,13 @@ static int positions_check(const position_source *src, size_t vertex_count) {
     return out_of_range ? SELFCOL_ERANGE : SELFCOL_OK;
 }
 
+int selfcol_mesh__positions_in_contract(const double *xyz, size_t vertex_count) {
+    for (size_t i = 0; i < 3 * vertex_count; ++i)
+        if (!selfcol_mesh__coordinate_in_contract(xyz[i]))
+            return 0;
+    return 1;
+}
+
 static void copy_positions(double *dst, const position_source *src, size_t vertex_count) {
     if (src->xyz != NULL) {
         memcpy(dst, src->xyz, vertex_count * 3 * sizeof(double));

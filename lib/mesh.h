@@ -7,6 +7,8 @@
 
 #include <selfcol/mesh.h>
 
+#include <math.h>
+
 // Largest triangle count: slot ids (3 t + i) and CSR offsets are uint32_t.
 #define SELFCOL_MESH_MAX_TRIANGLES ((size_t)(UINT32_MAX - 1) / 3)
 #define SELFCOL_MESH_MAX_VERTICES ((size_t)UINT32_MAX - 1)
@@ -61,6 +63,18 @@ struct selfcol_mesh {
 // Builds every topology array of a mesh whose vertex_count, triangle_count and
 // triangles are set. Returns SELFCOL_OK, SELFCOL_ENOMEM or SELFCOL_ERANGE; on
 // failure the arrays built so far stay in the mesh for destroy to free.
+/** Whether x meets the coordinate contract (mesh.h): finite, and 0 or of
+ *  magnitude in [SELFCOL_MESH_MIN_COORDINATE, SELFCOL_MESH_MAX_COORDINATE]. */
+static inline int selfcol_mesh__coordinate_in_contract(double x) {
+    double a = fabs(x); // NaN fails both comparisons below
+    return a == 0.0 || (a >= SELFCOL_MESH_MIN_COORDINATE && a <= SELFCOL_MESH_MAX_COORDINATE);
+}
+
+/** Whether all 3 x vertex_count coordinates meet the contract: the check of
+ *  the positions a mesh does not hold (the start of a step, for sweeps and
+ *  swept store updates), the same as the mesh's own. */
+int selfcol_mesh__positions_in_contract(const double *xyz, size_t vertex_count);
+
 int selfcol_mesh__build_topology(selfcol_mesh *mesh);
 
 // Frees the topology arrays (used by destroy).

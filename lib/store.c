@@ -434,9 +434,13 @@ static int entry_record_compare(const store_entry *e, const selfcol_contact *r) 
 }
 
 // 1 when the record's primitives exist in the meshes and its vertices are
-// theirs (so that an entry's vertices can be read back from the topology).
+// theirs (so that an entry's vertices can be read back from the topology),
+// and a two-mesh store's record pairs the two meshes (a two-mesh query finds
+// no self-contacts: a record within one mesh is another query's).
 static int record_matches(const selfcol_mesh *const meshes[2], const selfcol_contact *r) {
     if (r->kind > SELFCOL_CONTACT_EF || r->first_mesh > 1 || r->second_mesh > 1)
+        return 0;
+    if (meshes[1] != NULL && r->first_mesh == r->second_mesh)
         return 0;
     const selfcol_mesh *ma = meshes[r->first_mesh], *mb = meshes[r->second_mesh];
     if (ma == NULL || mb == NULL)
@@ -1447,20 +1451,14 @@ static void run_stage(update_job *job, enum update_stage stage) {
         selfcol_parallel__run(workers, update_worker, job);
 }
 
-static int start_valid(const double *start, size_t vertex_count) {
-    for (size_t i = 0; i < 3 * vertex_count; ++i)
-        if (!(fabs(start[i]) <= SELFCOL_MESH_MAX_COORDINATE)) // NaN fails too
-            return 0;
-    return 1;
-}
-
 int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
                                const selfcol_mesh *second, const selfcol_contacts *detected,
                                const double *first_start, const double *second_start) {
     SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL && first_start != NULL);
     SELFCOL_CHECK((second == NULL) == (second_start == NULL));
-    SELFCOL_CHECK(start_valid(first_start, first->vertex_count));
-    SELFCOL_CHECK(second == NULL || start_valid(second_start, second->vertex_count));
+    SELFCOL_CHECK(selfcol_mesh__positions_in_contract(first_start, first->vertex_count));
+    SELFCOL_CHECK(second == NULL ||
+                  selfcol_mesh__positions_in_contract(second_start, second->vertex_count));
     store->step_start[0] = first_start;
     store->step_start[1] = second_start;
     const int status = selfcol_store_update(store, first, second, detected);

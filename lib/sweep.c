@@ -495,13 +495,6 @@ static int sort_hits(selfcol_sweep *s) {
 // ---------------------------------------------------------------------------
 // Queries
 
-static int start_valid(const double *start, size_t vertex_count) {
-    for (size_t i = 0; i < 3 * vertex_count; ++i)
-        if (!(fabs(start[i]) <= SELFCOL_MESH_MAX_COORDINATE)) // NaN fails too
-            return 0;
-    return 1;
-}
-
 static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
                      const selfcol_hierarchy *second, const double *second_start,
                      selfcol_sweep *result, const selfcol_sweep_options *opts) {
@@ -524,8 +517,9 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
         return SELFCOL_EMISMATCH;
     const int self = first == second;
     SELFCOL_CHECK(self ? first_start == second_start : first->mesh != second->mesh);
-    SELFCOL_CHECK(start_valid(first_start, first->mesh->vertex_count));
-    SELFCOL_CHECK(self || start_valid(second_start, second->mesh->vertex_count));
+    SELFCOL_CHECK(selfcol_mesh__positions_in_contract(first_start, first->mesh->vertex_count));
+    SELFCOL_CHECK(self ||
+                  selfcol_mesh__positions_in_contract(second_start, second->mesh->vertex_count));
 
     const double start_time = selfcol_core__seconds();
     result->hit_count = 0;

@@ -289,6 +289,9 @@ static void test_pass_around_confirmed_by_the_continuous_test(void **state) {
         bad[4] = NAN;
         assert_int_equal(selfcol_store_update_swept(r.store, r.mesh, NULL, r.detected, bad, NULL),
                          SELFCOL_EINVAL);
+        bad[4] = 1e-310; // nonzero below 2^-200: outside mesh.h's contract (accepted before 0.4)
+        assert_int_equal(selfcol_store_update_swept(r.store, r.mesh, NULL, r.detected, bad, NULL),
+                         SELFCOL_EINVAL);
         assert_int_equal(selfcol_store_update_swept(r.store, r.mesh, NULL, r.detected, NULL, NULL),
                          SELFCOL_EINVAL);
         assert_int_equal(
@@ -793,6 +796,19 @@ static void test_errors_leave_the_store_unchanged(void **state) {
     const selfcol_store_contact *c = find(&r, SELFCOL_CONTACT_VF, 3, 0);
     assert_non_null(c);
     assert_int_equal(c->age, 0);
+    // A two-mesh store given a self query's records (all within mesh 0):
+    // EMISMATCH from update and update_swept alike (update_swept returned
+    // OK before 0.4), and the store stays empty.
+    {
+        selfcol_store *two = NULL;
+        assert_int_equal(selfcol_store_create(&two, NULL), SELFCOL_OK);
+        assert_true(selfcol_contacts_count(r.detected) > 0);
+        assert_int_equal(selfcol_store_update(two, r.mesh, other, r.detected), SELFCOL_EMISMATCH);
+        assert_int_equal(selfcol_store_update_swept(two, r.mesh, other, r.detected, pos, pos),
+                         SELFCOL_EMISMATCH);
+        assert_int_equal(selfcol_store_contact_count(two), 0);
+        selfcol_store_destroy(two);
+    }
     // Records of a query on another mesh (more vertices) do not match.
     fixture big;
     assert_int_equal(fixture_crumpled(&big, 6, 6, 1, 3.0), 0);

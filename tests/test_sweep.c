@@ -571,6 +571,18 @@ static void test_sweep_rejects_bad_input(void **state) {
     s.start[4] = 1e300;
     assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, result, NULL),
                      SELFCOL_EINVAL);
+    // Below 2^-200 but not 0 (the mesh refuses it, and so do sweeps since
+    // 0.4: 1e-310 was accepted); 2^-200 itself and -0 are in the contract.
+    s.start[4] = 1e-310;
+    assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, result, NULL),
+                     SELFCOL_EINVAL);
+    s.start[4] = -SELFCOL_MESH_MIN_COORDINATE / 2;
+    assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, result, NULL),
+                     SELFCOL_EINVAL);
+    s.start[4] = SELFCOL_MESH_MIN_COORDINATE;
+    assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, result, NULL), SELFCOL_OK);
+    s.start[4] = -0.0;
+    assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, result, NULL), SELFCOL_OK);
     s.start[4] = keep;
     selfcol_sweep_query_stats st;
     st.version = 0;

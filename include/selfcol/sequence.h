@@ -96,9 +96,10 @@ typedef struct selfcol_sequence selfcol_sequence;
 typedef struct selfcol_sequence_options {
     unsigned int version;        /**< SELFCOL_SEQUENCE_OPTIONS_VERSION */
     selfcol_allocator allocator; /**< all-zero: malloc/free */
-    /** The skin s >= 0, in mesh units: how much farther than d the near list
-     *  looks. A larger skin lasts more frames but tests more pairs per
-     *  frame. 0 (the default): d, or 0.1 x the mean edge length when d is 0. */
+    /** The skin s, 0 <= s <= SELFCOL_MESH_MAX_COORDINATE (2^200), in mesh
+     *  units: how much farther than d the near list looks. A larger skin
+     *  lasts more frames but tests more pairs per frame. 0 (the default): d,
+     *  or 0.1 x the mean edge length when d is 0. */
     double skin;
 } selfcol_sequence_options;
 
@@ -147,8 +148,9 @@ SELFCOL_API int selfcol_sequence_options_init(selfcol_sequence_options *opts, un
  * Creates an empty sequence (its first query is fresh).
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_sequence_destroy().
  * @param[in] opts options, or NULL for defaults
- * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, skin negative or not finite,
- *         half an allocator); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, skin negative, not finite or
+ *         above SELFCOL_MESH_MAX_COORDINATE, half an allocator);
+ *         SELFCOL_EVERSION; SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_sequence_create(selfcol_sequence **out,
                                         const selfcol_sequence_options *opts);

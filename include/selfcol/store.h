@@ -293,9 +293,10 @@ SELFCOL_API void selfcol_store_clear(selfcol_store *store);
  *         not sorted as a query sorts them; SELFCOL_EMISMATCH when the meshes
  *         are not those of the store's earlier updates, or a record does not
  *         match them (an index out of range, vertices that are not its
- *         elements'); SELFCOL_ERANGE when the contacts the update would
- *         hold (detected ones and remnants) exceed 2^27 - 1, or their vertex
- *         pairs 2^32 - 1; SELFCOL_ENOMEM.
+ *         elements', or, with a second mesh, a record within one mesh: a
+ *         two-mesh store holds a two-mesh query's contacts only); SELFCOL_ERANGE when the contacts
+ * the update would hold (detected ones and remnants) exceed 2^27 - 1, or their vertex pairs 2^32 -
+ * 1; SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                                      const selfcol_mesh *second, const selfcol_contacts *detected);
@@ -314,7 +315,9 @@ SELFCOL_API int selfcol_store_update(selfcol_store *store, const selfcol_mesh *f
  * two frames (README). The first update of a store has nothing to confirm.
  * @return as selfcol_store_update(); SELFCOL_EINVAL also for a NULL
  *         first_start, second_start given without a second mesh or missing
- *         with one, or a non-finite or out-of-contract start coordinate.
+ *         with one, or a start coordinate outside mesh.h's contract (not
+ *         finite, or nonzero of magnitude outside [SELFCOL_MESH_MIN_COORDINATE,
+ *         SELFCOL_MESH_MAX_COORDINATE]: the mesh's own check).
  */
 SELFCOL_API int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
                                            const selfcol_mesh *second,

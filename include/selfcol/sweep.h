@@ -211,11 +211,12 @@ SELFCOL_API void selfcol_sweep_destroy(selfcol_sweep *sweep);
  * not be refit.
  * @param[in] hierarchy a hierarchy of the mesh
  * @param[in] start_positions 3 x vertex_count doubles (x, y, z per vertex),
- *            finite, of magnitude at most SELFCOL_MESH_MAX_COORDINATE
+ *            each 0 or of magnitude in [SELFCOL_MESH_MIN_COORDINATE,
+ *            SELFCOL_MESH_MAX_COORDINATE] (mesh.h's contract)
  * @param[out] result receives the pairs and the statistics
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL argument, bad option, a
- *         non-finite or too large start coordinate); SELFCOL_EVERSION;
+ *         start coordinate outside mesh.h's contract); SELFCOL_EVERSION;
  *         SELFCOL_EMISMATCH (the hierarchy's mesh is not the one it was
  *         built on); SELFCOL_ENOMEM (result then empty).
  */
