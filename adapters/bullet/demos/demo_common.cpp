@@ -145,6 +145,10 @@ world::world(const options &o, double gravity_y) : collision(o.collision), gravi
 }
 
 world::~world() {
+    // The adapter goes before the world and the bodies it reads: it removes
+    // its action from the world and restores the bodies' settings (bullet.h,
+    // lifetimes). A teardown that deletes the world first must call
+    // selfcol_bullet_destroy_after_world() instead.
     selfcol_bullet_destroy(adapter);
     for (btSoftBody *c : cloths) {
         dynamics->removeSoftBody(c);

@@ -814,20 +814,27 @@ extern "C" int selfcol_bullet_create(selfcol_bullet **out,
     return SELFCOL_OK;
 }
 
-extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
+namespace {
+
+// Frees the adapter; with world_alive, first removes its action from the
+// world and restores the attached bodies still in it. Without, it reads
+// neither the world nor any body (both may have been deleted).
+void destroy_adapter(selfcol_bullet *a, bool world_alive) {
     if (a == nullptr)
         return;
     if (a->action != nullptr) {
-        try {
-            a->world->removeAction(a->action);
-        } catch (...) {
+        if (world_alive) {
+            try {
+                a->world->removeAction(a->action);
+            } catch (...) {
+            }
         }
         a->action->~step_action();
         hook_free(a->hooks, a->action, sizeof(step_action));
     }
     selfcol_scene_destroy(a->scene);
     for (attached_body &b : a->bodies) {
-        if (in_world(a, b.body)) // one that left the world may be deleted
+        if (world_alive && in_world(a, b.body)) // one that left the world may be deleted
             restore_body(b);
         selfcol_hierarchy_destroy(b.sweep_tree);
         selfcol_mesh_destroy(b.mesh);
@@ -836,6 +843,16 @@ extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
     selfcol_allocator hooks = a->hooks;
     a->~selfcol_bullet();
     hook_free(hooks, a, sizeof(selfcol_bullet));
+}
+
+} // namespace
+
+extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
+    destroy_adapter(a, true);
+}
+
+extern "C" void selfcol_bullet_destroy_after_world(selfcol_bullet *a) {
+    destroy_adapter(a, false);
 }
 
 extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32_t *id_out) {

@@ -669,6 +669,42 @@ static void failing_free(void *user, void *p, size_t) {
     std::free(p);
 }
 
+// A teardown that deletes the world (and its bodies) before the adapter:
+// selfcol_bullet_destroy_after_world() frees everything the adapter
+// allocated without reading the world or the bodies (under valgrind and
+// ASan in CI, where selfcol_bullet_destroy() in this order reads the freed
+// world: the hardening issue's use-after-free). The adapter runs
+// automatically, so its action is in the world that is deleted first.
+static void destroy_after_the_world() {
+    failing_allocator f;
+    f.fail_at = 0;
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.allocator.alloc = failing_alloc;
+    opts.allocator.free = failing_free;
+    opts.allocator.user = &f;
+    demo::options o;
+    demo::world *w = new demo::world(o, 0.0);
+    btSoftBody *low =
+        w->add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.2, false);
+    btSoftBody *high = w->add_sheet(btVector3(0, 0.01f, 0), btVector3(1, 0, 0), btVector3(0, 0, 1),
+                                    6, 6, 0.2, false);
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w->dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, high, nullptr) == SELFCOL_OK);
+    for (int i = 0; i < 3; ++i)
+        w->step(1.0 / 240);
+    selfcol_bullet_step_stats st;
+    st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.steps == 3 && st.status == SELFCOL_OK);
+    CHECK(f.live > 0);
+    delete w; // the world, its bodies, then (below) the adapter
+    selfcol_bullet_destroy_after_world(a);
+    CHECK(f.live == 0); // everything the adapter allocated is freed
+    selfcol_bullet_destroy_after_world(nullptr);
+}
+
 // Two sheets 1 cm apart, one falling onto the other (self and soft-soft
 // contacts from the first steps), stepped by hand 6 times with the Nth
 // allocation failing, for every N until a run no longer reaches N; a third
@@ -906,6 +942,7 @@ int main() {
     untangle_rules();
     continuous_option_stops_a_pass_through();
     allocation_failure_at_every_call();
+    destroy_after_the_world();
     if (failures == 0)
         std::printf("test_bullet_adapter: all checks passed\n");
     return failures == 0 ? 0 : 1;

@@ -20,7 +20,13 @@
  * bodies, multibodies and Bullet's soft-rigid collision. Detaching (or
  * destroying the adapter) restores the body's settings.
  *
- * Lifetimes and identity. The world must outlive the adapter. A body is
+ * Lifetimes and identity. The world must outlive the adapter: destroy the
+ * adapter before deleting the world. A program whose teardown deletes the
+ * world first (the order of many Bullet programs, and of C++ members
+ * declared in the wrong order) calls selfcol_bullet_destroy_after_world()
+ * instead, which reads neither the world nor the bodies; calling
+ * selfcol_bullet_destroy() after the world is gone reads freed memory (it
+ * removes the adapter's action from the world). A body is
  * known by its address: attach only bodies that are in the adapter's world
  * (btDeformableMultiBodyDynamicsWorld::getSoftBodyArray()), and detach a
  * body (selfcol_bullet_detach()) or destroy the adapter before deleting it.
@@ -260,6 +266,16 @@ SELFCOL_BULLET_API int selfcol_bullet_create(selfcol_bullet **out,
  * rules above), and frees everything. Accepts NULL.
  */
 SELFCOL_BULLET_API void selfcol_bullet_destroy(selfcol_bullet *adapter);
+
+/**
+ * Frees an adapter whose world has already been deleted (see the lifetime
+ * rules above), reading neither the world nor any attached body: the action
+ * is not removed (the world that held it is gone) and the bodies' settings
+ * are not restored (they may be gone too). Only for that order: while the
+ * world lives, its action would be left pointing at freed memory, so use
+ * selfcol_bullet_destroy(). Accepts NULL.
+ */
+SELFCOL_BULLET_API void selfcol_bullet_destroy_after_world(selfcol_bullet *adapter);
 
 /**
  * Attaches a soft body of the adapter's world, with its faces. The mesh is
