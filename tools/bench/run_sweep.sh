@@ -51,6 +51,8 @@ fi
 mkdir -p "$(dirname "$out")"
 dump="$build/bench-dump"
 mkdir -p "$dump"
+# The log stays in the build directory's results, wherever --out writes.
+mkdir -p "$build/bench-results"
 log="$build/bench-results/sweep.log"
 : > "$log"
 
