@@ -40,6 +40,16 @@
 #include <math.h>
 #include <string.h>
 
+// The two-lane filters (plane flags, leaf rows) use SSE2, the baseline of
+// every x86-64 CPU; elsewhere, or with SELFCOL_SCALAR defined, the one-lane
+// references run, and they decide every pair the same way.
+#if defined(__SSE2__) && !defined(SELFCOL_SCALAR)
+#define SELFCOL_PAIRS_SSE2 1
+#include <emmintrin.h>
+#else
+#define SELFCOL_PAIRS_SSE2 0
+#endif
+
 // ---------------------------------------------------------------------------
 // Records
 
@@ -171,6 +181,8 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
     for (int i = 0; i < 3; ++i) {
         f->corner_id[i] = tri[i];
         memcpy(f->corner[i], selfcol_mesh__position(m, tri[i]), sizeof f->corner[i]);
+        for (int k = 0; k < 3; ++k)
+            f->xyz[k][i] = f->corner[i][k];
         f->edge[i] = SELFCOL_INVALID_INDEX;
         if (f->owned & SELFCOL_OWNS_EDGE(i)) {
             f->edge[i] = m->triangle_edges[3 * (size_t)t + (size_t)i];
@@ -178,6 +190,8 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
                 f->edge_reversed |= (uint8_t)(1u << i);
         }
     }
+    for (int k = 0; k < 3; ++k)
+        f->xyz[k][3] = f->corner[2][k];
     const double *corner[3] = {f->corner[0], f->corner[1], f->corner[2]};
     selfcol_box__of_points(f->lo, f->hi, corner, 3);
     double u[3], v[3];
@@ -218,8 +232,8 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
 // at most d (|n|_computed + 2^-46 abs_max) (1 + 2^-20).
 enum { FAR_POS = 0, FAR_NEG = 3, SIDE_POS = 6, SIDE_NEG = 9, FLAG_BITS = 12 };
 
-static uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
-                            double d) {
+static uint32_t plane_flags_scalar(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
+                                   double d) {
     const double *a = self->corner[0];
     const double t = d * (self->length + 0x1p-46 * self->abs_max) * WIDEN;
     uint32_t out = 0;
@@ -236,6 +250,47 @@ static uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_tri_fra
     return out;
 }
 
+#if SELFCOL_PAIRS_SSE2
+// plane_flags_scalar two corners at a time (corners 0, 1, then 2 and its
+// copy), with the same operations in the same order, so bit for bit the same
+// flags: SSE2's double lanes round as the scalar unit does, and the build
+// never contracts a product and a sum into one rounding (-ffp-contract=off).
+static inline uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
+                                   double d) {
+    const double *a = self->corner[0];
+    const double t = d * (self->length + 0x1p-46 * self->abs_max) * WIDEN;
+    const __m128d a0 = _mm_set1_pd(a[0]), a1 = _mm_set1_pd(a[1]), a2 = _mm_set1_pd(a[2]);
+    const __m128d n0 = _mm_set1_pd(self->normal[0]), n1 = _mm_set1_pd(self->normal[1]),
+                  n2 = _mm_set1_pd(self->normal[2]);
+    const __m128d scale = _mm_set1_pd(0x1p-48), abs_max = _mm_set1_pd(self->abs_max);
+    const __m128d far = _mm_set1_pd(t), far_neg = _mm_set1_pd(-t), zero = _mm_setzero_pd();
+    const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+    uint32_t out = 0;
+    for (int half = 0; half < 2; ++half) {
+        const __m128d D0 = _mm_sub_pd(_mm_loadu_pd(&other->xyz[0][2 * half]), a0);
+        const __m128d D1 = _mm_sub_pd(_mm_loadu_pd(&other->xyz[1][2 * half]), a1);
+        const __m128d D2 = _mm_sub_pd(_mm_loadu_pd(&other->xyz[2][2 * half]), a2);
+        const __m128d s =
+            _mm_add_pd(_mm_add_pd(_mm_mul_pd(D0, n0), _mm_mul_pd(D1, n1)), _mm_mul_pd(D2, n2));
+        const __m128d sum =
+            _mm_add_pd(_mm_add_pd(_mm_and_pd(D0, magnitude), _mm_and_pd(D1, magnitude)),
+                       _mm_and_pd(D2, magnitude));
+        const __m128d e = _mm_mul_pd(_mm_mul_pd(scale, sum), abs_max);
+        const __m128d below = _mm_sub_pd(s, e), above = _mm_add_pd(s, e);
+        const uint32_t lanes = half ? 1u : 3u; // the copy of corner 2 adds nothing
+        const uint32_t shift = 2u * (uint32_t)half;
+        out |= ((uint32_t)_mm_movemask_pd(_mm_cmpgt_pd(below, far)) & lanes) << (FAR_POS + shift);
+        out |= ((uint32_t)_mm_movemask_pd(_mm_cmplt_pd(above, far_neg)) & lanes)
+               << (FAR_NEG + shift);
+        out |= ((uint32_t)_mm_movemask_pd(_mm_cmpgt_pd(below, zero)) & lanes) << (SIDE_POS + shift);
+        out |= ((uint32_t)_mm_movemask_pd(_mm_cmplt_pd(above, zero)) & lanes) << (SIDE_NEG + shift);
+    }
+    return out;
+}
+#else
+#define plane_flags plane_flags_scalar
+#endif
+
 static int all_far(uint32_t flags) {
     return ((flags >> FAR_POS) & 7u) == 7u || ((flags >> FAR_NEG) & 7u) == 7u;
 }
@@ -251,6 +306,73 @@ int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_fram
     *flags = of_a | (of_b << FLAG_BITS);
     return 1;
 }
+
+int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb,
+                                    double d, uint32_t *flags) {
+    uint32_t of_a = plane_flags_scalar(fb, fa, d);
+    if (all_far(of_a))
+        return 0;
+    uint32_t of_b = plane_flags_scalar(fa, fb, d);
+    if (all_far(of_b))
+        return 0;
+    *flags = of_a | (of_b << FLAG_BITS);
+    return 1;
+}
+
+// ---------------------------------------------------------------------------
+// Leaf rows
+
+uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a,
+                                          const selfcol_tri_frame *frames, uint32_t begin,
+                                          uint32_t end, double d, uint32_t *out) {
+    uint32_t count = 0;
+    for (uint32_t s = begin; s < end; ++s) {
+        // Every slot is written; the count advances by the test's outcome.
+        out[count] = s;
+        count += (uint32_t)selfcol_box__near(a->lo, a->hi, frames[s].lo, frames[s].hi, d);
+    }
+    return count;
+}
+
+#if SELFCOL_PAIRS_SSE2
+// Two slots at a time: the six comparisons of selfcol_box__near per lane
+// (a_lo - d > b_hi or b_lo - d > a_hi on some axis: apart), one mask.
+uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri_frame *frames,
+                                   uint32_t begin, uint32_t end, double d, uint32_t *out) {
+    const __m128d dd = _mm_set1_pd(d);
+    __m128d a_lo_d[3], a_hi[3];
+    for (int k = 0; k < 3; ++k) {
+        a_lo_d[k] = _mm_set1_pd(a->lo[k] - d);
+        a_hi[k] = _mm_set1_pd(a->hi[k]);
+    }
+    uint32_t count = 0, s = begin;
+    for (; s + 1 < end; s += 2) {
+        const selfcol_tri_frame *f0 = &frames[s], *f1 = &frames[s + 1];
+        __m128d apart = _mm_setzero_pd();
+        for (int k = 0; k < 3; ++k) {
+            const __m128d b_lo = _mm_loadh_pd(_mm_load_sd(&f0->lo[k]), &f1->lo[k]);
+            const __m128d b_hi = _mm_loadh_pd(_mm_load_sd(&f0->hi[k]), &f1->hi[k]);
+            apart = _mm_or_pd(apart, _mm_cmpgt_pd(a_lo_d[k], b_hi));
+            apart = _mm_or_pd(apart, _mm_cmpgt_pd(_mm_sub_pd(b_lo, dd), a_hi[k]));
+        }
+        const uint32_t near = ~(uint32_t)_mm_movemask_pd(apart);
+        out[count] = s;
+        count += near & 1u;
+        out[count] = s + 1;
+        count += (near >> 1) & 1u;
+    }
+    if (s < end) {
+        out[count] = s;
+        count += (uint32_t)selfcol_box__near(a->lo, a->hi, frames[s].lo, frames[s].hi, d);
+    }
+    return count;
+}
+#else
+uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri_frame *frames,
+                                   uint32_t begin, uint32_t end, double d, uint32_t *out) {
+    return selfcol_pairs__near_slots_scalar(a, frames, begin, end, d, out);
+}
+#endif
 
 static int shares_corner(uint32_t v, const uint32_t *tri) {
     return v == tri[0] || v == tri[1] || v == tri[2];

@@ -27,6 +27,9 @@ int selfcol_pairs__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_
 // length and the scale of its rounding error, and what it owns (pairs.c).
 typedef struct selfcol_tri_frame {
     double corner[3][3];
+    // The corners again, axis by axis (xyz[k][c], c = 3 repeating corner 2),
+    // for the two-lane filters of pairs.c.
+    double xyz[3][4];
     double lo[3], hi[3];
     double normal[3];
     double length;
@@ -54,6 +57,22 @@ typedef struct selfcol_slot_pair {
 // *flags set for selfcol_pairs__run.
 int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
                              uint32_t *flags);
+
+// The slots s in [begin, end) whose triangle's box is within d of a's
+// (selfcol_box__near on the frames' boxes), written to out in increasing
+// order; returns their count. Decided without a branch per slot: which
+// slots of a leaf pass looks random to a branch predictor.
+uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri_frame *frames,
+                                   uint32_t begin, uint32_t end, double d, uint32_t *out);
+
+// The one-lane references of the two functions above, always compiled: the
+// SSE2 paths (x86-64's baseline) must equal them bit for bit
+// (test_pairs_internal); a build with SELFCOL_SCALAR defined uses them.
+int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb,
+                                    double d, uint32_t *flags);
+uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a,
+                                          const selfcol_tri_frame *frames, uint32_t begin,
+                                          uint32_t end, double d, uint32_t *out);
 
 // The narrow phase over a candidate list: every primitive pair the triangle
 // pairs own, through the per-primitive filters, into records. frames[0] and

@@ -275,14 +275,17 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
     const selfcol_tri_frame *fa = s->frames[0], *fb = s->frames[1];
     selfcol_query_stats *st = &t->q.out->stats;
     const uint8_t *dup_a = s->h[0]->mesh->triangle_flags, *dup_b = s->h[1]->mesh->triangle_flags;
+    const uint32_t b_end = b->tri_begin + b->tri_count;
+    uint32_t near[SELFCOL_LEAF_MAX_TRIANGLES];
     for (uint32_t sa = a->tri_begin; sa < a->tri_begin + a->tri_count; ++sa) {
         if (dup_a[fa[sa].id] & SELFCOL_TRIANGLE_DUPLICATE)
             continue; // owns nothing and is no contact's triangle
-        const double *alo = fa[sa].lo, *ahi = fa[sa].hi;
-        for (uint32_t sb = same ? sa + 1 : b->tri_begin; sb < b->tri_begin + b->tri_count; ++sb) {
+        // The row's box tests at once (pairs.h), then the pairs that passed.
+        const uint32_t near_count =
+            selfcol_pairs__near_slots(&fa[sa], fb, same ? sa + 1 : b->tri_begin, b_end, d, near);
+        for (uint32_t i = 0; i < near_count; ++i) {
+            const uint32_t sb = near[i];
             if (dup_b[fb[sb].id] & SELFCOL_TRIANGLE_DUPLICATE)
-                continue;
-            if (!selfcol_box__near(alo, ahi, fb[sb].lo, fb[sb].hi, d))
                 continue;
             st->triangle_pairs++;
             uint32_t flags;

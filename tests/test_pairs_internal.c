@@ -1,0 +1,165 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The two-lane (SSE2) filters of lib/pairs.c against their one-lane
+// references, which are the definition: for every pair of triangles of a
+// random soup (scales from 1e-3 to 1e3, far from the origin, coplanar
+// copies, degenerate triangles) and several distances, the plane flags of
+// selfcol_pairs__candidate and the slots of selfcol_pairs__near_slots must be
+// those of selfcol_pairs__candidate_scalar and _near_slots_scalar, bit for
+// bit. In a build without SSE2 (or with SELFCOL_SCALAR) both sides are the
+// reference and the test still checks the row filter against a plain loop.
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "box.h"
+#include "hierarchy.h"
+#include "pairs.h"
+
+#include <selfcol/selfcol.h>
+
+#include <stdlib.h>
+#include <string.h>
+
+enum { SOUP = 240 };
+
+static double uniform(unsigned *seed) {
+    *seed = *seed * 1103515245u + 12345u;
+    return (double)((*seed >> 8) & 0xFFFFFF) / (double)0x1000000;
+}
+
+// A triangle soup: each triangle its own three vertices. Groups of triangles
+// share a scale and an offset; some are copies of another moved in their
+// plane or along their normal by about d, some are degenerate.
+static void soup(double *positions, uint32_t *triangles, unsigned seed) {
+    const double scales[] = {1e-3, 1.0, 1e3};
+    const double offsets[] = {0.0, 1e6};
+    for (uint32_t t = 0; t < SOUP; ++t) {
+        const double scale = scales[(t / 40) % 3], offset = offsets[(t / 120) % 2];
+        double *p = positions + 9 * (size_t)t;
+        for (int i = 0; i < 9; ++i)
+            p[i] = offset + scale * (uniform(&seed) - 0.5);
+        if (t % 7 == 3) { // a copy of the previous triangle, moved a little
+            const double *q = p - 9;
+            const double shift = scale * 0.05 * (uniform(&seed) - 0.5);
+            for (int i = 0; i < 9; ++i)
+                p[i] = q[i] + (i % 3 == 2 ? shift : 0.0);
+        }
+        if (t % 11 == 5) // degenerate: corner 2 on the segment of corners 0, 1
+            for (int k = 0; k < 3; ++k)
+                p[6 + k] = 0.5 * (p[k] + p[3 + k]);
+        for (int i = 0; i < 3; ++i)
+            triangles[3 * t + (uint32_t)i] = 3 * t + (uint32_t)i;
+    }
+}
+
+typedef struct frames {
+    selfcol_mesh *mesh;
+    selfcol_hierarchy *hierarchy;
+    selfcol_tri_frame *frame; // by slot
+    uint32_t count;
+} frames;
+
+static void frames_make(frames *f, unsigned seed) {
+    double *positions = malloc(9 * SOUP * sizeof(double));
+    uint32_t *triangles = malloc(3 * SOUP * sizeof(uint32_t));
+    assert_non_null(positions);
+    assert_non_null(triangles);
+    soup(positions, triangles, seed);
+    assert_int_equal(selfcol_mesh_create(&f->mesh, 3 * SOUP, positions, SOUP, triangles, NULL),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&f->hierarchy, f->mesh, NULL), SELFCOL_OK);
+    f->count = SOUP;
+    f->frame = calloc(SOUP, sizeof *f->frame);
+    assert_non_null(f->frame);
+    for (uint32_t slot = 0; slot < SOUP; ++slot)
+        selfcol_pairs__frame(&f->frame[slot], f->hierarchy, slot);
+    free(positions);
+    free(triangles);
+}
+
+static void frames_free(frames *f) {
+    free(f->frame);
+    selfcol_hierarchy_destroy(f->hierarchy);
+    selfcol_mesh_destroy(f->mesh);
+}
+
+static const double distances[] = {0.0, 1e-4, 0.01, 0.3, 30.0};
+
+static void test_pairs_plane_flags_equal_the_reference(void **state) {
+    (void)state;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        frames f;
+        frames_make(&f, seed);
+        size_t separated = 0, kept = 0;
+        for (size_t di = 0; di < sizeof distances / sizeof distances[0]; ++di) {
+            const double d = distances[di];
+            for (uint32_t a = 0; a < f.count; ++a)
+                for (uint32_t b = 0; b < f.count; ++b) {
+                    uint32_t fast = 0xDEADu, slow = 0xBEEFu;
+                    const int got = selfcol_pairs__candidate(&f.frame[a], &f.frame[b], d, &fast);
+                    const int want =
+                        selfcol_pairs__candidate_scalar(&f.frame[a], &f.frame[b], d, &slow);
+                    if (got != want || (want && fast != slow))
+                        fail_msg("seed %u, d %g, slots %u, %u: %d/%#x, reference %d/%#x", seed, d,
+                                 a, b, got, fast, want, slow);
+                    separated += !want;
+                    kept += want;
+                }
+        }
+        // Both outcomes occur, with every flag group exercised.
+        assert_true(separated > 1000 && kept > 1000);
+        frames_free(&f);
+    }
+}
+
+static void test_pairs_near_slots_equal_the_reference(void **state) {
+    (void)state;
+    unsigned pick = 7;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        frames f;
+        frames_make(&f, seed);
+        size_t near_total = 0, tested = 0;
+        for (size_t di = 0; di < sizeof distances / sizeof distances[0]; ++di) {
+            const double d = distances[di];
+            for (uint32_t a = 0; a < f.count; ++a)
+                for (int row = 0; row < 8; ++row) {
+                    // Rows of 0 to 16 slots, as a leaf's (odd and even lengths).
+                    const uint32_t length = (uint32_t)(uniform(&pick) * 17.0);
+                    const uint32_t begin = (uint32_t)(uniform(&pick) * (f.count - length));
+                    uint32_t fast[SELFCOL_LEAF_MAX_TRIANGLES + 1],
+                        slow[SELFCOL_LEAF_MAX_TRIANGLES + 1];
+                    const uint32_t got = selfcol_pairs__near_slots(&f.frame[a], f.frame, begin,
+                                                                   begin + length, d, fast);
+                    const uint32_t want = selfcol_pairs__near_slots_scalar(
+                        &f.frame[a], f.frame, begin, begin + length, d, slow);
+                    assert_int_equal(got, want);
+                    assert_memory_equal(fast, slow, want * sizeof(uint32_t));
+                    // The reference is the plain loop over selfcol_box__near.
+                    uint32_t plain = 0;
+                    for (uint32_t s = begin; s < begin + length; ++s)
+                        if (selfcol_box__near(f.frame[a].lo, f.frame[a].hi, f.frame[s].lo,
+                                              f.frame[s].hi, d))
+                            assert_int_equal(slow[plain++], s);
+                    assert_int_equal(plain, want);
+                    near_total += want;
+                    tested += length;
+                }
+        }
+        assert_true(near_total > 100 && near_total < tested); // both outcomes occur
+        frames_free(&f);
+    }
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_pairs_plane_flags_equal_the_reference),
+        cmocka_unit_test(test_pairs_near_slots_equal_the_reference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
