@@ -190,8 +190,10 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
                 f->edge_reversed |= (uint8_t)(1u << i);
         }
     }
-    for (int k = 0; k < 3; ++k)
-        f->xyz[k][3] = f->corner[2][k];
+    for (int k = 0; k < 3; ++k) {
+        f->xyz[k][3] = f->corner[0][k];
+        f->xyz[k][4] = f->corner[1][k];
+    }
     const double *corner[3] = {f->corner[0], f->corner[1], f->corner[2]};
     selfcol_box__of_points(f->lo, f->hi, corner, 3);
     double u[3], v[3];
@@ -251,8 +253,8 @@ static uint32_t plane_flags_scalar(const selfcol_tri_frame *self, const selfcol_
 }
 
 #if SELFCOL_PAIRS_SSE2
-// plane_flags_scalar two corners at a time (corners 0, 1, then 2 and its
-// copy), with the same operations in the same order, so bit for bit the same
+// plane_flags_scalar two corners at a time (corners 0, 1, then 2 and a
+// copy of 0), with the same operations in the same order, so bit for bit the same
 // flags: SSE2's double lanes round as the scalar unit does, and the build
 // never contracts a product and a sum into one rounding (-ffp-contract=off).
 static inline uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
@@ -277,7 +279,7 @@ static inline uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_
                        _mm_and_pd(D2, magnitude));
         const __m128d e = _mm_mul_pd(_mm_mul_pd(scale, sum), abs_max);
         const __m128d below = _mm_sub_pd(s, e), above = _mm_add_pd(s, e);
-        const uint32_t lanes = half ? 1u : 3u; // the copy of corner 2 adds nothing
+        const uint32_t lanes = half ? 1u : 3u; // the copy of corner 0 adds nothing
         const uint32_t shift = 2u * (uint32_t)half;
         out |= ((uint32_t)_mm_movemask_pd(_mm_cmpgt_pd(below, far)) & lanes) << (FAR_POS + shift);
         out |= ((uint32_t)_mm_movemask_pd(_mm_cmplt_pd(above, far_neg)) & lanes)
@@ -488,8 +490,8 @@ static int edges_both_ways(selfcol_query *q, int ma, const selfcol_tri_frame *a,
     return status;
 }
 
-int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
-                       const selfcol_slot_pair *pairs, size_t count) {
+int selfcol_pairs__run_scalar(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                              const selfcol_slot_pair *pairs, size_t count) {
     int status = SELFCOL_OK;
     const uint32_t mask = (1u << FLAG_BITS) - 1u;
     for (size_t k = 0; k < count && status == SELFCOL_OK; ++k) {
@@ -503,3 +505,251 @@ int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2
     }
     return status;
 }
+
+// ---------------------------------------------------------------------------
+// The primitive pairs of a triangle pair as bit masks (two lanes)
+//
+// selfcol_pairs__run_scalar decides each primitive pair with its own
+// branches, and on a folded cloth their outcomes look random to a branch
+// predictor (cloth-ball 92: about half of the query's mispredicted branches
+// were there). Here every filter is evaluated for all of a triangle pair's
+// primitives at once, as bits (corner c, edge slot i, edge pair 3 i + j),
+// from two-lane comparisons of the same values, and only the primitive
+// pairs that pass every filter are visited, by their set bits. The
+// comparisons are term for term those of the one-lane filters (box.h's
+// formulas on the same rounded values), so the same pairs reach the closed
+// forms and the statistics are the same.
+
+#if SELFCOL_PAIRS_SSE2
+// Bit i of the result is bit (i + 1) mod 3 of s (s a 3-bit corner mask).
+static inline uint32_t next3(uint32_t s) {
+    return ((s >> 1) | (s << 2)) & 7u;
+}
+
+// Of a 3 x 3 mask (bit 3 i + j), rows i + 1 moved to i and columns j + 1 to j.
+static inline uint32_t next_rows(uint32_t m) {
+    return (m >> 3) | ((m & 7u) << 6);
+}
+static inline uint32_t next_columns(uint32_t m) {
+    return ((m >> 1) & 0xDBu) | ((m << 2) & 0x124u);
+}
+
+// Set bits of a mask below 2^9, without a branch (a loop over the bits
+// would mispredict as the filters' outcomes do).
+static inline uint32_t bit_count(uint32_t m) {
+    m = m - ((m >> 1) & 0x55555555u);
+    m = (m & 0x33333333u) + ((m >> 2) & 0x33333333u);
+    return (((m + (m >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
+}
+
+static inline int lowest_bit(uint32_t m) {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(m);
+#else
+    int i = 0;
+    while (!((m >> i) & 1u))
+        ++i;
+    return i;
+#endif
+}
+
+// a's corners against b's box: *outside_d gets the corners outside it
+// inflated by d (selfcol_box__point_near fails: VF), *apart the edge slots
+// whose box misses it (selfcol_box__near with d = 0 fails: EF; an edge's
+// box misses on an axis when both ends lie beyond the same side).
+static inline void corners_against_box(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                       double d, uint32_t *outside_d, uint32_t *apart) {
+    __m128d out0 = _mm_setzero_pd(), out1 = _mm_setzero_pd();
+    __m128d apart0 = _mm_setzero_pd(), apart1 = _mm_setzero_pd();
+    for (int k = 0; k < 3; ++k) {
+        const __m128d lo = _mm_set1_pd(b->lo[k]), hi = _mm_set1_pd(b->hi[k]);
+        const __m128d lo_d = _mm_set1_pd(b->lo[k] - d), hi_d = _mm_set1_pd(b->hi[k] + d);
+        const __m128d c01 = _mm_loadu_pd(&a->xyz[k][0]), c12 = _mm_loadu_pd(&a->xyz[k][1]);
+        const __m128d c20 = _mm_loadu_pd(&a->xyz[k][2]), c01n = _mm_loadu_pd(&a->xyz[k][3]);
+        out0 = _mm_or_pd(out0, _mm_or_pd(_mm_cmpgt_pd(c01, hi_d), _mm_cmplt_pd(c01, lo_d)));
+        out1 = _mm_or_pd(out1, _mm_or_pd(_mm_cmpgt_pd(c20, hi_d), _mm_cmplt_pd(c20, lo_d)));
+        apart0 =
+            _mm_or_pd(apart0, _mm_or_pd(_mm_and_pd(_mm_cmpgt_pd(c01, hi), _mm_cmpgt_pd(c12, hi)),
+                                        _mm_and_pd(_mm_cmplt_pd(c01, lo), _mm_cmplt_pd(c12, lo))));
+        apart1 =
+            _mm_or_pd(apart1, _mm_or_pd(_mm_and_pd(_mm_cmpgt_pd(c20, hi), _mm_cmpgt_pd(c01n, hi)),
+                                        _mm_and_pd(_mm_cmplt_pd(c20, lo), _mm_cmplt_pd(c01n, lo))));
+    }
+    *outside_d = ((uint32_t)_mm_movemask_pd(out0) | (uint32_t)_mm_movemask_pd(out1) << 2) & 7u;
+    *apart = ((uint32_t)_mm_movemask_pd(apart0) | (uint32_t)_mm_movemask_pd(apart1) << 2) & 7u;
+}
+
+// Which of a's owned vertices (VF) and edges (EF) are tested against b, and
+// how many owned ones the filters dropped (primitives_filtered). of_a: a's
+// corner flags against b's plane; shared: a's corners that are b's.
+static inline void one_way_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                 uint32_t of_a, uint32_t shared, double d, uint32_t kinds,
+                                 uint32_t *vf, uint32_t *ef, uint64_t *filtered) {
+    uint32_t outside_d, apart;
+    corners_against_box(a, b, d, &outside_d, &apart);
+    *vf = *ef = 0;
+    if (kinds & SELFCOL_KIND_VF) {
+        const uint32_t eligible = a->owned & 7u & ~shared;
+        const uint32_t far = ((of_a >> FAR_POS) | (of_a >> FAR_NEG)) & 7u;
+        *vf = eligible & ~far & ~outside_d;
+        *filtered += bit_count(eligible & ~*vf);
+    }
+    if (kinds & SELFCOL_KIND_EF) {
+        const uint32_t eligible = (a->owned >> 3) & 7u & ~(shared | next3(shared));
+        const uint32_t pos = (of_a >> SIDE_POS) & 7u, neg = (of_a >> SIDE_NEG) & 7u;
+        const uint32_t one_side = (pos & next3(pos)) | (neg & next3(neg));
+        *ef = eligible & ~one_side & ~apart;
+        *filtered += bit_count(eligible & ~*ef);
+    }
+}
+
+// The boxes of a triangle's edge slots, axis by axis, two slots per vector:
+// [0] slots 0 and 1, [1] slot 2 (and a copy): lo - d and hi, as box.h's
+// selfcol_box__of_points and selfcol_box__near compute them.
+static inline void edge_boxes(const selfcol_tri_frame *f, double d, __m128d lo_d[3][2],
+                              __m128d hi[3][2]) {
+    const __m128d dd = _mm_set1_pd(d);
+    for (int k = 0; k < 3; ++k)
+        for (int h = 0; h < 2; ++h) {
+            const __m128d p = _mm_loadu_pd(&f->xyz[k][2 * h]);
+            const __m128d q = _mm_loadu_pd(&f->xyz[k][2 * h + 1]);
+            // min: p < q ? p : q; max: p > q ? p : q (SSE2's minpd/maxpd).
+            lo_d[k][h] = _mm_sub_pd(_mm_min_pd(p, q), dd);
+            hi[k][h] = _mm_max_pd(p, q);
+        }
+}
+
+// Edge pairs (bit 3 i + j: slot i of a, slot j of b) tested, and the owned
+// pairs dropped: an edge of a beyond d of b's plane (both ends on one side)
+// is beyond d of every edge of b (counted against all of b's owned edges);
+// otherwise a pair is dropped when the edges share a vertex (self, not
+// counted), when b's edge is beyond d of a's plane, or when their boxes are
+// farther apart than d.
+static inline uint32_t edge_pair_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                       uint32_t of_a, uint32_t of_b, uint32_t matches, double d,
+                                       uint64_t *filtered) {
+    const uint32_t owned_a = (a->owned >> 3) & 7u, owned_b = (b->owned >> 3) & 7u;
+    const uint32_t fp_a = (of_a >> FAR_POS) & 7u, fn_a = (of_a >> FAR_NEG) & 7u;
+    const uint32_t fp_b = (of_b >> FAR_POS) & 7u, fn_b = (of_b >> FAR_NEG) & 7u;
+    const uint32_t far_a = (fp_a & next3(fp_a)) | (fn_a & next3(fn_a));
+    const uint32_t far_b = (fp_b & next3(fp_b)) | (fn_b & next3(fn_b));
+    const uint32_t live_a = owned_a & ~far_a;
+    *filtered += bit_count(owned_a & far_a) * bit_count(owned_b);
+    // Rows: a's live edges; columns: b's owned edges.
+    const uint32_t rows =
+        ((live_a & 1u) * 7u) | ((live_a & 2u) * (7u << 2)) | ((live_a & 4u) * (7u << 4));
+    const uint32_t columns = owned_b * 0x49u, far_columns = far_b * 0x49u;
+    const uint32_t shared =
+        matches | next_rows(matches) | next_columns(matches) | next_rows(next_columns(matches));
+    const uint32_t eligible = rows & columns & ~shared;
+    if (eligible == 0)
+        return 0;
+    __m128d a_lo_d[3][2], a_hi[3][2], b_lo_d[3][2], b_hi[3][2];
+    edge_boxes(a, d, a_lo_d, a_hi);
+    edge_boxes(b, d, b_lo_d, b_hi);
+    double blo[3][4], bhi[3][4]; // b's slot j on axis k: [k][j]
+    for (int k = 0; k < 3; ++k) {
+        _mm_storeu_pd(&blo[k][0], b_lo_d[k][0]);
+        _mm_storeu_pd(&blo[k][2], b_lo_d[k][1]);
+        _mm_storeu_pd(&bhi[k][0], b_hi[k][0]);
+        _mm_storeu_pd(&bhi[k][2], b_hi[k][1]);
+    }
+    uint32_t apart = 0;
+    for (int j = 0; j < 3; ++j) {
+        __m128d x0 = _mm_setzero_pd(), x1 = _mm_setzero_pd();
+        for (int k = 0; k < 3; ++k) {
+            const __m128d lo = _mm_set1_pd(blo[k][j]), hi = _mm_set1_pd(bhi[k][j]);
+            x0 = _mm_or_pd(x0,
+                           _mm_or_pd(_mm_cmpgt_pd(a_lo_d[k][0], hi), _mm_cmpgt_pd(lo, a_hi[k][0])));
+            x1 = _mm_or_pd(x1,
+                           _mm_or_pd(_mm_cmpgt_pd(a_lo_d[k][1], hi), _mm_cmpgt_pd(lo, a_hi[k][1])));
+        }
+        const uint32_t m0 = (uint32_t)_mm_movemask_pd(x0), m1 = (uint32_t)_mm_movemask_pd(x1);
+        apart |= ((m0 & 1u) << j) | (((m0 >> 1) & 1u) << (3 + j)) | ((m1 & 1u) << (6 + j));
+    }
+    const uint32_t tested = eligible & ~far_columns & ~apart;
+    *filtered += bit_count(eligible & ~tested);
+    return tested;
+}
+
+// The set bits of vf and ef: a's vertices and edges against triangle b.
+static int one_way_tests(selfcol_query *q, int ma, const selfcol_tri_frame *a, int mb,
+                         const selfcol_tri_frame *b, uint32_t vf, uint32_t ef) {
+    const double *corner_b[3] = {b->corner[0], b->corner[1], b->corner[2]};
+    int status = SELFCOL_OK;
+    for (; vf != 0 && status == SELFCOL_OK; vf &= vf - 1) {
+        const int i = lowest_bit(vf);
+        status = closed_vf(q, ma, a->corner_id[i], a->corner[i], mb, b->id, b->corner_id, corner_b);
+    }
+    for (; ef != 0 && status == SELFCOL_OK; ef &= ef - 1) {
+        const int i = lowest_bit(ef);
+        uint32_t ev[2];
+        const double *p[2];
+        edge_ends(a, i, ev, p);
+        status = closed_ef(q, ma, a->edge[i], ev, p, mb, b->id, b->corner_id, corner_b);
+    }
+    return status;
+}
+
+static int edge_pair_tests(selfcol_query *q, const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                           uint32_t tested) {
+    int status = SELFCOL_OK;
+    for (; tested != 0 && status == SELFCOL_OK; tested &= tested - 1) {
+        const int bit = lowest_bit(tested), i = bit / 3, j = bit % 3;
+        uint32_t ev[2], fv[2];
+        const double *p[2], *r[2];
+        edge_ends(a, i, ev, p);
+        edge_ends(b, j, fv, r);
+        const uint32_t e = a->edge[i], f = b->edge[j];
+        if (q->self && f < e)
+            status = closed_ee(q, 1, f, fv, r, 0, e, ev, p);
+        else
+            status = closed_ee(q, 0, e, ev, p, 1, f, fv, r);
+    }
+    return status;
+}
+
+int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                       const selfcol_slot_pair *pairs, size_t count) {
+    int status = SELFCOL_OK;
+    const uint32_t mask = (1u << FLAG_BITS) - 1u;
+    const double d = q->distance;
+    const uint32_t kinds = q->kinds;
+    const uint32_t self_mask = q->self ? ~0u : 0u; // vertices are shared within one mesh only
+    uint64_t filtered = 0;
+    for (size_t k = 0; k < count && status == SELFCOL_OK; ++k) {
+        const selfcol_tri_frame *a = &frames[0][pairs[k].a], *b = &frames[1][pairs[k].b];
+        const uint32_t of_a = pairs[k].flags & mask, of_b = pairs[k].flags >> FLAG_BITS;
+        // Bit 3 i + j: corner i of a is corner j of b.
+        uint32_t matches = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                matches |= (uint32_t)(a->corner_id[i] == b->corner_id[j]) << (3 * i + j);
+        matches &= self_mask;
+        const uint32_t columns = matches | (matches >> 3) | (matches >> 6);
+        const uint32_t shared_a = (uint32_t)((matches & 7u) != 0) |
+                                  (uint32_t)((matches & 070u) != 0) << 1 |
+                                  (uint32_t)((matches & 0700u) != 0) << 2;
+        const uint32_t shared_b = columns & 7u;
+        uint32_t vf_ab, ef_ab, vf_ba, ef_ba, ee = 0;
+        one_way_masks(a, b, of_a, shared_a, d, kinds, &vf_ab, &ef_ab, &filtered);
+        one_way_masks(b, a, of_b, shared_b, d, kinds, &vf_ba, &ef_ba, &filtered);
+        if (kinds & SELFCOL_KIND_EE)
+            ee = edge_pair_masks(a, b, of_a, of_b, matches, d, &filtered);
+        if ((vf_ab | ef_ab | vf_ba | ef_ba | ee) == 0)
+            continue;
+        status = one_way_tests(q, 0, a, 1, b, vf_ab, ef_ab);
+        if (status == SELFCOL_OK)
+            status = one_way_tests(q, 1, b, 0, a, vf_ba, ef_ba);
+        if (status == SELFCOL_OK)
+            status = edge_pair_tests(q, a, b, ee);
+    }
+    q->out->stats.primitives_filtered += filtered;
+    return status;
+}
+#else
+int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                       const selfcol_slot_pair *pairs, size_t count) {
+    return selfcol_pairs__run_scalar(q, frames, pairs, count);
+}
+#endif

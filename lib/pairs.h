@@ -27,9 +27,10 @@ int selfcol_pairs__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_
 // length and the scale of its rounding error, and what it owns (pairs.c).
 typedef struct selfcol_tri_frame {
     double corner[3][3];
-    // The corners again, axis by axis (xyz[k][c], c = 3 repeating corner 2),
-    // for the two-lane filters of pairs.c.
-    double xyz[3][4];
+    // The corners again, axis by axis: xyz[k] = corners 0, 1, 2, 0, 1, so
+    // that two-lane loads at c and c + 1 hold the ends of edge slots c and
+    // c + 1 (the two-lane filters of pairs.c).
+    double xyz[3][5];
     double lo[3], hi[3];
     double normal[3];
     double length;
@@ -79,5 +80,8 @@ uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a,
 // frames[1] are the two hierarchies' frame arrays (the same for self).
 int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
                        const selfcol_slot_pair *pairs, size_t count);
+// Its one-lane reference (the same records and statistics; test_pairs_internal).
+int selfcol_pairs__run_scalar(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                              const selfcol_slot_pair *pairs, size_t count);
 
 #endif // SELFCOL_PAIRS_H

@@ -7,8 +7,10 @@
 // copies, degenerate triangles) and several distances, the plane flags of
 // selfcol_pairs__candidate and the slots of selfcol_pairs__near_slots must be
 // those of selfcol_pairs__candidate_scalar and _near_slots_scalar, bit for
-// bit. In a build without SSE2 (or with SELFCOL_SCALAR) both sides are the
-// reference and the test still checks the row filter against a plain loop.
+// bit, and selfcol_pairs__run must push the records of
+// selfcol_pairs__run_scalar, in its order, with the same counters. In a
+// build without SSE2 (or with SELFCOL_SCALAR) both sides are the reference
+// and the test still checks the row filter against a plain loop.
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -18,8 +20,10 @@
 #include <cmocka.h>
 
 #include "box.h"
+#include "contacts.h"
 #include "hierarchy.h"
 #include "pairs.h"
+#include "query.h"
 
 #include <selfcol/selfcol.h>
 
@@ -156,10 +160,111 @@ static void test_pairs_near_slots_equal_the_reference(void **state) {
     }
 }
 
+// A self query's candidate pairs of the soup through both runs: identical
+// records (in order) and counters, for each distance and kinds mask. The
+// soup is a self query whose triangles share no vertex, so a second soup
+// with shared vertices (a sheet's triangles, each pair of neighbours
+// sharing an edge or a corner) checks the shared-vertex masks.
+static void run_both(frames *f, double d, uint32_t kinds, size_t *records) {
+    selfcol_slot_pair *pairs = malloc((size_t)f->count * f->count * sizeof *pairs);
+    assert_non_null(pairs);
+    size_t n = 0;
+    for (uint32_t a = 0; a < f->count; ++a)
+        for (uint32_t b = a + 1; b < f->count; ++b) {
+            uint32_t flags;
+            if (selfcol_box__near(f->frame[a].lo, f->frame[a].hi, f->frame[b].lo, f->frame[b].hi,
+                                  d) &&
+                selfcol_pairs__candidate_scalar(&f->frame[a], &f->frame[b], d, &flags))
+                pairs[n++] = (selfcol_slot_pair){a, b, flags};
+        }
+    selfcol_contacts *out[2];
+    for (int v = 0; v < 2; ++v) {
+        assert_int_equal(selfcol_contacts_create(&out[v], NULL), SELFCOL_OK);
+        selfcol_query q;
+        memset(&q, 0, sizeof q);
+        q.mesh[0] = q.mesh[1] = f->mesh;
+        q.self = 1;
+        q.distance = d;
+        q.kinds = kinds;
+        q.narrow = SELFCOL_NARROW_CLOSED_FORM;
+        q.out = out[v];
+        const selfcol_tri_frame *const both[2] = {f->frame, f->frame};
+        assert_int_equal(v ? selfcol_pairs__run(&q, both, pairs, n)
+                           : selfcol_pairs__run_scalar(&q, both, pairs, n),
+                         SELFCOL_OK);
+    }
+    assert_int_equal(out[0]->count, out[1]->count);
+    assert_memory_equal(out[0]->items, out[1]->items, out[0]->count * sizeof(selfcol_contact));
+    const selfcol_query_stats *x = &out[0]->stats, *y = &out[1]->stats;
+    assert_int_equal(x->vf_tests, y->vf_tests);
+    assert_int_equal(x->ee_tests, y->ee_tests);
+    assert_int_equal(x->ef_tests, y->ef_tests);
+    assert_int_equal(x->vf_contacts, y->vf_contacts);
+    assert_int_equal(x->ee_contacts, y->ee_contacts);
+    assert_int_equal(x->ef_contacts, y->ef_contacts);
+    assert_int_equal(x->primitives_filtered, y->primitives_filtered);
+    *records += out[0]->count;
+    selfcol_contacts_destroy(out[0]);
+    selfcol_contacts_destroy(out[1]);
+    free(pairs);
+}
+
+// A crumpled sheet (shared vertices and edges, folds that touch and cross).
+static void sheet_frames(frames *f, unsigned seed) {
+    enum { N = 12 };
+    double positions[3 * (N + 1) * (N + 1)];
+    uint32_t triangles[6 * N * N];
+    for (int i = 0; i <= N; ++i)
+        for (int j = 0; j <= N; ++j) {
+            double *p = positions + 3 * (i * (N + 1) + j);
+            const double u = (double)i / N, v = (double)j / N;
+            p[0] = u + 0.02 * (uniform(&seed) - 0.5);
+            p[1] = 0.35 * sin(9.0 * u) * cos(7.0 * v) + 0.02 * (uniform(&seed) - 0.5);
+            p[2] = 0.3 * sin(11.0 * v + 3.0 * u);
+        }
+    uint32_t t = 0;
+    for (uint32_t i = 0; i < N; ++i)
+        for (uint32_t j = 0; j < N; ++j) {
+            const uint32_t a = i * (N + 1) + j, b = a + N + 1;
+            const uint32_t quad[6] = {a, b, b + 1, a, b + 1, a + 1};
+            memcpy(triangles + 3 * t, quad, sizeof quad);
+            t += 2;
+        }
+    assert_int_equal(
+        selfcol_mesh_create(&f->mesh, (N + 1) * (N + 1), positions, t, triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&f->hierarchy, f->mesh, NULL), SELFCOL_OK);
+    f->count = t;
+    f->frame = calloc(t, sizeof *f->frame);
+    assert_non_null(f->frame);
+    for (uint32_t slot = 0; slot < t; ++slot)
+        selfcol_pairs__frame(&f->frame[slot], f->hierarchy, slot);
+}
+
+static void test_pairs_run_equals_the_reference(void **state) {
+    (void)state;
+    const uint32_t kinds[] = {SELFCOL_KIND_ALL, SELFCOL_KIND_VF, SELFCOL_KIND_EE, SELFCOL_KIND_EF,
+                              SELFCOL_KIND_VF | SELFCOL_KIND_EF};
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+        frames f;
+        if (seed <= 2)
+            frames_make(&f, seed);
+        else
+            sheet_frames(&f, seed);
+        size_t records = 0;
+        for (size_t di = 0; di < sizeof distances / sizeof distances[0]; ++di)
+            for (size_t ki = 0; ki < sizeof kinds / sizeof kinds[0]; ++ki)
+                run_both(&f, distances[di], kinds[ki], &records);
+        assert_true(records > 100); // contacts were found and compared
+        frames_free(&f);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pairs_plane_flags_equal_the_reference),
         cmocka_unit_test(test_pairs_near_slots_equal_the_reference),
+        cmocka_unit_test(test_pairs_run_equals_the_reference),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
