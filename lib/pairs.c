@@ -102,9 +102,50 @@ static int closed_vf(selfcol_query *q, int mv, uint32_t v, const double *p, int 
     return push_record(q, SELFCOL_CONTACT_VF, mv, v, mt, t, a, tri, &r);
 }
 
+// Relative widening of the distance threshold: the filters reject only what
+// is farther than d (1 + 2^-20), far outside the rounding of the closed forms.
+#define WIDEN (1.0 + 0x1p-20)
+
+// 1 when the lines of segments (p0, p1) and (q0, q1) are provably farther
+// apart than d, so the segments are too. The lines' distance is that of q0
+// from the plane through p0 spanned by u = p1 - p0 and v = q1 - q0: with
+// n = u x v, |(q0 - p0) . n| / |n|. That is plane_flags' computation below
+// with a normal from two rounded differences and a rounded offset, so its
+// rounding bound holds term for term: |s - s_exact| < 2^-48 |D|_1 abs_max,
+// and d |n_exact| < d (|n| + 2^-46 abs_max) (1 + 2^-20). Parallel lines
+// (n_exact = 0) are never rejected: then |s| is within that bound. The
+// cheap half of the EE test: most edge pairs that reach it and miss lie in
+// two layers of cloth whose lines pass farther apart than d.
+int selfcol_pairs__lines_apart(const double *p0, const double *p1, const double *q0,
+                               const double *q1, double d) {
+    double u[3], v[3], D[3], n[3];
+    for (int k = 0; k < 3; ++k) {
+        u[k] = p1[k] - p0[k];
+        v[k] = q1[k] - q0[k];
+        D[k] = q0[k] - p0[k];
+    }
+    double abs_max = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        const double x = u[i] * v[j], y = u[j] * v[i];
+        n[k] = x - y;
+        const double m = fabs(x) + fabs(y);
+        abs_max = m > abs_max ? m : abs_max;
+    }
+    const double length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double t = d * (length + 0x1p-46 * abs_max) * WIDEN;
+    const double s = D[0] * n[0] + D[1] * n[1] + D[2] * n[2];
+    const double e = 0x1p-48 * (fabs(D[0]) + fabs(D[1]) + fabs(D[2])) * abs_max;
+    return fabs(s) - e > t;
+}
+
 static int closed_ee(selfcol_query *q, int me, uint32_t e, const uint32_t *ev,
                      const double *const p[2], int mf, uint32_t f, const uint32_t *fv,
                      const double *const r2[2]) {
+    if (selfcol_pairs__lines_apart(p[0], p[1], r2[0], r2[1], q->distance)) {
+        q->out->stats.primitives_filtered++;
+        return SELFCOL_OK;
+    }
     q->out->stats.ee_tests++;
     selfcol_narrow_result r; // filled with the distance by the closed form (closed_vf)
     double dist =
@@ -215,10 +256,6 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
 
 // ---------------------------------------------------------------------------
 // Triangle pairs
-
-// Relative widening of the distance threshold: the filters reject only what
-// is farther than d (1 + 2^-20), far outside the rounding of the closed forms.
-#define WIDEN (1.0 + 0x1p-20)
 
 // Flags of the three corners of `other` against the plane of `self`, 3 bits
 // each (bit j for corner j): FAR_POS / FAR_NEG when the corner is provably

@@ -19,6 +19,13 @@ int selfcol_pairs__test_ee(selfcol_query *q, int me, uint32_t e, int mf, uint32_
 // Edge e of mesh[me] against triangle t of mesh[mt]; no shared vertex for self.
 int selfcol_pairs__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_t t);
 
+// 1 when the lines of segments (p0, p1) and (q0, q1) are provably farther
+// apart than d (1 + 2^-20), so no EE contact: the cheap reject before the
+// closed form (pairs.c derives its rounding bound). Never 1 for a pair whose
+// closed-form distance is below d (test_pairs_internal).
+int selfcol_pairs__lines_apart(const double *p0, const double *p1, const double *q0,
+                               const double *q1, double d);
+
 // What the pair tests read of a triangle, computed once per query and
 // triangle (lazily, for the leaves the traversal reaches) and laid out by
 // hierarchy slot, so that a leaf pair reads contiguous memory instead of

@@ -22,6 +22,7 @@
 #include "box.h"
 #include "contacts.h"
 #include "hierarchy.h"
+#include "narrow.h"
 #include "pairs.h"
 #include "query.h"
 
@@ -260,11 +261,97 @@ static void test_pairs_run_equals_the_reference(void **state) {
     }
 }
 
+// Whether the lines of (p0, p1) and (q0, q1) are closer than d (1 - 1e-15),
+// computed without a square root in a wide type: with __float128 (113-bit
+// significands) the differences and the products of doubles are exact and
+// the cross product's rounding is far below what the filter's bound covers,
+// even for lines 1e-13 radians apart; long double elsewhere.
+#if defined(__SIZEOF_FLOAT128__)
+typedef __float128 wide;
+#else
+typedef long double wide;
+#endif
+static int lines_within(const double *p0, const double *p1, const double *q0, const double *q1,
+                        double d) {
+    wide u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+        u[k] = (wide)p1[k] - (wide)p0[k];
+        v[k] = (wide)q1[k] - (wide)q0[k];
+        w[k] = (wide)q0[k] - (wide)p0[k];
+    }
+    const wide n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
+    const wide nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    const wide s = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
+    const wide dd = (wide)d * (wide)d * (wide)(1.0 - 2e-15);
+    return s * s < dd * nn;
+}
+
+// The EE pre-filter never rejects a pair whose lines are within d: random
+// segment pairs at a distance of about d (1 +- 1e-6 .. 1e-12) along the
+// common normal, nearly parallel ones, far from the origin and at several
+// scales, held to the lines' exact distance (lines_within). Where the closed form
+// is accurate (elements not tiny against their coordinates) it is held to
+// the closed form too: no pair it puts within d is rejected. Far from the
+// origin the closed form's own rounding (1e-5 relative at 1e5 with elements
+// of 1e-4) is larger than the filter's margin; the contract's tolerance
+// covers that, and every method goes through the same filter. It must also
+// reject some pairs (those clearly apart).
+static void test_pairs_lines_apart_is_conservative(void **state) {
+    (void)state;
+    unsigned seed = 99;
+    const double scales[] = {1e-4, 1.0, 1e4};
+    const double offsets[] = {0.0, 1e5};
+    const double slack[] = {-1e-6, -1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-6, 0.5, 3.0};
+    size_t rejected = 0, tight = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double scale = scales[trial % 3], offset = offsets[(trial / 3) % 2];
+        const double d = scale * (0.001 + 0.2 * uniform(&seed));
+        double p0[3], p1[3], q0[3], q1[3], u[3], v[3];
+        for (int k = 0; k < 3; ++k) {
+            p0[k] = offset + scale * (uniform(&seed) - 0.5);
+            u[k] = scale * (uniform(&seed) - 0.5);
+            // every fourth pair nearly parallel (1e-7 rad), every fourth
+            // but one almost exactly (1e-13 rad: the normal's rounding
+            // is then a large part of it, which the bound must cover)
+            const double turn = trial % 4 == 0 ? 1e-7 : 1e-13;
+            v[k] = trial % 4 <= 1 ? u[k] * (1.0 + turn * (uniform(&seed) - 0.5))
+                                  : scale * (uniform(&seed) - 0.5);
+        }
+        // Common normal n = u x v; q's line at distance (1 + slack) d along it.
+        double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(len > 0.0))
+            continue;
+        const double gap = d * (1.0 + slack[trial % 9]);
+        const double s = uniform(&seed), t = uniform(&seed);
+        for (int k = 0; k < 3; ++k) {
+            p1[k] = p0[k] + u[k];
+            const double foot = p0[k] + s * u[k] + gap * n[k] / len; // q(t) = p(s) + gap n
+            q0[k] = foot - t * v[k];
+            q1[k] = q0[k] + v[k];
+        }
+        const double dist = selfcol_narrow__ee(p0, p1, q0, q1, NULL);
+        const int apart = selfcol_pairs__lines_apart(p0, p1, q0, q1, d);
+        if (apart && lines_within(p0, p1, q0, q1, d))
+            fail_msg("trial %d: rejected, but the lines are closer than d = %.17g", trial, d);
+        if (apart && offset == 0.0 && dist < d)
+            fail_msg("trial %d: rejected, but the closed form gives %.17g < d = %.17g", trial, dist,
+                     d);
+        rejected += (size_t)apart;
+        tight += fabs(dist - d) < 1e-6 * d;
+    }
+    assert_true(rejected > 1000); // it does reject
+    assert_true(tight > 1000);    // and pairs at d within rounding were tried
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pairs_plane_flags_equal_the_reference),
         cmocka_unit_test(test_pairs_near_slots_equal_the_reference),
         cmocka_unit_test(test_pairs_run_equals_the_reference),
+        cmocka_unit_test(test_pairs_lines_apart_is_conservative),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
