@@ -207,3 +207,40 @@ def test_read_only_and_reversed_inputs():
     c32 = selfcol.self_collide(W32, F, distance_rel=0.3)
     assert np.array_equal(c32.records, selfcol.self_collide(V.astype(np.float32), F,
                                                             distance_rel=0.3).records)
+
+
+def _intersecting_triangles_by_edges(c, mesh):
+    """The per-edge definition, through selfcol_mesh_edge_triangles (the
+    C topology, as selfcol-cli derives its pairs): each triangle on a crossing
+    edge paired with each triangle that edge crosses, sorted and unique."""
+    from selfcol._core import ffi, lib
+    r = c.records[c.slice("ef")]
+    ptr, cnt = ffi.new("uint32_t **"), ffi.new("size_t *")
+    pairs = set()
+    for e, t in zip(r["first"].tolist(), r["second"].tolist()):
+        assert lib.selfcol_mesh_edge_triangles(mesh._h, e, ptr, cnt) == 0
+        for u in ffi.unpack(ptr[0], int(cnt[0])):
+            if u != t:
+                pairs.add((min(u, t), max(u, t)))
+    return sorted(pairs)
+
+
+def test_intersecting_triangles_vectorised_equals_per_edge():
+    # A folded strip through itself, plus a non-manifold fin (three triangles
+    # on one edge), a triangle with a repeated corner and a duplicate
+    # triangle, all crossing the strip.
+    V, F = folded()
+    n = len(V)
+    extra_v = np.array([[0.0, 0.3, -0.5], [0.0, 0.3, 0.5], [0.4, 0.3, 0.0],
+                        [-0.4, 0.3, 0.0], [0.0, 0.6, 0.0]])
+    extra_f = np.array([[n, n + 1, n + 2], [n, n + 1, n + 3], [n, n + 1, n + 4],
+                        [n, n, n + 2], [n, n + 1, n + 2]])
+    V2 = np.vstack([V, extra_v])
+    F2 = np.vstack([F, extra_f]).astype(np.int64)
+    for VV, FF in ((V, F), (V2, F2)):
+        mesh = selfcol.Mesh(VV, FF)
+        c = selfcol.Hierarchy(mesh).self_collide()
+        got = c.intersecting_triangles()
+        assert c.counts["ef"] > 0
+        assert got.tolist() == [list(p) for p in _intersecting_triangles_by_edges(c, mesh)]
+        assert np.array_equal(c.intersecting_triangles(), got)  # the cached table
