@@ -40,6 +40,11 @@
 #define SELFCOL_DEPRECATED(msg)
 #endif
 
+/** Largest thread count of every options struct that has one (query,
+ *  hierarchy, store, sweep): defined here, so that each header that names it
+ *  compiles alone. */
+#define SELFCOL_MAX_THREADS 64
+
 SELFCOL_BEGIN_DECLS
 
 /**

@@ -180,8 +180,8 @@ typedef struct selfcol_query_options {
 
 #define SELFCOL_QUERY_OPTIONS_VERSION 2
 
-/** Largest selfcol_query_options.threads. */
-#define SELFCOL_MAX_THREADS 64
+/* SELFCOL_MAX_THREADS, the largest thread count of every options struct,
+ * is defined in common.h. */
 
 /**
  * Writes the defaults into opts.
