@@ -621,22 +621,24 @@ static inline void corners_against_box(const selfcol_tri_frame *a, const selfcol
 static inline void one_way_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
                                  uint32_t of_a, uint32_t shared, double d, uint32_t kinds,
                                  uint32_t *vf, uint32_t *ef, uint64_t *filtered) {
-    uint32_t outside_d, apart;
-    corners_against_box(a, b, d, &outside_d, &apart);
-    *vf = *ef = 0;
+    // First the filters of the plane flags (bits only), then the box tests
+    // for what is left, if anything is.
+    uint32_t vf_eligible = 0, vf_left = 0, ef_eligible = 0, ef_left = 0;
     if (kinds & SELFCOL_KIND_VF) {
-        const uint32_t eligible = a->owned & 7u & ~shared;
-        const uint32_t far = ((of_a >> FAR_POS) | (of_a >> FAR_NEG)) & 7u;
-        *vf = eligible & ~far & ~outside_d;
-        *filtered += bit_count(eligible & ~*vf);
+        vf_eligible = a->owned & 7u & ~shared;
+        vf_left = vf_eligible & ~(((of_a >> FAR_POS) | (of_a >> FAR_NEG)) & 7u);
     }
     if (kinds & SELFCOL_KIND_EF) {
-        const uint32_t eligible = (a->owned >> 3) & 7u & ~(shared | next3(shared));
+        ef_eligible = (a->owned >> 3) & 7u & ~(shared | next3(shared));
         const uint32_t pos = (of_a >> SIDE_POS) & 7u, neg = (of_a >> SIDE_NEG) & 7u;
-        const uint32_t one_side = (pos & next3(pos)) | (neg & next3(neg));
-        *ef = eligible & ~one_side & ~apart;
-        *filtered += bit_count(eligible & ~*ef);
+        ef_left = ef_eligible & ~((pos & next3(pos)) | (neg & next3(neg)));
     }
+    uint32_t outside_d = 7u, apart = 7u;
+    if ((vf_left | ef_left) != 0)
+        corners_against_box(a, b, d, &outside_d, &apart);
+    *vf = vf_left & ~outside_d;
+    *ef = ef_left & ~apart;
+    *filtered += bit_count(vf_eligible & ~*vf) + bit_count(ef_eligible & ~*ef);
 }
 
 // The boxes of a triangle's edge slots, axis by axis, two slots per vector:
