@@ -44,7 +44,6 @@ __all__ = ["check_frame", "check_options", "check_outputs", "expand_frames", "su
 
 
 _METHODS = ("exact", "bvh", "exhaustive", "seed", "cone")
-_MAX_THREADS = 64  # SELFCOL_MAX_THREADS (hierarchy.h)
 
 
 def expand_frames(patterns: Iterable[str]) -> List[str]:
@@ -114,8 +113,10 @@ def check_options(distance: Optional[float] = None, distance_rel: float = 0.1,
         raise ValueError("--distance-rel must be a finite number >= 0, got %r" % distance_rel)
     if str(method).lower() not in _METHODS:
         raise ValueError("--method %r is not one of %s" % (method, ", ".join(_METHODS)))
-    if not 1 <= threads <= _MAX_THREADS:
-        raise ValueError("--threads must be 1 to %d, got %d" % (_MAX_THREADS, threads))
+    from selfcol._core import lib
+    most = int(lib.SELFCOL_MAX_THREADS)
+    if not 1 <= threads <= most:
+        raise ValueError("--threads must be 1 to %d, got %d" % (most, threads))
     if worst < 0:
         raise ValueError("--worst must be >= 0, got %d" % worst)
 

@@ -1572,7 +1572,7 @@ def test_threads_usage():
     """--threads outside 1..SELFCOL_MAX_THREADS, malformed or with white space
     is a usage error (status 2, a message naming --threads and --help), in
     check and track; info has no queries and refuses the option."""
-    header = open(os.path.join(ARGS.source, 'include', 'selfcol', 'hierarchy.h')).read()
+    header = open(os.path.join(ARGS.source, 'include', 'selfcol', 'common.h')).read()
     limit = int(re.search(r'#define SELFCOL_MAX_THREADS (\d+)', header).group(1))
     paths, pattern = write_sequence('threads', [[3], [0.5]])
     mesh = paths[0]
