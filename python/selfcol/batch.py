@@ -113,7 +113,7 @@ def check_options(distance: Optional[float] = None, distance_rel: float = 0.1,
         raise ValueError("--distance-rel must be a finite number >= 0, got %r" % distance_rel)
     if str(method).lower() not in _METHODS:
         raise ValueError("--method %r is not one of %s" % (method, ", ".join(_METHODS)))
-    from selfcol._core import lib
+    from selfcol._selfcol_cffi import lib
     most = int(lib.SELFCOL_MAX_THREADS)
     if not 1 <= threads <= most:
         raise ValueError("--threads must be 1 to %d, got %d" % (most, threads))
