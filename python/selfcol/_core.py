@@ -12,7 +12,7 @@ another thread at the same time.
 
 from __future__ import annotations
 
-from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
+from typing import Any, Dict, Iterable, Iterator, List, Optional, Tuple, Union
 from typing import Sequence as SequenceOf
 
 import numpy as np
@@ -347,6 +347,12 @@ class Mesh:
         self.triangle_count = int(T.shape[0])
         self._edges_by_key: Optional[Tuple[np.ndarray, np.ndarray]] = None
 
+    def __reduce__(self) -> Tuple[Any, Tuple[np.ndarray, np.ndarray]]:
+        """Pickles as its current positions and triangles (a new mesh with its
+        own topology is built on loading), so a Mesh crosses process
+        boundaries (multiprocessing, joblib, Dask)."""
+        return (Mesh, (self.positions, self.triangles))
+
     def set_positions(self, V: Any) -> None:
         """Replaces all positions (a new frame); hierarchies then need refit().
         On error the mesh keeps its previous positions."""
@@ -486,7 +492,35 @@ class Contacts:
         return self._bounds_list
 
     def __len__(self) -> int:
+        if self._h is None:  # unpickled: the records are all there is
+            return int(self.records.shape[0])
         return int(lib.selfcol_contacts_count(self._h))
+
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]:
+        """Pickles as its records, statistics, distance and meshes (an
+        unpickled Contacts holds no C handle; everything it answers comes
+        from those)."""
+        return (_contacts_from_state, (self.records, dict(self.stats), self.distance_used,
+                                       self._meshes))
+
+    def __iter__(self) -> Iterator[Dict[str, Any]]:
+        """One dict per record, in record order (see to_dict for the keys)."""
+        r = self.records
+        for i in range(r.shape[0]):
+            yield _record_dict(r[i])
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Plain Python data (JSON-ready): the distance, the counts, the
+        contacts per kind as lists of index lists (as selfcol-cli's JSON:
+        vf [vertex, triangle], ee [a0, a1, b0, b1], ef [a0, a1, triangle]),
+        the distance of each proximity, and the statistics."""
+        out: Dict[str, Any] = {"distance": self.distance_used, "counts": self.counts}
+        for kind in _KIND_NAMES:
+            out[kind] = getattr(self, kind).tolist()
+        out["vf_distance"] = self.records["distance"][self.slice("vf")].tolist()
+        out["ee_distance"] = self.records["distance"][self.slice("ee")].tolist()
+        out["stats"] = dict(self.stats)
+        return out
 
     def slice(self, kind: str) -> slice:
         """The rows of one kind ('vf', 'ee' or 'ef') in the per-record arrays."""
@@ -564,6 +598,24 @@ class Contacts:
         c = self.counts
         return "selfcol.Contacts(vf=%d, ee=%d, ef=%d, distance=%g)" % (
             c["vf"], c["ee"], c["ef"], self.distance_used)
+
+
+def _record_dict(r: Any) -> Dict[str, Any]:
+    kind = _KIND_NAMES[int(r["kind"])]
+    return {"kind": kind, "first": int(r["first"]), "second": int(r["second"]),
+            "first_mesh": int(r["first_mesh"]), "second_mesh": int(r["second_mesh"]),
+            "a": [int(x) for x in r["a"]], "b": [int(x) for x in r["b"]][:2 if kind == "ee"
+                                                                           else 3],
+            "distance": float(r["distance"]), "wa": [float(x) for x in r["wa"]],
+            "wb": [float(x) for x in r["wb"]], "direction": [float(x) for x in r["direction"]]}
+
+
+def _contacts_from_state(records: np.ndarray, stats: Dict[str, Union[int, float]],
+                         distance: float, meshes: Tuple[Mesh, ...]) -> Contacts:
+    c = Contacts(None, meshes, distance)
+    c._records = records
+    c._stats = stats
+    return c
 
 
 def _new_contacts() -> Any:
@@ -685,6 +737,8 @@ class Hierarchy:
 
 
 _SEQUENCE_ANSWERS = {0: "list", 1: "rebuilt", 2: "fresh"}
+# selfcol_sequence_run_stats.last_reason (sequence.h)
+_SEQUENCE_REASONS = {0: "first_frame", 1: "changed", 2: "deformation", 3: "approximate_method"}
 
 
 class Sequence:
@@ -784,7 +838,8 @@ class Sequence:
         return {"frames": int(st.frames), "rebuilds": int(st.rebuilds),
                 "fresh_frames": int(st.fresh_frames),
                 "last_answer": _SEQUENCE_ANSWERS.get(int(st.last_answer), "?"),
-                "last_reason": int(st.last_reason), "near_pairs": int(st.near_pairs),
+                "last_reason": _SEQUENCE_REASONS.get(int(st.last_reason), "?"),
+                "last_reason_code": int(st.last_reason), "near_pairs": int(st.near_pairs),
                 "skin": float(st.skin), "deformation_ratio": float(st.deformation_ratio),
                 "rebuild_seconds": float(st.rebuild_seconds),
                 "partial_rebuilds": int(st.partial_rebuilds)}
@@ -899,6 +954,14 @@ class StoreContacts:
         if recs is not None and name in recs.dtype.names:
             return np.ascontiguousarray(recs[name])
         raise AttributeError(name)
+
+    def __repr__(self) -> str:
+        flags = self.records["flags"] if len(self) else np.zeros(0, dtype=np.uint32)
+        crossed = int(np.count_nonzero(self.regions["flags"] & 1)) if self.regions.shape[0] else 0
+        return ("selfcol.StoreContacts(contacts=%d, regions=%d, crossed_regions=%d, new=%d, "
+                "flipped=%d)" % (len(self), int(self.regions.shape[0]), crossed,
+                                 int(np.count_nonzero(flags & self.NEW)),
+                                 int(np.count_nonzero(flags & self.FLIPPED))))
 
 
 def _store_read(h: Any) -> StoreContacts:

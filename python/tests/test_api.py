@@ -244,3 +244,37 @@ def test_intersecting_triangles_vectorised_equals_per_edge():
         assert c.counts["ef"] > 0
         assert got.tolist() == [list(p) for p in _intersecting_triangles_by_edges(c, mesh)]
         assert np.array_equal(c.intersecting_triangles(), got)  # the cached table
+
+
+def test_results_are_plain_python_objects():
+    """Mesh and Contacts pickle (multiprocessing, joblib, Dask), Contacts
+    iterates over dicts and has to_dict (JSON-ready), StoreContacts prints
+    what it holds."""
+    import json
+    import pickle
+    V, F = folded()
+    mesh = selfcol.Mesh(V, F)
+    c = selfcol.Hierarchy(mesh).self_collide()
+    assert c.counts["ef"] > 0 and c.counts["ee"] > 0
+    m2 = pickle.loads(pickle.dumps(mesh))
+    assert np.array_equal(m2.positions, mesh.positions)
+    assert np.array_equal(m2.triangles, mesh.triangles)
+    c2 = pickle.loads(pickle.dumps(c))
+    assert len(c2) == len(c) and c2.counts == c.counts
+    assert np.array_equal(c2.records, c.records)
+    assert c2.stats == c.stats and c2.distance_used == c.distance_used
+    assert np.array_equal(c2.intersecting_triangles(), c.intersecting_triangles())
+    assert np.array_equal(c2.ee, c.ee) and repr(c2) == repr(c)
+    rows = list(c)
+    assert len(rows) == len(c)
+    assert [r["kind"] for r in rows].count("ef") == c.counts["ef"]
+    first_ee = rows[c.slice("ee").start]
+    assert first_ee["a"] + first_ee["b"] == c.ee[0].tolist()
+    d = c.to_dict()
+    assert json.loads(json.dumps(d))["counts"] == c.counts
+    assert d["ef"] == c.ef.tolist() and len(d["vf_distance"]) == c.counts["vf"]
+    store = selfcol.Store()
+    store.update(c)
+    text = repr(store.contacts())
+    assert text.startswith("selfcol.StoreContacts(contacts=%d, regions=" % len(store))
+    assert "object at" not in text

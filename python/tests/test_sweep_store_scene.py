@@ -262,7 +262,8 @@ def test_sequence_equals_fresh_queries():
     fresh.refit()
     assert np.array_equal(got.records, fresh.self_collide(d, method="seed").records)
     st = seq.stats()
-    assert st["last_answer"] == "fresh" and st["last_reason"] == 3
+    assert st["last_answer"] == "fresh" and st["last_reason"] == "approximate_method"
+    assert st["last_reason_code"] == 3
 
 
 def test_sequence_honours_distance_rel_and_hierarchy():
