@@ -25,12 +25,16 @@
 //    strictly on one side of B's plane does not cross B; an edge of A beyond d
 //    of B's plane on one side is farther than d from every edge of B.
 // 3. Boxes inflated by d, per primitive, as the exhaustive reference does.
-// 4. The closed forms of narrow.c (exact predicates for crossings), and a
+// 4. For an edge pair, the distance of the two lines (lines_apart).
+// 5. The closed forms of narrow.c (exact predicates for crossings), and a
 //    record only for a hit.
 // The filters are conservative with a derived rounding bound (see
-// plane_distances), so they never reject a pair whose true distance is below
-// d (1 + 2^-20): the contact sets stay exactly those of the exhaustive
-// search, which the tests check on every scene.
+// plane_flags_scalar), so they never reject a pair whose true distance is
+// below d (1 + 2^-20): the contact sets stay exactly those of the exhaustive
+// search, which the tests check on every scene. Filters 1-3 are evaluated
+// for a whole leaf row or triangle pair at once, as bit masks from two-lane
+// SSE2 comparisons, so that their outcomes cost no mispredicted branches;
+// the one-lane code beside them is the reference the tests hold them to.
 #include "pairs.h"
 
 #include "box.h"
