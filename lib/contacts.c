@@ -54,6 +54,7 @@ void selfcol_contacts_clear(selfcol_contacts *contacts) {
     if (contacts == NULL)
         return;
     contacts->count = 0;
+    contacts->work.pending_workers = 0;
     memset(&contacts->stats, 0, sizeof contacts->stats);
     contacts->stats.version = SELFCOL_QUERY_STATS_VERSION;
 }
@@ -129,6 +130,11 @@ int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker
         memcpy(c->items + c->count, worker->items, worker->count * sizeof(selfcol_contact));
         c->count += worker->count;
     }
+    selfcol_contacts__absorb_stats(c, worker);
+    return SELFCOL_OK;
+}
+
+void selfcol_contacts__absorb_stats(selfcol_contacts *c, const selfcol_contacts *worker) {
     selfcol_query_stats *to = &c->stats;
     const selfcol_query_stats *from = &worker->stats;
     to->candidate_pairs += from->candidate_pairs;
@@ -148,7 +154,6 @@ int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker
     to->contour_seconds += from->contour_seconds;
     to->pairs_separated += from->pairs_separated;
     to->primitives_filtered += from->primitives_filtered;
-    return SELFCOL_OK;
 }
 
 int selfcol_contacts__push(selfcol_contacts *c, const selfcol_contact *contact) {
@@ -175,8 +180,15 @@ static int contact_less(const selfcol_contact *a, const selfcol_contact *b) {
 // bits), so a typical sort makes 5 passes over 24-byte items.
 typedef struct sort_item {
     uint64_t hi, lo;
-    uint64_t index;
+    uint64_t index; // the record: its source << SOURCE_SHIFT | its index there
 } sort_item;
+
+// The records to sort can come from several sets (the caller's and the
+// pending worker sets, workspace.h): source k's records are global items
+// begin[k] to begin[k + 1] - 1, and an item's index names its source and
+// its place there, so the permutation reads each record where it lies.
+#define SOURCE_SHIFT 48
+#define MAX_SOURCES (SELFCOL_MAX_THREADS + 1)
 
 #define RADIX_BITS 11
 #define RADIX_SIZE (1u << RADIX_BITS)
@@ -206,6 +218,9 @@ enum { SORT_BUILD, SORT_COUNT, SORT_SCATTER, SORT_PERMUTE };
 
 typedef struct sort_job {
     selfcol_contacts *c;
+    const selfcol_contact *source[MAX_SOURCES];
+    size_t begin[MAX_SOURCES + 1]; // global index of each source's first record
+    unsigned sources;
     sort_item *items, *other;
     size_t *count; // count[(chunk * RADIX_PASSES + pass) * RADIX_SIZE + digit]
     size_t n;
@@ -228,12 +243,18 @@ static void sort_chunk(sort_job *job, unsigned chunk) {
     case SORT_BUILD: {
         size_t *count = chunk_counts(job, chunk, 0);
         memset(count, 0, RADIX_PASSES * RADIX_SIZE * sizeof *count);
+        unsigned k = 0;
+        while (job->begin[k + 1] <= begin && k + 1 < job->sources)
+            ++k;
         for (size_t i = begin; i < end; ++i) {
-            const selfcol_contact *r = &job->c->items[i];
+            while (i >= job->begin[k + 1])
+                ++k;
+            const size_t local = i - job->begin[k];
+            const selfcol_contact *r = &job->source[k][local];
             sort_item *it = &items[i];
             it->hi = ((uint64_t)(r->kind * 2u + r->first_mesh) << 32) | r->first;
             it->lo = ((uint64_t)r->second_mesh << 32) | r->second;
-            it->index = i;
+            it->index = (uint64_t)k << SOURCE_SHIFT | local;
             for (int pass = 0; pass < RADIX_PASSES; ++pass)
                 count[pass * RADIX_SIZE + digit_of(it, pass)]++;
         }
@@ -252,10 +273,14 @@ static void sort_chunk(sort_job *job, unsigned chunk) {
             job->other[slot[digit_of(&items[i], job->pass)]++] = items[i];
         break;
     }
-    default: // SORT_PERMUTE
-        for (size_t i = begin; i < end; ++i)
-            job->c->spare[i] = job->c->items[items[i].index];
+    default: { // SORT_PERMUTE
+        const uint64_t local_mask = ((uint64_t)1 << SOURCE_SHIFT) - 1u;
+        for (size_t i = begin; i < end; ++i) {
+            const uint64_t at = items[i].index;
+            job->c->spare[i] = job->source[at >> SOURCE_SHIFT][at & local_mask];
+        }
         break;
+    }
     }
 }
 
@@ -281,12 +306,41 @@ static void sort_stage(sort_job *job, int stage, int pass) {
 }
 
 int selfcol_contacts__sort(selfcol_contacts *c, unsigned threads) {
-    size_t n = c->count;
-    size_t i = 1;
-    while (i < n && !contact_less(&c->items[i], &c->items[i - 1]))
-        ++i;
-    if (i >= n)
-        return SELFCOL_OK; // already sorted (the exhaustive search emits in order)
+    // The caller's records, then those of the pending worker sets.
+    sort_job job;
+    memset(&job, 0, sizeof job);
+    const unsigned pending = c->work.pending_workers;
+    c->work.pending_workers = 0;
+    job.source[0] = c->items;
+    job.begin[1] = c->count;
+    job.sources = 1;
+    for (unsigned w = 0; w < pending; ++w) {
+        const selfcol_contacts *worker = c->work.workers[w];
+        job.source[job.sources] = worker->items;
+        job.begin[job.sources + 1] = job.begin[job.sources] + worker->count;
+        job.sources++;
+    }
+    size_t n = job.begin[job.sources];
+    if (pending > 0 && n < 2) { // nothing to order: the record, if any, joins c's
+        for (unsigned w = 0; w < pending; ++w) {
+            selfcol_contacts *worker = c->work.workers[w];
+            if (worker->count > 0) {
+                if (reserve_records(c, worker->count) != SELFCOL_OK)
+                    return SELFCOL_ENOMEM;
+                memcpy(c->items + c->count, worker->items, worker->count * sizeof *c->items);
+                c->count += worker->count;
+                worker->count = 0;
+            }
+        }
+        return SELFCOL_OK;
+    }
+    if (pending == 0) {
+        size_t i = 1;
+        while (i < n && !contact_less(&c->items[i], &c->items[i - 1]))
+            ++i;
+        if (i >= n)
+            return SELFCOL_OK; // already sorted (the exhaustive search emits in order)
+    }
     const size_t most = n / SORT_MIN_CHUNK;
     const unsigned chunks = most < 2 ? 1u : threads < most ? threads : (unsigned)most;
     const size_t count_bytes = (size_t)chunks * RADIX_PASSES * RADIX_SIZE * sizeof(size_t);
@@ -296,15 +350,21 @@ int selfcol_contacts__sort(selfcol_contacts *c, unsigned threads) {
     sort_item *items = selfcol_workspace__buffer(&c->work, SELFCOL_SCRATCH_SORT, bytes, 0);
     if (items == NULL)
         return SELFCOL_ENOMEM;
-    if (c->spare_capacity < c->capacity) {
-        selfcol_contact *spare = selfcol_alloc__array(&c->allocator, c->capacity, sizeof *spare);
+    const size_t want = n > c->capacity ? n : c->capacity;
+    if (c->spare_capacity < want) {
+        selfcol_contact *spare = selfcol_alloc__array(&c->allocator, want, sizeof *spare);
         if (spare == NULL)
             return SELFCOL_ENOMEM;
         selfcol_alloc__free_array(&c->allocator, c->spare, c->spare_capacity, sizeof *spare);
         c->spare = spare;
-        c->spare_capacity = c->capacity;
+        c->spare_capacity = want;
     }
-    sort_job job = {c, items, items + n, (size_t *)(items + 2 * n), n, chunks, 0, 0, 0};
+    job.c = c;
+    job.items = items;
+    job.other = items + n;
+    job.count = (size_t *)(items + 2 * n);
+    job.n = n;
+    job.chunks = chunks;
     sort_stage(&job, SORT_BUILD, 0);
     int scattered = 0;
     for (int pass = 0; pass < RADIX_PASSES; ++pass) {
@@ -340,5 +400,8 @@ int selfcol_contacts__sort(selfcol_contacts *c, unsigned threads) {
     size_t capacity = c->capacity;
     c->capacity = c->spare_capacity;
     c->spare_capacity = capacity;
+    c->count = n;
+    for (unsigned w = 0; w < pending; ++w)
+        c->work.workers[w]->count = 0; // taken in
     return SELFCOL_OK;
 }

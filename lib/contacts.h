@@ -29,11 +29,18 @@ int selfcol_contacts__push(selfcol_contacts *contacts, const selfcol_contact *co
 // radix sort of their keys, then one permutation of the records. O(n); no
 // allocation once the spare buffer has grown. On up to `threads` threads
 // (one per 65536 records at most), with the same order for every count.
-// SELFCOL_OK or SELFCOL_ENOMEM (the records are then left unsorted).
+// The records of the first contacts->work.pending_workers worker sets are
+// taken in too (read where they lie, no copy first): they end in contacts,
+// sorted with its own, and the worker sets empty.
+// SELFCOL_OK or SELFCOL_ENOMEM (the records are then left unsorted, and
+// the pending ones are lost: the caller clears the set).
 int selfcol_contacts__sort(selfcol_contacts *contacts, unsigned threads);
 
 // Appends worker's records to c and adds its counters (and contour time) to
 // c's statistics. SELFCOL_OK or SELFCOL_ENOMEM (c then keeps its own records).
 int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker);
+// Adds a worker's counters to c's (not its records: traverse.c leaves those
+// to selfcol_contacts__sort, through the workspace's pending_workers).
+void selfcol_contacts__absorb_stats(selfcol_contacts *c, const selfcol_contacts *worker);
 
 #endif // SELFCOL_CONTACTS_INTERNAL_H

@@ -459,20 +459,20 @@ static uint32_t *stamps_for(selfcol_contacts *c, int slot, size_t count) {
     return stamps;
 }
 
-// The workers' records and counters go into the caller's contacts (the
-// records in any order: the query sorts them next).
+// The workers' counters go into the caller's contacts; their records stay
+// in the worker sets, which the sort that follows reads in place
+// (workspace.h: pending_workers): copying them first into one set was a
+// serial pass over all but 1/N of the records.
 static int gather(shared *s, unsigned workers) {
     selfcol_contacts *c = s->out[0];
     double broad = 0.0, narrow = 0.0;
     for (unsigned w = 0; w < workers; ++w) {
         narrow += s->narrow_seconds[w];
         broad += s->busy_seconds[w] - s->narrow_seconds[w];
-        if (w > 0) {
-            int status = selfcol_contacts__absorb(c, s->out[w]);
-            if (status != SELFCOL_OK)
-                return status;
-        }
+        if (w > 0)
+            selfcol_contacts__absorb_stats(c, s->out[w]);
     }
+    c->work.pending_workers = workers - 1;
     c->stats.broad_seconds += broad;
     c->stats.narrow_seconds += narrow;
     return SELFCOL_OK;

@@ -41,6 +41,10 @@ typedef struct selfcol_workspace {
     // (selfcol_query_options.threads): workers[w - 1] for worker w >= 1.
     struct selfcol_contacts **workers;
     unsigned worker_count;
+    // The first this-many worker sets hold records of the last query that
+    // the next selfcol_contacts__sort takes in (traverse.c leaves them there
+    // rather than copying them into the caller's set first); 0 after it.
+    unsigned pending_workers;
 } selfcol_workspace;
 
 // An empty workspace that allocates with `allocator` (copied).
