@@ -123,17 +123,6 @@ static int reserve_records(selfcol_contacts *c, size_t extra) {
     return SELFCOL_OK;
 }
 
-int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker) {
-    if (worker->count > 0) {
-        if (reserve_records(c, worker->count) != SELFCOL_OK)
-            return SELFCOL_ENOMEM;
-        memcpy(c->items + c->count, worker->items, worker->count * sizeof(selfcol_contact));
-        c->count += worker->count;
-    }
-    selfcol_contacts__absorb_stats(c, worker);
-    return SELFCOL_OK;
-}
-
 void selfcol_contacts__absorb_stats(selfcol_contacts *c, const selfcol_contacts *worker) {
     selfcol_query_stats *to = &c->stats;
     const selfcol_query_stats *from = &worker->stats;

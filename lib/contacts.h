@@ -36,11 +36,9 @@ int selfcol_contacts__push(selfcol_contacts *contacts, const selfcol_contact *co
 // the pending ones are lost: the caller clears the set).
 int selfcol_contacts__sort(selfcol_contacts *contacts, unsigned threads);
 
-// Appends worker's records to c and adds its counters (and contour time) to
-// c's statistics. SELFCOL_OK or SELFCOL_ENOMEM (c then keeps its own records).
-int selfcol_contacts__absorb(selfcol_contacts *c, const selfcol_contacts *worker);
-// Adds a worker's counters to c's (not its records: traverse.c leaves those
-// to selfcol_contacts__sort, through the workspace's pending_workers).
+// Adds a worker's counters (and contour time) to c's statistics; its
+// records stay in the worker set until selfcol_contacts__sort takes them in
+// (the workspace's pending_workers).
 void selfcol_contacts__absorb_stats(selfcol_contacts *c, const selfcol_contacts *worker);
 
 #endif // SELFCOL_CONTACTS_INTERNAL_H

@@ -110,6 +110,28 @@ static int closed_vf(selfcol_query *q, int mv, uint32_t v, const double *p, int 
 // is farther than d (1 + 2^-20), far outside the rounding of the closed forms.
 #define WIDEN (1.0 + 0x1p-20)
 
+// n = u x v from rounded differences u, v, as every plane test here takes
+// it: *abs_max gets max_k (|u_i v_j| + |u_j v_i|), the scale of its rounding
+// error (plane_flags_scalar's bound); returns the computed |n|.
+static double normal_of(const double u[3], const double v[3], double n[3], double *abs_max) {
+    double m_max = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        const double x = u[i] * v[j], y = u[j] * v[i];
+        n[k] = x - y;
+        const double m = fabs(x) + fabs(y);
+        m_max = m > m_max ? m : m_max;
+    }
+    *abs_max = m_max;
+    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+// The threshold a signed offset s = D . n must pass (with its rounding
+// margin) to be provably beyond d of the plane: d |n_exact| at most.
+static double far_threshold(double d, double length, double abs_max) {
+    return d * (length + 0x1p-46 * abs_max) * WIDEN;
+}
+
 // 1 when the lines of segments (p0, p1) and (q0, q1) are provably farther
 // apart than d, so the segments are too. The lines' distance is that of q0
 // from the plane through p0 spanned by u = p1 - p0 and v = q1 - q0: with
@@ -128,16 +150,9 @@ int selfcol_pairs__lines_apart(const double *p0, const double *p1, const double 
         v[k] = q1[k] - q0[k];
         D[k] = q0[k] - p0[k];
     }
-    double abs_max = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        const int i = (k + 1) % 3, j = (k + 2) % 3;
-        const double x = u[i] * v[j], y = u[j] * v[i];
-        n[k] = x - y;
-        const double m = fabs(x) + fabs(y);
-        abs_max = m > abs_max ? m : abs_max;
-    }
-    const double length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const double t = d * (length + 0x1p-46 * abs_max) * WIDEN;
+    double abs_max;
+    const double length = normal_of(u, v, n, &abs_max);
+    const double t = far_threshold(d, length, abs_max);
     const double s = D[0] * n[0] + D[1] * n[1] + D[2] * n[2];
     const double e = 0x1p-48 * (fabs(D[0]) + fabs(D[1]) + fabs(D[2])) * abs_max;
     return fabs(s) - e > t;
@@ -245,17 +260,7 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
         u[k] = f->corner[1][k] - f->corner[0][k];
         v[k] = f->corner[2][k] - f->corner[0][k];
     }
-    double abs_max = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        const int i = (k + 1) % 3, j = (k + 2) % 3;
-        double x = u[i] * v[j], y = u[j] * v[i];
-        f->normal[k] = x - y;
-        double s = fabs(x) + fabs(y);
-        abs_max = s > abs_max ? s : abs_max;
-    }
-    f->length = sqrt(f->normal[0] * f->normal[0] + f->normal[1] * f->normal[1] +
-                     f->normal[2] * f->normal[2]);
-    f->abs_max = abs_max;
+    f->length = normal_of(u, v, f->normal, &f->abs_max);
 }
 
 // ---------------------------------------------------------------------------
@@ -277,7 +282,7 @@ enum { FAR_POS = 0, FAR_NEG = 3, SIDE_POS = 6, SIDE_NEG = 9, FLAG_BITS = 12 };
 static uint32_t plane_flags_scalar(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
                                    double d) {
     const double *a = self->corner[0];
-    const double t = d * (self->length + 0x1p-46 * self->abs_max) * WIDEN;
+    const double t = far_threshold(d, self->length, self->abs_max);
     uint32_t out = 0;
     for (int j = 0; j < 3; ++j) {
         const double *x = other->corner[j];
@@ -300,7 +305,7 @@ static uint32_t plane_flags_scalar(const selfcol_tri_frame *self, const selfcol_
 static inline uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
                                    double d) {
     const double *a = self->corner[0];
-    const double t = d * (self->length + 0x1p-46 * self->abs_max) * WIDEN;
+    const double t = far_threshold(d, self->length, self->abs_max);
     const __m128d a0 = _mm_set1_pd(a[0]), a1 = _mm_set1_pd(a[1]), a2 = _mm_set1_pd(a[2]);
     const __m128d n0 = _mm_set1_pd(self->normal[0]), n1 = _mm_set1_pd(self->normal[1]),
                   n2 = _mm_set1_pd(self->normal[2]);
@@ -337,28 +342,29 @@ static int all_far(uint32_t flags) {
     return ((flags >> FAR_POS) & 7u) == 7u || ((flags >> FAR_NEG) & 7u) == 7u;
 }
 
-int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
-                             uint32_t *flags) {
-    uint32_t of_a = plane_flags(fb, fa, d); // a's corners against b's plane
+typedef uint32_t (*plane_flags_fn)(const selfcol_tri_frame *, const selfcol_tri_frame *, double);
+
+// The separation test with either implementation of the plane flags.
+static inline int candidate_with(plane_flags_fn flags_of, const selfcol_tri_frame *fa,
+                                 const selfcol_tri_frame *fb, double d, uint32_t *flags) {
+    uint32_t of_a = flags_of(fb, fa, d); // a's corners against b's plane
     if (all_far(of_a))
         return 0;
-    uint32_t of_b = plane_flags(fa, fb, d);
+    uint32_t of_b = flags_of(fa, fb, d);
     if (all_far(of_b))
         return 0;
     *flags = of_a | (of_b << FLAG_BITS);
     return 1;
 }
 
+int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
+                             uint32_t *flags) {
+    return candidate_with(plane_flags, fa, fb, d, flags);
+}
+
 int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb,
                                     double d, uint32_t *flags) {
-    uint32_t of_a = plane_flags_scalar(fb, fa, d);
-    if (all_far(of_a))
-        return 0;
-    uint32_t of_b = plane_flags_scalar(fa, fb, d);
-    if (all_far(of_b))
-        return 0;
-    *flags = of_a | (of_b << FLAG_BITS);
-    return 1;
+    return candidate_with(plane_flags_scalar, fa, fb, d, flags);
 }
 
 // ---------------------------------------------------------------------------

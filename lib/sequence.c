@@ -808,12 +808,14 @@ static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2]
     if (workers <= 1)
         return evaluate_range(&e, out, 0, s->pair_count); // in list order: sorted
     int status = selfcol_parallel__run(workers, evaluate_worker, &e);
-    for (unsigned w = 1; w < workers && status == SELFCOL_OK; ++w)
-        status = selfcol_contacts__absorb(out, e.out[w]);
-    // Chunks went to whichever worker took them: restore the record order.
-    if (status == SELFCOL_OK)
-        status = selfcol_contacts__sort(out, workers);
-    return status;
+    if (status != SELFCOL_OK)
+        return status;
+    // Chunks went to whichever worker took them: the sort restores the
+    // record order, reading the workers' records where they lie.
+    for (unsigned w = 1; w < workers; ++w)
+        selfcol_contacts__absorb_stats(out, e.out[w]);
+    out->work.pending_workers = workers - 1;
+    return selfcol_contacts__sort(out, workers);
 }
 
 // ---------------------------------------------------------------------------

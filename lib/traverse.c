@@ -463,7 +463,7 @@ static uint32_t *stamps_for(selfcol_contacts *c, int slot, size_t count) {
 // in the worker sets, which the sort that follows reads in place
 // (workspace.h: pending_workers): copying them first into one set was a
 // serial pass over all but 1/N of the records.
-static int gather(shared *s, unsigned workers) {
+static void gather(shared *s, unsigned workers) {
     selfcol_contacts *c = s->out[0];
     double broad = 0.0, narrow = 0.0;
     for (unsigned w = 0; w < workers; ++w) {
@@ -475,7 +475,6 @@ static int gather(shared *s, unsigned workers) {
     c->work.pending_workers = workers - 1;
     c->stats.broad_seconds += broad;
     c->stats.narrow_seconds += narrow;
-    return SELFCOL_OK;
 }
 
 int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
@@ -553,6 +552,6 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     // times 0; the others took its share of the tasks.
     status = selfcol_parallel__run(workers, worker_run, &s);
     if (status == SELFCOL_OK)
-        status = gather(&s, workers);
+        gather(&s, workers);
     return status;
 }

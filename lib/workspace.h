@@ -42,8 +42,8 @@ typedef struct selfcol_workspace {
     struct selfcol_contacts **workers;
     unsigned worker_count;
     // The first this-many worker sets hold records of the last query that
-    // the next selfcol_contacts__sort takes in (traverse.c leaves them there
-    // rather than copying them into the caller's set first); 0 after it.
+    // the next selfcol_contacts__sort takes in (traverse.c and sequence.c leave them
+    // there rather than copying them into the caller's set first); 0 after it.
     unsigned pending_workers;
 } selfcol_workspace;
 

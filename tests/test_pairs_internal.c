@@ -70,20 +70,27 @@ typedef struct frames {
     uint32_t count;
 } frames;
 
+// The mesh, its hierarchy and every slot's frame.
+static void frames_of(frames *f, size_t vertex_count, const double *positions,
+                      uint32_t triangle_count, const uint32_t *triangles) {
+    assert_int_equal(
+        selfcol_mesh_create(&f->mesh, vertex_count, positions, triangle_count, triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&f->hierarchy, f->mesh, NULL), SELFCOL_OK);
+    f->count = triangle_count;
+    f->frame = calloc(triangle_count, sizeof *f->frame);
+    assert_non_null(f->frame);
+    for (uint32_t slot = 0; slot < triangle_count; ++slot)
+        selfcol_pairs__frame(&f->frame[slot], f->hierarchy, slot);
+}
+
 static void frames_make(frames *f, unsigned seed) {
     double *positions = malloc(9 * SOUP * sizeof(double));
     uint32_t *triangles = malloc(3 * SOUP * sizeof(uint32_t));
     assert_non_null(positions);
     assert_non_null(triangles);
     soup(positions, triangles, seed);
-    assert_int_equal(selfcol_mesh_create(&f->mesh, 3 * SOUP, positions, SOUP, triangles, NULL),
-                     SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_create(&f->hierarchy, f->mesh, NULL), SELFCOL_OK);
-    f->count = SOUP;
-    f->frame = calloc(SOUP, sizeof *f->frame);
-    assert_non_null(f->frame);
-    for (uint32_t slot = 0; slot < SOUP; ++slot)
-        selfcol_pairs__frame(&f->frame[slot], f->hierarchy, slot);
+    frames_of(f, 3 * SOUP, positions, SOUP, triangles);
     free(positions);
     free(triangles);
 }
@@ -231,15 +238,7 @@ static void sheet_frames(frames *f, unsigned seed) {
             memcpy(triangles + 3 * t, quad, sizeof quad);
             t += 2;
         }
-    assert_int_equal(
-        selfcol_mesh_create(&f->mesh, (N + 1) * (N + 1), positions, t, triangles, NULL),
-        SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_create(&f->hierarchy, f->mesh, NULL), SELFCOL_OK);
-    f->count = t;
-    f->frame = calloc(t, sizeof *f->frame);
-    assert_non_null(f->frame);
-    for (uint32_t slot = 0; slot < t; ++slot)
-        selfcol_pairs__frame(&f->frame[slot], f->hierarchy, slot);
+    frames_of(f, (N + 1) * (N + 1), positions, t, triangles);
 }
 
 static void test_pairs_run_equals_the_reference(void **state) {
