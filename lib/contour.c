@@ -79,7 +79,6 @@
 #include "contour.h"
 
 #include "cone.h"
-#include "contacts.h"
 #include "core.h"
 #include "hierarchy.h"
 #include "predicates.h"
@@ -476,28 +475,28 @@ static void *work_area(selfcol_workspace *work, size_t b, size_t extra) {
                                      work_bytes(b) + extra * sizeof(uint32_t), 0);
 }
 
-// A discrete query's job: the mesh's positions, contact set owner's scratch.
-static selfcol_contour_job frame_job(const selfcol_mesh *m, selfcol_contacts *owner) {
-    selfcol_contour_job job = {&owner->work, m->positions, NULL, 0.0, 0, 0, 0.0};
+// A discrete query's job: the mesh's positions, the worker's scratch.
+static selfcol_contour_job frame_job(const selfcol_mesh *m, selfcol_workspace *work) {
+    selfcol_contour_job job = {work, m->positions, NULL, 0.0, 0, 0, 0.0};
     return job;
 }
 
-static int counted_in(selfcol_contacts *owner, const selfcol_contour_job *job, int clear) {
-    owner->stats.contour_tests += job->tests;
-    owner->stats.contour_refused += job->refused;
-    owner->stats.contour_seconds += job->seconds;
+static int counted_in(selfcol_query_stats *stats, const selfcol_contour_job *job, int clear) {
+    stats->contour_tests += job->tests;
+    stats->contour_refused += job->refused;
+    stats->contour_seconds += job->seconds;
     return clear;
 }
 
 int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edges, size_t count,
-                                const double v[3], double d, int strategy,
-                                selfcol_contacts *scratch_owner) {
-    selfcol_contour_job job = frame_job(m, scratch_owner);
-    void *work = work_area(job.work, count, 0);
-    if (work == NULL)
+                                const double v[3], double d, int strategy, selfcol_workspace *work,
+                                selfcol_query_stats *stats) {
+    selfcol_contour_job job = frame_job(m, work);
+    void *area = work_area(job.work, count, 0);
+    if (area == NULL)
         return 0;
-    return counted_in(scratch_owner, &job,
-                      counted_contour(&job, m, half_edges, count, v, d, work, strategy));
+    return counted_in(stats, &job,
+                      counted_contour(&job, m, half_edges, count, v, d, area, strategy));
 }
 
 static const uint8_t DISK_PATCH =
@@ -532,13 +531,13 @@ static selfcol_cone node_cone(const selfcol_node *n) {
 }
 
 int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, double d,
-                                    selfcol_contacts *scratch_owner) {
+                                    selfcol_workspace *work, selfcol_query_stats *stats) {
     const selfcol_node *n = &h->nodes[id];
     if ((n->flags & DISK_PATCH) != DISK_PATCH || !(n->cone_angle < SELFCOL_HALF_PI))
         return 0;
     const selfcol_cone cone = node_cone(n);
-    selfcol_contour_job job = frame_job(h->mesh, scratch_owner);
-    return counted_in(scratch_owner, &job,
+    selfcol_contour_job job = frame_job(h->mesh, work);
+    return counted_in(stats, &job,
                       selfcol_contour__patch_clear(h, id, &cone, h->min_altitude[id], d, &job));
 }
 
@@ -654,7 +653,7 @@ int selfcol_contour__patches_clear(const selfcol_hierarchy *h, uint32_t ia, uint
 }
 
 int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uint32_t ib, double d,
-                                    selfcol_contacts *scratch_owner) {
+                                    selfcol_workspace *work, selfcol_query_stats *stats) {
     const selfcol_node *na = &h->nodes[ia], *nb = &h->nodes[ib];
     // The cheapest refusals before the axes are unpacked.
     if (na->child_count == 0 || nb->child_count == 0 ||
@@ -663,8 +662,8 @@ int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t ia, uin
         !(d <= h->min_altitude[ia] && d <= h->min_altitude[ib]))
         return 0;
     const selfcol_cone ca = node_cone(na), cb = node_cone(nb);
-    selfcol_contour_job job = frame_job(h->mesh, scratch_owner);
-    return counted_in(scratch_owner, &job,
+    selfcol_contour_job job = frame_job(h->mesh, work);
+    return counted_in(stats, &job,
                       selfcol_contour__patches_clear(h, ia, ib, &ca, h->min_altitude[ia], &cb,
                                                      h->min_altitude[ib], d, &job));
 }

@@ -40,13 +40,14 @@ enum {
     SELFCOL_CONTOUR_ALL_PAIRS = 2, // every pair of edges, O(b^2)
 };
 int selfcol_contour__loop_clear(const selfcol_mesh *m, const uint32_t *half_edges, size_t count,
-                                const double v[3], double d, int strategy,
-                                selfcol_contacts *scratch_owner);
+                                const double v[3], double d, int strategy, selfcol_workspace *work,
+                                selfcol_query_stats *stats);
 
 // EXACT's criterion (contour.c): 1 when Self(node id) provably holds no
-// contact at distance d. Uses scratch slot SELFCOL_SCRATCH_CONTOUR of `scratch_owner`.
+// contact at distance d. Uses scratch slot SELFCOL_SCRATCH_CONTOUR of `work`;
+// adds its tests, refusals and time to `stats`.
 int selfcol_contour__self_skippable(const selfcol_hierarchy *h, uint32_t id, double d,
-                                    selfcol_contacts *scratch_owner);
+                                    selfcol_workspace *work, selfcol_query_stats *stats);
 
 // The criterion for Self(node id) with the given cone of its normals and
 // lower bound of its altitudes (both valid at every time the job covers):
@@ -65,6 +66,6 @@ int selfcol_contour__patches_clear(const selfcol_hierarchy *h, uint32_t ia, uint
 // of a has a contact with a primitive of b (judged on the union of the two
 // patches, joined along shared edges). Uses the same scratch slot.
 int selfcol_contour__pair_skippable(const selfcol_hierarchy *h, uint32_t a, uint32_t b, double d,
-                                    selfcol_contacts *scratch_owner);
+                                    selfcol_workspace *work, selfcol_query_stats *stats);
 
 #endif // SELFCOL_CONTOUR_H

@@ -128,7 +128,7 @@ int selfcol_exhaustive__run(selfcol_query *q) {
     if (box_count > SIZE_MAX / sizeof(box))
         return SELFCOL_ENOMEM;
     box *scratch =
-        selfcol_workspace__buffer(&q->out->work, SELFCOL_SCRATCH_STACK, box_count * sizeof(box), 0);
+        selfcol_workspace__buffer(q->work, SELFCOL_SCRATCH_STACK, box_count * sizeof(box), 0);
     if (scratch == NULL)
         return SELFCOL_ENOMEM;
     mesh_boxes boxes[2];

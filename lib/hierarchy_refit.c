@@ -430,7 +430,7 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
         refit_job job = {h, 0};
         // Workers that cannot be started leave their tasks to the others
         // (worker 0 runs here), so every subtree is refit before the join.
-        (void)selfcol_parallel__run(h->refit_workers, refit_worker, &job);
+        (void)selfcol_parallel__run(NULL, h->refit_workers, refit_worker, &job);
         above = h->cap;
     }
     for (size_t id = above; id-- > 0;)

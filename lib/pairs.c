@@ -76,7 +76,7 @@ static int push_record(const selfcol_query *q, selfcol_contact_kind kind, int m_
     memcpy(c.wa, r->wa, sizeof c.wa);
     memcpy(c.wb, r->wb, sizeof c.wb);
     memcpy(c.direction, r->direction, sizeof c.direction);
-    return selfcol_contacts__push(q->out, &c);
+    return selfcol_records__push(q->out, &c);
 }
 
 // ---------------------------------------------------------------------------

@@ -7,16 +7,30 @@
 #ifndef SELFCOL_PARALLEL_H
 #define SELFCOL_PARALLEL_H
 
+#include <selfcol/context.h>
+
 #include <stdint.h>
 
-// Runs work(context, w) for w = 0 .. workers - 1: worker 0 on the calling
-// thread, the others on threads started here and joined before returning.
-// At most SELFCOL_MAX_THREADS workers. A worker whose thread cannot be
-// started is not run (the work is shared through a task counter, so the
-// others take its part). Returns the first non-zero status of the workers,
-// in worker order.
-int selfcol_parallel__run(unsigned workers, int (*work)(void *context, unsigned worker),
-                          void *context);
+// Who runs a parallel stage's work items: a caller's scheduler
+// (selfcol_context_options' enqueue_task and finish_task), or, with
+// enqueue_task NULL, POSIX threads started and joined by the stage.
+typedef struct selfcol_executor {
+    selfcol_enqueue_task_fn *enqueue_task;
+    selfcol_finish_task_fn *finish_task;
+    void *user_context;
+} selfcol_executor;
+
+// Runs work(context, w) for w = 0 .. workers - 1 and returns when all have
+// run. With `executor` NULL or without a scheduler: worker 0 on the calling
+// thread, the others on threads started here and joined before returning; a
+// worker whose thread cannot be started is not run (callers share their work
+// through a task counter, so the others take its part). With a scheduler:
+// one task of `workers` items, each item one worker. Workers never wait for
+// each other, so a scheduler may run them in any order on any threads. At
+// most SELFCOL_MAX_THREADS workers. Returns the first non-zero status of the
+// workers, in worker order.
+int selfcol_parallel__run(const selfcol_executor *executor, unsigned workers,
+                          int (*work)(void *context, unsigned worker), void *context);
 
 // GCC/Clang atomic builtins (the library is C99; C11 <stdatomic.h> is not
 // assumed). Acquire/release orders are enough for the patterns used: a task

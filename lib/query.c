@@ -55,8 +55,22 @@ int selfcol_query__options(selfcol_query_options *out, const selfcol_query_optio
     return SELFCOL_OK;
 }
 
-static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
-                     selfcol_contacts *contacts, const selfcol_query_options *given) {
+selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, unsigned threads) {
+    if (contacts->implicit_context == NULL) {
+        selfcol_context_options o;
+        selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        o.allocator = contacts->records.allocator;
+        if (selfcol_context_create(&contacts->implicit_context, &o) != SELFCOL_OK)
+            return NULL;
+    }
+    contacts->implicit_context->threads = threads;
+    return contacts->implicit_context;
+}
+
+// The checks of every discrete query entry point; then the query.
+static int run_query(selfcol_context *context, const selfcol_hierarchy *first,
+                     const selfcol_hierarchy *second, selfcol_contacts *contacts,
+                     const selfcol_query_options *given) {
     SELFCOL_CHECK(first != NULL && second != NULL && contacts != NULL);
     selfcol_query_options checked;
     int status = selfcol_query__options(&checked, given);
@@ -69,15 +83,22 @@ static int run_query(const selfcol_hierarchy *first, const selfcol_hierarchy *se
         (first->refit_version != first->mesh->positions_version ||
          second->refit_version != second->mesh->positions_version))
         return SELFCOL_ESTALE;
-    return selfcol_query__run(first, second, contacts, &checked, NULL);
+    if (context == NULL) {
+        context = selfcol_query__implicit_context(contacts, checked.threads);
+        if (context == NULL) {
+            selfcol_contacts_clear(contacts);
+            return SELFCOL_ENOMEM;
+        }
+    }
+    return selfcol_query__run(context, first, second, &contacts->records, &checked, NULL);
 }
 
-int selfcol_query__run(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
-                       selfcol_contacts *contacts, const selfcol_query_options *opts,
-                       const selfcol_node_filter *filter) {
-    const unsigned threads = opts->threads;
+int selfcol_query__run(selfcol_context *context, const selfcol_hierarchy *first,
+                       const selfcol_hierarchy *second, selfcol_records *out,
+                       const selfcol_query_options *opts, const selfcol_node_filter *filter) {
     double start = selfcol_core__seconds();
-    selfcol_contacts_clear(contacts);
+    selfcol_records__clear(out);
+    context->pending_workers = 0;
     selfcol_query q;
     q.mesh[0] = first->mesh;
     q.mesh[1] = second->mesh;
@@ -88,32 +109,48 @@ int selfcol_query__run(const selfcol_hierarchy *first, const selfcol_hierarchy *
     // libccd's tolerances are absolute: its distances (a bisection on the
     // inflation radius) are asked to 1e-7 of the detection distance.
     q.ccd_tolerance = 1e-7 * q.distance;
-    q.out = contacts;
+    q.out = out;
+    q.work = &context->work;
     q.filter = filter;
 
     int status = opts->method == SELFCOL_METHOD_EXHAUSTIVE
                      ? selfcol_exhaustive__run(&q)
-                     : selfcol_traverse__run(&q, first, second, opts->method, threads);
+                     : selfcol_traverse__run(&q, first, second, opts->method, context);
     double sort_start = selfcol_core__seconds();
     if (status == SELFCOL_OK)
-        status = selfcol_contacts__sort(contacts, threads);
+        status = selfcol_context__sort(context, out);
+    context->pending_workers = 0;
     if (status != SELFCOL_OK) {
-        selfcol_contacts_clear(contacts);
+        selfcol_records__clear(out);
         return status;
     }
     double end = selfcol_core__seconds();
-    contacts->stats.sort_seconds = end - sort_start;
-    contacts->stats.total_seconds = end - start;
+    out->stats.sort_seconds = end - sort_start;
+    out->stats.total_seconds = end - start;
     return SELFCOL_OK;
 }
 
 int selfcol_hierarchy_self_collide(const selfcol_hierarchy *hierarchy, selfcol_contacts *contacts,
                                    const selfcol_query_options *opts) {
-    return run_query(hierarchy, hierarchy, contacts, opts);
+    return run_query(NULL, hierarchy, hierarchy, contacts, opts);
 }
 
 int selfcol_hierarchy_collide(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
                               selfcol_contacts *contacts, const selfcol_query_options *opts) {
     SELFCOL_CHECK(first != NULL && second != NULL && first->mesh != second->mesh);
-    return run_query(first, second, contacts, opts);
+    return run_query(NULL, first, second, contacts, opts);
+}
+
+int selfcol_context_self_collide(selfcol_context *context, const selfcol_hierarchy *hierarchy,
+                                 selfcol_contacts *contacts, const selfcol_query_options *opts) {
+    SELFCOL_CHECK(context != NULL);
+    return run_query(context, hierarchy, hierarchy, contacts, opts);
+}
+
+int selfcol_context_collide(selfcol_context *context, const selfcol_hierarchy *first,
+                            const selfcol_hierarchy *second, selfcol_contacts *contacts,
+                            const selfcol_query_options *opts) {
+    SELFCOL_CHECK(context != NULL);
+    SELFCOL_CHECK(first != NULL && second != NULL && first->mesh != second->mesh);
+    return run_query(context, first, second, contacts, opts);
 }

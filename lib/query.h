@@ -12,6 +12,7 @@
 #include <selfcol/hierarchy.h>
 
 #include "contacts.h"
+#include "context.h"
 #include "mesh.h"
 
 // A restriction of a hierarchy traversal to some node pairs (the sequence's
@@ -34,8 +35,9 @@ typedef struct selfcol_query {
     double distance;
     uint32_t kinds;
     uint32_t narrow;
-    double ccd_tolerance; // absolute tolerance for libccd (relative to the distance)
-    selfcol_contacts *out;
+    double ccd_tolerance;              // absolute tolerance for libccd (relative to the distance)
+    selfcol_records *out;              // this worker's records and statistics
+    selfcol_workspace *work;           // this worker's working memory
     const selfcol_node_filter *filter; // NULL: every node pair
 } selfcol_query;
 
@@ -46,11 +48,17 @@ typedef struct selfcol_query {
 int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts);
 
 // A query with options already checked by selfcol_query__options, restricted
-// by `filter` (NULL: none): what selfcol_hierarchy_self_collide (first ==
-// second) and selfcol_hierarchy_collide do after their checks. The sorted
-// records go to contacts (cleared first); on failure it is left empty.
-int selfcol_query__run(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
-                       selfcol_contacts *contacts, const selfcol_query_options *checked,
-                       const selfcol_node_filter *filter);
+// by `filter` (NULL: none), on the context's threads and working memory (the
+// options' threads are not read): what selfcol_hierarchy_self_collide (first
+// == second) and selfcol_hierarchy_collide do after their checks. The sorted
+// records go to `out` (cleared first); on failure it is left empty.
+int selfcol_query__run(selfcol_context *context, const selfcol_hierarchy *first,
+                       const selfcol_hierarchy *second, selfcol_records *out,
+                       const selfcol_query_options *checked, const selfcol_node_filter *filter);
+
+// The context that calls given none use for `contacts` (contacts.h), made at
+// the first call with the contact set's allocator; its threads set to
+// `threads` (1..SELFCOL_MAX_THREADS, the POSIX threads). NULL without memory.
+selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, unsigned threads);
 
 #endif // SELFCOL_QUERY_H

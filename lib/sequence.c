@@ -679,7 +679,7 @@ static int build_list(selfcol_sequence *s, buffer *into, size_t offset, size_t *
 typedef struct evaluation {
     const selfcol_sequence *s;
     selfcol_query base;
-    selfcol_contacts *out[SELFCOL_MAX_THREADS];
+    selfcol_records *out[SELFCOL_MAX_THREADS];
     unsigned workers;
     size_t chunks;     // of EVALUATION_CHUNK pairs
     size_t next_chunk; // atomic: the workers take chunks from it
@@ -690,7 +690,7 @@ typedef struct evaluation {
 // do its part); the records are sorted afterwards.
 #define EVALUATION_CHUNK 512
 
-static int evaluate_range(const evaluation *e, selfcol_contacts *out, size_t begin, size_t end) {
+static int evaluate_range(const evaluation *e, selfcol_records *out, size_t begin, size_t end) {
     selfcol_query q = e->base;
     q.out = out;
     const selfcol_sequence *s = e->s;
@@ -778,9 +778,14 @@ static int evaluate_worker(void *context, unsigned w) {
     return status;
 }
 
-// The near list's records at the current positions, in order, into out.
+// The near list's records at the current positions, in order, into out,
+// on the threads of the context of the calls given none (query.h).
 static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
-                    const selfcol_query_options *o, selfcol_contacts *out) {
+                    const selfcol_query_options *o, selfcol_contacts *contacts) {
+    selfcol_context *context = selfcol_query__implicit_context(contacts, o->threads);
+    if (context == NULL)
+        return SELFCOL_ENOMEM;
+    selfcol_records *out = &contacts->records;
     evaluation e;
     e.s = s;
     e.base.mesh[0] = mesh[0];
@@ -791,6 +796,7 @@ static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2]
     e.base.narrow = o->narrow;
     e.base.ccd_tolerance = 1e-7 * o->distance; // as query.c
     e.base.out = out;
+    e.base.work = &context->work;
     e.base.filter = NULL;
     // At most a worker per chunk.
     unsigned workers = o->threads;
@@ -801,21 +807,22 @@ static int evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2]
     e.next_chunk = 0;
     e.out[0] = out;
     for (unsigned w = 1; w < workers; ++w) {
-        e.out[w] = selfcol_workspace__worker(&out->work, w);
-        if (e.out[w] == NULL)
+        selfcol_worker *worker = selfcol_context__worker(context, w);
+        if (worker == NULL)
             return SELFCOL_ENOMEM;
+        e.out[w] = &worker->records;
     }
     if (workers <= 1)
         return evaluate_range(&e, out, 0, s->pair_count); // in list order: sorted
-    int status = selfcol_parallel__run(workers, evaluate_worker, &e);
+    int status = selfcol_parallel__run(&context->executor, workers, evaluate_worker, &e);
     if (status != SELFCOL_OK)
         return status;
     // Chunks went to whichever worker took them: the sort restores the
     // record order, reading the workers' records where they lie.
     for (unsigned w = 1; w < workers; ++w)
-        selfcol_contacts__absorb_stats(out, e.out[w]);
-    out->work.pending_workers = workers - 1;
-    return selfcol_contacts__sort(out, workers);
+        selfcol_records__absorb_stats(out, e.out[w]);
+    context->pending_workers = workers - 1;
+    return selfcol_context__sort(context, out);
 }
 
 // ---------------------------------------------------------------------------
@@ -933,6 +940,12 @@ static void tag_clusters(const selfcol_sequence *s, const selfcol_mesh *const me
     }
 }
 
+// The working memory of the context that filled `scratch` (made by its
+// first query, query.h): its sort slot serves the list's builds.
+static selfcol_workspace *scratch_work(selfcol_contacts *scratch) {
+    return &scratch->implicit_context->work;
+}
+
 // The ordinary query of the hierarchies (a self query when they are one).
 static int query(selfcol_hierarchy *const h[2], selfcol_contacts *out,
                  const selfcol_query_options *o) {
@@ -956,7 +969,7 @@ static int refit_stale(selfcol_hierarchy *const h[2], uint32_t method) {
 
 // Rebuilds the near list at the current positions; the reach set's records
 // pass through `scratch` (the caller's contact set, cleared afterwards: its
-// records and workspace are reused instead of a second set's).
+// records and context are reused instead of a second set's).
 static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
                    const selfcol_query_options *o, selfcol_contacts *scratch) {
     const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
@@ -972,8 +985,8 @@ static int rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     if (status == SELFCOL_OK)
         status = query(h, scratch, &r);
     if (status == SELFCOL_OK)
-        status = build_list(s, &s->pairs, 0, &s->pair_count, mesh, scratch->items, scratch->count,
-                            &scratch->work);
+        status = build_list(s, &s->pairs, 0, &s->pair_count, mesh, scratch->records.items,
+                            scratch->records.count, scratch_work(scratch));
     selfcol_contacts_clear(scratch);
     if (status == SELFCOL_OK)
         status = take_reference(s, h);
@@ -1163,16 +1176,19 @@ static int partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
         r.kinds = SELFCOL_KIND_ALL;
     const selfcol_node_filter filter = {keep_node_pair, &f};
     size_t added = 0;
+    selfcol_context *context = selfcol_query__implicit_context(scratch, r.threads);
+    if (status == SELFCOL_OK && context == NULL)
+        status = SELFCOL_ENOMEM;
     if (status == SELFCOL_OK)
-        status = selfcol_query__run(h[0], h[1], scratch, &r, &filter);
+        status = selfcol_query__run(context, h[0], h[1], &scratch->records, &r, &filter);
     // The kept pairs stay at the front of the list's buffer and the new
     // ones are built behind them, in the slack that build_list leaves for EF
     // candidates. (On failure the caller drops the list: state is
     // STATE_NONE.)
     const size_t kept = keep_requeried(s->pairs.data, s->pair_count, partners, 0);
     if (status == SELFCOL_OK)
-        status = build_list(s, &s->pairs, kept, &added, mesh, scratch->items, scratch->count,
-                            &scratch->work);
+        status = build_list(s, &s->pairs, kept, &added, mesh, scratch->records.items,
+                            scratch->records.count, scratch_work(scratch));
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK)
         return status;
@@ -1180,11 +1196,11 @@ static int partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
     tag_clusters(s, mesh, merged + kept, added);
     added = keep_requeried(merged + kept, added, partners, 1);
     // Both runs are in record order (and disjoint). The new one is copied
-    // into the query's sort scratch (the workspace of the caller's contact
+    // into the query's sort scratch (the context of the caller's contact
     // set, sized for its records already), and the two merge from the back
     // into the list: a write at i + j - 1 never reaches a kept pair not yet
     // read (below i) while new pairs remain (j >= 1).
-    near_pair *fresh = selfcol_workspace__buffer(&scratch->work, SELFCOL_SCRATCH_SORT,
+    near_pair *fresh = selfcol_workspace__buffer(scratch_work(scratch), SELFCOL_SCRATCH_SORT,
                                                  added * sizeof(near_pair), 0);
     if (added > 0 && fresh == NULL)
         return SELFCOL_ENOMEM;
@@ -1226,7 +1242,8 @@ int selfcol_sequence__check_partial(selfcol_sequence *s, selfcol_hierarchy *firs
     size_t n = 0;
     int status = query(h, scratch, &r);
     if (status == SELFCOL_OK)
-        status = build_list(s, &full, 0, &n, mesh, scratch->items, scratch->count, &scratch->work);
+        status = build_list(s, &full, 0, &n, mesh, scratch->records.items, scratch->records.count,
+                            scratch_work(scratch));
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK) {
         release(&s->allocator, &full);
@@ -1350,11 +1367,11 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         if (status == SELFCOL_OK)
             status = query(h, contacts, &o);
         // The contacts' statistics are the fresh query's own.
-        const selfcol_query_stats kept = contacts->stats;
+        const selfcol_query_stats kept = contacts->records.stats;
         choose_skin(s, h);
         if (status == SELFCOL_OK)
             status = take_reference(s, h);
-        contacts->stats = kept;
+        contacts->records.stats = kept;
         if (status == SELFCOL_OK) {
             s->state = STATE_TRACKING;
             s->frames_since_reference = 0;
@@ -1367,10 +1384,10 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         return status;
     }
     if (answer != ANSWER_FRESH) {
-        contacts->stats.broad_seconds = narrow_start - start;
-        contacts->stats.narrow_seconds = end - narrow_start;
+        contacts->records.stats.broad_seconds = narrow_start - start;
+        contacts->records.stats.narrow_seconds = end - narrow_start;
     }
-    contacts->stats.total_seconds = end - start;
+    contacts->records.stats.total_seconds = end - start;
     s->stats.frames++;
     s->stats.last_answer = (uint32_t)answer;
     if (answer != ANSWER_LIST)

@@ -1448,7 +1448,7 @@ static void run_stage(update_job *job, enum update_stage stage) {
     if (workers <= 1)
         update_worker(job, 0);
     else
-        selfcol_parallel__run(workers, update_worker, job);
+        selfcol_parallel__run(NULL, workers, update_worker, job);
 }
 
 int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
@@ -1479,8 +1479,8 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
          (second != NULL && !selfcol_mesh__is(second, &store->identity[1]))))
         return SELFCOL_EMISMATCH;
     const selfcol_mesh *const meshes[2] = {first, second};
-    const selfcol_contact *rec = detected->items;
-    const size_t m = detected->count;
+    const selfcol_contact *rec = detected->records.items;
+    const size_t m = detected->records.count;
     update_job job;
     job.s = store;
     job.meshes = meshes;

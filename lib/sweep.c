@@ -257,7 +257,7 @@ static int narrow_all(selfcol_sweep_query *q, unsigned threads) {
     job.q = q;
     const uint64_t chunks = (s->candidate_count + SWEEP_CHUNK - 1) / SWEEP_CHUNK;
     const unsigned workers = chunks < threads ? (unsigned)(chunks > 0 ? chunks : 1) : threads;
-    int status = selfcol_parallel__run(workers, narrow_worker, &job);
+    int status = selfcol_parallel__run(NULL, workers, narrow_worker, &job);
     if (status != SELFCOL_OK)
         return status;
     for (unsigned w = 0; w < workers; ++w)

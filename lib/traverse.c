@@ -77,7 +77,8 @@ typedef struct shared {
     size_t next_task; // atomic
     int stop;         // atomic: a worker failed
     const selfcol_query *query;
-    selfcol_contacts *out[SELFCOL_MAX_THREADS];
+    selfcol_records *out[SELFCOL_MAX_THREADS];    // each worker's records
+    selfcol_workspace *work[SELFCOL_MAX_THREADS]; // and working memory
     double narrow_seconds[SELFCOL_MAX_THREADS];
     double busy_seconds[SELFCOL_MAX_THREADS];
 } shared;
@@ -97,12 +98,12 @@ static int push(traversal *t, uint32_t a, uint32_t b) {
     if (t->stack_size == t->stack_capacity) {
         size_t want = t->stack_capacity < 256 ? 256 : 2 * t->stack_capacity;
         node_pair *grown =
-            selfcol_workspace__buffer(&t->q.out->work, SELFCOL_SCRATCH_STACK,
-                                      want * sizeof(node_pair), t->stack_size * sizeof(node_pair));
+            selfcol_workspace__buffer(t->q.work, SELFCOL_SCRATCH_STACK, want * sizeof(node_pair),
+                                      t->stack_size * sizeof(node_pair));
         if (grown == NULL)
             return SELFCOL_ENOMEM;
         t->stack = grown;
-        t->stack_capacity = t->q.out->work.bytes[SELFCOL_SCRATCH_STACK] / sizeof(node_pair);
+        t->stack_capacity = t->q.work->bytes[SELFCOL_SCRATCH_STACK] / sizeof(node_pair);
     }
     t->stack[t->stack_size++] = (node_pair){a, b};
     return SELFCOL_OK;
@@ -325,7 +326,7 @@ static int visit(traversal *t, node_pair p) {
     if (self && p.a == p.b) {
         if (method == SELFCOL_METHOD_EXACT
                 ? a->tri_count >= CONTOUR_MIN_TRIANGLES &&
-                      selfcol_contour__self_skippable(s->h[0], p.a, d, t->q.out)
+                      selfcol_contour__self_skippable(s->h[0], p.a, d, t->q.work, &t->q.out->stats)
                 : curvature && smooth(method, a)) {
             st->culled_curvature++;
             return SELFCOL_OK;
@@ -346,7 +347,8 @@ static int visit(traversal *t, node_pair p) {
     }
     if (curvature ? jointly_smooth(method, a, b) && nodes_adjacent(s->h[0], a, b)
                   : exact_pairs && a->tri_count + b->tri_count >= CONTOUR_MIN_TRIANGLES &&
-                        selfcol_contour__pair_skippable(s->h[0], p.a, p.b, d, t->q.out)) {
+                        selfcol_contour__pair_skippable(s->h[0], p.a, p.b, d, t->q.work,
+                                                        &t->q.out->stats)) {
         st->culled_adjacency++;
         return SELFCOL_OK;
     }
@@ -370,10 +372,11 @@ static int drain(traversal *t) {
     return status;
 }
 
-static void traversal_init(traversal *t, shared *s, selfcol_contacts *out) {
+static void traversal_init(traversal *t, shared *s, selfcol_records *out, selfcol_workspace *work) {
     t->s = s;
     t->q = *s->query;
     t->q.out = out;
+    t->q.work = work;
     t->stack = NULL;
     t->stack_size = t->stack_capacity = 0;
     t->batch_count = 0;
@@ -387,13 +390,13 @@ static uint32_t triangles_of(const shared *s, node_pair p) {
 
 // Breadth first on the calling thread until `want` node pairs wait on the
 // stack (or none); leaves met on the way are tested here. The waiting pairs
-// are left in `tasks` (scratch of the caller's contacts), largest first, and
+// are left in `tasks` (the calling thread's scratch), largest first, and
 // their count returned in *count.
 static int seed_tasks(traversal *t, size_t want, node_pair **tasks, size_t *count) {
     int status = push(t, 0, 0);
     while (status == SELFCOL_OK && t->stack_size > 0 && t->stack_size < want) {
         size_t level = t->stack_size;
-        node_pair *copy = selfcol_workspace__buffer(&t->q.out->work, SELFCOL_SCRATCH_TASKS,
+        node_pair *copy = selfcol_workspace__buffer(t->q.work, SELFCOL_SCRATCH_TASKS,
                                                     level * sizeof(node_pair), 0);
         if (copy == NULL)
             return SELFCOL_ENOMEM;
@@ -406,7 +409,7 @@ static int seed_tasks(traversal *t, size_t want, node_pair **tasks, size_t *coun
         return status;
     size_t n = t->stack_size;
     node_pair *list =
-        selfcol_workspace__buffer(&t->q.out->work, SELFCOL_SCRATCH_TASKS, n * sizeof(node_pair), 0);
+        selfcol_workspace__buffer(t->q.work, SELFCOL_SCRATCH_TASKS, n * sizeof(node_pair), 0);
     if (list == NULL && n > 0)
         return SELFCOL_ENOMEM;
     // Largest first (insertion sort of a few hundred pairs), so that no
@@ -430,7 +433,7 @@ static int worker_run(void *context, unsigned w) {
     shared *s = context;
     double start = selfcol_core__seconds();
     traversal t;
-    traversal_init(&t, s, s->out[w]);
+    traversal_init(&t, s, s->out[w], s->work[w]);
     int status = SELFCOL_OK;
     while (status == SELFCOL_OK && !SELFCOL_ATOMIC_LOAD(&s->stop)) {
         size_t i = SELFCOL_ATOMIC_FETCH_ADD(&s->next_task, (size_t)1);
@@ -451,34 +454,34 @@ static int worker_run(void *context, unsigned w) {
 
 // Zeroed stamps for `count` nodes in scratch `slot` (fresh memory is zeroed
 // once; later queries tell old stamps from new by the serial).
-static uint32_t *stamps_for(selfcol_contacts *c, int slot, size_t count) {
-    const int fresh = c->work.bytes[slot] < count * sizeof(uint32_t);
-    uint32_t *stamps = selfcol_workspace__buffer(&c->work, slot, count * sizeof(uint32_t), 0);
+static uint32_t *stamps_for(selfcol_workspace *work, int slot, size_t count) {
+    const int fresh = work->bytes[slot] < count * sizeof(uint32_t);
+    uint32_t *stamps = selfcol_workspace__buffer(work, slot, count * sizeof(uint32_t), 0);
     if (stamps != NULL && fresh)
-        memset(stamps, 0, c->work.bytes[slot]);
+        memset(stamps, 0, work->bytes[slot]);
     return stamps;
 }
 
-// The workers' counters go into the caller's contacts; their records stay
-// in the worker sets, which the sort that follows reads in place
-// (workspace.h: pending_workers): copying them first into one set was a
+// The workers' counters go into the caller's records; their own records
+// stay where they are, and the sort that follows reads them in place
+// (context.h: pending_workers): copying them first into one set was a
 // serial pass over all but 1/N of the records.
-static void gather(shared *s, unsigned workers) {
-    selfcol_contacts *c = s->out[0];
+static void gather(shared *s, selfcol_context *context, unsigned workers) {
+    selfcol_records *c = s->out[0];
     double broad = 0.0, narrow = 0.0;
     for (unsigned w = 0; w < workers; ++w) {
         narrow += s->narrow_seconds[w];
         broad += s->busy_seconds[w] - s->narrow_seconds[w];
         if (w > 0)
-            selfcol_contacts__absorb_stats(c, s->out[w]);
+            selfcol_records__absorb_stats(c, s->out[w]);
     }
-    c->work.pending_workers = workers - 1;
+    context->pending_workers = workers - 1;
     c->stats.broad_seconds += broad;
     c->stats.narrow_seconds += narrow;
 }
 
 int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
-                          const selfcol_hierarchy *h1, uint32_t method, unsigned threads) {
+                          const selfcol_hierarchy *h1, uint32_t method, selfcol_context *context) {
     shared s;
     memset(&s, 0, sizeof s);
     s.h[0] = h0;
@@ -486,17 +489,18 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     s.method = method;
     s.distance = q->distance;
     s.query = q;
-    selfcol_contacts *c = q->out;
+    selfcol_records *c = q->out;
+    selfcol_workspace *work = &context->work;
     const int sides = q->self ? 1 : 2;
     for (int side = 0; side < sides; ++side) {
         const selfcol_hierarchy *h = side ? h1 : h0;
         if (h->mesh->triangle_count > SIZE_MAX / sizeof(selfcol_tri_frame))
             return SELFCOL_ENOMEM;
         s.frames[side] = selfcol_workspace__buffer(
-            &c->work, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
+            work, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
             h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
-        s.stamps[side] =
-            stamps_for(c, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0, h->node_count);
+        s.stamps[side] = stamps_for(work, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0,
+                                    h->node_count);
         if (s.frames[side] == NULL || s.stamps[side] == NULL)
             return SELFCOL_ENOMEM;
     }
@@ -505,19 +509,19 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
         s.stamps[1] = s.stamps[0];
     }
     // A new serial invalidates every stamp; at wrap-around they are cleared.
-    if (++c->work.serial >= FRAMES_BUSY) {
+    if (++work->serial >= FRAMES_BUSY) {
         for (int side = 0; side < sides; ++side)
             memset(s.stamps[side], 0,
-                   c->work.bytes[side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0]);
-        c->work.serial = 1;
+                   work->bytes[side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0]);
+        work->serial = 1;
     }
-    s.serial = c->work.serial;
+    s.serial = work->serial;
 
     const double start = selfcol_core__seconds();
-    unsigned workers = threads; // 1..SELFCOL_MAX_THREADS, checked by query.c
+    unsigned workers = context->threads; // 1..SELFCOL_MAX_THREADS
     traversal calling;
     traversal *main_traversal = &calling;
-    traversal_init(main_traversal, &s, c);
+    traversal_init(main_traversal, &s, c, work);
     int status;
     if (workers == 1) {
         status = push(main_traversal, 0, 0);
@@ -542,16 +546,19 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
         workers = (unsigned)s.task_count;
     s.tasks = tasks;
     s.out[0] = c;
+    s.work[0] = work;
     for (unsigned w = 1; w < workers; ++w) {
-        s.out[w] = selfcol_workspace__worker(&c->work, w);
-        if (s.out[w] == NULL)
+        selfcol_worker *worker = selfcol_context__worker(context, w);
+        if (worker == NULL)
             return SELFCOL_ENOMEM;
+        s.out[w] = &worker->records;
+        s.work[w] = &worker->work;
     }
     s.concurrent = 1;
     // A worker whose thread did not start left its records empty and its
     // times 0; the others took its share of the tasks.
-    status = selfcol_parallel__run(workers, worker_run, &s);
+    status = selfcol_parallel__run(&context->executor, workers, worker_run, &s);
     if (status == SELFCOL_OK)
-        gather(&s, workers);
+        gather(&s, context, workers);
     return status;
 }

@@ -1,14 +1,13 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// A query's working memory, kept from query to query so that a steady state
-// allocates nothing. zstd's ZSTD_cwksp is the model: what the stages of a
-// query need while it runs (the traversal stack, contour.c's work area, the
+// Working memory, kept from call to call so that a steady state allocates
+// nothing. zstd's ZSTD_cwksp is the model: what the stages of a query need
+// while it runs (the traversal stack, contour.c's work area, the
 // per-triangle frames and their stamps, the sort keys, the tasks handed to
-// threads, and the worker threads' own contact sets) lives here, apart from
-// what the query returns (the records, the sort's spare buffer and the
-// statistics, in the contact set). A contact set embeds one only because it
-// is the handle a caller keeps across queries (include/selfcol/contacts.h).
+// threads) lives here, apart from what the query returns (records.h). A
+// query context (context.h) holds one for the calling thread and one per
+// extra worker; a continuous query's handle holds its own (sweep.h).
 #ifndef SELFCOL_WORKSPACE_H
 #define SELFCOL_WORKSPACE_H
 
@@ -30,30 +29,20 @@ enum {
     SELFCOL_SCRATCH_SLOTS = 8
 };
 
-struct selfcol_contacts;
-
 typedef struct selfcol_workspace {
     selfcol_allocator allocator;
     void *buffer[SELFCOL_SCRATCH_SLOTS];
     size_t bytes[SELFCOL_SCRATCH_SLOTS];
     uint32_t serial; // bumped by every hierarchy query: validates the leaf stamps
-    // The contact sets of the extra worker threads of a query
-    // (selfcol_query_options.threads): workers[w - 1] for worker w >= 1.
-    struct selfcol_contacts **workers;
-    unsigned worker_count;
-    // The first this-many worker sets hold records of the last query that
-    // the next selfcol_contacts__sort takes in (traverse.c and sequence.c leave them
-    // there rather than copying them into the caller's set first); 0 after it.
-    unsigned pending_workers;
 } selfcol_workspace;
 
 // An empty workspace that allocates with `allocator` (copied).
 void selfcol_workspace__init(selfcol_workspace *w, const selfcol_allocator *allocator);
 
-// Frees every buffer and worker contact set; w is then empty.
+// Frees every buffer; w is then empty.
 void selfcol_workspace__free(selfcol_workspace *w);
 
-// The bytes held, the workers' contact sets included.
+// The bytes held.
 size_t selfcol_workspace__byte_count(const selfcol_workspace *w);
 
 // Buffer `slot` with at least `bytes` (aligned to SELFCOL_ALIGNMENT), kept
@@ -61,9 +50,5 @@ size_t selfcol_workspace__byte_count(const selfcol_workspace *w);
 // its old content are copied. NULL on allocation failure (the old buffer
 // stays valid).
 void *selfcol_workspace__buffer(selfcol_workspace *w, int slot, size_t bytes, size_t keep);
-
-// The contact set of worker thread `index` >= 1, created at first use with
-// the workspace's allocator and emptied here. NULL on allocation failure.
-struct selfcol_contacts *selfcol_workspace__worker(selfcol_workspace *w, unsigned index);
 
 #endif // SELFCOL_WORKSPACE_H

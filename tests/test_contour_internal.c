@@ -15,6 +15,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -26,21 +27,24 @@
 
 typedef struct patch {
     selfcol_mesh *mesh;
-    selfcol_contacts *scratch;
+    selfcol_workspace scratch; // contour.c's work area
+    selfcol_query_stats stats; // its counters
 } patch;
 
 static patch make_patch(const double *positions, size_t vertex_count, const uint32_t *triangles,
                         size_t triangle_count) {
-    patch p = {NULL, NULL};
+    patch p;
+    memset(&p, 0, sizeof p);
     assert_int_equal(
         selfcol_mesh_create(&p.mesh, vertex_count, positions, triangle_count, triangles, NULL),
         SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&p.scratch, NULL), SELFCOL_OK);
+    const selfcol_allocator standard = {NULL, NULL, NULL};
+    selfcol_workspace__init(&p.scratch, &standard);
     return p;
 }
 
 static void free_patch(patch *p) {
-    selfcol_contacts_destroy(p->scratch);
+    selfcol_workspace__free(&p->scratch);
     selfcol_mesh_destroy(p->mesh);
 }
 
@@ -60,11 +64,11 @@ static uint32_t half_edge(const selfcol_mesh *m, uint32_t u, uint32_t w) {
 
 // The loop's half-edges, decided by both candidate searches, which must
 // agree.
-static int half_edges_clear(const patch *p, const uint32_t *he, size_t n, const double v[3],
-                            double d) {
-    int grid = selfcol_contour__loop_clear(p->mesh, he, n, v, d, SELFCOL_CONTOUR_GRID, p->scratch);
-    int all =
-        selfcol_contour__loop_clear(p->mesh, he, n, v, d, SELFCOL_CONTOUR_ALL_PAIRS, p->scratch);
+static int half_edges_clear(patch *p, const uint32_t *he, size_t n, const double v[3], double d) {
+    int grid = selfcol_contour__loop_clear(p->mesh, he, n, v, d, SELFCOL_CONTOUR_GRID, &p->scratch,
+                                           &p->stats);
+    int all = selfcol_contour__loop_clear(p->mesh, he, n, v, d, SELFCOL_CONTOUR_ALL_PAIRS,
+                                          &p->scratch, &p->stats);
     if (grid != all)
         fail_msg("%zu edges, d = %g: the grid says %d, all pairs %d", n, d, grid, all);
     return grid;
@@ -72,7 +76,7 @@ static int half_edges_clear(const patch *p, const uint32_t *he, size_t n, const 
 
 // 1 when the loop through vertices loop[0..n) (closing back to loop[0]) is
 // clear along v at distance d.
-static int loop_clear(const patch *p, const uint32_t *loop, size_t n, const double v[3], double d) {
+static int loop_clear(patch *p, const uint32_t *loop, size_t n, const double v[3], double d) {
     uint32_t he[16];
     assert_true(n <= 16);
     for (size_t i = 0; i < n; ++i)
@@ -225,30 +229,28 @@ static void test_collinear_apart_and_clearance_at_d(void **state) {
     free_patch(&p);
 }
 
-// The scratch comes from the caller's contacts handle: without memory the
-// test refuses (never a false "clear"), and works again once memory returns.
+// The scratch comes from the caller's workspace: without memory the test
+// refuses (never a false "clear"), and works again once memory returns.
 static void test_no_memory_refuses(void **state) {
     (void)state;
     const double pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
     const uint32_t tri[] = {0, 1, 2, 0, 2, 3}, loop[] = {0, 1, 2, 3};
     patch p = make_patch(pos, 4, tri, 2);
-    selfcol_contacts_destroy(p.scratch);
+    selfcol_workspace__free(&p.scratch);
     test_allocator_state alloc = {0};
-    selfcol_contacts_options o;
-    selfcol_contacts_options_init(&o, SELFCOL_CONTACTS_OPTIONS_VERSION);
-    o.allocator = test_allocator(&alloc);
-    assert_int_equal(selfcol_contacts_create(&p.scratch, &o), SELFCOL_OK);
+    const selfcol_allocator counted = test_allocator(&alloc);
+    selfcol_workspace__init(&p.scratch, &counted);
     uint32_t he[4];
     for (size_t i = 0; i < 4; ++i)
         he[i] = half_edge(p.mesh, loop[i], loop[(i + 1) % 4]);
     alloc.fail_at = alloc.calls + 1;
-    assert_int_equal(
-        selfcol_contour__loop_clear(p.mesh, he, 4, along_z, 0.0, SELFCOL_CONTOUR_AUTO, p.scratch),
-        0);
+    assert_int_equal(selfcol_contour__loop_clear(p.mesh, he, 4, along_z, 0.0, SELFCOL_CONTOUR_AUTO,
+                                                 &p.scratch, &p.stats),
+                     0);
     alloc.fail_at = 0;
-    assert_int_equal(
-        selfcol_contour__loop_clear(p.mesh, he, 4, along_z, 0.0, SELFCOL_CONTOUR_AUTO, p.scratch),
-        1);
+    assert_int_equal(selfcol_contour__loop_clear(p.mesh, he, 4, along_z, 0.0, SELFCOL_CONTOUR_AUTO,
+                                                 &p.scratch, &p.stats),
+                     1);
     free_patch(&p);
     assert_int_equal(alloc.live, 0);
 }
@@ -279,7 +281,7 @@ static double next_uniform(uint64_t *state) {
 // theta < pi/2 of v (1) and d <= (smallest altitude) cos(theta) (3). Then
 // the exhaustive reference must find no contact in the fan. 1 when it was
 // checked.
-static int fan_proof_is_sound(const patch *p, const double *pos, const uint32_t *tri, size_t n,
+static int fan_proof_is_sound(patch *p, const double *pos, const uint32_t *tri, size_t n,
                               const double v[3], double d) {
     double lowest_cos = 1.0, lowest_altitude = INFINITY;
     for (size_t t = 0; t < n; ++t) {
@@ -415,7 +417,7 @@ static void test_self_skippable_is_sound_on_a_flat_u(void **state) {
         o.method = SELFCOL_METHOD_EXHAUSTIVE;
         o.distance = sweep[i];
         assert_int_equal(selfcol_hierarchy_self_collide(h, c, &o), SELFCOL_OK);
-        const int skippable = selfcol_contour__self_skippable(h, 0, sweep[i], p.scratch);
+        const int skippable = selfcol_contour__self_skippable(h, 0, sweep[i], &p.scratch, &p.stats);
         if (skippable && selfcol_contacts_count(c) != 0)
             fail_msg("d = %g: skipped, but %zu contacts exist", sweep[i],
                      selfcol_contacts_count(c));

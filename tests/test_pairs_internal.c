@@ -20,11 +20,11 @@
 #include <cmocka.h>
 
 #include "box.h"
-#include "contacts.h"
 #include "hierarchy.h"
 #include "narrow.h"
 #include "pairs.h"
 #include "query.h"
+#include "records.h"
 
 #include <selfcol/selfcol.h>
 
@@ -185,9 +185,10 @@ static void run_both(frames *f, double d, uint32_t kinds, size_t *records) {
                 selfcol_pairs__candidate_scalar(&f->frame[a], &f->frame[b], d, &flags))
                 pairs[n++] = (selfcol_slot_pair){a, b, flags};
         }
-    selfcol_contacts *out[2];
+    const selfcol_allocator standard = {NULL, NULL, NULL};
+    selfcol_records out[2];
     for (int v = 0; v < 2; ++v) {
-        assert_int_equal(selfcol_contacts_create(&out[v], NULL), SELFCOL_OK);
+        selfcol_records__init(&out[v], &standard);
         selfcol_query q;
         memset(&q, 0, sizeof q);
         q.mesh[0] = q.mesh[1] = f->mesh;
@@ -195,15 +196,15 @@ static void run_both(frames *f, double d, uint32_t kinds, size_t *records) {
         q.distance = d;
         q.kinds = kinds;
         q.narrow = SELFCOL_NARROW_CLOSED_FORM;
-        q.out = out[v];
+        q.out = &out[v];
         const selfcol_tri_frame *const both[2] = {f->frame, f->frame};
         assert_int_equal(v ? selfcol_pairs__run(&q, both, pairs, n)
                            : selfcol_pairs__run_scalar(&q, both, pairs, n),
                          SELFCOL_OK);
     }
-    assert_int_equal(out[0]->count, out[1]->count);
-    assert_memory_equal(out[0]->items, out[1]->items, out[0]->count * sizeof(selfcol_contact));
-    const selfcol_query_stats *x = &out[0]->stats, *y = &out[1]->stats;
+    assert_int_equal(out[0].count, out[1].count);
+    assert_memory_equal(out[0].items, out[1].items, out[0].count * sizeof(selfcol_contact));
+    const selfcol_query_stats *x = &out[0].stats, *y = &out[1].stats;
     assert_int_equal(x->vf_tests, y->vf_tests);
     assert_int_equal(x->ee_tests, y->ee_tests);
     assert_int_equal(x->ef_tests, y->ef_tests);
@@ -211,9 +212,9 @@ static void run_both(frames *f, double d, uint32_t kinds, size_t *records) {
     assert_int_equal(x->ee_contacts, y->ee_contacts);
     assert_int_equal(x->ef_contacts, y->ef_contacts);
     assert_int_equal(x->primitives_filtered, y->primitives_filtered);
-    *records += out[0]->count;
-    selfcol_contacts_destroy(out[0]);
-    selfcol_contacts_destroy(out[1]);
+    *records += out[0].count;
+    selfcol_records__free(&out[0]);
+    selfcol_records__free(&out[1]);
     free(pairs);
 }
 

@@ -10,7 +10,7 @@
 // comparison is not one thread against itself), stay off small meshes, and
 // fail cleanly when it cannot allocate.
 //
-// The record sort (selfcol_contacts__sort, on the query's threads): the
+// The record sort (selfcol_records__sort, on the query's threads): the
 // order of one thread for every count, a stable sort of the keys, records
 // with equal keys included.
 //
@@ -22,12 +22,13 @@
 
 #include <cmocka.h>
 
+#include <stdlib.h>
 #include <string.h>
 
-#include "contacts.h"
 #include "fixtures.h"
 #include "hierarchy.h"
 #include "mesh.h"
+#include "records.h"
 #include "test_alloc.h"
 
 static selfcol_hierarchy *create(const selfcol_mesh *m, unsigned threads) {
@@ -176,9 +177,11 @@ static void test_refit_plan_bounds_and_allocation_failure(void **state) {
 
 // n records with keys drawn from small ranges (so that many repeat), their
 // push order in `distance`, fields past the key drawn too.
-static selfcol_contacts *random_records(size_t n, uint32_t seed) {
-    selfcol_contacts *c = NULL;
-    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+static selfcol_records *random_records(size_t n, uint32_t seed) {
+    selfcol_records *c = malloc(sizeof *c);
+    assert_non_null(c);
+    const selfcol_allocator standard = {NULL, NULL, NULL};
+    selfcol_records__init(c, &standard);
     uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1u;
     for (size_t i = 0; i < n; ++i) {
         uint32_t draw[4];
@@ -197,9 +200,22 @@ static selfcol_contacts *random_records(size_t n, uint32_t seed) {
         r.second = draw[2] % 50u << (draw[3] % 28u);
         r.a[0] = draw[3];
         r.distance = (double)i;
-        assert_int_equal(selfcol_contacts__push(c, &r), SELFCOL_OK);
+        assert_int_equal(selfcol_records__push(c, &r), SELFCOL_OK);
     }
     return c;
+}
+
+// Sorts r on `threads` POSIX threads, with a workspace of its own.
+static void sort_records(selfcol_records *r, unsigned threads) {
+    selfcol_workspace work;
+    selfcol_workspace__init(&work, &r->allocator);
+    assert_int_equal(selfcol_records__sort(r, NULL, 0, &work, NULL, threads), SELFCOL_OK);
+    selfcol_workspace__free(&work);
+}
+
+static void free_records(selfcol_records *r) {
+    selfcol_records__free(r);
+    free(r);
 }
 
 static int key_order(const selfcol_contact *a, const selfcol_contact *b) {
@@ -218,11 +234,10 @@ static void test_sort_threads_give_the_order_of_one_thread(void **state) {
     const size_t sizes[3] = {262147, 131072, 131071};
     const unsigned threads[4] = {2, 3, 4, 8};
     for (int z = 0; z < 3; ++z) {
-        selfcol_contacts *one = random_records(sizes[z], 7);
-        assert_int_equal(selfcol_contacts__sort(one, 1), SELFCOL_OK);
-        const selfcol_contact *x = NULL;
-        size_t n = 0;
-        assert_int_equal(selfcol_contacts_data(one, &x, &n), SELFCOL_OK);
+        selfcol_records *one = random_records(sizes[z], 7);
+        sort_records(one, 1);
+        const selfcol_contact *x = one->items;
+        const size_t n = one->count;
         assert_int_equal(n, sizes[z]);
         // Sorted by key; equal keys in push order (stable).
         for (size_t i = 1; i < n; ++i) {
@@ -230,16 +245,15 @@ static void test_sort_threads_give_the_order_of_one_thread(void **state) {
             assert_true(order < 0 || (order == 0 && x[i - 1].distance < x[i].distance));
         }
         for (int t = 0; t < 4; ++t) {
-            selfcol_contacts *many = random_records(sizes[z], 7);
-            assert_int_equal(selfcol_contacts__sort(many, threads[t]), SELFCOL_OK);
-            const selfcol_contact *y = NULL;
-            size_t m = 0;
-            assert_int_equal(selfcol_contacts_data(many, &y, &m), SELFCOL_OK);
+            selfcol_records *many = random_records(sizes[z], 7);
+            sort_records(many, threads[t]);
+            const selfcol_contact *y = many->items;
+            const size_t m = many->count;
             assert_int_equal(m, n);
             assert_memory_equal(x, y, n * sizeof *x);
-            selfcol_contacts_destroy(many);
+            free_records(many);
         }
-        selfcol_contacts_destroy(one);
+        free_records(one);
     }
 }
 

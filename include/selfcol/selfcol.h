@@ -27,6 +27,7 @@
 
 #include "common.h"
 #include "contacts.h"
+#include "context.h"
 #include "hierarchy.h"
 #include "mesh.h"
 #include "scene.h"
