@@ -39,7 +39,8 @@ void selfcol_contacts_destroy(selfcol_contacts *contacts) {
     if (contacts == NULL)
         return;
     selfcol_allocator allocator = contacts->records.allocator;
-    selfcol_context_destroy(contacts->implicit_context);
+    if (!contacts->context_borrowed)
+        selfcol_context_destroy(contacts->implicit_context);
     selfcol_records__free(&contacts->records);
     selfcol_alloc__free(&allocator, contacts, sizeof *contacts);
 }
@@ -80,6 +81,15 @@ int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats
 size_t selfcol_contacts_byte_count(const selfcol_contacts *contacts) {
     if (contacts == NULL)
         return 0;
-    return sizeof *contacts + selfcol_records__byte_count(&contacts->records) +
-           selfcol_context_byte_count(contacts->implicit_context);
+    size_t bytes = sizeof *contacts + selfcol_records__byte_count(&contacts->records);
+    if (!contacts->context_borrowed)
+        bytes += selfcol_context_byte_count(contacts->implicit_context);
+    return bytes;
+}
+
+void selfcol_contacts__lend_context(selfcol_contacts *contacts, selfcol_context *context) {
+    if (!contacts->context_borrowed)
+        selfcol_context_destroy(contacts->implicit_context);
+    contacts->implicit_context = context;
+    contacts->context_borrowed = context != NULL;
 }

@@ -16,8 +16,15 @@
 struct selfcol_contacts {
     selfcol_records records;
     // The context of the calls given none (selfcol_hierarchy_self_collide,
-    // sequences, scenes); NULL until the first. Owned.
+    // sequences, scenes): NULL until the first, which makes one (owned), or
+    // one a scene lent (selfcol_scene_set_context: borrowed, its threads and
+    // scheduler used as they are).
     selfcol_context *implicit_context;
+    int context_borrowed;
 };
+
+// Lends `context` (NULL: none) to the calls filling `contacts` without one;
+// a context the set made itself is freed first.
+void selfcol_contacts__lend_context(selfcol_contacts *contacts, selfcol_context *context);
 
 #endif // SELFCOL_CONTACTS_INTERNAL_H

@@ -56,6 +56,8 @@ int selfcol_query__options(selfcol_query_options *out, const selfcol_query_optio
 }
 
 selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, unsigned threads) {
+    if (contacts->context_borrowed)
+        return contacts->implicit_context; // lent by a scene: its own threads
     if (contacts->implicit_context == NULL) {
         selfcol_context_options o;
         selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);

@@ -56,9 +56,10 @@ int selfcol_query__run(selfcol_context *context, const selfcol_hierarchy *first,
                        const selfcol_hierarchy *second, selfcol_records *out,
                        const selfcol_query_options *checked, const selfcol_node_filter *filter);
 
-// The context that calls given none use for `contacts` (contacts.h), made at
-// the first call with the contact set's allocator; its threads set to
-// `threads` (1..SELFCOL_MAX_THREADS, the POSIX threads). NULL without memory.
+// The context that calls given none use for `contacts` (contacts.h): one
+// lent to it as it is, else its own, made at the first call with the
+// contact set's allocator, its threads set to `threads`
+// (1..SELFCOL_MAX_THREADS, the POSIX threads). NULL without memory.
 selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, unsigned threads);
 
 #endif // SELFCOL_QUERY_H

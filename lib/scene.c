@@ -15,6 +15,7 @@
 #include "alloc.h"
 #include "box.h"
 #include "collider.h"
+#include "contacts.h"
 #include "core.h"
 #include "hierarchy.h"
 #include "mesh.h"
@@ -164,6 +165,12 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
     }
     s->stats.version = SELFCOL_SCENE_UPDATE_STATS_VERSION;
     *out = s;
+    return SELFCOL_OK;
+}
+
+int selfcol_scene_set_context(selfcol_scene *scene, selfcol_context *context) {
+    SELFCOL_CHECK(scene != NULL);
+    selfcol_contacts__lend_context(scene->detected, context);
     return SELFCOL_OK;
 }
 

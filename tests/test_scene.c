@@ -641,6 +641,25 @@ static void test_collider_contacts_name_no_duplicate(void **state) {
 // onto a second one: after every update each store holds the same records
 // (the sequences answer exactly as fresh queries; their reuse is
 // test_sequence.c's business).
+// A caller's scheduler (context.h) that runs a task's items at once, last
+// first: a scene lent a context on it must give the same stores.
+static void *run_reversed(selfcol_task_fn *task, uint32_t item_count, uint32_t min_range,
+                          void *task_context, void *user_context) {
+    (void)min_range;
+    ++*(int *)user_context;
+    for (uint32_t i = item_count; i > 0; --i)
+        task(i - 1, i, 0u, task_context);
+    return NULL;
+}
+
+static void nothing_to_finish(void *user_task, void *user_context) {
+    (void)user_task;
+    (void)user_context;
+    fail_msg("no task was left to finish");
+}
+
+// Coherent updates equal fresh ones, and so do those of a coherent scene
+// on a lent context (selfcol_scene_set_context) with a caller's scheduler.
 static void scene__coherent_updates_equal_fresh_ones(void **state) {
     (void)state;
     fixture flat = {0}, crumpled = {0}, floor = {0};
@@ -653,13 +672,24 @@ static void scene__coherent_updates_equal_fresh_ones(void **state) {
     double *x = malloc(3 * V * sizeof *x);
     assert_non_null(x);
     selfcol_mesh *cloth = mesh_of(&flat), *ground = mesh_of(&floor);
-    selfcol_scene *sc[2];
-    for (int k = 0; k < 2; ++k) {
+    int scheduled = 0;
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = 4;
+    co.enqueue_task = run_reversed;
+    co.finish_task = nothing_to_finish;
+    co.user_context = &scheduled;
+    selfcol_context *context = NULL;
+    assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_OK);
+    selfcol_scene *sc[3];
+    for (int k = 0; k < 3; ++k) {
         selfcol_scene_options o;
         selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
         o.query.distance = 0.1;
-        o.coherent = 1 - k;
+        o.coherent = k != 1;
         assert_int_equal(selfcol_scene_create(&sc[k], &o), SELFCOL_OK);
+        if (k == 2)
+            assert_int_equal(selfcol_scene_set_context(sc[k], context), SELFCOL_OK);
         assert_int_equal(add(sc[k], cloth, SELFCOL_SURFACE_CLOTH, -1, 0), 0);
         assert_int_equal(add(sc[k], ground, SELFCOL_SURFACE_CLOTH, 0, 0), 1);
     }
@@ -670,29 +700,37 @@ static void scene__coherent_updates_equal_fresh_ones(void **state) {
             x[i] = flat.positions[i] + a * (crumpled.positions[i] - flat.positions[i]) -
                    (i % 3 == 2 ? 0.05 * f : 0.0);
         assert_int_equal(selfcol_mesh_set_positions(cloth, x, V), SELFCOL_OK);
-        for (int k = 0; k < 2; ++k)
+        for (int k = 0; k < 3; ++k)
             assert_int_equal(selfcol_scene_update(sc[k]), SELFCOL_OK);
         const uint32_t pairs[2][2] = {{0, 0}, {0, 1}};
         for (int p = 0; p < 2; ++p) {
             size_t n0, n1;
             selfcol_store_contact *c0 =
                 copy_records(store_of(sc[0], pairs[p][0], pairs[p][1]), &n0);
-            selfcol_store_contact *c1 =
-                copy_records(store_of(sc[1], pairs[p][0], pairs[p][1]), &n1);
-            assert_int_equal(n0, n1);
-            if (n0 > 0)
-                assert_memory_equal(c0, c1, n0 * sizeof *c0);
+            for (int k = 1; k < 3; ++k) {
+                selfcol_store_contact *c1 =
+                    copy_records(store_of(sc[k], pairs[p][0], pairs[p][1]), &n1);
+                assert_int_equal(n0, n1);
+                if (n0 > 0)
+                    assert_memory_equal(c0, c1, n0 * sizeof *c0);
+                free(c1);
+            }
             held += n0;
             free(c0);
-            free(c1);
         }
     }
     assert_true(held > 0);
     // The coherent scene holds its sequences; the fresh one none.
     assert_true(selfcol_scene_byte_count(sc[0]) >
                 selfcol_scene_byte_count(sc[1]) + 3 * V * sizeof(double));
-    for (int k = 0; k < 2; ++k)
+    assert_true(scheduled > 0); // the lent context's scheduler ran the threaded stages
+    assert_int_equal(selfcol_scene_set_context(NULL, context), SELFCOL_EINVAL);
+    // Given back: the scene's own context again, the same stores.
+    assert_int_equal(selfcol_scene_set_context(sc[2], NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_scene_update(sc[2]), SELFCOL_OK);
+    for (int k = 0; k < 3; ++k)
         selfcol_scene_destroy(sc[k]);
+    selfcol_context_destroy(context);
     selfcol_mesh_destroy(cloth);
     selfcol_mesh_destroy(ground);
     free(x);

@@ -71,6 +71,7 @@
 #define SELFCOL_SCENE_H
 
 #include "common.h"
+#include "context.h"
 #include "hierarchy.h"
 #include "mesh.h"
 #include "sequence.h"
@@ -324,6 +325,18 @@ SELFCOL_API int selfcol_scene_add_collider(selfcol_scene *scene,
  */
 SELFCOL_API int selfcol_scene_set_collider_pose(selfcol_scene *scene, uint32_t collider,
                                                 const double position[3], const double rotation[9]);
+
+/**
+ * Runs the scene's surface queries and coherent sequences on `context`
+ * (context.h: its threads, its scheduler, its working memory) from the next
+ * update on, instead of the scene's own (POSIX threads, query.threads).
+ * The context is borrowed: it must outlive the scene or be replaced first,
+ * and must not serve another query while the scene updates. The surfaces'
+ * refits keep query.threads. The records are the same either way.
+ * @param[in] context the context, or NULL to go back to the scene's own
+ * @return SELFCOL_OK; SELFCOL_EINVAL for a NULL scene.
+ */
+SELFCOL_API int selfcol_scene_set_context(selfcol_scene *scene, selfcol_context *context);
 
 /**
  * One frame: refits the cloth and body hierarchies (never a static one),

@@ -23,6 +23,7 @@
 #include <BulletSoftBody/btDeformableMultiBodyDynamicsWorld.h>
 #include <BulletSoftBody/btSoftBody.h>
 #include <LinearMath/btScalar.h>
+#include <LinearMath/btThreads.h>
 
 #include <algorithm>
 #include <cassert>
@@ -137,6 +138,9 @@ struct selfcol_bullet {
     btDeformableMultiBodyDynamicsWorld *world;
     step_action *action;
     selfcol_scene *scene; // NULL until the first step with a body attached
+    // selfcol_bullet_use_task_scheduler: the context whose parallel stages
+    // run on Bullet's task scheduler, lent to the scene; NULL when off.
+    selfcol_context *task_context;
     double distance;
     uint32_t node_total;
     uint32_t next_surface; // the id the next attach gets
@@ -166,8 +170,9 @@ struct selfcol_bullet {
     selfcol_bullet_step_stats stats;
 
     explicit selfcol_bullet(const selfcol_allocator &h)
-        : hooks(h), opts(), world(nullptr), action(nullptr), scene(nullptr), distance(0),
-          node_total(0), next_surface(0), bodies(hook_allocator<attached_body>(&hooks)),
+        : hooks(h), opts(), world(nullptr), action(nullptr), scene(nullptr), task_context(nullptr),
+          distance(0), node_total(0), next_surface(0),
+          bodies(hook_allocator<attached_body>(&hooks)),
           slot_of_node(hook_allocator<int32_t>(&hooks)),
           node_of_slot(hook_allocator<btSoftBody::Node *>(&hooks)),
           global_of_slot(hook_allocator<uint32_t>(&hooks)),
@@ -641,6 +646,8 @@ int step_impl(selfcol_bullet *a, double dt) {
     }
     if (a->scene == nullptr) {
         status = build_scene(a);
+        if (status == SELFCOL_OK && a->task_context != nullptr)
+            status = selfcol_scene_set_context(a->scene, a->task_context);
         if (status != SELFCOL_OK)
             return status;
     }
@@ -833,6 +840,7 @@ void destroy_adapter(selfcol_bullet *a, bool world_alive) {
         hook_free(a->hooks, a->action, sizeof(step_action));
     }
     selfcol_scene_destroy(a->scene);
+    selfcol_context_destroy(a->task_context);
     for (attached_body &b : a->bodies) {
         if (world_alive && in_world(a, b.body)) // one that left the world may be deleted
             restore_body(b);
@@ -845,7 +853,58 @@ void destroy_adapter(selfcol_bullet *a, bool world_alive) {
     hook_free(hooks, a, sizeof(selfcol_bullet));
 }
 
+// A selfcol task (context.h) as one btParallelFor: Bullet's scheduler
+// splits the items among its threads and returns when all have run.
+struct task_body : btIParallelForBody {
+    selfcol_task_fn *task;
+    void *task_context;
+    task_body(selfcol_task_fn *t, void *c) : task(t), task_context(c) {}
+    void forLoop(int begin, int end) const override {
+        task(uint32_t(begin), uint32_t(end), btGetCurrentThreadIndex(), task_context);
+    }
+};
+
+void *enqueue_on_bullet(selfcol_task_fn *task, uint32_t item_count, uint32_t min_range,
+                        void *task_context, void *user_context) {
+    (void)user_context;
+    const task_body body(task, task_context);
+    btParallelFor(0, int(item_count), int(min_range), body);
+    return nullptr; // every item ran
+}
+
+void finish_on_bullet(void *user_task, void *user_context) {
+    (void)user_task;
+    (void)user_context;
+}
+
 } // namespace
+
+extern "C" int selfcol_bullet_use_task_scheduler(selfcol_bullet *a, int on) {
+    if (a == nullptr || (on != 0 && on != 1))
+        return SELFCOL_EINVAL;
+    selfcol_context *context = nullptr;
+    if (on) {
+        selfcol_context_options o;
+        selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        o.allocator = a->opts.allocator;
+        // No scheduler installed (btSetTaskScheduler never called): one item.
+        const btITaskScheduler *scheduler = btGetTaskScheduler();
+        const int threads = scheduler != nullptr ? scheduler->getNumThreads() : 1;
+        o.threads = threads < 1                               ? 1u
+                    : unsigned(threads) > SELFCOL_MAX_THREADS ? SELFCOL_MAX_THREADS
+                                                              : unsigned(threads);
+        o.enqueue_task = enqueue_on_bullet;
+        o.finish_task = finish_on_bullet;
+        int status = selfcol_context_create(&context, &o);
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    if (a->scene != nullptr)
+        selfcol_scene_set_context(a->scene, context); // NULL: the scene's own again
+    selfcol_context_destroy(a->task_context);
+    a->task_context = context;
+    return SELFCOL_OK;
+}
 
 extern "C" void selfcol_bullet_destroy(selfcol_bullet *a) {
     destroy_adapter(a, true);

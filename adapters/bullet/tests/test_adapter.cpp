@@ -15,6 +15,8 @@
 #include <cstdlib>
 #include <vector>
 
+#include <LinearMath/btThreads.h>
+
 #include "check.hpp"
 
 using namespace selfcol_bullet_detail;
@@ -926,6 +928,99 @@ static void continuous_option_stops_a_pass_through() {
     CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_EINVAL && a == nullptr);
 }
 
+// A Bullet scheduler as an engine might install one: it reports 4 threads
+// and runs each parallel-for's range in chunks of the grain, last first (so
+// any reliance on item order would show), counting the calls.
+struct counting_scheduler : btITaskScheduler {
+    int calls = 0;
+    counting_scheduler() : btITaskScheduler("selfcol test") {}
+    int getMaxNumThreads() const override {
+        return 4;
+    }
+    int getNumThreads() const override {
+        return 4;
+    }
+    void setNumThreads(int) override {}
+    void parallelFor(int begin, int end, int grain, const btIParallelForBody &body) override {
+        ++calls;
+        const int step = grain > 0 ? grain : 1;
+        for (int hi = end; hi > begin;) {
+            const int lo = hi - step > begin ? hi - step : begin;
+            body.forLoop(lo, hi);
+            hi = lo;
+        }
+    }
+    btScalar parallelSum(int begin, int end, int, const btIParallelSumBody &body) override {
+        return body.sumLoop(begin, end);
+    }
+};
+
+// Nodes after a few steps of two crumpling sheets, with or without the
+// adapter's stages on Bullet's scheduler (switched on before the first
+// step, or between steps).
+static std::vector<btScalar> crumple_steps(int scheduler) { // 0 off, 1 from the start, 2 later
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *low = w.add_sheet(btVector3(0, 0, 0), btVector3(0.3f, 0, 0), btVector3(0, 0, 0.3f),
+                                  24, 24, 0.1, false);
+    btSoftBody *high = w.add_sheet(btVector3(0.004f, 0.006f, 0.004f), btVector3(0.3f, 0, 0),
+                                   btVector3(0, 0, 0.3f), 24, 24, 0.1, false);
+    for (int i = 0; i < high->m_nodes.size(); ++i)
+        high->m_nodes[i].m_v = btVector3(0, -0.5f, 0.1f * btScalar(i % 7) - 0.3f);
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.automatic = 0;
+    opts.query.distance = 0.005;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, high, nullptr) == SELFCOL_OK);
+    if (scheduler == 1)
+        CHECK(selfcol_bullet_use_task_scheduler(a, 1) == SELFCOL_OK);
+    for (int step = 0; step < 6; ++step) {
+        if (scheduler == 2 && step == 3)
+            CHECK(selfcol_bullet_use_task_scheduler(a, 1) == SELFCOL_OK);
+        w.dynamics->stepSimulation(btScalar(1.0 / 240), 0);
+        CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    }
+    std::vector<btScalar> x;
+    for (btSoftBody *b : {low, high})
+        for (int i = 0; i < b->m_nodes.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                x.push_back(b->m_nodes[i].m_x[k]);
+    selfcol_bullet_step_stats st;
+    st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.contacts > 0);
+    CHECK(selfcol_bullet_use_task_scheduler(a, 0) == SELFCOL_OK); // back to its own
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    selfcol_bullet_destroy(a);
+    return x;
+}
+
+static void task_scheduler_gives_the_same_steps() {
+    CHECK(selfcol_bullet_use_task_scheduler(nullptr, 1) == SELFCOL_EINVAL);
+    btITaskScheduler *before = btGetTaskScheduler();
+    counting_scheduler scheduler;
+    btSetTaskScheduler(&scheduler);
+    const std::vector<btScalar> own = crumple_steps(0);
+    const int calls_without = scheduler.calls;
+    const std::vector<btScalar> from_start = crumple_steps(1);
+    const std::vector<btScalar> later = crumple_steps(2);
+    // A build of Bullet without BT_THREADSAFE runs btParallelFor's body
+    // itself and never calls the scheduler: then only equality is checked.
+    std::printf("Bullet's scheduler ran %d parallel-fors for selfcol\n",
+                scheduler.calls - calls_without);
+    btSetTaskScheduler(before);
+    CHECK(!own.empty() && own == from_start && own == later);
+    demo::options o;
+    demo::world w(o, 0.0);
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_use_task_scheduler(a, 2) == SELFCOL_EINVAL);
+    CHECK(selfcol_bullet_use_task_scheduler(a, 1) == SELFCOL_OK);
+    selfcol_bullet_destroy(a); // frees the context it made
+}
+
 int main() {
     api_rejects_bad_input();
     response_rules();
@@ -943,6 +1038,7 @@ int main() {
     continuous_option_stops_a_pass_through();
     allocation_failure_at_every_call();
     destroy_after_the_world();
+    task_scheduler_gives_the_same_steps();
     if (failures == 0)
         std::printf("test_bullet_adapter: all checks passed\n");
     return failures == 0 ? 0 : 1;

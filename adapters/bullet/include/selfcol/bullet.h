@@ -328,6 +328,20 @@ SELFCOL_BULLET_API int selfcol_bullet_stats(const selfcol_bullet *adapter,
                                             selfcol_bullet_step_stats *stats);
 
 /**
+ * on = 1: the adapter's queries and coherent sequences run their parallel
+ * stages on Bullet's task scheduler (btGetTaskScheduler(), through
+ * btParallelFor), as many work items as it has threads now
+ * (getNumThreads(), at most SELFCOL_MAX_THREADS; 1 when no scheduler is
+ * installed): the engine's own threads,
+ * none started by selfcol. on = 0 (the default): selfcol's own threads
+ * (query.threads). The contacts are the same either way. Call it again
+ * after changing Bullet's scheduler or its thread count.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL adapter, on not 0 or 1);
+ *         SELFCOL_ENOMEM (nothing changed).
+ */
+SELFCOL_BULLET_API int selfcol_bullet_use_task_scheduler(selfcol_bullet *adapter, int on);
+
+/**
  * The scene the adapter runs (NULL before the first step with a body
  * attached): its stores hold the contacts with their sides
  * (selfcol_scene_store()), surface ids as returned by
