@@ -13,12 +13,15 @@
  * with queries filling other contact sets; unrelated handles are independent.
  * Never at the same time: selfcol_mesh_set_positions* with any call reading
  * that mesh (refits and queries of its hierarchies included), a refit with a
- * query on that hierarchy, two queries into one selfcol_contacts, or any call
+ * query on that hierarchy, two queries into one selfcol_contacts or through
+ * one selfcol_context, or any call
  * with the destruction of a handle it uses. The library starts threads only
  * inside a query with selfcol_query_options.threads > 1 (or a continuous
  * one, selfcol_sweep_options.threads) and inside a store update with
  * selfcol_store_options.threads > 1, and joins them before the call
- * returns; the contacts' allocator may then be called from them at once (a
+ * returns (a query through a context with a scheduler runs on the
+ * scheduler's threads instead: context.h); the contacts' and the context's
+ * allocators may then be called from them at once (a
  * store allocates before its threads start). Every other callback runs on
  * the calling thread.
  */
