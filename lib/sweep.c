@@ -7,6 +7,7 @@
 #include "sweep.h"
 
 #include "alloc.h"
+#include "context.h"
 #include "core.h"
 #include "narrow.h"
 #include "narrow_sweep.h"
@@ -234,7 +235,7 @@ static int narrow_worker(void *context, unsigned worker) {
     }
 }
 
-static int narrow_all(selfcol_sweep_query *q, unsigned threads) {
+static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, unsigned threads) {
     selfcol_sweep *s = q->out;
     if (s->candidate_count > s->outcome_capacity) {
         const size_t cap = s->candidate_capacity;
@@ -257,7 +258,7 @@ static int narrow_all(selfcol_sweep_query *q, unsigned threads) {
     job.q = q;
     const uint64_t chunks = (s->candidate_count + SWEEP_CHUNK - 1) / SWEEP_CHUNK;
     const unsigned workers = chunks < threads ? (unsigned)(chunks > 0 ? chunks : 1) : threads;
-    int status = selfcol_parallel__run(NULL, workers, narrow_worker, &job);
+    int status = selfcol_parallel__run(executor, workers, narrow_worker, &job);
     if (status != SELFCOL_OK)
         return status;
     for (unsigned w = 0; w < workers; ++w)
@@ -495,9 +496,12 @@ static int sort_hits(selfcol_sweep *s) {
 // ---------------------------------------------------------------------------
 // Queries
 
-static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
-                     const selfcol_hierarchy *second, const double *second_start,
-                     selfcol_sweep *result, const selfcol_sweep_options *opts) {
+// A continuous query; with a context (NULL: none), ALL's root searches run
+// on its workers and scheduler, and the options' threads are not read.
+static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *first,
+                     const double *first_start, const selfcol_hierarchy *second,
+                     const double *second_start, selfcol_sweep *result,
+                     const selfcol_sweep_options *opts) {
     SELFCOL_CHECK(first != NULL && second != NULL && first_start != NULL && second_start != NULL &&
                   result != NULL);
     SELFCOL_CHECK_VERSION(opts, SELFCOL_SWEEP_OPTIONS_VERSION);
@@ -557,7 +561,8 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
                                                        : selfcol_sweep__bvh(&q);
         narrow_start = selfcol_core__seconds();
         if (status == SELFCOL_OK)
-            status = narrow_all(&q, o.threads);
+            status = context != NULL ? narrow_all(&q, &context->executor, context->threads)
+                                     : narrow_all(&q, NULL, o.threads);
         if (status == SELFCOL_OK)
             status = sort_hits(result);
         result->stats.narrow_seconds = selfcol_core__seconds() - narrow_start;
@@ -576,14 +581,29 @@ static int run_sweep(const selfcol_hierarchy *first, const double *first_start,
 
 int selfcol_hierarchy_self_sweep(const selfcol_hierarchy *hierarchy, const double *start_positions,
                                  selfcol_sweep *result, const selfcol_sweep_options *opts) {
-    return run_sweep(hierarchy, start_positions, hierarchy, start_positions, result, opts);
+    return run_sweep(NULL, hierarchy, start_positions, hierarchy, start_positions, result, opts);
+}
+
+int selfcol_context_self_sweep(selfcol_context *context, const selfcol_hierarchy *hierarchy,
+                               const double *start_positions, selfcol_sweep *result,
+                               const selfcol_sweep_options *opts) {
+    SELFCOL_CHECK(context != NULL);
+    return run_sweep(context, hierarchy, start_positions, hierarchy, start_positions, result, opts);
+}
+
+int selfcol_context_sweep(selfcol_context *context, const selfcol_hierarchy *first,
+                          const double *first_start, const selfcol_hierarchy *second,
+                          const double *second_start, selfcol_sweep *result,
+                          const selfcol_sweep_options *opts) {
+    SELFCOL_CHECK(context != NULL && first != second);
+    return run_sweep(context, first, first_start, second, second_start, result, opts);
 }
 
 int selfcol_hierarchy_sweep(const selfcol_hierarchy *first, const double *first_start,
                             const selfcol_hierarchy *second, const double *second_start,
                             selfcol_sweep *result, const selfcol_sweep_options *opts) {
     SELFCOL_CHECK(first != second);
-    return run_sweep(first, first_start, second, second_start, result, opts);
+    return run_sweep(NULL, first, first_start, second, second_start, result, opts);
 }
 
 int selfcol_sweep_hits(const selfcol_sweep *sweep, const selfcol_sweep_hit **data_out,

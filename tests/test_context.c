@@ -471,12 +471,111 @@ static void test_options_are_checked(void **state) {
     release(&s);
 }
 
+// Continuous queries through a context: ALL's root searches on the
+// context's workers and scheduler give the hits of one thread, self and
+// two-mesh, and EARLIEST its fraction.
+static void assert_same_hits(const selfcol_sweep *x, const selfcol_sweep *y) {
+    const selfcol_sweep_hit *a = NULL, *b = NULL;
+    size_t n = 0, m = 0;
+    assert_int_equal(selfcol_sweep_hits(x, &a, &n), SELFCOL_OK);
+    assert_int_equal(selfcol_sweep_hits(y, &b, &m), SELFCOL_OK);
+    assert_int_equal(n, m);
+    if (n > 0)
+        assert_memory_equal(a, b, n * sizeof *a);
+    selfcol_sweep_query_stats sx, sy;
+    memset(&sx, 0, sizeof sx);
+    memset(&sy, 0, sizeof sy);
+    sx.version = sy.version = SELFCOL_SWEEP_STATS_VERSION;
+    assert_int_equal(selfcol_sweep_stats(x, &sx), SELFCOL_OK);
+    assert_int_equal(selfcol_sweep_stats(y, &sy), SELFCOL_OK);
+    sx.broad_seconds = sx.narrow_seconds = sx.total_seconds = 0.0;
+    sy.broad_seconds = sy.narrow_seconds = sy.total_seconds = 0.0;
+    sx.cull_seconds = sy.cull_seconds = 0.0;
+    assert_memory_equal(&sx, &sy, sizeof sx);
+}
+
+static void test_sweeps_through_a_context(void **state) {
+    (void)state;
+    // A sheet crumpling from one amplitude to a stronger one over the step,
+    // and a second sheet moving through it.
+    fixture from; // the start of the step; it ends at crumpled()'s amplitude
+    memset(&from, 0, sizeof from);
+    assert_int_equal(fixture_crumpled(&from, 20, 20, 8, 2.0), 0);
+    built a = crumpled(20, 8), b = crumpled(14, 2);
+    const double shift[3] = {0.3, 0.1, -3.0};
+    const size_t Vb = b.shape.vertex_count;
+    double *b_start = malloc(3 * Vb * sizeof *b_start);
+    assert_non_null(b_start);
+    for (size_t i = 0; i < 3 * Vb; ++i)
+        b_start[i] = b.shape.positions[i] + shift[i % 3];
+    int inline_tasks = 0;
+    pool_task pool;
+    memset(&pool, 0, sizeof pool);
+    selfcol_context *contexts[] = {make_context(3, NULL, NULL, NULL),
+                                   make_context(5, inline_reversed, never_finish, &inline_tasks),
+                                   make_context(8, pool_enqueue, pool_finish, &pool)};
+    selfcol_sweep *reference = NULL, *got = NULL;
+    assert_int_equal(selfcol_sweep_create(&reference, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_sweep_create(&got, NULL), SELFCOL_OK);
+    size_t hits = 0;
+    for (int mode = 0; mode < 2; ++mode)
+        for (int two = 0; two < 2; ++two) {
+            selfcol_sweep_options o;
+            selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
+            o.mode = mode ? SELFCOL_SWEEP_EARLIEST : SELFCOL_SWEEP_ALL;
+            o.separation = 0.01;
+            if (two)
+                assert_int_equal(selfcol_hierarchy_sweep(a.hierarchy, from.positions, b.hierarchy,
+                                                         b_start, reference, &o),
+                                 SELFCOL_OK);
+            else
+                assert_int_equal(
+                    selfcol_hierarchy_self_sweep(a.hierarchy, from.positions, reference, &o),
+                    SELFCOL_OK);
+            const selfcol_sweep_hit *h = NULL;
+            size_t n = 0;
+            assert_int_equal(selfcol_sweep_hits(reference, &h, &n), SELFCOL_OK);
+            hits += n;
+            for (size_t c = 0; c < sizeof contexts / sizeof *contexts; ++c) {
+                o.threads = 17; // not read with a context
+                if (two)
+                    assert_int_equal(selfcol_context_sweep(contexts[c], a.hierarchy, from.positions,
+                                                           b.hierarchy, b_start, got, &o),
+                                     SELFCOL_OK);
+                else
+                    assert_int_equal(selfcol_context_self_sweep(contexts[c], a.hierarchy,
+                                                                from.positions, got, &o),
+                                     SELFCOL_OK);
+                assert_same_hits(reference, got);
+            }
+        }
+    assert_true(hits > 100);       // hits were found and compared
+    assert_true(inline_tasks > 0); // ALL's root searches ran on the schedulers
+    assert_true(pool.tasks > 0);
+    selfcol_sweep_options o;
+    selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
+    assert_int_equal(selfcol_context_self_sweep(NULL, a.hierarchy, from.positions, got, &o),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_context_sweep(contexts[0], a.hierarchy, from.positions, a.hierarchy,
+                                           from.positions, got, &o),
+                     SELFCOL_EINVAL);
+    for (size_t c = 0; c < sizeof contexts / sizeof *contexts; ++c)
+        selfcol_context_destroy(contexts[c]);
+    selfcol_sweep_destroy(reference);
+    selfcol_sweep_destroy(got);
+    free(b_start);
+    fixture_free(&from);
+    release(&a);
+    release(&b);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_scheduler_gives_the_records_of_one_thread),
         cmocka_unit_test(test_one_context_serves_many_hierarchies),
         cmocka_unit_test(test_steady_state_allocates_nothing),
         cmocka_unit_test(test_allocation_failures),
+        cmocka_unit_test(test_sweeps_through_a_context),
         cmocka_unit_test(test_options_are_checked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

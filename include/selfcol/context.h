@@ -26,7 +26,9 @@
  * The functions without a context (selfcol_hierarchy_self_collide() and
  * the others taking selfcol_query_options.threads) keep one inside the
  * contact set they fill, made at their first call: they allocate nothing
- * more in steady state either.
+ * more in steady state either. Continuous queries (sweep.h) keep their
+ * working memory in their selfcol_sweep; through a context they take its
+ * workers and scheduler.
  * @{
  */
 #ifndef SELFCOL_CONTEXT_H
@@ -35,6 +37,7 @@
 #include "common.h"
 #include "contacts.h"
 #include "hierarchy.h"
+#include "sweep.h"
 
 SELFCOL_BEGIN_DECLS
 
@@ -125,6 +128,28 @@ SELFCOL_API int selfcol_context_self_collide(selfcol_context *context,
 SELFCOL_API int selfcol_context_collide(selfcol_context *context, const selfcol_hierarchy *first,
                                         const selfcol_hierarchy *second, selfcol_contacts *contacts,
                                         const selfcol_query_options *opts);
+
+/**
+ * selfcol_hierarchy_self_sweep() with SELFCOL_SWEEP_ALL's root searches on
+ * the context's workers and scheduler (the broad phase and
+ * SELFCOL_SWEEP_EARLIEST on the calling thread, as without). The options'
+ * threads field is not read; the hits are the same.
+ * @return as selfcol_hierarchy_self_sweep(); SELFCOL_EINVAL also for a NULL context.
+ */
+SELFCOL_API int selfcol_context_self_sweep(selfcol_context *context,
+                                           const selfcol_hierarchy *hierarchy,
+                                           const double *start_positions, selfcol_sweep *result,
+                                           const selfcol_sweep_options *opts);
+
+/**
+ * selfcol_hierarchy_sweep() on the context's workers and scheduler, as
+ * selfcol_context_self_sweep().
+ * @return as selfcol_hierarchy_sweep(); SELFCOL_EINVAL also for a NULL context.
+ */
+SELFCOL_API int selfcol_context_sweep(selfcol_context *context, const selfcol_hierarchy *first,
+                                      const double *first_start, const selfcol_hierarchy *second,
+                                      const double *second_start, selfcol_sweep *result,
+                                      const selfcol_sweep_options *opts);
 
 SELFCOL_END_DECLS
 /** @} */

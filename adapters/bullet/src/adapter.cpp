@@ -550,9 +550,19 @@ int hold_back(selfcol_bullet *a, double dt) {
                 const attached_body &bi = a->bodies[i], &bj = a->bodies[j];
                 const double *si = a->previous.data() + 3 * size_t(bi.first_node);
                 const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
-                int status =
-                    i == j ? selfcol_hierarchy_self_sweep(bi.sweep_tree, si, a->sweep, nullptr)
-                           : selfcol_hierarchy_sweep(bi.sweep_tree, si, bj.sweep_tree, sj, a->sweep,
+                // On Bullet's scheduler when the adapter uses it (the hits
+                // are the same).
+                selfcol_context *c = a->task_context;
+                int status;
+                if (i == j && c != nullptr)
+                    status = selfcol_context_self_sweep(c, bi.sweep_tree, si, a->sweep, nullptr);
+                else if (i == j)
+                    status = selfcol_hierarchy_self_sweep(bi.sweep_tree, si, a->sweep, nullptr);
+                else if (c != nullptr)
+                    status = selfcol_context_sweep(c, bi.sweep_tree, si, bj.sweep_tree, sj,
+                                                   a->sweep, nullptr);
+                else
+                    status = selfcol_hierarchy_sweep(bi.sweep_tree, si, bj.sweep_tree, sj, a->sweep,
                                                      nullptr);
                 if (status != SELFCOL_OK)
                     return status;

@@ -971,6 +971,7 @@ static std::vector<btScalar> crumple_steps(int scheduler) { // 0 off, 1 from the
     selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
     opts.automatic = 0;
     opts.query.distance = 0.005;
+    opts.continuous = 1; // its continuous queries go through the scheduler too
     selfcol_bullet *a = nullptr;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
@@ -991,6 +992,7 @@ static std::vector<btScalar> crumple_steps(int scheduler) { // 0 off, 1 from the
     selfcol_bullet_step_stats st;
     st.version = SELFCOL_BULLET_STEP_STATS_VERSION;
     CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK && st.contacts > 0);
+    CHECK(st.continuous_passes > 0);
     CHECK(selfcol_bullet_use_task_scheduler(a, 0) == SELFCOL_OK); // back to its own
     CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
     selfcol_bullet_destroy(a);

@@ -328,9 +328,9 @@ SELFCOL_BULLET_API int selfcol_bullet_stats(const selfcol_bullet *adapter,
                                             selfcol_bullet_step_stats *stats);
 
 /**
- * on = 1: the adapter's queries and coherent sequences run their parallel
- * stages on Bullet's task scheduler (btGetTaskScheduler(), through
- * btParallelFor), as many work items as it has threads now
+ * on = 1: the adapter's queries, coherent sequences and continuous queries
+ * (the continuous option) run their parallel stages on Bullet's task scheduler
+ * (btGetTaskScheduler(), through btParallelFor), as many work items as it has threads now
  * (getNumThreads(), at most SELFCOL_MAX_THREADS; 1 when no scheduler is
  * installed): the engine's own threads,
  * none started by selfcol. on = 0 (the default): selfcol's own threads
