@@ -53,7 +53,8 @@ SELFCOL_BEGIN_DECLS
  */
 typedef enum selfcol_status {
     SELFCOL_OK = 0, /**< success */
-    /** Reserved (never returned by 0.2): an unspecified internal error. */
+    /** An unspecified internal error: returned only by the Bullet adapter's
+     *  step, for an exception other than std::bad_alloc thrown inside it. */
     SELFCOL_ERROR = -1,
     SELFCOL_ENOMEM = -2,   /**< the allocator returned NULL */
     SELFCOL_EINVAL = -3,   /**< an argument or the input data is invalid */

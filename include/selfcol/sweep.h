@@ -114,9 +114,10 @@ typedef struct selfcol_sweep_options {
     /** Threads the root searches of SELFCOL_SWEEP_ALL may use, 1 to
      *  SELFCOL_MAX_THREADS; default 1. The hits and counters (apart from
      *  times) are the same for every count; the broad phase and
-     *  SELFCOL_SWEEP_EARLIEST run on the calling thread. As for discrete
-     *  queries, the result's allocator is only called from the calling
-     *  thread. */
+     *  SELFCOL_SWEEP_EARLIEST run on the calling thread. Unlike a discrete
+     *  query's contacts, whose workers push records on their own threads,
+     *  the sweep's allocator is only called from the calling thread (the
+     *  workers write into arrays sized before they start). */
     unsigned int threads;
 } selfcol_sweep_options;
 

@@ -521,6 +521,44 @@ def load_sequence(path):
     return out
 
 
+def ms1(x):
+    """Milliseconds with one decimal and thousands separators (the sequence table)."""
+    return "{:,.1f}".format(x)
+
+
+def table_sequence(paths):
+    """The coherent-query table of docs/benchmarks.md from sequence CSVs
+    (the default run's, then bench-full's when present), fresh and coherent
+    rows paired by case."""
+    rows = []
+    for path in paths:
+        if not os.path.exists(path):
+            continue
+        fresh = {}
+        with open(path) as f:
+            for r in csv.DictReader(f):
+                if r["method"] == "FRESH":
+                    fresh[r["case"]] = r
+                elif r["case"] in fresh:
+                    rows.append((fresh[r["case"]], r))
+    out = ["| case | triangles | fresh mean / median ms | coherent mean / median / max ms | "
+           "mean ratio | rebuilds (partial), fresh frames | near pairs | sequence bytes / tri |",
+           "|---|---|---|---|---|---|---|---|"]
+    for f, c in rows:
+        fm, cm = float(f["frame_ms_mean"]), float(c["frame_ms_mean"])
+        near = float(c["near_pairs_mean"])
+        near_text = ("%.2fM" % (near / 1e6) if near >= 1e6 else
+                     "%.0fk" % (near / 1e3) if near >= 1e3 else "%.0f" % near)
+        out.append("| %s | %s | %s / %s | %s / %s / %s | %.1fx | %s (%s), %s of %s | %s | %.0f |" % (
+            c["case"], "{:,}".format(int(c["triangles"])), ms1(fm), ms1(float(f["frame_ms_median"])),
+            ms1(cm), ms1(float(c["frame_ms_median"])), ms1(float(c["frame_ms_max"])),
+            fm / cm if cm > 0 else float("nan"), c["rebuilds"], c["partial_rebuilds"],
+            c["fresh_frames"], c["frames"], near_text, float(c["bytes_per_tri"])))
+    if not rows:
+        out.append("| (no sequence rows) | | | | | | | |")
+    return "\n".join(out)
+
+
 def chart_sequence(seq, path):
     cases = [c for c, _, _, _ in seq]
     fig, ax = plt.subplots(figsize=(8, 3.6))
@@ -595,6 +633,8 @@ def main():
     text = replace_block(text, "headlines", table_headlines(rows))
     text = replace_block(text, "exact-check", table_exact_check(rows))
     text = replace_block(text, "store", table_store(store))
+    text = replace_block(text, "sequence", table_sequence(
+        [os.path.join(results, "sequence.csv"), os.path.join(results, "sequence-full.csv")]))
     for df in FACTORS:
         text = replace_block(text, "cases-d%s" % df.replace(".", ""), table_cases(rows, df))
     # The full subset (make bench-full) is long; when its results exist, its
