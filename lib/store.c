@@ -1220,24 +1220,21 @@ static size_t work_split(size_t total, size_t ef_start, size_t chunks, size_t c)
     return at < (double)total ? (size_t)at : total;
 }
 
-// The first EF record and the first EF held entry (both sorted by kind).
-static size_t first_ef_record(const selfcol_contact *rec, size_t m) {
-    size_t lo = 0, hi = m;
-    while (lo < hi) {
-        const size_t mid = lo + (hi - lo) / 2;
-        if (rec[mid].kind < SELFCOL_CONTACT_EF)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
+// The first EF record or held entry: a binary search over either array
+// (both sorted by kind), through its kind reader.
+static uint32_t record_kind_at(const void *items, size_t i) {
+    return ((const selfcol_contact *)items)[i].kind;
 }
 
-static size_t first_ef_entry(const store_entry *e, size_t n) {
+static uint32_t entry_kind_at(const void *items, size_t i) {
+    return ((const store_entry *)items)[i].kind;
+}
+
+static size_t first_ef(const void *items, size_t n, uint32_t (*kind_at)(const void *, size_t)) {
     size_t lo = 0, hi = n;
     while (lo < hi) {
         const size_t mid = lo + (hi - lo) / 2;
-        if (e[mid].kind < SELFCOL_CONTACT_EF)
+        if (kind_at(items, mid) < SELFCOL_CONTACT_EF)
             lo = mid + 1;
         else
             hi = mid;
@@ -1252,8 +1249,8 @@ static size_t first_ef_entry(const store_entry *e, size_t n) {
 static void split_by_keys(update_job *job, size_t records, size_t chunks) {
     const selfcol_store *s = job->s;
     const size_t held = s->count, m = records;
-    const size_t ef_split =
-        m >= held ? first_ef_record(job->rec, m) : first_ef_entry(s->entries, held);
+    const size_t ef_split = m >= held ? first_ef(job->rec, m, record_kind_at)
+                                      : first_ef(s->entries, held, entry_kind_at);
     job->chunks = chunks;
     for (size_t c = 0; c <= chunks; ++c) {
         size_t i, j;

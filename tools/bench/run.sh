@@ -101,21 +101,9 @@ done
 # runner dumps. Skipped with a message when the venv or the package cannot
 # be had (no network, no venv module).
 if [ "$ipctk" = 1 ]; then
-  venv="$build/ipctk-venv"
-  if [ ! -x "$venv/bin/python" ]; then
-    for py in python3 /usr/bin/python3; do
-      if command -v "$py" >/dev/null 2>&1 && "$py" -m venv "$venv" >/dev/null 2>&1; then break; fi
-      rm -rf "$venv"
-    done
-    # Debian's python3 needs python3-venv for that (installed as root only).
-    if [ ! -x "$venv/bin/python" ] && sh tools/deps.sh python3-venv >> "$log" 2>&1; then
-      /usr/bin/python3 -m venv "$venv" >> "$log" 2>&1 || rm -rf "$venv"
-    fi
-    if [ -x "$venv/bin/python" ]; then
-      "$venv/bin/python" -m pip install -q ipctk numpy >> "$log" 2>&1 || rm -rf "$venv"
-    fi
-  fi
-  if [ -x "$venv/bin/python" ] && "$venv/bin/python" -c 'import ipctk' 2>/dev/null; then
+  . tools/bench/ipctk_venv.sh
+  ipctk_python=$(ipctk_venv "$build" "$log")
+  if [ -n "$ipctk_python" ]; then
     dump="$build/bench-dump"
     mkdir -p "$dump"
     args=""
@@ -125,7 +113,7 @@ if [ "$ipctk" = 1 ]; then
     done
     if [ -n "$args" ]; then
       t0=$(date +%s)
-      if "$venv/bin/python" tools/bench/bench_ipctk.py --dump "$dump" --subset "$subset" \
+      if "$ipctk_python" tools/bench/bench_ipctk.py --dump "$dump" --subset "$subset" \
            --reps "$ipctk_reps" $args >> "$tmp" 2>> "$log"; then
         echo "bench: ipctk ($(( $(date +%s) - t0 )) s)"
       else

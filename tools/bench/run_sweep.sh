@@ -56,20 +56,10 @@ mkdir -p "$build/bench-results"
 log="$build/bench-results/sweep.log"
 : > "$log"
 
-venv="$build/ipctk-venv"
-if [ "$ipctk" = 1 ] && [ ! -x "$venv/bin/python" ]; then
-  for py in python3 /usr/bin/python3; do
-    if command -v "$py" >/dev/null 2>&1 && "$py" -m venv "$venv" >/dev/null 2>&1; then break; fi
-    rm -rf "$venv"
-  done
-  if [ ! -x "$venv/bin/python" ] && sh tools/deps.sh python3-venv >> "$log" 2>&1; then
-    /usr/bin/python3 -m venv "$venv" >> "$log" 2>&1 || rm -rf "$venv"
-  fi
-  if [ -x "$venv/bin/python" ]; then
-    "$venv/bin/python" -m pip install -q ipctk numpy >> "$log" 2>&1 || rm -rf "$venv"
-  fi
-fi
-if [ "$ipctk" = 1 ] && ! { [ -x "$venv/bin/python" ] && "$venv/bin/python" -c 'import ipctk' 2>/dev/null; }; then
+. tools/bench/ipctk_venv.sh
+ipctk_python=""
+if [ "$ipctk" = 1 ]; then ipctk_python=$(ipctk_venv "$build" "$log"); fi
+if [ "$ipctk" = 1 ] && [ -z "$ipctk_python" ]; then
   echo "bench-sweep: ipctk skipped (no venv with the ipctk package; see $log)"
   ipctk=0
 fi
@@ -89,12 +79,12 @@ while [ "$round" -le "$rounds" ]; do
     echo "bench-sweep: round $round: ipc-toolkit"
     {
       echo
-      echo "## Round $round: ipc-toolkit $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("ipctk"))') (one thread, minimum distance 0, default broad phase, Tight-Inclusion)"
+      echo "## Round $round: ipc-toolkit $("$ipctk_python" -c 'import importlib.metadata as m; print(m.version("ipctk"))') (one thread, minimum distance 0, default broad phase, Tight-Inclusion)"
       echo
       echo "| case | triangles | collision-free stepsize ms (min-max) | stepsize | is_step_collision_free ms | collision free | build ms |"
       echo "|---|---|---|---|---|---|---|"
     } >> "$out"
-    "$venv/bin/python" tools/bench/bench_ipctk_sweep.py --dump "$dump" --reps "$reps" \
+    "$ipctk_python" tools/bench/bench_ipctk_sweep.py --dump "$dump" --reps "$reps" \
       --case cloth-funnel-227 --case rod-twist-3036 --case cloth-ball-92 \
       --case crumpled-200k-step >> "$out" 2>> "$log"
   fi
