@@ -19,7 +19,7 @@
 #include "test_alloc.h"
 #include "world.h"
 
-static void contacts__create_checks_its_options(void **state) {
+static void test_create_checks_its_options(void **state) {
     (void)state;
     selfcol_contacts_options o;
     assert_int_equal(selfcol_contacts_options_init(NULL, SELFCOL_CONTACTS_OPTIONS_VERSION),
@@ -61,7 +61,7 @@ static void contacts__create_checks_its_options(void **state) {
     assert_false(st.misaligned);
 }
 
-static void contacts__null_and_empty_handles_answer_plainly(void **state) {
+static void test_null_and_empty_handles_answer_plainly(void **state) {
     (void)state;
     assert_int_equal(selfcol_contacts_count(NULL), 0);
     assert_int_equal(selfcol_contacts_byte_count(NULL), 0);
@@ -118,7 +118,7 @@ static int key_less(const selfcol_contact *a, const selfcol_contact *b) {
     return a->second < b->second;
 }
 
-static void contacts__records_are_sorted_by_key_without_repeats(void **state) {
+static void test_records_are_sorted_by_key_without_repeats(void **state) {
     (void)state;
     world w;
     hairpin_world(&w);
@@ -143,7 +143,7 @@ static void contacts__records_are_sorted_by_key_without_repeats(void **state) {
 
 // Each version of the statistics writes its own fields and leaves the rest
 // of the caller's struct alone.
-static void contacts__stats_write_only_their_version(void **state) {
+static void test_stats_write_only_their_version(void **state) {
     (void)state;
     world w;
     hairpin_world(&w);
@@ -173,7 +173,7 @@ static void contacts__stats_write_only_their_version(void **state) {
     world_free(&w);
 }
 
-static void contacts__clear_empties_and_keeps_the_memory(void **state) {
+static void test_clear_empties_and_keeps_the_memory(void **state) {
     (void)state;
     world w;
     hairpin_world(&w);
@@ -206,11 +206,11 @@ static void contacts__clear_empties_and_keeps_the_memory(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(contacts__create_checks_its_options),
-        cmocka_unit_test(contacts__null_and_empty_handles_answer_plainly),
-        cmocka_unit_test(contacts__records_are_sorted_by_key_without_repeats),
-        cmocka_unit_test(contacts__stats_write_only_their_version),
-        cmocka_unit_test(contacts__clear_empties_and_keeps_the_memory),
+        cmocka_unit_test(test_create_checks_its_options),
+        cmocka_unit_test(test_null_and_empty_handles_answer_plainly),
+        cmocka_unit_test(test_records_are_sorted_by_key_without_repeats),
+        cmocka_unit_test(test_stats_write_only_their_version),
+        cmocka_unit_test(test_clear_empties_and_keeps_the_memory),
     };
     return cmocka_run_group_tests_name("contacts", tests, NULL, NULL);
 }

@@ -71,7 +71,7 @@ static selfcol_query_stats stats_of(const selfcol_contacts *c) {
     return st;
 }
 
-static void query__options_init_checks_version_and_writes_only_its_version(void **state) {
+static void test_options_init_checks_version_and_writes_only_its_version(void **state) {
     (void)state;
     selfcol_query_options q;
     assert_int_equal(selfcol_query_options_init(NULL, SELFCOL_QUERY_OPTIONS_VERSION),
@@ -156,7 +156,7 @@ static void version_too_new(selfcol_query_options *q) {
     q->version = SELFCOL_QUERY_OPTIONS_VERSION + 1;
 }
 
-static void query__every_invalid_field_is_refused_by_every_method(void **state) {
+static void test_every_invalid_field_is_refused_by_every_method(void **state) {
     (void)state;
     const bad_field bad[] = {
         {"method past EXACT", method_past_exact, SELFCOL_EINVAL},
@@ -211,7 +211,7 @@ static void query__every_invalid_field_is_refused_by_every_method(void **state) 
 // a common vertex (docs/contract.md section 1), counted here by hand; the
 // hairpin's layers never cross, so no EF. Every exact method finds them
 // (SEED and CONE skip smooth patches whatever d is).
-static void query__distance_at_the_coordinate_bound_makes_every_pair_a_contact(void **state) {
+static void test_distance_at_the_coordinate_bound_makes_every_pair_a_contact(void **state) {
     (void)state;
     fixture s;
     assert_int_equal(fixture_hairpin(&s, 3, 0.2), 0);
@@ -257,7 +257,7 @@ static void query__distance_at_the_coordinate_bound_makes_every_pair_a_contact(v
 
 // NULL options run the defaults: the records and the counters of an
 // explicitly initialised struct, self and between two meshes.
-static void query__null_options_are_the_defaults(void **state) {
+static void test_null_options_are_the_defaults(void **state) {
     (void)state;
     fixture sa, sb;
     assert_int_equal(fixture_sheet_pair(&sa, &sb, 10, 4, 1.0, 0.0), 0);
@@ -305,7 +305,7 @@ static void query__null_options_are_the_defaults(void **state) {
 // A hierarchy whose mesh was destroyed and replaced, at the same address,
 // by another mesh: a two-mesh query is SELFCOL_EMISMATCH in either order,
 // whatever the method (the self query and the refit: test_store.c).
-static void query__two_mesh_query_on_a_replaced_mesh_is_a_mismatch(void **state) {
+static void test_two_mesh_query_on_a_replaced_mesh_is_a_mismatch(void **state) {
     (void)state;
     reuse_pool pool;
     memset(&pool, 0, sizeof pool);
@@ -421,7 +421,7 @@ static void check_masks(const world *a, const world *b, double d, const char *na
     }
 }
 
-static void query__kinds_mask_selects_exactly_those_kinds(void **state) {
+static void test_kinds_mask_selects_exactly_those_kinds(void **state) {
     (void)state;
     fixture s;
     assert_int_equal(fixture_crumpled(&s, 14, 10, 2, 5.0), 0);
@@ -541,7 +541,7 @@ static void check_ccd(const world *a, const world *b, double d, const char *name
     }
 }
 
-static void query__libccd_agrees_with_the_closed_form(void **state) {
+static void test_libccd_agrees_with_the_closed_form(void **state) {
     (void)state;
     fixture s;
     assert_int_equal(fixture_crumpled(&s, 12, 10, 4, 5.0), 0);
@@ -566,13 +566,13 @@ static void query__libccd_agrees_with_the_closed_form(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(query__options_init_checks_version_and_writes_only_its_version),
-        cmocka_unit_test(query__every_invalid_field_is_refused_by_every_method),
-        cmocka_unit_test(query__distance_at_the_coordinate_bound_makes_every_pair_a_contact),
-        cmocka_unit_test(query__null_options_are_the_defaults),
-        cmocka_unit_test(query__two_mesh_query_on_a_replaced_mesh_is_a_mismatch),
-        cmocka_unit_test(query__kinds_mask_selects_exactly_those_kinds),
-        cmocka_unit_test(query__libccd_agrees_with_the_closed_form),
+        cmocka_unit_test(test_options_init_checks_version_and_writes_only_its_version),
+        cmocka_unit_test(test_every_invalid_field_is_refused_by_every_method),
+        cmocka_unit_test(test_distance_at_the_coordinate_bound_makes_every_pair_a_contact),
+        cmocka_unit_test(test_null_options_are_the_defaults),
+        cmocka_unit_test(test_two_mesh_query_on_a_replaced_mesh_is_a_mismatch),
+        cmocka_unit_test(test_kinds_mask_selects_exactly_those_kinds),
+        cmocka_unit_test(test_libccd_agrees_with_the_closed_form),
     };
     return cmocka_run_group_tests_name("query", tests, NULL, NULL);
 }

@@ -660,7 +660,7 @@ static void nothing_to_finish(void *user_task, void *user_context) {
 
 // Coherent updates equal fresh ones, and so do those of a coherent scene
 // on a lent context (selfcol_scene_set_context) with a caller's scheduler.
-static void scene__coherent_updates_equal_fresh_ones(void **state) {
+static void test_coherent_updates_equal_fresh_ones(void **state) {
     (void)state;
     fixture flat = {0}, crumpled = {0}, floor = {0};
     assert_int_equal(fixture_grid(&flat, 14, 14, 1.0), 0);
@@ -1005,7 +1005,7 @@ int main(void) {
         cmocka_unit_test(test_body_never_voted),
         cmocka_unit_test(test_capsule_collider_matches_triangulated_capsule),
         cmocka_unit_test(test_collider_contacts_name_no_duplicate),
-        cmocka_unit_test(scene__coherent_updates_equal_fresh_ones),
+        cmocka_unit_test(test_coherent_updates_equal_fresh_ones),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_memory),
     };

@@ -196,24 +196,24 @@ static void run_crumpling(uint32_t method, uint32_t kinds, unsigned threads, dou
     blend_run_close(&b);
 }
 
-static void sequence__crumpling_sheet_equals_fresh_exact(void **state) {
+static void test_crumpling_sheet_equals_fresh_exact(void **state) {
     (void)state;
     run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_ALL, 1, 0.0);
 }
 
-static void sequence__crumpling_sheet_equals_fresh_bvh_two_threads(void **state) {
+static void test_crumpling_sheet_equals_fresh_bvh_two_threads(void **state) {
     (void)state;
     run_crumpling(SELFCOL_METHOD_BVH, SELFCOL_KIND_ALL, 2, 0.0);
 }
 
-static void sequence__each_kind_alone_equals_fresh(void **state) {
+static void test_each_kind_alone_equals_fresh(void **state) {
     (void)state;
     run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_VF, 1, 0.0);
     run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_EE, 1, 0.0);
     run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_EF, 1, 0.0);
 }
 
-static void sequence__a_wider_skin_equals_fresh(void **state) {
+static void test_a_wider_skin_equals_fresh(void **state) {
     (void)state;
     run_crumpling(SELFCOL_METHOD_EXACT, SELFCOL_KIND_ALL, 1, 0.4);
 }
@@ -221,7 +221,7 @@ static void sequence__a_wider_skin_equals_fresh(void **state) {
 // A sheet crumpling fast (its folds deepen by a whole amplitude in 12
 // frames): a list would not last, the frames are fresh queries, and the
 // records still equal the fresh query's.
-static void sequence__fast_deformation_answers_fresh(void **state) {
+static void test_fast_deformation_answers_fresh(void **state) {
     (void)state;
     blend_run b;
     blend_run_open(&b, 20, 9, 3.0, 0.0);
@@ -235,7 +235,7 @@ static void sequence__fast_deformation_answers_fresh(void **state) {
 }
 
 // Interferences only (d = 0): the automatic skin is a tenth of an edge.
-static void sequence__zero_distance_equals_fresh(void **state) {
+static void test_zero_distance_equals_fresh(void **state) {
     (void)state;
     blend_run b;
     blend_run_open(&b, 20, 3, 3.0, 0.0);
@@ -261,7 +261,7 @@ static void rotate_z(double *x, size_t V, double angle) {
 // Jumps: a rigid translation keeps the near list (the deformation is 0); a
 // quarter turn, a reset to the flat sheet and a return to the folded one
 // rebuild; every frame equals the fresh query.
-static void sequence__jumps_rebuild_or_reuse_as_proven(void **state) {
+static void test_jumps_rebuild_or_reuse_as_proven(void **state) {
     (void)state;
     fixture base = {0};
     assert_int_equal(fixture_crumpled(&base, 20, 20, 11, 2.5), 0);
@@ -430,7 +430,7 @@ static selfcol_sequence_run_stats run_two_surfaces(unsigned n, double lift, doub
 }
 
 // A crumpled sheet sinking slowly through a flat one.
-static void sequence__two_surfaces_equal_fresh(void **state) {
+static void test_two_surfaces_equal_fresh(void **state) {
     (void)state;
     const selfcol_sequence_run_stats st = run_two_surfaces(16, 2.5, 0.02, 0, 0, "two surfaces");
     // The other surface stays still: the motion relative to it counts, so
@@ -482,17 +482,17 @@ static void run_local_crumpling(uint32_t method, unsigned threads) {
     blend_run_close(&b);
 }
 
-static void sequence__local_crumpling_rebuilds_in_part_exact(void **state) {
+static void test_local_crumpling_rebuilds_in_part_exact(void **state) {
     (void)state;
     run_local_crumpling(SELFCOL_METHOD_EXACT, 1);
 }
 
-static void sequence__local_crumpling_rebuilds_in_part_bvh_two_threads(void **state) {
+static void test_local_crumpling_rebuilds_in_part_bvh_two_threads(void **state) {
     (void)state;
     run_local_crumpling(SELFCOL_METHOD_BVH, 2);
 }
 
-static void sequence__two_surfaces_one_end_sinking(void **state) {
+static void test_two_surfaces_one_end_sinking(void **state) {
     (void)state;
     // The sheets cross from the start, so contacts are held everywhere while
     // only one end moves: partial rebuilds, in both orders of the meshes.
@@ -505,7 +505,7 @@ static void sequence__two_surfaces_one_end_sinking(void **state) {
 // are answered by their own fresh query every frame, between frames of an
 // exact method that the sequence answers from its list; after them the
 // exact method starts afresh.
-static void sequence__approximate_methods_answer_fresh(void **state) {
+static void test_approximate_methods_answer_fresh(void **state) {
     (void)state;
     blend_run b;
     blend_run_open(&b, 16, 5, 3.0, 0.0);
@@ -533,7 +533,7 @@ static void sequence__approximate_methods_answer_fresh(void **state) {
     blend_run_close(&b);
 }
 
-static void sequence__refuses_bad_input(void **state) {
+static void test_refuses_bad_input(void **state) {
     (void)state;
     selfcol_sequence_options so;
     assert_int_equal(selfcol_sequence_options_init(NULL, 1), SELFCOL_EINVAL);
@@ -614,7 +614,7 @@ static selfcol_sequence_options counted_options(test_allocator_state *st) {
 // Out of memory at every allocation of creation and of the first (rebuild)
 // and second queries: ENOMEM, nothing leaked, and the next query with memory
 // answers right.
-static void sequence__allocation_failure_is_clean(void **state) {
+static void test_allocation_failure_is_clean(void **state) {
     (void)state;
     fixture f = {0};
     assert_int_equal(fixture_crumpled(&f, 10, 10, 2, 2.5), 0);
@@ -665,7 +665,7 @@ static void sequence__allocation_failure_is_clean(void **state) {
 
 // Every allocation of a partial rebuild fails in turn: the query returns
 // SELFCOL_ENOMEM with no records, and the next one answers right (afresh).
-static void sequence__allocation_failure_in_a_partial_rebuild_is_clean(void **state) {
+static void test_allocation_failure_in_a_partial_rebuild_is_clean(void **state) {
     (void)state;
     blend_run b;
     blend_run_open(&b, 40, 3, 3.0, 0.0);
@@ -730,21 +730,21 @@ static void sequence__allocation_failure_in_a_partial_rebuild_is_clean(void **st
 
 int main(void) {
     const struct CMUnitTest sequence[] = {
-        cmocka_unit_test(sequence__crumpling_sheet_equals_fresh_exact),
-        cmocka_unit_test(sequence__crumpling_sheet_equals_fresh_bvh_two_threads),
-        cmocka_unit_test(sequence__each_kind_alone_equals_fresh),
-        cmocka_unit_test(sequence__a_wider_skin_equals_fresh),
-        cmocka_unit_test(sequence__zero_distance_equals_fresh),
-        cmocka_unit_test(sequence__fast_deformation_answers_fresh),
-        cmocka_unit_test(sequence__jumps_rebuild_or_reuse_as_proven),
-        cmocka_unit_test(sequence__two_surfaces_equal_fresh),
-        cmocka_unit_test(sequence__local_crumpling_rebuilds_in_part_exact),
-        cmocka_unit_test(sequence__local_crumpling_rebuilds_in_part_bvh_two_threads),
-        cmocka_unit_test(sequence__two_surfaces_one_end_sinking),
-        cmocka_unit_test(sequence__approximate_methods_answer_fresh),
-        cmocka_unit_test(sequence__refuses_bad_input),
-        cmocka_unit_test(sequence__allocation_failure_is_clean),
-        cmocka_unit_test(sequence__allocation_failure_in_a_partial_rebuild_is_clean),
+        cmocka_unit_test(test_crumpling_sheet_equals_fresh_exact),
+        cmocka_unit_test(test_crumpling_sheet_equals_fresh_bvh_two_threads),
+        cmocka_unit_test(test_each_kind_alone_equals_fresh),
+        cmocka_unit_test(test_a_wider_skin_equals_fresh),
+        cmocka_unit_test(test_zero_distance_equals_fresh),
+        cmocka_unit_test(test_fast_deformation_answers_fresh),
+        cmocka_unit_test(test_jumps_rebuild_or_reuse_as_proven),
+        cmocka_unit_test(test_two_surfaces_equal_fresh),
+        cmocka_unit_test(test_local_crumpling_rebuilds_in_part_exact),
+        cmocka_unit_test(test_local_crumpling_rebuilds_in_part_bvh_two_threads),
+        cmocka_unit_test(test_two_surfaces_one_end_sinking),
+        cmocka_unit_test(test_approximate_methods_answer_fresh),
+        cmocka_unit_test(test_refuses_bad_input),
+        cmocka_unit_test(test_allocation_failure_is_clean),
+        cmocka_unit_test(test_allocation_failure_in_a_partial_rebuild_is_clean),
     };
     return cmocka_run_group_tests_name("sequence", sequence, NULL, NULL);
 }

@@ -140,12 +140,12 @@ static void run_self(uint32_t method, unsigned threads, int trim) {
     fixture_free(&crumpled);
 }
 
-static void partial_rebuild_lists_as_full__self_exact(void **state) {
+static void test_self_exact(void **state) {
     (void)state;
     run_self(SELFCOL_METHOD_EXACT, 1, 0);
 }
 
-static void partial_rebuild_lists_as_full__self_bvh_two_threads(void **state) {
+static void test_self_bvh_two_threads(void **state) {
     (void)state;
     run_self(SELFCOL_METHOD_BVH, 2, 0);
 }
@@ -157,7 +157,7 @@ static void partial_rebuild_grows_the_list_keeping_its_pairs(void **state) {
 
 // A flat sheet through which a crumpled one sinks at one end; both orders
 // of the meshes.
-static void partial_rebuild_lists_as_full__two_surfaces(void **state) {
+static void test_two_surfaces(void **state) {
     (void)state;
     fixture a = {0}, b = {0};
     assert_int_equal(fixture_grid(&a, 32, 32, 1.0), 0);
@@ -211,9 +211,9 @@ static void partial_rebuild_lists_as_full__two_surfaces(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(partial_rebuild_lists_as_full__self_exact),
-        cmocka_unit_test(partial_rebuild_lists_as_full__self_bvh_two_threads),
-        cmocka_unit_test(partial_rebuild_lists_as_full__two_surfaces),
+        cmocka_unit_test(test_self_exact),
+        cmocka_unit_test(test_self_bvh_two_threads),
+        cmocka_unit_test(test_two_surfaces),
         cmocka_unit_test(partial_rebuild_grows_the_list_keeping_its_pairs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

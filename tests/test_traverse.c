@@ -155,7 +155,7 @@ static void check_bvh_pairs(const fixture *sa, const fixture *sb, const char *na
     world_free(&a);
 }
 
-static void traverse__bvh_examines_exactly_the_pairs_whose_boxes_meet(void **state) {
+static void test_bvh_examines_exactly_the_pairs_whose_boxes_meet(void **state) {
     (void)state;
     fixture s, t;
     assert_int_equal(fixture_crumpled(&s, 14, 10, 1, 5.0), 0);
@@ -213,7 +213,7 @@ static void check_subset_of_bvh(const fixture *s, const char *name) {
     world_free(&w);
 }
 
-static void traverse__culling_methods_visit_a_subset_of_bvh(void **state) {
+static void test_culling_methods_visit_a_subset_of_bvh(void **state) {
     (void)state;
     fixture s;
     assert_int_equal(fixture_crumpled(&s, 20, 14, 3, 5.0), 0);
@@ -232,7 +232,7 @@ static void traverse__culling_methods_visit_a_subset_of_bvh(void **state) {
 
 // Between two meshes no patch is adjacent to one of the other and no node
 // is paired with itself: every method walks exactly as BVH does.
-static void traverse__two_mesh_queries_walk_as_bvh_for_every_method(void **state) {
+static void test_two_mesh_queries_walk_as_bvh_for_every_method(void **state) {
     (void)state;
     fixture sa, sb;
     assert_int_equal(fixture_draped_cloth(&sa, 12, 3.0, 2.0, 0.05, 0.12), 0);
@@ -293,7 +293,7 @@ static int key_compare(const void *pa, const void *pb) {
 // edge = 0.57 EXACT proves it free at the root: one node visited, culled by
 // curvature, no triangle pair, no test. BVH cannot: it examines every pair
 // of triangles whose boxes meet (adjacent triangles' boxes touch).
-static void traverse__exact_culls_a_flat_grid_at_the_root(void **state) {
+static void test_exact_culls_a_flat_grid_at_the_root(void **state) {
     (void)state;
     const double axis[3] = {1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0};
     for (int turned = 0; turned < 2; ++turned) {
@@ -343,7 +343,7 @@ static void traverse__exact_culls_a_flat_grid_at_the_root(void **state) {
 // sheet and return the exhaustive set, these VF pairs among it; SEED and
 // CONE, whose criterion ignores d, stop at the root and miss them all (their
 // documented limit: proximities inside a smooth patch).
-static void traverse__exact_opens_a_flat_grid_that_holds_contacts(void **state) {
+static void test_exact_opens_a_flat_grid_that_holds_contacts(void **state) {
     (void)state;
     const unsigned nx = 8, ny = 6;
     fixture s;
@@ -394,7 +394,7 @@ static void traverse__exact_opens_a_flat_grid_that_holds_contacts(void **state) 
 // pair is the only node pair visited, culled by its boxes, nothing examined,
 // for every method and either order. Brought within d of each other the
 // root pair must be opened.
-static void traverse__far_apart_meshes_stop_at_the_root_pair(void **state) {
+static void test_far_apart_meshes_stop_at_the_root_pair(void **state) {
     (void)state;
     fixture sa, sb;
     assert_int_equal(fixture_crumpled(&sa, 12, 9, 7, 5.0), 0);
@@ -457,7 +457,7 @@ static void traverse__far_apart_meshes_stop_at_the_root_pair(void **state) {
 // refit, self and against another mesh; after it EXACT returns the
 // exhaustive set of the new positions (its culling follows the refit, not
 // the build).
-static void traverse__exact_is_stale_until_refit_then_exact_again(void **state) {
+static void test_exact_is_stale_until_refit_then_exact_again(void **state) {
     (void)state;
     const unsigned nx = 14, ny = 10;
     fixture flat, crumpled, other;
@@ -493,7 +493,7 @@ static void traverse__exact_is_stale_until_refit_then_exact_again(void **state) 
 
 // EXACT between two meshes is the exhaustive set (test_hierarchy.c holds
 // BVH, SEED and CONE there).
-static void traverse__exact_between_two_meshes_is_exhaustive(void **state) {
+static void test_exact_between_two_meshes_is_exhaustive(void **state) {
     (void)state;
     fixture pairs[3][2];
     assert_int_equal(fixture_draped_cloth(&pairs[0][0], 12, 3.0, 2.0, 0.05, 0.12), 0);
@@ -523,14 +523,14 @@ static void traverse__exact_between_two_meshes_is_exhaustive(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(traverse__bvh_examines_exactly_the_pairs_whose_boxes_meet),
-        cmocka_unit_test(traverse__culling_methods_visit_a_subset_of_bvh),
-        cmocka_unit_test(traverse__two_mesh_queries_walk_as_bvh_for_every_method),
-        cmocka_unit_test(traverse__exact_culls_a_flat_grid_at_the_root),
-        cmocka_unit_test(traverse__exact_opens_a_flat_grid_that_holds_contacts),
-        cmocka_unit_test(traverse__far_apart_meshes_stop_at_the_root_pair),
-        cmocka_unit_test(traverse__exact_is_stale_until_refit_then_exact_again),
-        cmocka_unit_test(traverse__exact_between_two_meshes_is_exhaustive),
+        cmocka_unit_test(test_bvh_examines_exactly_the_pairs_whose_boxes_meet),
+        cmocka_unit_test(test_culling_methods_visit_a_subset_of_bvh),
+        cmocka_unit_test(test_two_mesh_queries_walk_as_bvh_for_every_method),
+        cmocka_unit_test(test_exact_culls_a_flat_grid_at_the_root),
+        cmocka_unit_test(test_exact_opens_a_flat_grid_that_holds_contacts),
+        cmocka_unit_test(test_far_apart_meshes_stop_at_the_root_pair),
+        cmocka_unit_test(test_exact_is_stale_until_refit_then_exact_again),
+        cmocka_unit_test(test_exact_between_two_meshes_is_exhaustive),
     };
     return cmocka_run_group_tests_name("traverse", tests, NULL, NULL);
 }
