@@ -57,16 +57,18 @@ fuzz:
 # ones: libselfcol, and libselfcol_bullet when the build has it (Bullet found).
 # `make abi-dump` refreshes both baselines of $(VERSION). While a version is
 # unreleased (libselfcol_bullet-0.2.0.abi: the adapter is new in 0.2.0), its
-# baselines are re-dumped whenever its API changes before the release.
+# baselines are re-dumped whenever its API changes before the release. The
+# dumps hold the public types only and no path (tools/abi_dump.sh), so an
+# internal move or struct change leaves them alone.
 BULLET_LIB := $(BUILD)/adapters/bullet/libselfcol_bullet.so
 abi-dump: build
 	@sh tools/deps.sh abigail-tools
-	abidw --headers-dir include/selfcol --out-file tests/abi/libselfcol-$(VERSION).abi \
-	  $(BUILD)/lib/libselfcol.so
+	sh tools/abi_dump.sh $(BUILD)/lib/libselfcol.so include/selfcol \
+	  tests/abi/libselfcol-$(VERSION).abi
 	@if [ -e $(BULLET_LIB) ]; then \
-	  echo "abidw --headers-dir adapters/bullet/include/selfcol --out-file tests/abi/libselfcol_bullet-$(VERSION).abi $(BULLET_LIB)"; \
-	  abidw --headers-dir adapters/bullet/include/selfcol \
-	    --out-file tests/abi/libselfcol_bullet-$(VERSION).abi $(BULLET_LIB); \
+	  echo "sh tools/abi_dump.sh $(BULLET_LIB) adapters/bullet/include/selfcol tests/abi/libselfcol_bullet-$(VERSION).abi"; \
+	  sh tools/abi_dump.sh $(BULLET_LIB) adapters/bullet/include/selfcol \
+	    tests/abi/libselfcol_bullet-$(VERSION).abi; \
 	else \
 	  echo "abi-dump: no $(BULLET_LIB) (libselfcol_bullet not built): its baseline is left alone"; \
 	fi
