@@ -11,7 +11,7 @@
 
 #include <string.h>
 
-#include "alloc.h"
+#include "base/alloc.h"
 #include "test_alloc.h"
 
 static void test_alloc_default_allocator_aligns_and_frees(void **state) {

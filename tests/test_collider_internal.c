@@ -31,9 +31,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "collider.h"
-#include "narrow.h"
-#include "vec3.h"
+#include "base/vec3.h"
+#include "narrow/narrow.h"
+#include "scene/collider.h"
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 static double uniform(double lo, double hi) {

@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Direct tests of the contour test of method EXACT (lib/contour.c):
+// Direct tests of the contour test of method EXACT (lib/query/contour.c):
 // conditions (2) and (4) on hand-made boundary loops -- a pinch, a crossing,
 // a fold-back in projection, a collinear overlap, collinear edges apart, a
 // loop seen edge-on, and clearances just below, exactly at and just above d
@@ -19,8 +19,8 @@
 
 #include <cmocka.h>
 
-#include "contour.h"
-#include "hierarchy.h"
+#include "hierarchy/hierarchy.h"
+#include "query/contour.h"
 #include "test_alloc.h"
 
 #include <selfcol/selfcol.h>

@@ -7,7 +7,7 @@
 //
 // The libccd proximities (VF, EE) answer "distance, if below radius": every
 // pair is asked at several radii, with tolerance = REL_TOL * radius as
-// lib/query.c asks (libccd's bisection on the inflation radius, see
+// lib/query/query.c asks (libccd's bisection on the inflation radius, see
 // narrow_ccd.c).
 //
 // Agreement bands, for a pair whose largest coordinate magnitude is S, at
@@ -66,13 +66,13 @@
 
 #include <cmocka.h>
 
-#include "narrow.h"
-#include "vec3.h"
+#include "base/vec3.h"
+#include "narrow/narrow.h"
 
 #include <float.h>
 #include <math.h>
 
-// libccd's tolerance relative to the radius, as lib/query.c passes it.
+// libccd's tolerance relative to the radius, as lib/query/query.c passes it.
 #define REL_TOL 1e-7
 #define N_RANDOM 2000
 #define WEIGHT_SLACK 1e-12

@@ -13,7 +13,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "narrow.h"
+#include "narrow/narrow.h"
 
 static const double EPS = 1e-12;
 

@@ -27,8 +27,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "narrow.h"
-#include "narrow_sweep.h"
+#include "narrow/narrow.h"
+#include "narrow/narrow_sweep.h"
 
 // ---------------------------------------------------------------- hand-made
 

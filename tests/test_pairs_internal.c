@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// The two-lane (SSE2) filters of lib/pairs.c against their one-lane
+// The two-lane (SSE2) filters of lib/query/pairs.c against their one-lane
 // references, which are the definition: for every pair of triangles of a
 // random soup (scales from 1e-3 to 1e3, far from the origin, coplanar
 // copies, degenerate triangles) and several distances, the plane flags of
@@ -19,12 +19,12 @@
 
 #include <cmocka.h>
 
-#include "box.h"
-#include "hierarchy.h"
-#include "narrow.h"
-#include "pairs.h"
-#include "query.h"
-#include "records.h"
+#include "base/box.h"
+#include "hierarchy/hierarchy.h"
+#include "narrow/narrow.h"
+#include "query/pairs.h"
+#include "query/query.h"
+#include "query/records.h"
 
 #include <selfcol/selfcol.h>
 

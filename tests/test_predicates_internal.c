@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Tests of the exact orientation predicates (lib/predicates.c). Every sign is
+// Tests of the exact orientation predicates (lib/base/predicates.c). Every sign is
 // checked against a reference that shares no code or method with the library:
 // an analytic formula for the Shewchuk-style grids, 128-bit integer arithmetic
 // for inputs that scale to small integers, and a small sign-magnitude big
@@ -23,7 +23,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "predicates.h"
+#include "base/predicates.h"
 
 __extension__ typedef __int128 i128;
 __extension__ typedef unsigned __int128 u128;

@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Query options and dispatch (lib/query.c) through the public API:
+// Query options and dispatch (lib/query/query.c) through the public API:
 // - selfcol_query_options_init: versions, defaults, and a version-1 struct
 //   written no further than its end (guard bytes);
 // - every invalid field refused with SELFCOL_EINVAL (SELFCOL_EVERSION for

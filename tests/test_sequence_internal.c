@@ -6,7 +6,7 @@
 // queried again must be those a full rebuild at the same positions lists
 // for them, bounds included (selfcol_sequence__check_partial). The records
 // themselves are held equal to fresh queries by test_sequence.c.
-#include "sequence.h"
+#include "frames/sequence.h"
 
 #include <selfcol/selfcol.h>
 

@@ -26,9 +26,9 @@
 #include <string.h>
 
 #include "fixtures.h"
-#include "hierarchy.h"
-#include "mesh.h"
-#include "records.h"
+#include "hierarchy/hierarchy.h"
+#include "mesh/mesh.h"
+#include "query/records.h"
 #include "test_alloc.h"
 
 static selfcol_hierarchy *create(const selfcol_mesh *m, unsigned threads) {

@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// The hierarchy traversal (lib/traverse.c) through the public API and the
+// The hierarchy traversal (lib/query/traverse.c) through the public API and the
 // query statistics: what each method examines and culls, held to what can be
 // derived by hand or by a brute force over the triangles' boxes, never to
 // numbers copied from a run.

@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// The hierarchy validator (lib/hierarchy_validate.c): it accepts every
+// The hierarchy validator (lib/hierarchy/hierarchy_validate.c): it accepts every
 // hierarchy the build and refit make, on regular, folded, degenerate and
 // disconnected meshes, and it rejects each kind of corruption it is meant to
 // catch (so that a SELFCOL_VALIDATE build, where it runs after every build
@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "fixtures.h"
-#include "hierarchy.h"
+#include "hierarchy/hierarchy.h"
 
 static selfcol_hierarchy *make(const fixture *s, selfcol_mesh **mesh) {
     selfcol_hierarchy *h = NULL;

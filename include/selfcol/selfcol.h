@@ -20,11 +20,10 @@
  * one, selfcol_sweep_options.threads), inside a store update with
  * selfcol_store_options.threads > 1, and inside a refit (and the refit
  * ending creation) of a hierarchy with selfcol_hierarchy_options.threads
- * > 1, and joins them before the call returns (a query through a context with a scheduler runs on the
- * scheduler's threads instead: context.h); the contacts' and the context's
- * allocators may then be called from them at once (a
- * store allocates before its threads start). Every other callback runs on
- * the calling thread.
+ * > 1, and joins them before the call returns (a query through a context with a scheduler runs on
+ * the scheduler's threads instead: context.h); the contacts' and the context's allocators may then
+ * be called from them at once (a store allocates before its threads start). Every other callback
+ * runs on the calling thread.
  */
 #ifndef SELFCOL_SELFCOL_H
 #define SELFCOL_SELFCOL_H

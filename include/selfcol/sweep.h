@@ -57,7 +57,7 @@
  * not be refit).
  *
  * SELFCOL_METHOD_EXACT (self queries; on two surfaces it is BVH) adds the
- * curvature criterion over the step (lib/sweep_cull.c): a patch whose
+ * curvature criterion over the step (lib/continuous/sweep_cull.c): a patch whose
  * normals stay in one open half-space at every t (cones around the Bernstein
  * coefficients of each triangle's normal) and whose projected boundary stays
  * a simple polygon with clearance delta (checked at t = 0 with the clearance

@@ -2,7 +2,7 @@
 # SPDX-FileCopyrightText: 2026 selfcol authors
 # SPDX-License-Identifier: MIT
 """Randomized differential test of the continuous narrow phase
-(lib/narrow_sweep.c) against an exact rational reference.
+(lib/narrow/narrow_sweep.c) against an exact rational reference.
 
 Queries have small integer coordinates, so every quantity of a query is a
 polynomial in t with rational coefficients, and the reference decides each

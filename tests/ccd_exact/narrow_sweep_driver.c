@@ -1,11 +1,11 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// The continuous narrow phase (lib/narrow_sweep.h) on queries read from
+// The continuous narrow phase (lib/narrow/narrow_sweep.h) on queries read from
 // stdin, for exact_ccd.py: each line "vf" or "ee" and 24 numbers (four
 // points at t = 0, then the same four at t = 1; VF: p, a, b, c; EE: a, b, c,
 // d); each answer a line "hit toi" (toi printed exactly, as %.17g).
-#include "narrow_sweep.h"
+#include "narrow/narrow_sweep.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -1555,7 +1555,7 @@ def test_threads_identical():
         check(len(objs) == 3 and objs[-1]['interferences'] > 0 and objs[-1]['contacts'] > 0 and
               objs[-1]['query_ms'] == 0, '%s: %s' % (what, objs))
     # 128 x 40 quads (10,240 triangles): with --threads 2 and 4 the refits
-    # run on threads too (one per 4096 triangles, lib/hierarchy_refit.c).
+    # run on threads too (one per 4096 triangles, lib/hierarchy/hierarchy_refit.c).
     big, _, _ = thread_frames('big', count=2, size=(128, 40))
     status, out = same_for_every_count(['track', '--distance', '0.005'] + big, 'track BIG')
     check(status == 1 and 'worst frame' in out, 'track BIG: %d %r' % (status, out))

@@ -26,7 +26,7 @@ out=$(cd "$out" && pwd)
 flags="-g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 # The library's sources, instrumented for coverage (fuzzer-no-link).
 objs=""
-for src in "$root"/lib/*.c; do
+for src in "$root"/lib/*/*.c; do
   obj="$out/$(basename "$src" .c).o"
   $cc $flags -fsanitize=fuzzer-no-link -std=c99 -DSELFCOL_STATIC -I "$root/include" -I "$root/lib" \
     $(pkg-config --cflags ccd) -c "$src" -o "$obj"

@@ -7,7 +7,7 @@
 //
 // The libccd proximities depend on the radius: a pair beyond it costs one MPR
 // test, a pair within it a bisection (25 MPR tests at tolerance 1e-7 radius,
-// as lib/query.c asks). So VF and EE run at the median closed-form distance of
+// as lib/query/query.c asks). So VF and EE run at the median closed-form distance of
 // the set (half the pairs within), over all pairs, then over the pairs within
 // and the pairs beyond that radius separately. The closed form does not depend
 // on the radius. EF asks for the result, as a contact query does on a hit.
@@ -19,7 +19,7 @@
 // Built with the project as build/tools/bench_narrow (not run by the tests).
 #define _POSIX_C_SOURCE 199309L
 
-#include "narrow.h"
+#include "narrow/narrow.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -29,7 +29,7 @@
 
 #define DISTINCT (1u << 16) // distinct random pairs, cycled through
 #define RUNS 5
-#define REL_TOL 1e-7 // libccd tolerance relative to the radius (lib/query.c)
+#define REL_TOL 1e-7 // libccd tolerance relative to the radius (lib/query/query.c)
 
 // splitmix64, uniform in [-1, 1).
 static double next_coordinate(uint64_t *state) {

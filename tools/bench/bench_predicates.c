@@ -9,7 +9,7 @@
 #define _POSIX_C_SOURCE 199309L
 #endif
 
-#include "predicates.h"
+#include "base/predicates.h"
 
 #include <stdint.h>
 #include <stdio.h>

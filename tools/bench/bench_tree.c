@@ -21,7 +21,7 @@
 //   selfcol-bench-tree FRAME.ply [...]   (d = 0.1 x mean edge length)
 #include <selfcol/selfcol.h>
 
-#include "hierarchy.h"
+#include "hierarchy/hierarchy.h"
 #include "meshio.h"
 
 #include <math.h>

@@ -37,7 +37,7 @@
 #include "bench_bullet.h"
 #include "fixtures.h"
 // The library's own union-find (header-only, internal): one copy in the repository.
-#include "../../lib/union_find.h"
+#include "../../lib/base/union_find.h"
 
 #include <math.h>
 #include <stdio.h>

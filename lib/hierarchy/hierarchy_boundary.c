@@ -1,0 +1,221 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Boundaries and disks, the build's last stage (hierarchy_build.h): every
+// internal node gets the list of its patch's boundary half-edges, sorted by
+// edge (the adjacency test of SEED/CONE in traverse.c and the contour test
+// of EXACT in contour.c read it), and every node whose patch is a
+// topological disk gets SELFCOL_NODE_DISK (EXACT's contour criterion applies
+// only to disks). Two passes, over the edges and over the vertex stars, each
+// climbing the tree from the triangles' leaves.
+#include "base/alloc.h"
+#include "base/union_find.h"
+#include "hierarchy/hierarchy_build.h"
+
+#include <string.h>
+
+// The triangle after t in edge e's (ascending) list, or SELFCOL_INVALID_INDEX.
+static uint32_t successor_on_edge(const selfcol_mesh *m, uint32_t e, uint32_t t) {
+    const uint32_t first = m->edge_tri_offsets[e], n = m->edge_tri_offsets[e + 1] - first;
+    uint32_t at = selfcol_hierarchy__position_in(m->edge_tris + first, n, t);
+    return at + 1 < n ? m->edge_tris[first + at + 1] : SELFCOL_INVALID_INDEX;
+}
+
+// The boundary half-edge of triangle t on edge e, oriented with t (after the
+// build's flip) so the patch containing t lies on its left, encoded as
+// (e << 1) | reversed: reversed when it runs from the edge's larger vertex to
+// its smaller one.
+static uint32_t half_edge_of(const selfcol_hierarchy *h, uint32_t t, uint32_t e) {
+    const selfcol_mesh *m = h->mesh;
+    int i = selfcol_hierarchy__slot_of_edge(m, t, e);
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    int reversed = tri[i] > tri[(i + 1) % 3];
+    if (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED)
+        reversed = !reversed;
+    return (e << 1) | (uint32_t)reversed;
+}
+
+typedef struct pair_list {
+    uint32_t *node, *half_edge;
+    size_t count, capacity;
+} pair_list;
+
+static int pair_add(const selfcol_allocator *al, pair_list *l, uint32_t node, uint32_t half_edge) {
+    if (l->count == l->capacity) {
+        size_t cap = l->capacity ? 2 * l->capacity : 1024;
+        uint32_t *node_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
+        uint32_t *he_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
+        if (node_grown == NULL || he_grown == NULL) {
+            selfcol_alloc__free_array(al, node_grown, cap, sizeof(uint32_t));
+            selfcol_alloc__free_array(al, he_grown, cap, sizeof(uint32_t));
+            return SELFCOL_ENOMEM; // the old arrays stay valid
+        }
+        if (l->count > 0) {
+            memcpy(node_grown, l->node, l->count * sizeof(uint32_t));
+            memcpy(he_grown, l->half_edge, l->count * sizeof(uint32_t));
+        }
+        selfcol_alloc__free_array(al, l->node, l->capacity, sizeof(uint32_t));
+        selfcol_alloc__free_array(al, l->half_edge, l->capacity, sizeof(uint32_t));
+        l->node = node_grown;
+        l->half_edge = he_grown;
+        l->capacity = cap;
+    }
+    l->node[l->count] = node;
+    l->half_edge[l->count++] = half_edge;
+    return SELFCOL_OK;
+}
+
+static void mark_path(uint8_t *mark, const uint32_t *parent, uint32_t node) {
+    for (; node != SELFCOL_INVALID_INDEX && !mark[node]; node = parent[node])
+        mark[node] = 1;
+}
+
+// Boundary half-edges of every node, and SELFCOL_NODE_DISK.
+// - A manifold edge is on the boundary of the nodes below the lowest common
+//   ancestor of its two triangles' leaves (each side with its own triangle's
+//   orientation); a mesh-boundary edge on the boundary of every ancestor of
+//   its triangle's leaf. A non-manifold edge makes every node holding one of
+//   its triangles a non-disk.
+// - Vertex counts: a vertex belongs to every ancestor of its triangles'
+//   leaves (each counted once with a stamp). A vertex whose triangles do not
+//   form one edge-connected fan (a bowtie) makes its ancestors non-disks.
+// - With interior edges manifold (the ORIENTED flag), a patch of F triangles
+//   and b boundary edges has E = (3F + b) / 2 edges; it is a disk iff it is
+//   connected, oriented, manifold and V - E + F = 1 (an orientable connected
+//   surface has chi = 2 - 2 genus - loops).
+int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *parent,
+                                        const uint32_t *depth, const uint32_t *leaf_of_tri) {
+    const selfcol_mesh *m = h->mesh;
+    const selfcol_allocator *al = &h->allocator;
+    const size_t N = h->node_count;
+    int status = SELFCOL_ENOMEM;
+    pair_list l;
+    memset(&l, 0, sizeof l);
+    uint32_t *stamp = selfcol_alloc__array(al, N, sizeof(uint32_t));
+    uint32_t *vcount = selfcol_alloc__array(al, N, sizeof(uint32_t));
+    uint8_t *nondisk = selfcol_alloc__array(al, N, sizeof(uint8_t));
+    size_t max_degree = 1;
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        size_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
+        max_degree = k > max_degree ? k : max_degree;
+    }
+    uint32_t *uf = selfcol_alloc__array(al, max_degree, sizeof(uint32_t));
+    uint32_t *offset = selfcol_alloc__array(al, N + 1, sizeof(uint32_t));
+    if (stamp == NULL || vcount == NULL || nondisk == NULL || uf == NULL || offset == NULL)
+        goto done;
+    memset(nondisk, 0, N);
+    memset(vcount, 0, N * sizeof(uint32_t));
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
+        const uint32_t *tris = m->edge_tris + first;
+        if (k >= 3) {
+            for (uint32_t j = 0; j < k; ++j)
+                mark_path(nondisk, parent, leaf_of_tri[tris[j]]);
+            continue;
+        }
+        if (k == 1) {
+            uint32_t he = half_edge_of(h, tris[0], (uint32_t)e);
+            for (uint32_t n = leaf_of_tri[tris[0]]; n != SELFCOL_INVALID_INDEX; n = parent[n])
+                if ((status = pair_add(al, &l, n, he)) != SELFCOL_OK)
+                    goto done;
+            continue;
+        }
+        uint32_t n1 = leaf_of_tri[tris[0]], n2 = leaf_of_tri[tris[1]];
+        uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e);
+        uint32_t he2 = half_edge_of(h, tris[1], (uint32_t)e);
+        while (n1 != n2) {
+            if (depth[n1] >= depth[n2]) {
+                if ((status = pair_add(al, &l, n1, he1)) != SELFCOL_OK)
+                    goto done;
+                n1 = parent[n1];
+            } else {
+                if ((status = pair_add(al, &l, n2, he2)) != SELFCOL_OK)
+                    goto done;
+                n2 = parent[n2];
+            }
+        }
+    }
+    status = SELFCOL_ENOMEM;
+    memset(stamp, 0xff, N * sizeof(uint32_t));
+    for (uint32_t v = 0; v < m->vertex_count; ++v) {
+        const uint32_t *star = m->vertex_tris + m->vertex_tri_offsets[v];
+        uint32_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
+        for (uint32_t j = 0; j < k; ++j)
+            for (uint32_t n = leaf_of_tri[star[j]]; n != SELFCOL_INVALID_INDEX && stamp[n] != v;
+                 n = parent[n]) {
+                stamp[n] = v;
+                vcount[n]++;
+            }
+        // Fan connectivity: union the star's triangles across their edges at
+        // v. Each triangle is joined to its successor in each such edge's
+        // list (a chain connects the edge's triangles as all pairs would),
+        // found in the ascending star by binary search, with path halving:
+        // O(k log k) for a star of k triangles, also when k pages share one
+        // edge (all pairs with linear searches took O(k^3)).
+        for (uint32_t j = 0; j < k; ++j)
+            uf[j] = j;
+        uint32_t components = k;
+        for (uint32_t j = 0; j < k; ++j) {
+            const uint32_t *te = m->triangle_edges + 3 * (size_t)star[j];
+            for (int i = 0; i < 3; ++i) {
+                uint32_t e = te[i];
+                if (e == SELFCOL_INVALID_INDEX ||
+                    (m->edges[2 * e] != v && m->edges[2 * e + 1] != v))
+                    continue;
+                uint32_t next = successor_on_edge(m, e, star[j]);
+                if (next == SELFCOL_INVALID_INDEX)
+                    continue;
+                uint32_t ra = selfcol_union_find__root(uf, j),
+                         rb = selfcol_union_find__root(
+                             uf, selfcol_hierarchy__position_in(star, k, next));
+                if (ra != rb) {
+                    uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+                    components--;
+                }
+            }
+        }
+        if (components > 1)
+            for (uint32_t j = 0; j < k; ++j)
+                mark_path(nondisk, parent, leaf_of_tri[star[j]]);
+    }
+    // Counting sort of the half-edges by node. Edges were visited in
+    // increasing order, so each node's slice comes out sorted by edge.
+    // Leaves keep no list (a quarter of all entries, ~6 bytes per
+    // triangle): their few triangles give their boundary on demand
+    // (the adjacency test of traverse.c), and EXACT's contour proof does not
+    // try nodes that small. Their counts still decide SELFCOL_NODE_DISK.
+    memset(offset, 0, (N + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < l.count; ++i)
+        offset[l.node[i] + 1]++;
+    size_t stored = 0;
+    for (size_t n = 0; n < N; ++n) {
+        selfcol_node *node = &h->nodes[n];
+        uint64_t b = offset[n + 1], F = node->tri_count;
+        int disk = !nondisk[n] && (3 * F + b) % 2 == 0 &&
+                   (int64_t)vcount[n] - (int64_t)((3 * F + b) / 2) + (int64_t)F == 1;
+        const uint8_t need = SELFCOL_NODE_CONNECTED | SELFCOL_NODE_ORIENTED;
+        if (disk && (node->flags & need) == need)
+            node->flags |= SELFCOL_NODE_DISK;
+        node->boundary_begin = (uint32_t)stored;
+        node->boundary_count = node->child_count == 0 ? 0 : (uint32_t)b;
+        offset[n] = (uint32_t)stored; // from here on: the write position
+        stored += node->boundary_count;
+    }
+    h->bedge_total = stored + 1;
+    h->bedge = selfcol_alloc__array(al, stored + 1, sizeof(uint32_t));
+    if (h->bedge == NULL)
+        goto done;
+    for (size_t i = 0; i < l.count; ++i)
+        if (h->nodes[l.node[i]].child_count > 0)
+            h->bedge[offset[l.node[i]]++] = l.half_edge[i];
+    status = SELFCOL_OK;
+done:
+    selfcol_alloc__free_array(al, l.node, l.capacity, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, l.half_edge, l.capacity, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, offset, N + 1, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, stamp, N, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, vcount, N, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, nondisk, N, sizeof(uint8_t));
+    selfcol_alloc__free_array(al, uf, max_degree, sizeof(uint32_t));
+    return status;
+}

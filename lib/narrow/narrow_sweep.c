@@ -1,0 +1,610 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Continuous narrow phase for linearly moving primitives: an inclusion-based
+// root finder after Tight-Inclusion (Wang, Ferguson, Schneider, Jiang, Attene,
+// Panozzo 2021, "A Large-scale Benchmark and an Inclusion-based Algorithm for
+// Continuous Collision Detection", ACM TOG 40(5), sections 4 and 5), written
+// from the paper. Guarantees and constants: narrow_sweep.h.
+//
+// The function. Every point moves as x(t) = x0 + t (x1 - x0). With parameters
+// (t, u, v):
+//   VF: F(t,u,v) = p(t) - a(t) - u (b(t) - a(t)) - v (c(t) - a(t)),
+//       domain t, u, v in [0, 1], u + v <= 1 (the closed triangle);
+//   EE: F(t,u,v) = a(t) + u (b(t) - a(t)) - c(t) - v (d(t) - c(t)),
+//       domain [0, 1]^3 (the two closed segments).
+// The primitives come within Euclidean distance delta at time t exactly when
+// |F(t,u,v)| <= delta for some (u, v) of the domain, which implies
+// |F_i| <= delta for each coordinate i.
+//
+// Inclusion. Each F_i is a polynomial of degree at most 1 in each of t, u, v
+// separately (monomials 1, t, u, v, tu, tv). On a box B = prod_k [lo_k, hi_k],
+// write each parameter as lo_k + l_k (hi_k - lo_k), l_k in [0, 1]; then
+// F(t,u,v) = sum over the 8 corners c of w_c F(c), with the trilinear weights
+// w_c = prod_k (l_k or 1 - l_k) >= 0, sum w_c = 1. So F(B) lies in the convex
+// hull of the 8 corner values, and F_i(B) in [min_c F_i(c), max_c F_i(c)].
+// A box where, for some i, that interval misses [-delta, delta] holds no time
+// within delta and is discarded.
+//
+// Floating-point filter (cf. the paper's section 5.1, derived anew for the
+// evaluation below). Binary64, round to nearest, u = 2^-53, FLT_EVAL_METHOD 0
+// (SSE2 and every 64-bit target); fl(a op b) = (a op b)(1 + theta), |theta|
+// <= u, barring underflow and overflow (below). Per coordinate i, let M be the
+// largest |x_i| over the 8 input points; t, u, v are exact doubles in [0, 1]
+// (box bounds are multiples of 2^-level, level <= MAX_LEVEL = 50 < 53, so
+// exactly representable). Rule: if a and b are computed with errors alpha and
+// beta, and the exact |a +- b| <= m, then fl(a +- b) is within
+// (1 + u)(alpha + beta) + u m of the exact result; for an exact s in [0, 1]
+// and |b| <= m, fl(s b) is within (1 + u) beta + u m of s b. To first order:
+//   1. d = fl(x1 - x0), |x1 - x0| <= 2M:                  2 M u (once per query)
+//   2. fl(t d), |t (x1 - x0)| <= 2M:                       2 + 2 = 4 M u
+//   3. x(t) = fl(x0 + t d), |x(t)| <= M:                   4 + 1 = 5 M u
+//   VF, q = fl(p - a), e1 = fl(b - a), e2 = fl(c - a) (all <= 2M):
+//   4. q, e1, e2:                                          5 + 5 + 2 = 12 M u
+//   5. fl(u e1), fl(v e2) (<= 2M):                         12 + 2 = 14 M u
+//   6. r = fl(q - u e1) (<= 4M):                           12 + 14 + 4 = 30 M u
+//   7. F = fl(r - v e2) (<= 6M):                           30 + 14 + 6 = 50 M u
+//   EE, e1 = fl(b - a), e2 = fl(d - c):
+//   4. e1, e2 (<= 2M):                                     12 M u
+//   5. fl(u e1), fl(v e2) (<= 2M):                         14 M u
+//   6. g = fl(a + u e1), h = fl(c + v e2) (<= 3M):         5 + 14 + 3 = 22 M u
+//   7. F = fl(g - h) (<= 6M):                              22 + 22 + 6 = 50 M u
+// Seven levels of (1 + u) factors multiply the first-order sum by less than
+// (1 + 8u), so |F^_i(c) - F_i(c)| <= 50 (1 + 8u) M u < 51 M u. We take
+//   eps_i = 2^-47 M + DBL_MIN   (2^-47 = 64 u),
+// exact to compute (a power-of-two scaling; for M < 2^-975 it may round, by
+// less than DBL_MIN). A contracted multiply-add (FMA) rounds once where the
+// steps above round twice: its error is within the same bound. Underflow: a
+// product may lose up to 2^-1075 absolutely (sums that underflow are exact),
+// six products feed one coordinate, each propagated with a factor below 2:
+// under 2^-1070, covered by DBL_MIN. Overflow: every intermediate is at most
+// 12M (widths included), finite when M <= DBL_MAX / 16; beyond that, or for
+// non-finite input, the answer is a conservative 1 (INVALID).
+//
+// A box is discarded when, for some i, min_c F^_i(c) > E_i or
+// max_c F^_i(c) < -E_i, with E_i = fl(fl(eps_i + delta) (1 + 2^-50)) >=
+// eps_i + delta (the sum may round down by a factor (1 - u), the product by
+// another, and (1 - u)^2 (1 + 8u) > 1). Sound: a point of the box with
+// |F_i| <= delta gives min_c F_i(c) <= delta, so min_c F^_i(c) <= delta +
+// eps_i <= E_i (and symmetrically).
+//
+// Search. best = the least t_lo of a box accepted so far (none at first). A
+// box taken for examination is
+//   - dropped when t_lo >= best (its times cannot come before best) or when
+//     the filter discards it;
+//   - accepted when its whole inclusion lies within tolerance: for every
+//     coordinate, [min_c F^_i, max_c F^_i] within [-(E_i + tau_i), E_i +
+//     tau_i] (narrow_sweep.h; this subsumes Tight-Inclusion's "width below
+//     tolerance" and its "inclusion inside the tolerance box"): best = t_lo.
+//     Every point of the box, notably its corner (t_lo, u_lo, v_lo), which
+//     lies in the domain, has |F_i| <= delta + tau_i + 2 eps_i: the
+//     false-positive bound of narrow_sweep.h;
+//   - else split in two: along t while t_hi > best (the box straddles best,
+//     so its later half drops out), else along the parameter whose corner
+//     values vary most (the largest |F^(hi) - F^(lo)| over the 4 box edges
+//     along it and the 3 coordinates: F is linear along each edge, so that is
+//     what halving it shrinks; a still pair never splits t and reports
+//     t_lo = 0). VF children with u_lo + v_lo > 1 lie outside the triangle
+//     and are dropped.
+// Order: best-first, the least t_lo first (ties: the deeper box), from a
+// binary heap on a stack array of HEAP_CAPACITY boxes; the first box accepted
+// there ends the search, as nothing pending starts earlier. When the heap is
+// full, the box taken (the least t_lo) is settled depth-first instead, on a
+// second stack array (a split pushes two boxes for the one taken, one level
+// deeper in one parameter: at most 3 MAX_LEVEL + 1 pending), its earlier
+// half first (for u or v: the half whose earlier face looks closer to a
+// contact, by face_gap()), pruned at best; then the next heap box. At the end
+// the answer is 1 with toi = best, or 0 when nothing was accepted.
+// toi <= every time within delta: such a time t_r < best would lie in a chain
+// of boxes, each containing it, never discarded, and with t_lo <= t_r < best
+// when taken (best only decreases), so never dropped; the last of them was
+// accepted, setting best <= t_r.
+// Why both orders: best-first goes straight to the earliest contact when the
+// contact set is small (a point), where depth-first can wander along a
+// contact curve, improving best by small steps. But when the contact set is
+// a segment of (u, v) at one time (a vertex sweeping through a collapsed
+// triangle, collinear edges), best-first examines every box along the
+// segment at each t resolution before accepting any; depth-first accepts one
+// soon, and with the straddle rule the other boxes there then only need
+// splitting in t, each halving discarding its earlier half.
+// Budget: when MAX_CHECKS boxes were examined, the answer is 1 with toi = the
+// least t_lo still pending (or best when less), still a lower bound
+// (BUDGET); a box that cannot be split (every parameter at MAX_LEVEL) is
+// accepted as if within tolerance, but reported as BUDGET.
+
+#include "narrow/narrow_sweep.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+// Box bounds are multiples of 2^-level: exact doubles while level < 53.
+#define MAX_LEVEL 50
+// Boxes pending in the best-first phase at most (the heap array).
+#define HEAP_CAPACITY 1024
+
+enum { KIND_VF, KIND_EE };
+
+// One box of parameters (t, u, v): [lo_k, lo_k + 2^-level_k].
+typedef struct sweep_box {
+    double lo[3];
+    int level[3];
+} sweep_box;
+
+typedef struct sweep_query {
+    int kind;
+    double x0[4][3];     // VF: p, a, b, c; EE: a, b, c, d (at t = 0)
+    double d[4][3];      // x1 - x0 (step 1 of the derivation)
+    double threshold[3]; // E_i
+    double accept[3];    // E_i + tau_i
+} sweep_query;
+
+// Heap order: the least t_lo first; at equal t_lo the deeper box.
+static int box_before(const sweep_box *x, const sweep_box *y) {
+    if (x->lo[0] != y->lo[0])
+        return x->lo[0] < y->lo[0];
+    return x->level[0] + x->level[1] + x->level[2] > y->level[0] + y->level[1] + y->level[2];
+}
+
+static void heap_push(sweep_box *heap, int *n, const sweep_box *box) {
+    int i = (*n)++;
+    while (i > 0) {
+        int parent = (i - 1) / 2;
+        if (!box_before(box, &heap[parent]))
+            break;
+        heap[i] = heap[parent];
+        i = parent;
+    }
+    heap[i] = *box;
+}
+
+static sweep_box heap_pop(sweep_box *heap, int *n) {
+    sweep_box top = heap[0];
+    sweep_box last = heap[--(*n)];
+    int i = 0;
+    for (;;) {
+        int child = 2 * i + 1;
+        if (child >= *n)
+            break;
+        if (child + 1 < *n && box_before(&heap[child + 1], &heap[child]))
+            ++child;
+        if (!box_before(&heap[child], &last))
+            break;
+        heap[i] = heap[child];
+        i = child;
+    }
+    if (*n > 0)
+        heap[i] = last;
+    return top;
+}
+
+// The 8 corner values F^(c) of a box (f[t][u][v][coordinate]), as
+// per-coordinate ranges [fmin, fmax], and the variation of F^ along each
+// parameter (var[k]).
+static void evaluate(const sweep_query *q, const sweep_box *box, double f[2][2][2][3],
+                     double fmin[3], double fmax[3], double var[3]) {
+    double w[3];
+    for (int k = 0; k < 3; ++k)
+        w[k] = ldexp(1.0, -box->level[k]);
+    const double uu[2] = {box->lo[1], box->lo[1] + w[1]};
+    const double vv[2] = {box->lo[2], box->lo[2] + w[2]};
+    for (int it = 0; it < 2; ++it) {
+        const double t = it ? box->lo[0] + w[0] : box->lo[0];
+        for (int i = 0; i < 3; ++i) {
+            double x[4];
+            for (int k = 0; k < 4; ++k)
+                x[k] = q->x0[k][i] + t * q->d[k][i]; // steps 2 and 3
+            if (q->kind == KIND_VF) {
+                const double qv = x[0] - x[1], e1 = x[2] - x[1], e2 = x[3] - x[1];
+                for (int iu = 0; iu < 2; ++iu) {
+                    const double r = qv - uu[iu] * e1;
+                    for (int iv = 0; iv < 2; ++iv)
+                        f[it][iu][iv][i] = r - vv[iv] * e2;
+                }
+            } else {
+                const double e1 = x[1] - x[0], e2 = x[3] - x[2];
+                const double g[2] = {x[0] + uu[0] * e1, x[0] + uu[1] * e1};
+                const double h[2] = {x[2] + vv[0] * e2, x[2] + vv[1] * e2};
+                for (int iu = 0; iu < 2; ++iu)
+                    for (int iv = 0; iv < 2; ++iv)
+                        f[it][iu][iv][i] = g[iu] - h[iv];
+            }
+        }
+    }
+    for (int i = 0; i < 3; ++i) {
+        fmin[i] = fmax[i] = f[0][0][0][i];
+        var[i] = 0.0;
+    }
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+            for (int i = 0; i < 3; ++i) {
+                const double ft = fabs(f[1][a][b][i] - f[0][a][b][i]);
+                const double fu = fabs(f[a][1][b][i] - f[a][0][b][i]);
+                const double fv = fabs(f[a][b][1][i] - f[a][b][0][i]);
+                var[0] = ft > var[0] ? ft : var[0];
+                var[1] = fu > var[1] ? fu : var[1];
+                var[2] = fv > var[2] ? fv : var[2];
+                for (int c = 0; c < 2; ++c) {
+                    const double y = f[a][b][c][i];
+                    fmin[i] = y < fmin[i] ? y : fmin[i];
+                    fmax[i] = y > fmax[i] ? y : fmax[i];
+                }
+            }
+}
+
+// How far the earlier face (t = t_lo) of one half of a box split along u
+// (k = 1) or v (k = 2) is from meeting the threshold box: the sum over the
+// coordinates of the gap between [min, max] of its 4 corner values and
+// [-E_i, E_i]. F is linear along the split parameter, so the new corners are
+// the averages of the old ones (up to rounding: this only orders the search,
+// soundness does not depend on it).
+static double face_gap(const sweep_query *q, double f[2][2][2][3], int k, int upper) {
+    double gap = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (int a = 0; a < 2; ++a)
+            for (int b = 0; b < 2; ++b) {
+                // Corner (a, b) of the half: along k, 0 = its lower end.
+                const int ku = k == 1 ? (upper ? 1 : 0) : a, kv = k == 2 ? (upper ? 1 : 0) : b;
+                const int side = k == 1 ? a : b; // 0: the old end, 1: the midpoint
+                double y = f[0][ku][kv][i];
+                if (side != upper) {
+                    // The midpoint of the old edge along k.
+                    const double y0 = k == 1 ? f[0][0][kv][i] : f[0][ku][0][i];
+                    const double y1 = k == 1 ? f[0][1][kv][i] : f[0][ku][1][i];
+                    y = 0.5 * (y0 + y1);
+                }
+                lo = y < lo ? y : lo;
+                hi = y > hi ? y : hi;
+            }
+        if (lo > q->threshold[i])
+            gap += lo - q->threshold[i];
+        else if (hi < -q->threshold[i])
+            gap += -q->threshold[i] - hi;
+    }
+    return gap;
+}
+
+// State shared by the two search orders.
+typedef struct sweep_search {
+    const sweep_query *q;
+    double best;       // the least t_lo of an accepted box; t_max before
+    int found;         // best comes from an accepted box
+    int best_forced;   // best comes from a box that could not be split
+    long checks;       // boxes evaluated
+    int max_depth;     // deepest box evaluated (levels summed)
+    double budget_toi; // when the budget runs out: the least t_lo undecided
+} sweep_search;
+
+static int finish(int answer, double t, int outcome, const sweep_search *st, double *toi,
+                  selfcol_narrow_sweep_info *info) {
+    if (toi != NULL)
+        *toi = t;
+    if (info != NULL) {
+        info->outcome = outcome;
+        info->checks = st->checks;
+        info->max_depth = st->max_depth;
+    }
+    return answer;
+}
+
+// Evaluates one box (box.lo[0] < best). Returns -1 when it is accepted
+// (*forced: because it could not be split), else the number of children
+// (0: discarded), children[0] to be taken first.
+static int examine(sweep_search *st, const sweep_box *box, sweep_box children[2], int *forced) {
+    const sweep_query *q = st->q;
+    double f[2][2][2][3], fmin[3], fmax[3], var[3];
+    evaluate(q, box, f, fmin, fmax, var);
+    ++st->checks;
+    const int depth = box->level[0] + box->level[1] + box->level[2];
+    st->max_depth = depth > st->max_depth ? depth : st->max_depth;
+    int small = 1;
+    for (int i = 0; i < 3; ++i) {
+        if (fmin[i] > q->threshold[i] || fmax[i] < -q->threshold[i])
+            return 0; // discarded
+        if (!(fmin[i] >= -q->accept[i] && fmax[i] <= q->accept[i]))
+            small = 0;
+    }
+    *forced = 0;
+    if (small)
+        return -1;
+    // The parameter to split: t while the box straddles the best time (its
+    // later half then drops out), else the one that varies most.
+    int split = -1;
+    const double t_hi = box->lo[0] + ldexp(1.0, -box->level[0]);
+    if (box->level[0] < MAX_LEVEL && t_hi > st->best)
+        split = 0;
+    else
+        for (int k = 0; k < 3; ++k)
+            if (box->level[k] < MAX_LEVEL && (split < 0 || var[k] > var[split]))
+                split = k;
+    if (split < 0) {
+        *forced = 1; // too deep to split
+        return -1;
+    }
+    // The half to take first: the earlier one for t; for u or v the one
+    // whose earlier face looks closer to a contact.
+    int first_upper = 0;
+    if (split != 0)
+        first_upper = face_gap(q, f, split, 1) < face_gap(q, f, split, 0);
+    sweep_box child = *box;
+    child.level[split] = box->level[split] + 1;
+    const double mid = box->lo[split] + ldexp(1.0, -child.level[split]);
+    int m = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        const int upper = pass == 0 ? first_upper : !first_upper;
+        child.lo[split] = upper ? mid : box->lo[split];
+        if (!(q->kind == KIND_VF && child.lo[1] + child.lo[2] > 1.0)) // u_lo + v_lo is exact
+            children[m++] = child;
+    }
+    return m;
+}
+
+// Settles one box depth-first, pruned at best, on a stack: a split pushes two
+// boxes for the one taken, one level deeper in one parameter, so at most
+// 3 MAX_LEVEL + 1 are pending. Returns 0 when the budget runs out
+// (st->budget_toi: the least t_lo undecided, here or in the heap's n boxes).
+static int depth_first(sweep_search *st, const sweep_box *start, const sweep_box *heap, int n) {
+    sweep_box stack[3 * MAX_LEVEL + 2];
+    int top = 0;
+    stack[top++] = *start;
+    while (top > 0) {
+        const sweep_box box = stack[--top];
+        if (box.lo[0] >= st->best)
+            continue; // cannot improve on the time found
+        if (st->checks >= SELFCOL_NARROW_SWEEP_MAX_CHECKS) {
+            double t = box.lo[0] < st->best ? box.lo[0] : st->best;
+            for (int k = 0; k < top; ++k)
+                t = stack[k].lo[0] < t ? stack[k].lo[0] : t;
+            if (n > 0 && heap[0].lo[0] < t)
+                t = heap[0].lo[0];
+            st->budget_toi = t;
+            return 0;
+        }
+        sweep_box children[2];
+        int forced = 0;
+        const int m = examine(st, &box, children, &forced);
+        if (m < 0) {
+            st->best = box.lo[0];
+            st->found = 1;
+            st->best_forced = forced;
+            continue;
+        }
+        for (int k = m - 1; k >= 0; --k)
+            stack[top++] = children[k];
+    }
+    return 1;
+}
+
+static int sweep(int kind, const double *const start[4], const double *const end[4], double delta,
+                 double t_max, double *toi, selfcol_narrow_sweep_info *info) {
+    sweep_query q;
+    q.kind = kind;
+    // Boxes starting at or after t_max are never examined: a box holds the
+    // times [t_lo, t_hi], so a root at t < t_max lies in a box with t_lo <
+    // t_max, which stays. Boxes start below 1, so t_max = 1 drops nothing.
+    if (!(t_max <= 1.0))
+        t_max = 1.0; // above 1 or NaN
+    sweep_search st = {&q, t_max, 0, 0, 0, 0, 0.0};
+    if (!(delta >= 0.0))
+        delta = 0.0; // negative or NaN
+    double extent = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        double m = 0.0, lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (int k = 0; k < 4; ++k) {
+            const double x[2] = {start[k][i], end[k][i]};
+            for (int s = 0; s < 2; ++s) {
+                // !(|x| <= bound) also catches NaN.
+                if (!(fabs(x[s]) <= DBL_MAX / 16.0))
+                    return finish(1, 0.0, SELFCOL_NARROW_SWEEP_INVALID, &st, toi, info);
+                m = fabs(x[s]) > m ? fabs(x[s]) : m;
+                lo = x[s] < lo ? x[s] : lo;
+                hi = x[s] > hi ? x[s] : hi;
+            }
+            q.x0[k][i] = start[k][i];
+            q.d[k][i] = end[k][i] - start[k][i]; // step 1
+        }
+        const double eps = ldexp(m, -47) + DBL_MIN;
+        q.threshold[i] = (eps + delta) * (1.0 + ldexp(1.0, -50));
+        q.accept[i] = 2.0 * eps; // tau_i: raised to tau below
+        extent = hi - lo > extent ? hi - lo : extent;
+    }
+    const double tau = SELFCOL_NARROW_SWEEP_TOLERANCE * extent;
+    for (int i = 0; i < 3; ++i)
+        q.accept[i] = q.threshold[i] + (tau > q.accept[i] ? tau : q.accept[i]);
+
+    // Best-first while the heap has room.
+    sweep_box heap[HEAP_CAPACITY];
+    int n = 0;
+    // The root box covers [0, 2^-k], the shortest such interval holding [0,
+    // t_max): the halves it would otherwise split off first start at or
+    // after t_max and would be dropped unexamined. (A search of the earliest
+    // time over many pairs, with t_max already small, then starts at the
+    // times that matter instead of bisecting down to them.)
+    int root_level = 0;
+    while (root_level < MAX_LEVEL && ldexp(1.0, -(root_level + 1)) >= t_max)
+        ++root_level;
+    const sweep_box root = {{0.0, 0.0, 0.0}, {root_level, 0, 0}};
+    heap_push(heap, &n, &root);
+    while (n > 0) {
+        const sweep_box box = heap_pop(heap, &n);
+        if (box.lo[0] >= st.best)
+            break; // every pending box starts at or after the time found
+        if (n + 2 > HEAP_CAPACITY) {
+            // Full: settle this box depth-first (it has the least t_lo).
+            if (!depth_first(&st, &box, heap, n))
+                return finish(1, st.budget_toi, SELFCOL_NARROW_SWEEP_BUDGET, &st, toi, info);
+            continue;
+        }
+        if (st.checks >= SELFCOL_NARROW_SWEEP_MAX_CHECKS)
+            return finish(1, box.lo[0], SELFCOL_NARROW_SWEEP_BUDGET, &st, toi, info);
+        sweep_box children[2];
+        int forced = 0;
+        const int m = examine(&st, &box, children, &forced);
+        if (m < 0) {
+            // Accepted, and no pending box starts earlier.
+            st.best = box.lo[0];
+            st.found = 1;
+            st.best_forced = forced;
+            break;
+        }
+        for (int k = 0; k < m; ++k)
+            heap_push(heap, &n, &children[k]);
+    }
+    if (st.found)
+        return finish(1, st.best,
+                      st.best_forced ? SELFCOL_NARROW_SWEEP_BUDGET : SELFCOL_NARROW_SWEEP_ACCEPTED,
+                      &st, toi, info);
+    return finish(0, 1.0, SELFCOL_NARROW_SWEEP_SEPARATED, &st, toi, info);
+}
+
+int selfcol_narrow_sweep__vf_info(const double p0[3], const double a0[3], const double b0[3],
+                                  const double c0[3], const double p1[3], const double a1[3],
+                                  const double b1[3], const double c1[3], double delta, double *toi,
+                                  selfcol_narrow_sweep_info *info) {
+    const double *const start[4] = {p0, a0, b0, c0};
+    const double *const end[4] = {p1, a1, b1, c1};
+    return sweep(KIND_VF, start, end, delta, 1.0, toi, info);
+}
+
+int selfcol_narrow_sweep__ee_info(const double a0[3], const double b0[3], const double c0[3],
+                                  const double d0[3], const double a1[3], const double b1[3],
+                                  const double c1[3], const double d1[3], double delta, double *toi,
+                                  selfcol_narrow_sweep_info *info) {
+    const double *const start[4] = {a0, b0, c0, d0};
+    const double *const end[4] = {a1, b1, c1, d1};
+    return sweep(KIND_EE, start, end, delta, 1.0, toi, info);
+}
+
+int selfcol_narrow_sweep__vf(const double p0[3], const double a0[3], const double b0[3],
+                             const double c0[3], const double p1[3], const double a1[3],
+                             const double b1[3], const double c1[3], double delta, double *toi) {
+    return selfcol_narrow_sweep__vf_info(p0, a0, b0, c0, p1, a1, b1, c1, delta, toi, NULL);
+}
+
+int selfcol_narrow_sweep__ee(const double a0[3], const double b0[3], const double c0[3],
+                             const double d0[3], const double a1[3], const double b1[3],
+                             const double c1[3], const double d1[3], double delta, double *toi) {
+    return selfcol_narrow_sweep__ee_info(a0, b0, c0, d0, a1, b1, c1, d1, delta, toi, NULL);
+}
+
+int selfcol_narrow_sweep__vf_before(const double *const start[4], const double *const end[4],
+                                    double delta, double t_max, double *toi,
+                                    selfcol_narrow_sweep_info *info) {
+    return sweep(KIND_VF, start, end, delta, t_max, toi, info);
+}
+
+int selfcol_narrow_sweep__ee_before(const double *const start[4], const double *const end[4],
+                                    double delta, double t_max, double *toi,
+                                    selfcol_narrow_sweep_info *info) {
+    return sweep(KIND_EE, start, end, delta, t_max, toi, info);
+}
+
+// ---------------------------------------------------------------------------
+// A cheap separation filter: a fixed direction that separates the primitives
+// at both ends of the step, the same way round.
+//
+// Proof. Project on any fixed vector n. A point of primitive A at time t is a
+// convex combination (fixed weights) of A's vertices at time t, so its
+// projection is at most hi_A(t) = max_k n . a_k(t); each n . a_k(t) is linear
+// in t (linear motion), so hi_A is convex; likewise lo_B(t) = min_k n . b_k(t)
+// is concave. hi_A - lo_B is then convex, and its maximum over [0, 1] is at
+// t = 0 or t = 1. If hi_A - lo_B < -g at both ends, it is below -g for every
+// t, and every point of A is then more than g / |n| from every point of B
+// along n, hence in space. With g = delta |n| the primitives never come
+// within delta. The same holds with the roles swapped (A above B).
+//
+// Rounding. Each projection fl(n . x) is within gamma_3 sum_i |n_i| |x_i| <=
+// 2^-51 |n|_1 M of n . x (Higham, Accuracy and Stability of Numerical
+// Algorithms, 2nd ed., section 3.1; gamma_3 = 3u / (1 - 3u) < 2^-51, M the
+// largest |coordinate| of the 8 points), plus 3 x 2^-1074 for underflow. The
+// computed gap fl(lo_B - hi_A) is within 2^-52 x 2 |n|_1 M (its magnitude is
+// at most that) of the difference of the computed projections. So the exact
+// gap exceeds the computed one minus |n|_1 M (2 x 2^-51 + 2^-51) < |n|_1 M
+// 2^-49. The test asks for computed gap > delta |n|_1 (1 + 2^-48) + |n|_1 M
+// 2^-48 + DBL_MIN, with |n|_1 >= |n|_2 computed to within 2u: more than the
+// exact requirement delta |n|_2 plus every error above.
+static int separated_along(const double *const start[4], const double *const end[4], int na,
+                           const double n[3], double delta, double m) {
+    const double norm1 = fabs(n[0]) + fabs(n[1]) + fabs(n[2]);
+    if (!(norm1 > 0.0))
+        return 0;
+    const double slack =
+        delta * norm1 * (1.0 + ldexp(1.0, -48)) + norm1 * m * ldexp(1.0, -48) + DBL_MIN;
+    int below = 1, above = 1; // A below B (resp. above) by more than the slack at both ends
+    for (int end_i = 0; end_i < 2; ++end_i) {
+        const double *const *x = end_i == 0 ? start : end;
+        double hi_a = -HUGE_VAL, lo_a = HUGE_VAL, hi_b = -HUGE_VAL, lo_b = HUGE_VAL;
+        for (int k = 0; k < 4; ++k) {
+            const double p = n[0] * x[k][0] + n[1] * x[k][1] + n[2] * x[k][2];
+            if (k < na) {
+                hi_a = p > hi_a ? p : hi_a;
+                lo_a = p < lo_a ? p : lo_a;
+            } else {
+                hi_b = p > hi_b ? p : hi_b;
+                lo_b = p < lo_b ? p : lo_b;
+            }
+        }
+        below = below && lo_b - hi_a > slack;
+        above = above && lo_a - hi_b > slack;
+    }
+    return below || above;
+}
+
+// Direction k of the filter: the axes (k = 0, 1, 2), then the reference
+// normal at either end (k = 3: t = 0, k = 4: t = 1): the triangle's
+// (b - a) x (c - a), or the edges' (b - a) x (d - c).
+static int separated_by(const double *const start[4], const double *const end[4], int edge_edge,
+                        unsigned k, double delta, double m) {
+    const int na = edge_edge ? 2 : 1;
+    if (k < 3) {
+        const double n[3] = {k == 0, k == 1, k == 2};
+        return separated_along(start, end, na, n, delta, m);
+    }
+    const double *const *x = k == 3 ? start : end;
+    const double *o = edge_edge ? x[0] : x[1];
+    const double *p = edge_edge ? x[1] : x[2];
+    const double *q0 = edge_edge ? x[2] : x[1];
+    const double *q1 = x[3];
+    double u[3], w[3], n[3];
+    for (int i = 0; i < 3; ++i) {
+        u[i] = p[i] - o[i];
+        w[i] = q1[i] - q0[i];
+    }
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    return separated_along(start, end, na, n, delta, m);
+}
+
+int selfcol_narrow_sweep__separated_from(const double *const start[4], const double *const end[4],
+                                         int edge_edge, double delta, unsigned *hint) {
+    if (!(delta >= 0.0))
+        delta = 0.0;
+    double m = 0.0;
+    for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < 3; ++i) {
+            const double a = fabs(start[k][i]), b = fabs(end[k][i]);
+            if (!(a <= DBL_MAX / 16.0 && b <= DBL_MAX / 16.0))
+                return 0; // non-finite or huge: no claim
+            m = a > m ? a : m;
+            m = b > m ? b : m;
+        }
+    if (m > 0x1p200)
+        return 0; // the products below could overflow
+    const unsigned first = *hint < 5 ? *hint : 0;
+    if (separated_by(start, end, edge_edge, first, delta, m))
+        return 1;
+    for (unsigned k = 0; k < 5; ++k)
+        if (k != first && separated_by(start, end, edge_edge, k, delta, m)) {
+            *hint = k;
+            return 1;
+        }
+    return 0;
+}
+
+int selfcol_narrow_sweep__separated(const double *const start[4], const double *const end[4],
+                                    int edge_edge, double delta) {
+    unsigned hint = 0;
+    return selfcol_narrow_sweep__separated_from(start, end, edge_edge, delta, &hint);
+}

@@ -1,0 +1,97 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+#include "query/context.h"
+
+#include "base/alloc.h"
+#include "base/core.h"
+
+#include <string.h>
+
+int selfcol_context_options_init(selfcol_context_options *opts, unsigned int version) {
+    SELFCOL_CHECK(opts != NULL);
+    if (version == 0 || version > SELFCOL_CONTEXT_OPTIONS_VERSION)
+        return SELFCOL_EVERSION;
+    memset(opts, 0, sizeof *opts);
+    opts->version = version;
+    opts->threads = 1;
+    return SELFCOL_OK;
+}
+
+int selfcol_context_create(selfcol_context **out, const selfcol_context_options *opts) {
+    SELFCOL_CHECK(out != NULL);
+    *out = NULL;
+    SELFCOL_CHECK_VERSION(opts, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    selfcol_context_options o;
+    selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    if (opts != NULL)
+        o = *opts;
+    SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
+    SELFCOL_CHECK(o.threads >= 1 && o.threads <= SELFCOL_MAX_THREADS);
+    SELFCOL_CHECK((o.enqueue_task == NULL) == (o.finish_task == NULL));
+    selfcol_context *c = selfcol_alloc__raw(&o.allocator, sizeof *c);
+    if (c == NULL)
+        return SELFCOL_ENOMEM;
+    memset(c, 0, sizeof *c);
+    c->allocator = o.allocator;
+    c->threads = o.threads;
+    c->executor.enqueue_task = o.enqueue_task;
+    c->executor.finish_task = o.finish_task;
+    c->executor.user_context = o.user_context;
+    selfcol_workspace__init(&c->work, &c->allocator);
+    *out = c;
+    return SELFCOL_OK;
+}
+
+void selfcol_context_destroy(selfcol_context *context) {
+    if (context == NULL)
+        return;
+    selfcol_allocator allocator = context->allocator;
+    for (unsigned w = 1; w < SELFCOL_MAX_THREADS; ++w) {
+        selfcol_worker *worker = context->workers[w];
+        if (worker == NULL)
+            continue;
+        selfcol_records__free(&worker->records);
+        selfcol_workspace__free(&worker->work);
+        selfcol_alloc__free(&allocator, worker, sizeof *worker);
+    }
+    selfcol_workspace__free(&context->work);
+    selfcol_alloc__free(&allocator, context, sizeof *context);
+}
+
+size_t selfcol_context_byte_count(const selfcol_context *context) {
+    if (context == NULL)
+        return 0;
+    size_t bytes = sizeof *context + selfcol_workspace__byte_count(&context->work);
+    for (unsigned w = 1; w < SELFCOL_MAX_THREADS; ++w) {
+        const selfcol_worker *worker = context->workers[w];
+        if (worker != NULL)
+            bytes += sizeof *worker + selfcol_records__byte_count(&worker->records) +
+                     selfcol_workspace__byte_count(&worker->work);
+    }
+    return bytes;
+}
+
+selfcol_worker *selfcol_context__worker(selfcol_context *context, unsigned w) {
+    selfcol_worker *worker = context->workers[w];
+    if (worker == NULL) {
+        worker = selfcol_alloc__raw(&context->allocator, sizeof *worker);
+        if (worker == NULL)
+            return NULL;
+        selfcol_records__init(&worker->records, &context->allocator);
+        selfcol_workspace__init(&worker->work, &context->allocator);
+        context->workers[w] = worker;
+    }
+    selfcol_records__clear(&worker->records);
+    return worker;
+}
+
+int selfcol_context__sort(selfcol_context *context, selfcol_records *out) {
+    selfcol_records *pending[SELFCOL_MAX_THREADS];
+    const unsigned count = context->pending_workers;
+    context->pending_workers = 0;
+    for (unsigned w = 0; w < count; ++w)
+        pending[w] = &context->workers[w + 1]->records;
+    return selfcol_records__sort(out, pending, count, &context->work, &context->executor,
+                                 context->threads);
+}

@@ -1,0 +1,94 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// The narrow phase of every search method (pairs.c): primitive-pair tests,
+// the per-query triangle frames, triangle-pair candidates and the filtered
+// run over a candidate list.
+#ifndef SELFCOL_PAIRS_H
+#define SELFCOL_PAIRS_H
+
+#include "hierarchy/hierarchy.h"
+#include "query/query.h"
+
+// Primitive-pair tests (pairs.c). Vertex v of mesh[mv] against triangle t of
+// mesh[mt]; the caller guarantees (for self queries) that v is not a corner
+// of t. A hit becomes a record.
+int selfcol_pairs__test_vf(selfcol_query *q, int mv, uint32_t v, int mt, uint32_t t);
+// Edge e of mesh[me] against edge f of mesh[mf]; no shared vertex for self.
+int selfcol_pairs__test_ee(selfcol_query *q, int me, uint32_t e, int mf, uint32_t f);
+// Edge e of mesh[me] against triangle t of mesh[mt]; no shared vertex for self.
+int selfcol_pairs__test_ef(selfcol_query *q, int me, uint32_t e, int mt, uint32_t t);
+
+// 1 when the lines of segments (p0, p1) and (q0, q1) are provably farther
+// apart than d (1 + 2^-20), so no EE contact: the cheap reject before the
+// closed form (pairs.c derives its rounding bound). Never 1 for a pair whose
+// closed-form distance is below d (test_pairs_internal).
+int selfcol_pairs__lines_apart(const double *p0, const double *p1, const double *q0,
+                               const double *q1, double d);
+
+// What the pair tests read of a triangle, computed once per query and
+// triangle (lazily, for the leaves the traversal reaches) and laid out by
+// hierarchy slot, so that a leaf pair reads contiguous memory instead of
+// gathering from the mesh: its corners, box and unnormalised normal
+// (p1 - p0) x (p2 - p0) in the triangle's own winding, with the computed
+// length and the scale of its rounding error, and what it owns (pairs.c).
+typedef struct selfcol_tri_frame {
+    double corner[3][3];
+    // The corners again, axis by axis: xyz[k] = corners 0, 1, 2, 0, 1, so
+    // that two-lane loads at c and c + 1 hold the ends of edge slots c and
+    // c + 1 (the two-lane filters of pairs.c).
+    double xyz[3][5];
+    double lo[3], hi[3];
+    double normal[3];
+    double length;
+    double abs_max;
+    uint32_t id;           // the triangle
+    uint32_t corner_id[3]; // its vertices
+    uint32_t edge[3];      // edge of slot i (corners i, i + 1) when owned
+    uint8_t owned;         // SELFCOL_OWNS_* bits
+    uint8_t edge_reversed; // bit i: edge i's record lists corner i + 1 first
+} selfcol_tri_frame;
+
+void selfcol_pairs__frame(selfcol_tri_frame *frame, const struct selfcol_hierarchy *h,
+                          uint32_t slot);
+
+// A candidate triangle pair, as slots of the two hierarchies' tri_order,
+// with the plane flags of pairs.c (which corners of each triangle are
+// provably beyond d of, or strictly on one side of, the other's plane).
+typedef struct selfcol_slot_pair {
+    uint32_t a, b;
+    uint32_t flags; // 4 x 3 bits for a's corners against b's plane, then 4 x 3 for b's
+} selfcol_slot_pair;
+
+// Separation test of triangles fa and fb at distance d: 0 when one lies
+// beyond d of the other's plane (the pair holds no contact), else 1 with
+// *flags set for selfcol_pairs__run.
+int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
+                             uint32_t *flags);
+
+// The slots s in [begin, end) whose triangle's box is within d of a's
+// (selfcol_box__near on the frames' boxes), written to out in increasing
+// order; returns their count. Decided without a branch per slot: which
+// slots of a leaf pass looks random to a branch predictor.
+uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri_frame *frames,
+                                   uint32_t begin, uint32_t end, double d, uint32_t *out);
+
+// The one-lane references of the two functions above, always compiled: the
+// SSE2 paths (x86-64's baseline) must equal them bit for bit
+// (test_pairs_internal); a build with SELFCOL_SCALAR defined uses them.
+int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb,
+                                    double d, uint32_t *flags);
+uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a,
+                                          const selfcol_tri_frame *frames, uint32_t begin,
+                                          uint32_t end, double d, uint32_t *out);
+
+// The narrow phase over a candidate list: every primitive pair the triangle
+// pairs own, through the per-primitive filters, into records. frames[0] and
+// frames[1] are the two hierarchies' frame arrays (the same for self).
+int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                       const selfcol_slot_pair *pairs, size_t count);
+// Its one-lane reference (the same records and statistics; test_pairs_internal).
+int selfcol_pairs__run_scalar(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                              const selfcol_slot_pair *pairs, size_t count);
+
+#endif // SELFCOL_PAIRS_H
