@@ -19,11 +19,14 @@ import os
 import re
 import sys
 
-import matplotlib
+try:
+    import matplotlib
 
-matplotlib.use("Agg")  # files only, no display
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.ticker  # noqa: E402
+    matplotlib.use("Agg")  # files only, no display
+    import matplotlib.pyplot as plt  # noqa: E402
+    import matplotlib.ticker  # noqa: E402
+except ImportError:  # --check compares the tables and draws nothing
+    matplotlib = plt = None
 
 # EXACT-VF (vertex-triangle proximities only) is the like-for-like partner
 # of BULLET, which has no edge-edge test and reports no crossing; its misses
@@ -597,12 +600,20 @@ def main():
     ap.add_argument("--subset", default="default")
     ap.add_argument("--results", default=None)
     ap.add_argument("--docs", default=None)
+    ap.add_argument("--check", action="store_true",
+                    help="draw nothing, write nothing: fail when a generated table of "
+                         "benchmarks.md differs from what the committed results give")
     a = ap.parse_args()
     results = a.results or os.path.join(a.root, "tools", "bench", "results")
     docs = a.docs or os.path.join(a.root, "docs")
     rows, meta, store = load(results, a.subset)
     if not rows:
         print("plot: no rows in %s/%s.csv" % (results, a.subset), file=sys.stderr)
+        return 1
+    if a.check:
+        return check_tables(a, results, docs, rows, meta, store)
+    if plt is None:
+        print("plot: matplotlib is missing (tools/plot/plot.sh installs it)", file=sys.stderr)
         return 1
     os.makedirs(docs, exist_ok=True)
     note = ("Generated scenes have edges ~1 unit, far above Bullet's ~1.8 cm dead zone: no scaling "
@@ -629,6 +640,33 @@ def main():
         written.append(p)
     md = os.path.join(docs, "benchmarks.md")
     text = open(md).read() if os.path.exists(md) else "# Benchmarks\n"
+    text = generated_tables(text, a, results, rows, meta, store)
+    with open(md, "w") as f:
+        f.write(text)
+    for p in written + [md]:
+        print("plot: wrote %s" % os.path.relpath(p, a.root))
+    return 0
+
+
+def check_tables(a, results, docs, rows, meta, store):
+    """--check: the generated blocks of benchmarks.md against the results."""
+    md = os.path.join(docs, "benchmarks.md")
+    text = open(md).read()
+    want = generated_tables(text, a, results, rows, meta, store)
+    if want == text:
+        print("plot: the generated tables of %s hold the committed results" % md)
+        return 0
+    names = re.findall(r"<!-- generated:([a-z0-9-]+) -->", want)
+    for name in names:
+        pat = re.compile(r"<!-- generated:%s -->\n(.*?)<!-- /generated:%s -->" % (name, name), re.S)
+        old, new = pat.search(text), pat.search(want)
+        if old is None or new is None or old.group(1) != new.group(1):
+            print("plot: %s: block '%s' is not what the committed results give "
+                  "(run make plot and commit)" % (md, name), file=sys.stderr)
+    return 1
+
+
+def generated_tables(text, a, results, rows, meta, store):
     text = replace_block(text, "machine", table_machine(meta))
     text = replace_block(text, "headlines", table_headlines(rows))
     text = replace_block(text, "exact-check", table_exact_check(rows))
@@ -644,11 +682,7 @@ def main():
         text = replace_block(text, "full-machine", table_machine(fmeta))
         text = replace_block(text, "full-headlines", table_headlines(frows))
         text = replace_block(text, "full-exact-check", table_exact_check(frows))
-    with open(md, "w") as f:
-        f.write(text)
-    for p in written + [md]:
-        print("plot: wrote %s" % os.path.relpath(p, a.root))
-    return 0
+    return text
 
 
 if __name__ == "__main__":
