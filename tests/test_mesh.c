@@ -513,10 +513,193 @@ static void test_mesh_create_survives_every_allocation_failure(void **state) {
     fixture_free(&g);
 }
 
+// selfcol_mesh_check names the first problem, with the status
+// selfcol_mesh_create returns for the same input (one checker behind both).
+typedef struct check_case {
+    const char *name;
+    size_t vertex_count, triangle_count;
+    int null_positions, null_triangles;
+    int bad_index;        // triangles[5] = 9
+    double coordinate[3]; // written at positions[3 * 2 + axis] for axis with a nonzero flag
+    int set[3];           // which of coordinate[] to write
+    int status;
+    uint32_t kind;
+    uint64_t element;
+    uint32_t component;
+    const char *message;
+} check_case;
+
+static void test_mesh_check_names_the_culprit(void **state) {
+    (void)state;
+    // Two triangles over 4 vertices; vertex 2's coordinates are replaced.
+    const check_case cases[] = {
+        {"valid", 4, 2, 0, 0, 0, {0}, {0}, SELFCOL_OK, SELFCOL_MESH_PROBLEM_NONE, 0, 0, ""},
+        {"no positions",
+         4,
+         2,
+         1,
+         0,
+         0,
+         {0},
+         {0},
+         SELFCOL_EINVAL,
+         SELFCOL_MESH_PROBLEM_ARGUMENT,
+         0,
+         0,
+         "positions is NULL"},
+        {"no triangles",
+         4,
+         2,
+         0,
+         1,
+         0,
+         {0},
+         {0},
+         SELFCOL_EINVAL,
+         SELFCOL_MESH_PROBLEM_ARGUMENT,
+         0,
+         0,
+         "triangles is NULL"},
+        {"empty",
+         4,
+         0,
+         0,
+         0,
+         0,
+         {0},
+         {0},
+         SELFCOL_EINVAL,
+         SELFCOL_MESH_PROBLEM_ARGUMENT,
+         0,
+         0,
+         "triangle_count is 0 (an empty mesh)"},
+        {"index",
+         4,
+         2,
+         0,
+         0,
+         1,
+         {0},
+         {0},
+         SELFCOL_EINVAL,
+         SELFCOL_MESH_PROBLEM_INDEX,
+         1,
+         2,
+         "triangles[5] (triangle 1, corner 2) = 9 is not a vertex (vertex_count = 4)"},
+        {"nan",
+         4,
+         2,
+         0,
+         0,
+         0,
+         {0, 0, NAN},
+         {0, 0, 1},
+         SELFCOL_EINVAL,
+         SELFCOL_MESH_PROBLEM_NOT_FINITE,
+         2,
+         2,
+         "positions[8] (vertex 2, z) = nan is not finite"},
+        {"large",
+         4,
+         2,
+         0,
+         0,
+         0,
+         {1e61, 0, 0},
+         {1, 0, 0},
+         SELFCOL_ERANGE,
+         SELFCOL_MESH_PROBLEM_TOO_LARGE,
+         2,
+         0,
+         "positions[6] (vertex 2, x) = 9.9999999999999995e+60 is beyond the largest coordinate "
+         "magnitude 2^200 (about 1.6e60)"},
+        {"small",
+         4,
+         2,
+         0,
+         0,
+         0,
+         {0, 1e-70, 0},
+         {0, 1, 0},
+         SELFCOL_ERANGE,
+         SELFCOL_MESH_PROBLEM_TOO_SMALL,
+         2,
+         1,
+         "positions[7] (vertex 2, y) = 1e-70 is below the smallest nonzero "
+         "coordinate magnitude 2^-200 (about 6.2e-61; flush it to 0)"},
+        // A non-finite coordinate wins over an earlier one out of range.
+        {"large then inf",
+         4,
+         2,
+         0,
+         0,
+         0,
+         {1e61, INFINITY, 0},
+         {1, 1, 0},
+         SELFCOL_EINVAL,
+         SELFCOL_MESH_PROBLEM_NOT_FINITE,
+         2,
+         1,
+         "positions[7] (vertex 2, y) = inf is not finite"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; ++c) {
+        const check_case *k = &cases[c];
+        double positions[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+        uint32_t triangles[6] = {0, 1, 2, 0, 2, 3};
+        for (int axis = 0; axis < 3; ++axis)
+            if (k->set[axis])
+                positions[6 + axis] = k->coordinate[axis];
+        if (k->bad_index)
+            triangles[5] = 9;
+        const double *P = k->null_positions ? NULL : positions;
+        const uint32_t *T = k->null_triangles ? NULL : triangles;
+        selfcol_mesh_problem p;
+        memset(&p, 0x5a, sizeof p);
+        p.version = SELFCOL_MESH_PROBLEM_VERSION;
+        const int status = selfcol_mesh_check(k->vertex_count, P, k->triangle_count, T, &p);
+        if (status != k->status || p.status != k->status || p.kind != k->kind ||
+            p.element != k->element || p.component != k->component ||
+            strcmp(p.message, k->message) != 0)
+            fail_msg("%s: status %d/%d kind %u element %llu component %u message '%s'", k->name,
+                     status, p.status, p.kind, (unsigned long long)p.element, p.component,
+                     p.message);
+        // The same status from creation.
+        selfcol_mesh *m = NULL;
+        assert_int_equal(selfcol_mesh_create(&m, k->vertex_count, P, k->triangle_count, T, NULL),
+                         k->status);
+        selfcol_mesh_destroy(m);
+        if (k->kind == SELFCOL_MESH_PROBLEM_NONE)
+            assert_true(isnan(p.value) && p.reason[0] == '\0');
+        if (k->kind == SELFCOL_MESH_PROBLEM_INDEX) {
+            assert_true(p.value == 9.0);
+            assert_string_equal(p.reason, "is not a vertex (vertex_count = 4)");
+        }
+        // Positions alone: what selfcol_mesh_set_positions refuses.
+        if (P != NULL && k->kind >= SELFCOL_MESH_PROBLEM_NOT_FINITE) {
+            selfcol_mesh_problem q;
+            q.version = SELFCOL_MESH_PROBLEM_VERSION;
+            assert_int_equal(selfcol_mesh_check_positions(4, P, &q), k->status);
+            assert_string_equal(q.message, k->message);
+        }
+    }
+    selfcol_mesh_problem p;
+    const double positions[12] = {0};
+    const uint32_t triangles[3] = {0, 1, 2};
+    assert_int_equal(selfcol_mesh_check(4, positions, 1, triangles, NULL), SELFCOL_EINVAL);
+    p.version = 0;
+    assert_int_equal(selfcol_mesh_check(4, positions, 1, triangles, &p), SELFCOL_EVERSION);
+    p.version = SELFCOL_MESH_PROBLEM_VERSION + 1;
+    assert_int_equal(selfcol_mesh_check_positions(4, positions, &p), SELFCOL_EVERSION);
+    p.version = SELFCOL_MESH_PROBLEM_VERSION;
+    assert_int_equal(selfcol_mesh_check_positions(4, NULL, &p), SELFCOL_EINVAL);
+    assert_string_equal(p.message, "positions is NULL");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mesh_create_builds_square_topology),
         cmocka_unit_test(test_mesh_create_rejects_invalid_input),
+        cmocka_unit_test(test_mesh_check_names_the_culprit),
         cmocka_unit_test(test_mesh_options_check_version_and_allocator),
         cmocka_unit_test(test_mesh_float_stride_matches_double),
         cmocka_unit_test(test_mesh_set_positions_rejects_nan_and_keeps_old_positions),

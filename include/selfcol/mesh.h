@@ -73,6 +73,61 @@ typedef struct selfcol_mesh_options {
  */
 SELFCOL_API int selfcol_mesh_options_init(selfcol_mesh_options *opts, unsigned int version);
 
+/** What selfcol_mesh_check() found wrong, if anything. Values are pinned. */
+typedef enum selfcol_mesh_problem_kind {
+    SELFCOL_MESH_PROBLEM_NONE = 0,       /**< the input is accepted */
+    SELFCOL_MESH_PROBLEM_ARGUMENT = 1,   /**< a NULL pointer or a zero count */
+    SELFCOL_MESH_PROBLEM_COUNT = 2,      /**< more vertices or triangles than indices hold */
+    SELFCOL_MESH_PROBLEM_INDEX = 3,      /**< a triangle's corner is not a vertex */
+    SELFCOL_MESH_PROBLEM_NOT_FINITE = 4, /**< a NaN or infinite coordinate */
+    SELFCOL_MESH_PROBLEM_TOO_LARGE = 5,  /**< beyond SELFCOL_MESH_MAX_COORDINATE */
+    SELFCOL_MESH_PROBLEM_TOO_SMALL = 6   /**< nonzero, below SELFCOL_MESH_MIN_COORDINATE */
+} selfcol_mesh_problem_kind;
+
+/**
+ * The first thing selfcol_mesh_create() would refuse in an input, named: the
+ * culprit the status alone does not give. The caller sets version.
+ */
+typedef struct selfcol_mesh_problem {
+    unsigned int version; /**< SELFCOL_MESH_PROBLEM_VERSION */
+    int status;           /**< what selfcol_mesh_create() returns for it (0: accepted) */
+    uint32_t kind;        /**< selfcol_mesh_problem_kind */
+    /** The corner (INDEX) or the axis, 0 = x (coordinates); else 0. */
+    uint32_t component;
+    /** The triangle (INDEX) or the vertex (coordinates); else 0. */
+    uint64_t element;
+    /** The offending index or coordinate (NaN for NONE, ARGUMENT and COUNT). */
+    double value;
+    /** Why, without naming the element, for a front that names it its own
+     *  way: "is not a vertex (vertex_count = 6)", "is not finite", ... */
+    char reason[96];
+    /** The whole sentence, in the C API's names: "triangles[53] (triangle
+     *  17, corner 2) = 99 is not a vertex (vertex_count = 50)". */
+    char message[256];
+} selfcol_mesh_problem;
+
+#define SELFCOL_MESH_PROBLEM_VERSION 1
+
+/**
+ * Checks an input of selfcol_mesh_create() and names its first problem (the
+ * counts, then the indices in order, then the coordinates in order: the
+ * first non-finite one, else the first out of range), allocating nothing.
+ * @param[in,out] problem its version set by the caller; the rest written
+ * @return the status selfcol_mesh_create() returns for this input, short of
+ *         allocation (SELFCOL_OK, SELFCOL_EINVAL, SELFCOL_ERANGE);
+ *         SELFCOL_EINVAL for a NULL problem; SELFCOL_EVERSION for its version.
+ */
+SELFCOL_API int selfcol_mesh_check(size_t vertex_count, const double *positions,
+                                   size_t triangle_count, const uint32_t *triangles,
+                                   selfcol_mesh_problem *problem);
+
+/**
+ * As selfcol_mesh_check(), for positions alone: what
+ * selfcol_mesh_set_positions() refuses in them.
+ */
+SELFCOL_API int selfcol_mesh_check_positions(size_t vertex_count, const double *positions,
+                                             selfcol_mesh_problem *problem);
+
 /**
  * Creates a mesh from double positions and triangle indices, and builds its
  * topology (unique edges, edge->triangles, vertex->triangles, boundary and

@@ -11,6 +11,7 @@
 #include "base/predicates.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 int selfcol_mesh_options_init(selfcol_mesh_options *opts, unsigned int version) {
@@ -51,20 +52,152 @@ static void read_position(const position_source *src, size_t v, double out[3]) {
 // by 10^103 or 10^-109 gave no interference and mean edge lengths inf or 0;
 // and the mesh fuzzer found a mesh mixing 1e18 with subnormal coordinates
 // (1e-281, 1e-316) where BVH and EXACT missed an EF crossing EXHAUSTIVE saw.
-static int positions_check(const position_source *src, size_t vertex_count) {
-    int out_of_range = 0;
+//
+// One checker for creation, new positions and selfcol_mesh_check: the
+// status of the first problem, and with `problem` (NULL: the status only)
+// the problem named.
+
+static int problem_none(selfcol_mesh_problem *p) {
+    if (p != NULL) {
+        p->status = SELFCOL_OK;
+        p->kind = SELFCOL_MESH_PROBLEM_NONE;
+        p->component = 0;
+        p->element = 0;
+        p->value = NAN;
+        p->reason[0] = p->message[0] = '\0';
+    }
+    return SELFCOL_OK;
+}
+
+static int problem_at(selfcol_mesh_problem *p, int status, uint32_t kind, uint64_t element,
+                      uint32_t component, double value, const char *reason, const char *message) {
+    if (p != NULL) {
+        p->status = status;
+        p->kind = kind;
+        p->element = element;
+        p->component = component;
+        p->value = value;
+        snprintf(p->reason, sizeof p->reason, "%s", reason);
+        snprintf(p->message, sizeof p->message, "%s", message);
+    }
+    return status;
+}
+
+static int coordinate_problem(selfcol_mesh_problem *p, uint32_t kind, size_t v, int k, double x,
+                              const position_source *src) {
+    static const char *const why[] = {
+        "is not finite", "is beyond the largest coordinate magnitude 2^200 (about 1.6e60)",
+        "is below the smallest nonzero coordinate magnitude 2^-200 (about 6.2e-61; flush it "
+        "to 0)"};
+    const char *reason = why[kind - SELFCOL_MESH_PROBLEM_NOT_FINITE];
+    const int status = kind == SELFCOL_MESH_PROBLEM_NOT_FINITE ? SELFCOL_EINVAL : SELFCOL_ERANGE;
+    if (p == NULL)
+        return status;
+    char message[sizeof p->message];
+    snprintf(message, sizeof message, "positions%s[%zu] (vertex %zu, %c) = %.17g %s",
+             src->xyz != NULL ? "" : " (floats)", 3 * v + (size_t)k, v, "xyz"[k], x, reason);
+    return problem_at(p, status, kind, v, (uint32_t)k, x, reason, message);
+}
+
+static int positions_check(const position_source *src, size_t vertex_count,
+                           selfcol_mesh_problem *problem) {
+    // The first non-finite coordinate wins over an earlier one out of range
+    // (EINVAL before ERANGE, as the status always was).
+    size_t range_v = 0;
+    int range_k = -1;
+    uint32_t range_kind = 0;
+    double range_x = 0.0;
     for (size_t v = 0; v < vertex_count; ++v) {
         double p[3];
         read_position(src, v, p);
         for (int k = 0; k < 3; ++k) {
             if (!isfinite(p[k]))
-                return SELFCOL_EINVAL;
-            double a = fabs(p[k]);
-            out_of_range |=
-                a > SELFCOL_MESH_MAX_COORDINATE || (a != 0.0 && a < SELFCOL_MESH_MIN_COORDINATE);
+                return coordinate_problem(problem, SELFCOL_MESH_PROBLEM_NOT_FINITE, v, k, p[k],
+                                          src);
+            const double a = fabs(p[k]);
+            if (range_k < 0 && (a > SELFCOL_MESH_MAX_COORDINATE ||
+                                (a != 0.0 && a < SELFCOL_MESH_MIN_COORDINATE))) {
+                range_v = v;
+                range_k = k;
+                range_x = p[k];
+                range_kind = a > SELFCOL_MESH_MAX_COORDINATE ? SELFCOL_MESH_PROBLEM_TOO_LARGE
+                                                             : SELFCOL_MESH_PROBLEM_TOO_SMALL;
+            }
         }
     }
-    return out_of_range ? SELFCOL_ERANGE : SELFCOL_OK;
+    if (range_k >= 0)
+        return coordinate_problem(problem, range_kind, range_v, range_k, range_x, src);
+    return problem_none(problem);
+}
+
+// What create_mesh refuses, in its order: arguments, counts, indices,
+// coordinates.
+static int input_check(size_t vertex_count, const position_source *src, size_t triangle_count,
+                       const uint32_t *triangles, selfcol_mesh_problem *problem) {
+    const char *null_name = (src->xyz == NULL && src->base == NULL) ? "positions"
+                            : triangles == NULL                     ? "triangles"
+                                                                    : NULL;
+    if (null_name != NULL) {
+        char message[64];
+        snprintf(message, sizeof message, "%s is NULL", null_name);
+        return problem_at(problem, SELFCOL_EINVAL, SELFCOL_MESH_PROBLEM_ARGUMENT, 0, 0, NAN,
+                          "is NULL", message);
+    }
+    if (vertex_count == 0 || triangle_count == 0)
+        return problem_at(problem, SELFCOL_EINVAL, SELFCOL_MESH_PROBLEM_ARGUMENT, 0, 0, NAN,
+                          "is 0 (an empty mesh)",
+                          vertex_count == 0 ? "vertex_count is 0 (an empty mesh)"
+                                            : "triangle_count is 0 (an empty mesh)");
+    if (vertex_count > SELFCOL_MESH_MAX_VERTICES || triangle_count > SELFCOL_MESH_MAX_TRIANGLES) {
+        char message[sizeof problem->message];
+        const int vertices = vertex_count > SELFCOL_MESH_MAX_VERTICES;
+        snprintf(message, sizeof message, "%s = %zu is more than %s indices hold (%zu)",
+                 vertices ? "vertex_count" : "triangle_count",
+                 vertices ? vertex_count : triangle_count, vertices ? "vertex" : "triangle",
+                 vertices ? (size_t)SELFCOL_MESH_MAX_VERTICES : (size_t)SELFCOL_MESH_MAX_TRIANGLES);
+        return problem_at(problem, SELFCOL_ERANGE, SELFCOL_MESH_PROBLEM_COUNT, 0, 0, NAN,
+                          "is more than 32-bit indices hold", message);
+    }
+    for (size_t i = 0; i < 3 * triangle_count; ++i)
+        if (triangles[i] >= vertex_count) {
+            if (problem == NULL)
+                return SELFCOL_EINVAL;
+            char reason[sizeof problem->reason], message[sizeof problem->message];
+            snprintf(reason, sizeof reason, "is not a vertex (vertex_count = %zu)", vertex_count);
+            snprintf(message, sizeof message, "triangles[%zu] (triangle %zu, corner %zu) = %lu %s",
+                     i, i / 3, i % 3, (unsigned long)triangles[i], reason);
+            return problem_at(problem, SELFCOL_EINVAL, SELFCOL_MESH_PROBLEM_INDEX, i / 3,
+                              (uint32_t)(i % 3), (double)triangles[i], reason, message);
+        }
+    return positions_check(src, vertex_count, problem);
+}
+
+static int problem_ready(selfcol_mesh_problem *problem) {
+    SELFCOL_CHECK(problem != NULL);
+    if (problem->version == 0 || problem->version > SELFCOL_MESH_PROBLEM_VERSION)
+        return SELFCOL_EVERSION;
+    return SELFCOL_OK;
+}
+
+int selfcol_mesh_check(size_t vertex_count, const double *positions, size_t triangle_count,
+                       const uint32_t *triangles, selfcol_mesh_problem *problem) {
+    const int ready = problem_ready(problem);
+    if (ready != SELFCOL_OK)
+        return ready;
+    const position_source src = {positions, NULL, 0};
+    return input_check(vertex_count, &src, triangle_count, triangles, problem);
+}
+
+int selfcol_mesh_check_positions(size_t vertex_count, const double *positions,
+                                 selfcol_mesh_problem *problem) {
+    const int ready = problem_ready(problem);
+    if (ready != SELFCOL_OK)
+        return ready;
+    if (positions == NULL)
+        return problem_at(problem, SELFCOL_EINVAL, SELFCOL_MESH_PROBLEM_ARGUMENT, 0, 0, NAN,
+                          "is NULL", "positions is NULL");
+    const position_source src = {positions, NULL, 0};
+    return positions_check(&src, vertex_count, problem);
 }
 
 int selfcol_mesh__positions_in_contract(const double *xyz, size_t vertex_count) {
@@ -121,14 +254,7 @@ static int create_mesh(selfcol_mesh **out, size_t vertex_count, const position_s
     if (opts != NULL)
         allocator = opts->allocator;
     SELFCOL_CHECK(selfcol_alloc__valid(&allocator));
-    SELFCOL_CHECK(triangles != NULL);
-    SELFCOL_CHECK(vertex_count > 0 && triangle_count > 0);
-    if (vertex_count > SELFCOL_MESH_MAX_VERTICES || triangle_count > SELFCOL_MESH_MAX_TRIANGLES)
-        return SELFCOL_ERANGE;
-    for (size_t i = 0; i < 3 * triangle_count; ++i)
-        if (triangles[i] >= vertex_count)
-            return SELFCOL_EINVAL;
-    int checked = positions_check(src, vertex_count);
+    const int checked = input_check(vertex_count, src, triangle_count, triangles, NULL);
     if (checked != SELFCOL_OK)
         return checked;
 
@@ -189,7 +315,7 @@ void selfcol_mesh_destroy(selfcol_mesh *mesh) {
 }
 
 static int set_positions(selfcol_mesh *mesh, const position_source *src) {
-    int checked = positions_check(src, mesh->vertex_count);
+    int checked = positions_check(src, mesh->vertex_count, NULL);
     if (checked != SELFCOL_OK)
         return checked;
     // Positions equal to the current ones are not a move: the version (which

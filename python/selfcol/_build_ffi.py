@@ -63,6 +63,23 @@ int selfcol_mesh_create_float(selfcol_mesh **out, size_t vertex_count, const flo
                               size_t stride_bytes, size_t triangle_count,
                               const uint32_t *triangles, const void *opts);
 void selfcol_mesh_destroy(selfcol_mesh *mesh);
+typedef struct selfcol_mesh_problem {
+    unsigned int version;
+    int status;
+    uint32_t kind;
+    uint32_t component;
+    uint64_t element;
+    double value;
+    char reason[96];
+    char message[256];
+} selfcol_mesh_problem;
+#define SELFCOL_MESH_PROBLEM_VERSION ...
+#define SELFCOL_MESH_PROBLEM_INDEX ...
+#define SELFCOL_MESH_PROBLEM_NOT_FINITE ...
+int selfcol_mesh_check(size_t vertex_count, const double *positions, size_t triangle_count,
+                       const uint32_t *triangles, selfcol_mesh_problem *problem);
+int selfcol_mesh_check_positions(size_t vertex_count, const double *positions,
+                                 selfcol_mesh_problem *problem);
 int selfcol_mesh_set_positions(selfcol_mesh *mesh, const double *positions, size_t vertex_count);
 int selfcol_mesh_set_positions_float(selfcol_mesh *mesh, const float *positions,
                                      size_t stride_bytes, size_t vertex_count);

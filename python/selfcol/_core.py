@@ -99,24 +99,27 @@ def _check_mesh(status: int, what: str, P: np.ndarray, T: Optional[np.ndarray]) 
 
 
 def _mesh_culprit(P: np.ndarray, T: Optional[np.ndarray]) -> Optional[str]:
-    a = np.abs(np.asarray(P, dtype=np.float64))
-    hi, lo = 2.0 ** 200, 2.0 ** -200  # SELFCOL_MESH_MAX_COORDINATE, _MIN_ (mesh.h)
-    checks = ((~np.isfinite(a), "is not finite"),
-              (a > hi, "is beyond the largest coordinate magnitude 2^200 (about 1.6e60)"),
-              ((a > 0) & (a < lo), "is below the smallest nonzero coordinate magnitude 2^-200 "
-               "(about 6.2e-61; flush it to 0)"))
-    for bad, why in checks:
-        where = np.argwhere(bad)
-        if where.size:
-            v, c = (int(x) for x in where[0])
-            return "V[%d, %d] = %r %s" % (v, c, float(P[v, c]), why)
-    if T is not None:
-        where = np.argwhere(T >= P.shape[0])
-        if where.size:
-            t, c = (int(x) for x in where[0])
-            return "F[%d, %d] = %d is not a row of V (%d vertices)" % (t, c, int(T[t, c]),
-                                                                       P.shape[0])
-    return None
+    """The first element the C library refuses (selfcol_mesh_check, the
+    checker selfcol_mesh_create runs), named in V and F's terms."""
+    P64 = np.ascontiguousarray(P, dtype=np.float64)
+    problem = ffi.new("selfcol_mesh_problem *")
+    problem.version = lib.SELFCOL_MESH_PROBLEM_VERSION
+    if T is None:
+        lib.selfcol_mesh_check_positions(P64.shape[0], _ptr("double *", P64), problem)
+    else:
+        T32 = np.ascontiguousarray(T, dtype=np.uint32)
+        lib.selfcol_mesh_check(P64.shape[0], _ptr("double *", P64), T32.shape[0],
+                               _ptr("uint32_t *", T32), problem)
+    if problem.status == 0:
+        return None
+    reason = str(ffi.string(problem.reason).decode())
+    e, c = int(problem.element), int(problem.component)
+    if problem.kind == lib.SELFCOL_MESH_PROBLEM_INDEX:
+        return "F[%d, %d] = %d is not a row of V (%d vertices)" % (e, c, int(problem.value),
+                                                                    P64.shape[0])
+    if problem.kind >= lib.SELFCOL_MESH_PROBLEM_NOT_FINITE:
+        return "V[%d, %d] = %r %s" % (e, c, float(P[e, c]), reason)
+    return str(ffi.string(problem.message).decode())
 
 
 def _invalid(message: str) -> InvalidArgument:

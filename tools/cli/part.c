@@ -5,37 +5,32 @@
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 // The message of a failed selfcol_mesh_create or _set_positions: on
-// SELFCOL_EINVAL or SELFCOL_ERANGE the first element mesh.h's contract
-// refuses (a coordinate not finite or outside [2^-200, 2^200] in magnitude,
-// an index that is not a vertex), else the status. Scans only after a failure.
+// SELFCOL_EINVAL or SELFCOL_ERANGE the element the library refuses, found by
+// its own checker (selfcol_mesh_check) and named in the file's terms, else
+// the status.
 int cli_fail_mesh(cli_error *err, const char *path, int rc, const double *positions,
                   size_t vertex_count, const uint32_t *triangles, size_t triangle_count) {
     if (rc == SELFCOL_EINVAL || rc == SELFCOL_ERANGE) {
-        for (size_t i = 0; i < 3 * vertex_count; ++i) {
-            double x = positions[i], m = fabs(x);
-            const char *why = NULL;
-            if (!isfinite(x))
-                why = "is not finite";
-            else if (m > SELFCOL_MESH_MAX_COORDINATE)
-                why = "is beyond the largest coordinate magnitude 2^200 (about 1.6e60)";
-            else if (m > 0.0 && m < SELFCOL_MESH_MIN_COORDINATE)
-                why = "is below the smallest nonzero coordinate magnitude 2^-200 (about "
-                      "6.2e-61; flush it to 0)";
-            if (why != NULL)
-                return cli_fail(err, "%s: vertex %zu, coordinate %c = %g %s", path, i / 3,
-                                "xyz"[i % 3], x, why);
-        }
-        for (size_t i = 0; triangles != NULL && i < 3 * triangle_count; ++i)
-            if (triangles[i] >= vertex_count)
-                return cli_fail(err,
-                                "%s: triangle %zu names vertex %lu, not in the file (%zu "
-                                "vertices)",
-                                path, i / 3, (unsigned long)triangles[i], vertex_count);
+        selfcol_mesh_problem p;
+        p.version = SELFCOL_MESH_PROBLEM_VERSION;
+        if (triangles != NULL)
+            selfcol_mesh_check(vertex_count, positions, triangle_count, triangles, &p);
+        else
+            selfcol_mesh_check_positions(vertex_count, positions, &p);
+        if (p.kind == SELFCOL_MESH_PROBLEM_INDEX)
+            return cli_fail(
+                err, "%s: triangle %llu names vertex %lu, not in the file (%zu vertices)", path,
+                (unsigned long long)p.element, (unsigned long)p.value, vertex_count);
+        if (p.kind >= SELFCOL_MESH_PROBLEM_NOT_FINITE)
+            return cli_fail(err, "%s: vertex %llu, coordinate %c = %g %s", path,
+                            (unsigned long long)p.element, "xyz"[p.component % 3], p.value,
+                            p.reason);
+        if (p.kind != SELFCOL_MESH_PROBLEM_NONE)
+            return cli_fail(err, "%s: %s", path, p.message);
     }
     return cli_fail(err, "%s: %s", path, selfcol_status_string(rc));
 }

@@ -415,6 +415,16 @@ void test_bad_input_throws() {
         CHECK(false && "no exception");
     } catch (const std::runtime_error &e) {
         CHECK(std::string(e.what()).find("selfcol_mesh_create") != std::string::npos);
+        // and the culprit, found by the library's checker (selfcol_mesh_check)
+        CHECK(std::string(e.what()).find("V(2, 1) = nan is not finite") != std::string::npos);
+    }
+    try {
+        selfcol::mesh m(far, F);
+        CHECK(false && "no exception");
+    } catch (const std::runtime_error &e) {
+        CHECK(std::string(e.what()).find("V(1, 0) = 1.0000000000000001e+300 is beyond the "
+                                         "largest coordinate magnitude 2^200") !=
+              std::string::npos);
     }
 }
 

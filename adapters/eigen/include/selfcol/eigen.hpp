@@ -58,8 +58,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iomanip>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -86,6 +88,26 @@ namespace detail {
 inline void check(int status, const char *call) {
     if (status != SELFCOL_OK)
         throw error(status, call);
+}
+
+/** A refused mesh input's culprit, from the library's own checker
+ *  (selfcol_mesh_check()), in V's terms: "selfcol_mesh_create: V(4, 2) =
+ *  nan is not finite: invalid argument or input data". */
+inline void check_mesh(int status, const char *call, std::size_t vertex_count, const double *xyz) {
+    if (status == SELFCOL_OK)
+        return;
+    if (status == SELFCOL_EINVAL || status == SELFCOL_ERANGE) {
+        selfcol_mesh_problem p;
+        p.version = SELFCOL_MESH_PROBLEM_VERSION;
+        if (xyz != nullptr && selfcol_mesh_check_positions(vertex_count, xyz, &p) != SELFCOL_OK &&
+            p.kind >= SELFCOL_MESH_PROBLEM_NOT_FINITE) {
+            std::ostringstream what;
+            what << call << ": V(" << p.element << ", " << p.component
+                 << ") = " << std::setprecision(17) << p.value << " " << p.reason;
+            throw error(status, what.str());
+        }
+    }
+    throw error(status, call);
 }
 
 struct mesh_deleter {
@@ -203,10 +225,10 @@ class mesh {
         const double *xyz = detail::positions_data(V, positions);
         detail::triangles_data(F, V.rows(), triangles);
         selfcol_mesh *m = nullptr;
-        detail::check(selfcol_mesh_create(&m, static_cast<std::size_t>(V.rows()), xyz,
-                                          static_cast<std::size_t>(triangles.rows()),
-                                          triangles.data(), options),
-                      "selfcol_mesh_create");
+        detail::check_mesh(selfcol_mesh_create(&m, static_cast<std::size_t>(V.rows()), xyz,
+                                               static_cast<std::size_t>(triangles.rows()),
+                                               triangles.data(), options),
+                           "selfcol_mesh_create", static_cast<std::size_t>(V.rows()), xyz);
         handle_.reset(m);
     }
     /** Takes ownership of a mesh made with the C API. */
@@ -237,9 +259,9 @@ class mesh {
     template <class DV> void set_positions(const Eigen::MatrixBase<DV> &V) {
         detail::positions_matrix positions;
         const double *xyz = detail::positions_data(V, positions);
-        detail::check(
+        detail::check_mesh(
             selfcol_mesh_set_positions(handle_.get(), xyz, static_cast<std::size_t>(V.rows())),
-            "selfcol_mesh_set_positions");
+            "selfcol_mesh_set_positions", static_cast<std::size_t>(V.rows()), xyz);
     }
 
     /** Current positions, #V x 3, borrowed from the mesh (empty for an empty owner). */
