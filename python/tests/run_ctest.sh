@@ -43,9 +43,9 @@ if ! "$vpy" -c "import numpy, cffi, pytest, scikit_build_core, distributed, mypy
     exit 77
   fi
 fi
-echo "== pip install $source/python"
+echo "== pip install $source (pyproject.toml: the package in python/)"
 "$vpy" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
-  --force-reinstall -C "build-dir=$build/python-build" "$source/python"
+  --force-reinstall -C "build-dir=$build/python-build" "$source"
 echo "== pytest"
 work="$build/python-tests"
 mkdir -p "$work"
