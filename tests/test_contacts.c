@@ -12,10 +12,12 @@
 
 #include <cmocka.h>
 
+#include <stdlib.h>
 #include <string.h>
 
 #include <selfcol/selfcol.h>
 
+#include "fixtures.h"
 #include "test_alloc.h"
 #include "world.h"
 
@@ -204,6 +206,165 @@ static void test_clear_empties_and_keeps_the_memory(void **state) {
     world_free(&w);
 }
 
+// The intersecting triangle pairs, against a derivation written here from
+// the records and the mesh's own edge -> triangle lists: the README's two
+// crossing triangles, a crumpled sheet crossing itself, two meshes; the
+// pairs follow a new query; NULL arguments.
+static int pair_less(const void *x, const void *y) {
+    const uint32_t *a = x, *b = y;
+    return a[0] != b[0] ? (a[0] < b[0] ? -1 : 1) : (a[1] != b[1] ? (a[1] < b[1] ? -1 : 1) : 0);
+}
+
+// By brute force: every EF record's edge triangles against its triangle,
+// (mesh 0 triangle, mesh 1 triangle) or (low, high), sorted, unique.
+static size_t expected_pairs(const selfcol_contacts *c, const selfcol_mesh *m0,
+                             const selfcol_mesh *m1, uint32_t **out) {
+    const selfcol_contact *r = NULL;
+    size_t n = 0, k = 0;
+    assert_int_equal(selfcol_contacts_data(c, &r, &n), SELFCOL_OK);
+    uint32_t *p = malloc((64 * n + 1) * sizeof *p);
+    assert_non_null(p);
+    for (size_t i = 0; i < n; ++i) {
+        if (r[i].kind != SELFCOL_CONTACT_EF)
+            continue;
+        const selfcol_mesh *me = r[i].first_mesh ? m1 : m0;
+        const uint32_t *tris = NULL;
+        size_t m = 0;
+        assert_int_equal(selfcol_mesh_edge_triangles(me, r[i].first, &tris, &m), SELFCOL_OK);
+        for (size_t j = 0; j < m; ++j) {
+            uint32_t a = tris[j], b = r[i].second;
+            if (m0 == m1 && a > b) {
+                uint32_t t = a;
+                a = b;
+                b = t;
+            } else if (m0 != m1 && r[i].first_mesh) {
+                uint32_t t = a;
+                a = b;
+                b = t;
+            }
+            p[2 * k] = a;
+            p[2 * k + 1] = b;
+            ++k;
+        }
+    }
+    qsort(p, k, 2 * sizeof *p, pair_less);
+    size_t unique = 0;
+    for (size_t i = 0; i < k; ++i)
+        if (unique == 0 || pair_less(&p[2 * i], &p[2 * (unique - 1)]) != 0) {
+            p[2 * unique] = p[2 * i];
+            p[2 * unique + 1] = p[2 * i + 1];
+            ++unique;
+        }
+    *out = p;
+    return unique;
+}
+
+static void check_pairs(selfcol_contacts *c, const selfcol_mesh *m0, const selfcol_mesh *m1,
+                        size_t *total) {
+    uint32_t *want = NULL;
+    const size_t n = expected_pairs(c, m0, m1, &want);
+    const uint32_t *got = (const uint32_t *)1;
+    size_t count = 99;
+    assert_int_equal(selfcol_contacts_intersecting_triangles(c, m0, m1, &got, &count), SELFCOL_OK);
+    assert_int_equal(count, n);
+    if (n > 0)
+        assert_memory_equal(got, want, 2 * n * sizeof *want);
+    else
+        assert_null(got);
+    *total += n;
+    free(want);
+}
+
+static void test_intersecting_triangles(void **state) {
+    (void)state;
+    // The README's example: edges (3, 4) and (3, 5) cross triangle 0.
+    const double V[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, -0.5, 0.3, 0.2, 0.5, 0.2, 0.3, 0.5};
+    const uint32_t F[] = {0, 1, 2, 3, 4, 5};
+    selfcol_mesh *m = NULL;
+    selfcol_hierarchy *h = NULL;
+    selfcol_contacts *c = NULL;
+    assert_int_equal(selfcol_mesh_create(&m, 6, V, 2, F, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.distance = 0.05;
+    assert_int_equal(selfcol_hierarchy_self_collide(h, c, &o), SELFCOL_OK);
+    const uint32_t *pairs = NULL;
+    size_t n = 0;
+    assert_int_equal(selfcol_contacts_intersecting_triangles(c, m, m, &pairs, &n), SELFCOL_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(pairs[0], 0);
+    assert_int_equal(pairs[1], 1);
+    // A query that finds no crossing: no pairs (the old ones are not kept).
+    o.kinds = SELFCOL_KIND_VF;
+    assert_int_equal(selfcol_hierarchy_self_collide(h, c, &o), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_intersecting_triangles(c, m, m, &pairs, &n), SELFCOL_OK);
+    assert_int_equal(n, 0);
+    assert_null(pairs);
+    assert_int_equal(selfcol_contacts_intersecting_triangles(NULL, m, m, &pairs, &n),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_intersecting_triangles(c, NULL, m, &pairs, &n),
+                     SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_intersecting_triangles(c, m, m, NULL, &n), SELFCOL_EINVAL);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(m);
+
+    // A crumpled sheet crossing itself, then two sheets through each other.
+    fixture a = {0}, b = {0};
+    assert_int_equal(fixture_crumpled(&a, 30, 30, 3, 5.0), 0);
+    assert_int_equal(fixture_crumpled(&b, 20, 24, 5, 5.0), 0);
+    const double shift[3] = {0.4, 0.3, 0.0};
+    fixture_translate(&b, shift);
+    selfcol_mesh *ma = NULL, *mb = NULL;
+    selfcol_hierarchy *ha = NULL, *hb = NULL;
+    assert_int_equal(
+        selfcol_mesh_create(&ma, a.vertex_count, a.positions, a.triangle_count, a.triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(
+        selfcol_mesh_create(&mb, b.vertex_count, b.positions, b.triangle_count, b.triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&ha, ma, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&hb, mb, NULL), SELFCOL_OK);
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.distance = 0.01;
+    size_t total = 0;
+    assert_int_equal(selfcol_hierarchy_self_collide(ha, c, &o), SELFCOL_OK);
+    check_pairs(c, ma, ma, &total);
+    const size_t self_pairs = total;
+    assert_true(self_pairs > 10);
+    check_pairs(c, ma, ma, &total); // the kept pairs, answered again
+    assert_int_equal(selfcol_hierarchy_collide(ha, hb, c, &o), SELFCOL_OK);
+    check_pairs(c, ma, mb, &total);
+    assert_true(total > 2 * self_pairs); // the two sheets cross too
+    assert_int_equal(selfcol_hierarchy_collide(hb, ha, c, &o), SELFCOL_OK);
+    check_pairs(c, mb, ma, &total);
+    // Without memory for the pairs: SELFCOL_ENOMEM, then the pairs once it returns.
+    test_allocator_state alloc = {0};
+    selfcol_contacts_options co;
+    selfcol_contacts_options_init(&co, SELFCOL_CONTACTS_OPTIONS_VERSION);
+    co.allocator = test_allocator(&alloc);
+    selfcol_contacts *counted = NULL;
+    assert_int_equal(selfcol_contacts_create(&counted, &co), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_self_collide(ha, counted, &o), SELFCOL_OK);
+    alloc.fail_at = alloc.calls + 1;
+    assert_int_equal(selfcol_contacts_intersecting_triangles(counted, ma, ma, &pairs, &n),
+                     SELFCOL_ENOMEM);
+    alloc.fail_at = 0;
+    assert_int_equal(selfcol_contacts_intersecting_triangles(counted, ma, ma, &pairs, &n),
+                     SELFCOL_OK);
+    assert_int_equal(n, self_pairs);
+    selfcol_contacts_destroy(counted);
+    assert_int_equal(alloc.live, 0);
+    selfcol_hierarchy_destroy(ha);
+    selfcol_hierarchy_destroy(hb);
+    selfcol_mesh_destroy(ma);
+    selfcol_mesh_destroy(mb);
+    fixture_free(&a);
+    fixture_free(&b);
+    selfcol_contacts_destroy(c);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_create_checks_its_options),
@@ -211,6 +372,7 @@ int main(void) {
         cmocka_unit_test(test_records_are_sorted_by_key_without_repeats),
         cmocka_unit_test(test_stats_write_only_their_version),
         cmocka_unit_test(test_clear_empties_and_keeps_the_memory),
+        cmocka_unit_test(test_intersecting_triangles),
     };
     return cmocka_run_group_tests_name("contacts", tests, NULL, NULL);
 }

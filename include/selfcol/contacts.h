@@ -39,6 +39,7 @@
 #define SELFCOL_CONTACTS_H
 
 #include "common.h"
+#include "mesh.h"
 
 SELFCOL_BEGIN_DECLS
 
@@ -206,6 +207,29 @@ SELFCOL_API int selfcol_contacts_data(const selfcol_contacts *contacts,
  */
 SELFCOL_API int selfcol_contacts_stats(const selfcol_contacts *contacts,
                                        selfcol_query_stats *stats);
+
+/**
+ * The intersecting triangle pairs of the last query, derived from its EF
+ * interferences: an edge crossing triangle t puts every triangle having
+ * that edge in a pair with t (their intersection holds the crossing point;
+ * two triangles that intersect away from their common vertices always have
+ * such an edge, since the intersection segment ends on an edge of one
+ * crossing the other). Self query: pairs (a, b), a < b, of the mesh's
+ * triangles; two meshes: (a, b), a a triangle of the first mesh, b of the
+ * second. Sorted, each pair once. Computed at the first call after a query
+ * (O(n) in the EF records, radix-sorted) and kept with the contacts.
+ * @param[in] first, second the query's meshes (the same mesh twice for a
+ *            self query), unchanged since the query
+ * @param[out] pairs_out borrowed: 2 * count triangle indices, valid until
+ *             the next call that modifies the contact set; NULL when none
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL arguments, records naming an
+ *         element the meshes do not have); SELFCOL_ENOMEM.
+ */
+SELFCOL_API int selfcol_contacts_intersecting_triangles(selfcol_contacts *contacts,
+                                                        const selfcol_mesh *first,
+                                                        const selfcol_mesh *second,
+                                                        const uint32_t **pairs_out,
+                                                        size_t *count_out);
 
 /**
  * Bytes of memory held by the contact set.

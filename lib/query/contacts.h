@@ -21,6 +21,14 @@ struct selfcol_contacts {
     // scheduler used as they are).
     selfcol_context *implicit_context;
     int context_borrowed;
+    // The intersecting triangle pairs derived from the records
+    // (selfcol_contacts_intersecting_triangles), valid while the records'
+    // generation is pair_generation + 1 (0: never derived): 2 per pair;
+    // pair_keys is their sort's workspace (2 * capacity keys).
+    uint32_t *pairs;
+    uint64_t *pair_keys;
+    size_t pair_count, pair_capacity;
+    uint64_t pair_generation;
 };
 
 // Lends `context` (NULL: none) to the calls filling `contacts` without one;

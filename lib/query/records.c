@@ -24,6 +24,7 @@ void selfcol_records__free(selfcol_records *r) {
 
 void selfcol_records__clear(selfcol_records *r) {
     r->count = 0;
+    r->generation++;
     memset(&r->stats, 0, sizeof r->stats);
     r->stats.version = SELFCOL_QUERY_STATS_VERSION;
 }

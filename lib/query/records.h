@@ -21,6 +21,7 @@ typedef struct selfcol_records {
     selfcol_contact *spare; // the sort's destination, swapped with items
     size_t spare_capacity;
     selfcol_query_stats stats; // always the latest version
+    uint64_t generation; // bumped by every clear: what was derived from older records is stale
 } selfcol_records;
 
 // Empty records that allocate with `allocator` (copied).

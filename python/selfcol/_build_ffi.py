@@ -117,6 +117,9 @@ size_t selfcol_contacts_count(const selfcol_contacts *contacts);
 int selfcol_contacts_data(const selfcol_contacts *contacts, const selfcol_contact **data_out,
                           size_t *count_out);
 int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats *stats);
+int selfcol_contacts_intersecting_triangles(selfcol_contacts *contacts, const selfcol_mesh *first,
+                                            const selfcol_mesh *second, const uint32_t **pairs_out,
+                                            size_t *count_out);
 
 /* hierarchy.h */
 typedef struct selfcol_hierarchy selfcol_hierarchy;
