@@ -29,13 +29,14 @@ region with its position), seconds (load, check), status ("clean",
 from __future__ import annotations
 
 import argparse
+import contextlib
 import glob
 import json
 import math
 import os
 import sys
 import time
-from typing import Any, Dict, Iterable, Iterator, List, Optional, Tuple
+from typing import Any, Dict, Iterable, Iterator, List, Optional, TextIO, Tuple
 
 import numpy as np
 
@@ -91,7 +92,7 @@ def check_outputs(outputs: Dict[str, Optional[str]], inputs: List[str]) -> None:
     """Refuses (ValueError, before anything is created or truncated) an
     output that is one of the inputs, or two outputs that are one file.
     ``outputs``: option name -> path (None when not given)."""
-    given = [(name, path) for name, path in outputs.items() if path]
+    given = [(name, path) for name, path in outputs.items() if path and path != "-"]
     for name, path in given:
         for inp in inputs:
             if _same_file(path, inp):
@@ -249,12 +250,55 @@ def _dask_results(paths: List[str], indices: List[int], kw: Dict[str, Any], work
             cluster.close()
 
 
+@contextlib.contextmanager
+def _output(path: str) -> Iterator[TextIO]:
+    """The JSON Lines output: a file, or standard output for "-"."""
+    if path == "-":
+        yield sys.stdout
+        sys.stdout.flush()
+    else:
+        with open(path, "w") as fh:
+            yield fh
+
+
+class _Progress:
+    """Frames done, throughput and time left, on one line of standard error
+    rewritten in place; only on a terminal (never into a log or a pipe), and
+    not with --quiet."""
+
+    def __init__(self, total: int, show: Optional[bool] = None) -> None:
+        self.total, self.done, self.start = total, 0, time.perf_counter()
+        self.show = sys.stderr.isatty() if show is None else show
+        self.last = 0.0
+
+    def step(self) -> None:
+        self.done += 1
+        now = time.perf_counter()
+        if not self.show or (now - self.last < 0.2 and self.done < self.total):
+            return
+        self.last = now
+        rate = self.done / max(now - self.start, 1e-9)
+        left = (self.total - self.done) / rate if rate > 0 else 0.0
+        sys.stderr.write("\rselfcol.batch: %d/%d frames, %.2f frames/s, %s left   "
+                         % (self.done, self.total, rate, _duration(left)))
+        if self.done == self.total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def _duration(seconds: float) -> str:
+    s = int(round(seconds))
+    return "%dh%02dm" % (s // 3600, s % 3600 // 60) if s >= 3600 else (
+        "%dm%02ds" % (s // 60, s % 60) if s >= 60 else "%ds" % s)
+
+
 def run(frames: List[str], out: str, summary: Optional[str] = None, workers: int = 1,
         scheduler: Optional[str] = None, use_dask: bool = True, shard: Optional[str] = None,
-        **kw: Any) -> Dict[str, Any]:
-    """Checks the frames and writes JSON Lines to ``out`` (one record per
-    frame, then the summary line); returns the summary (also written to
-    ``summary`` when given)."""
+        progress: Optional[bool] = None, **kw: Any) -> Dict[str, Any]:
+    """Checks the frames and writes JSON Lines to ``out`` ("-": standard
+    output; one record per frame, then the summary line); returns the summary
+    (also written to ``summary`` when given). ``progress``: a progress line
+    on standard error (None: when it is a terminal)."""
     check_options(**{k: v for k, v in kw.items()
                      if k in ("distance", "distance_rel", "method", "worst", "threads")})
     shard_i, shard_n = _parse_shard(shard) if shard else (0, 1)
@@ -268,11 +312,13 @@ def run(frames: List[str], out: str, summary: Optional[str] = None, workers: int
     results = (_dask_results(paths, indices, kw, workers, scheduler, timing)
                if use_dask and paths
                else _local_results(paths, indices, kw))
-    with open(out, "w") as fh:
+    bar = _Progress(len(paths), progress)
+    with _output(out) as fh:
         for rec in results:
             records.append(rec)
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
             fh.flush()
+            bar.step()
         summ = summarize(sorted(records, key=lambda r: r["index"]),
                          time.perf_counter() - start, workers if use_dask else 1,
                          timing["ready"] - start)
@@ -316,7 +362,7 @@ def merge(parts: List[str], out: str, summary: Optional[str] = None) -> Dict[str
                 else:
                     records.append(obj)
     records.sort(key=lambda r: r["index"])
-    with open(out, "w") as fh:
+    with _output(out) as fh:
         for rec in records:
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
         summ = summarize(records, seconds, len(parts))
@@ -345,7 +391,10 @@ def main(argv: Optional[List[str]] = None) -> int:
                                  description="Check many frames for self-contacts, on "
                                  "dask.distributed or as one Slurm array task.")
     ap.add_argument("frames", nargs="*", help="files, directories or glob patterns")
-    ap.add_argument("--out", required=True, help="JSON Lines output (one line per frame)")
+    ap.add_argument("--out", required=True,
+                    help="JSON Lines output (one line per frame); - for standard output")
+    ap.add_argument("--quiet", action="store_true",
+                    help="no progress line (shown on a terminal only) and no final line")
     ap.add_argument("--summary", help="also write the summary to this JSON file")
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                     help="LocalCluster worker processes (default: the CPUs)")
@@ -375,16 +424,20 @@ def main(argv: Optional[List[str]] = None) -> int:
         else:
             summ = run(args.frames, args.out, args.summary, workers=max(1, args.workers),
                        scheduler=args.scheduler, use_dask=not args.no_dask, shard=args.shard,
-                       distance=args.distance, distance_rel=args.distance_rel,
+                       progress=False if args.quiet else None, distance=args.distance, distance_rel=args.distance_rel,
                        method=args.method, worst=args.worst, threads=args.threads)
     except (OSError, ValueError) as exc:
         print("selfcol.batch: %s" % exc, file=sys.stderr)
         return 2
-    print("selfcol.batch: %d frames, %d clean, %d intersecting, %d errors, %.2f frames/s "
-          "(%.1f s, of which %.1f s start-up) -> %s"
-          % (summ["frames"], summ["clean"], summ["intersecting"], summ["errors"],
-             summ["frames_per_second"] or 0.0, summ["seconds"], summ.get("startup_seconds", 0.0),
-             args.out))
+    if not args.quiet:
+        # On standard error when the records go to standard output.
+        print("selfcol.batch: %d frames, %d clean, %d intersecting, %d errors, %.2f frames/s "
+              "(%.1f s, of which %.1f s start-up) -> %s"
+              % (summ["frames"], summ["clean"], summ["intersecting"], summ["errors"],
+                 summ["frames_per_second"] or 0.0, summ["seconds"],
+                 summ.get("startup_seconds", 0.0),
+                 "standard output" if args.out == "-" else args.out),
+              file=sys.stderr if args.out == "-" else sys.stdout)
     if summ["errors"]:
         return 2
     return 1 if summ["intersecting"] else 0

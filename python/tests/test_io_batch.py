@@ -140,6 +140,38 @@ def test_batch_shards_and_merge(tmp_path):
                        "--out", str(tmp_path / "e.jsonl")]) == 2
 
 
+def test_batch_out_dash_writes_standard_output(tmp_path):
+    """--out - puts the JSON Lines on standard output, the final line on
+    standard error; they equal a file's records."""
+    make_frames(str(tmp_path / "frames"), 3)
+    pattern = str(tmp_path / "frames" / "frame_*")
+    proc = subprocess.run([sys.executable, "-m", "selfcol.batch", pattern, "--no-dask",
+                           "--out", "-"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          timeout=300, cwd=str(tmp_path))
+    assert proc.returncode in (0, 1), proc.stderr.decode()
+    recs = [json.loads(x) for x in proc.stdout.decode().splitlines() if x.strip()]
+    assert [r["index"] for r in recs[:-1]] == [0, 1, 2] and recs[-1]["frames"] == 3
+    assert "3 frames" in proc.stderr.decode() and "standard output" in proc.stderr.decode()
+    batch.main([pattern, "--no-dask", "--quiet", "--out", str(tmp_path / "f.jsonl")])
+    strip = lambda r: {k: v for k, v in r.items() if k != "seconds"}  # noqa: E731
+    assert [strip(r) for r in lines(tmp_path / "f.jsonl")[:-1]] == [strip(r) for r in recs[:-1]]
+
+
+def test_batch_progress_line(tmp_path, capsys):
+    """The progress line: frames done of all, throughput, time left; not in a
+    pipe or a log unless asked (progress=True), never with --quiet."""
+    make_frames(str(tmp_path / "frames"), 4)
+    pattern = str(tmp_path / "frames" / "frame_*")
+    batch.run([pattern], str(tmp_path / "a.jsonl"), use_dask=False, progress=True)
+    err = capsys.readouterr().err
+    assert "4/4 frames" in err and "frames/s" in err and "left" in err
+    batch.run([pattern], str(tmp_path / "b.jsonl"), use_dask=False)  # not a terminal here
+    assert "frames/s" not in capsys.readouterr().err
+    assert batch.main([pattern, "--no-dask", "--quiet", "--out", str(tmp_path / "c.jsonl")]) in (0, 1)
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == ""
+
+
 # ---------------------------------------------------------------------------
 # Hardening 0.4: outputs never overwrite inputs; usage errors up front;
 # errors name the file and what is wrong with it.
