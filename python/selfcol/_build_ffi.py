@@ -287,13 +287,30 @@ int selfcol_scene_collider_contacts(const selfcol_scene *scene,
                                     const selfcol_collider_contact **data_out, size_t *count_out);
 int selfcol_scene_stats(const selfcol_scene *scene, selfcol_scene_update_stats *stats);
 size_t selfcol_scene_byte_count(const selfcol_scene *scene);
+
+/* tools/meshio: the mesh file readers of selfcol-cli (selfcol.io). */
+typedef struct meshio_error {
+    char message[640];
+} meshio_error;
+typedef struct meshio_progress meshio_progress;
+typedef struct meshio_mesh {
+    size_t vertex_count;
+    double *positions;
+    size_t triangle_count;
+    uint32_t *triangles;
+    ...;
+} meshio_mesh;
+int meshio_read(const char *path, meshio_mesh *mesh, meshio_error *err,
+                const meshio_progress *progress);
+void meshio_mesh_free(meshio_mesh *mesh);
+size_t meshio_weld(const double *positions, size_t vertex_count, uint32_t *representative_out);
 """
 
 
 def build_ffi() -> Any:
     ffi = cffi.FFI()
     ffi.cdef(CDEF)
-    ffi.set_source("selfcol._selfcol_cffi", "#include <selfcol/selfcol.h>\n")
+    ffi.set_source("selfcol._selfcol_cffi", "#include <selfcol/selfcol.h>\n#include \"meshio.h\"\n")
     return ffi
 
 
