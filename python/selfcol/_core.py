@@ -326,15 +326,34 @@ def _stats_dict(stats: Any, ctype: str) -> Dict[str, Union[int, float]]:
 # Mesh
 
 
+def _mesh_like(obj: Any) -> bool:
+    """A trimesh.Trimesh, or any object with ``vertices`` and ``faces``."""
+    return hasattr(obj, "vertices") and hasattr(obj, "faces") and not isinstance(obj, np.ndarray)
+
+
+def _vf(V: Any, F: Any) -> Tuple[Any, Any]:
+    """(V, F) from arrays, or from a mesh-like object given as V with F None
+    (its vertices in its own order: for a file's order, load trimesh meshes
+    with process=False)."""
+    if F is None:
+        if not _mesh_like(V):
+            raise _invalid("F is missing: give (V, F) arrays, or a mesh with .vertices and "
+                           ".faces (a trimesh.Trimesh) alone")
+        return np.asarray(V.vertices), np.asarray(V.faces)
+    return V, F
+
+
 class Mesh:
     """A triangle surface: positions and the topology built once.
 
     ``V``: (n, 3) positions (float64 or float32; C-contiguous float input is
     read in place, anything else converted once). ``F``: (m, 3) vertex
-    indices (int32/uint32 read in place, int64 converted once). The C
-    library copies both. Mirrors ``selfcol_mesh_create``."""
+    indices (int32/uint32 read in place, int64 converted once). Or a
+    trimesh.Trimesh (any object with ``vertices`` and ``faces``) as V alone.
+    The C library copies both. Mirrors ``selfcol_mesh_create``."""
 
-    def __init__(self, V: Any, F: Any) -> None:
+    def __init__(self, V: Any, F: Any = None) -> None:
+        V, F = _vf(V, F)
         P = _as_positions(V)
         T = _as_triangles(F)
         out = ffi.new("selfcol_mesh **")
@@ -416,11 +435,14 @@ class Mesh:
                                                             self.triangle_count)
 
 
-def mean_edge_length(*meshes: Mesh) -> float:
+def mean_edge_length(*meshes: Any) -> float:
     """Mean edge length over one or more meshes (weighted by their edge counts,
-    as selfcol-cli does for two meshes)."""
+    as selfcol-cli does for two meshes). Each a Mesh or a trimesh.Trimesh;
+    or one surface as arrays: ``mean_edge_length(V, F)``."""
+    if len(meshes) == 2 and not any(isinstance(m, Mesh) or _mesh_like(m) for m in meshes):
+        meshes = (Mesh(meshes[0], meshes[1]),)
     total, edges = 0.0, 0
-    for m in meshes:
+    for m in (x if isinstance(x, Mesh) else Mesh(x) for x in meshes):
         e = m.count("edges")
         total += e * m.mean_edge_length()
         edges += e
@@ -1241,10 +1263,12 @@ def _u32(value: Any) -> int:
 # One-call queries
 
 
-def self_collide(V: Any, F: Any, distance: Optional[float] = None, distance_rel: float = 0.1,
+def self_collide(V: Any, F: Any = None, distance: Optional[float] = None,
+                 distance_rel: float = 0.1,
                  method: Union[str, int] = "exact", kinds: KindsArg = "all", threads: int = 1,
                  narrow: Union[str, int] = "closed") -> Contacts:
-    """Self-contacts of the surface (V, F): VF and EE proximities closer than
+    """Self-contacts of the surface (V, F), or of a trimesh.Trimesh given as V
+    alone: VF and EE proximities closer than
     ``distance`` and EF interferences (docs/contract.md). ``distance=None``:
     ``distance_rel`` x the mean edge length. Builds a Mesh and a Hierarchy;
     for frames of one topology, keep them and call set_positions/refit."""
@@ -1252,14 +1276,18 @@ def self_collide(V: Any, F: Any, distance: Optional[float] = None, distance_rel:
                                               narrow)
 
 
-def collide(V1: Any, F1: Any, V2: Any, F2: Any, distance: Optional[float] = None,
+def collide(V1: Any, F1: Any, V2: Any = None, F2: Any = None, distance: Optional[float] = None,
             distance_rel: float = 0.1, method: Union[str, int] = "exact",
             kinds: KindsArg = "all", threads: int = 1,
             narrow: Union[str, int] = "closed") -> Contacts:
     """Contacts between two surfaces (mesh 0 and mesh 1 in first_mesh and
-    second_mesh), not the self-contacts of either. ``distance=None``:
+    second_mesh), not the self-contacts of either: (V1, F1, V2, F2), or two
+    trimesh.Trimesh objects ``collide(a, b)``. ``distance=None``:
     ``distance_rel`` x the mean edge length of both (weighted by edges)."""
-    h1, h2 = Hierarchy(Mesh(V1, F1)), Hierarchy(Mesh(V2, F2))
+    if V2 is None and F2 is None and _mesh_like(V1) and _mesh_like(F1):
+        h1, h2 = Hierarchy(Mesh(V1)), Hierarchy(Mesh(F1))
+    else:
+        h1, h2 = Hierarchy(Mesh(V1, F1)), Hierarchy(Mesh(V2, F2))
     return h1.collide(h2, distance, distance_rel, method, kinds, threads, narrow)
 
 

@@ -278,3 +278,28 @@ def test_results_are_plain_python_objects():
     text = repr(store.contacts())
     assert text.startswith("selfcol.StoreContacts(contacts=%d, regions=" % len(store))
     assert "object at" not in text
+
+
+def test_mesh_like_objects():
+    """A trimesh.Trimesh (any object with .vertices and .faces) alone in
+    place of (V, F): the same contacts; mean_edge_length takes arrays too."""
+    import types
+    V, F = folded(12, 5)
+    like = types.SimpleNamespace(vertices=V, faces=F)
+    ref = selfcol.self_collide(V, F)
+    got = selfcol.self_collide(like)
+    assert np.array_equal(got.records, ref.records) and ref.counts["ef"] + ref.counts["vf"] > 0
+    assert selfcol.mean_edge_length(V, F) == selfcol.mean_edge_length(like)
+    assert selfcol.mean_edge_length(V, F) == selfcol.mean_edge_length(selfcol.Mesh(V, F))
+    W = V + np.array([0.0, 0.0, 0.01])
+    other = types.SimpleNamespace(vertices=W, faces=F)
+    assert np.array_equal(selfcol.collide(like, other).records,
+                          selfcol.collide(V, F, W, F).records)
+    with pytest.raises(selfcol.InvalidArgument, match="F is missing"):
+        selfcol.Mesh(V)
+    try:
+        import trimesh
+    except ImportError:
+        return
+    t = trimesh.Trimesh(vertices=V, faces=F, process=False)
+    assert np.array_equal(selfcol.self_collide(t).records, ref.records)
