@@ -60,8 +60,12 @@ typedef void selfcol_task_fn(uint32_t begin, uint32_t end, uint32_t worker, void
  * order, ranges of at least min_range items except the last), on any
  * threads. It may run them all before it returns; it then returns NULL and
  * finish_task is not called. Otherwise it returns a handle that
- * finish_task receives. The items of one task never wait for each other,
- * so running them one after another on one thread is correct.
+ * finish_task receives. Items may be run in any order, on any threads, or
+ * one after another on one thread: an item never waits for one that has
+ * not started. (An item may wait a moment for data that another item,
+ * running at the same time, is computing: a scheduler must not suspend an
+ * item to run another on the same thread, as fibers switching inside a
+ * task would.)
  * @return NULL when every item already ran, else the scheduler's handle
  */
 typedef void *selfcol_enqueue_task_fn(selfcol_task_fn *task, uint32_t item_count,

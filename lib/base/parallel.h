@@ -25,8 +25,10 @@ typedef struct selfcol_executor {
 // thread, the others on threads started here and joined before returning; a
 // worker whose thread cannot be started is not run (callers share their work
 // through a task counter, so the others take its part). With a scheduler:
-// one task of `workers` items, each item one worker. Workers never wait for
-// each other, so a scheduler may run them in any order on any threads. At
+// one task of `workers` items, each item one worker. A worker never waits
+// for one that has not started (at most, briefly, for one running at the
+// same time: traverse.c's leaf stamps), so a scheduler may run them in any
+// order, on any threads or one after another. At
 // most SELFCOL_MAX_THREADS workers. Returns the first non-zero status of the
 // workers, in worker order.
 int selfcol_parallel__run(const selfcol_executor *executor, unsigned workers,
