@@ -670,6 +670,79 @@ static void test_sweep_allocation_failures(void **state) {
     fixture_free(&to);
 }
 
+// ALL's progress callback (options version 2): fractions rising to 1 on the
+// calling thread, the same hits as without it, on 1 and 3 threads; a
+// non-zero return cancels with SELFCOL_EUSER and an empty result; a
+// version 1 struct (no callback fields) still works.
+typedef struct progress_log {
+    int calls, cancel_at;
+    double last;
+    int decreasing;
+} progress_log;
+
+static int log_progress(void *payload, double done) {
+    progress_log *log = payload;
+    log->decreasing |= done < log->last || done > 1.0;
+    log->last = done;
+    return ++log->calls == log->cancel_at;
+}
+
+static void test_sweep_progress_and_cancel(void **state) {
+    (void)state;
+    fixture from, to;
+    crumple_step(&from, &to, 30, 3, 2.0, 2.0, 0.01); // nearly still: many quick candidates
+    step s;
+    step_make(&s, to.vertex_count, from.positions, to.positions, to.triangle_count, to.triangles);
+    selfcol_sweep *plain = NULL, *watched = NULL;
+    assert_int_equal(selfcol_sweep_create(&plain, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_sweep_create(&watched, NULL), SELFCOL_OK);
+    size_t n = 0;
+    const selfcol_sweep_hit *ref = self_sweep(&s, plain, SELFCOL_METHOD_BVH, 0, 0.3, &n);
+    assert_true(n > 0);
+    const unsigned threads[2] = {1, 3};
+    for (int t = 0; t < 2; ++t) {
+        progress_log log = {0, 0, 0.0, 0};
+        selfcol_sweep_options o;
+        selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
+        o.separation = 0.3;
+        o.threads = threads[t];
+        o.progress = log_progress;
+        o.progress_payload = &log;
+        assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, watched, &o),
+                         SELFCOL_OK);
+        const selfcol_sweep_hit *got = NULL;
+        size_t m = 0;
+        assert_int_equal(selfcol_sweep_hits(watched, &got, &m), SELFCOL_OK);
+        assert_true(hits_equal(ref, n, got, m));
+        assert_true(log.calls >= 2); // rounds, and the end
+        assert_true(log.last == 1.0 && !log.decreasing);
+        // Cancelled at the first call: SELFCOL_EUSER, nothing kept.
+        progress_log stop = {0, 1, 0.0, 0};
+        o.progress_payload = &stop;
+        assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, watched, &o),
+                         SELFCOL_EUSER);
+        assert_int_equal(stop.calls, 1);
+        assert_int_equal(selfcol_sweep_hits(watched, &got, &m), SELFCOL_OK);
+        assert_int_equal(m, 0);
+    }
+    // A version 1 caller's struct ends before the callback: never read.
+    selfcol_sweep_options v1;
+    memset(&v1, 0xab, sizeof v1);
+    assert_int_equal(selfcol_sweep_options_init(&v1, 1), SELFCOL_OK);
+    assert_true(*(const unsigned char *)&v1.progress == 0xab); // not written either
+    v1.separation = 0.3;
+    assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, watched, &v1), SELFCOL_OK);
+    const selfcol_sweep_hit *got = NULL;
+    size_t m = 0;
+    assert_int_equal(selfcol_sweep_hits(watched, &got, &m), SELFCOL_OK);
+    assert_true(hits_equal(ref, n, got, m));
+    selfcol_sweep_destroy(plain);
+    selfcol_sweep_destroy(watched);
+    step_free(&s);
+    fixture_free(&from);
+    fixture_free(&to);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sweep_vertex_passing_through_a_triangle_is_found),
@@ -681,6 +754,7 @@ int main(void) {
         cmocka_unit_test(test_sweep_rejects_bad_input),
         cmocka_unit_test(test_sweep_empty_result_and_empty_mesh),
         cmocka_unit_test(test_sweep_allocation_failures),
+        cmocka_unit_test(test_sweep_progress_and_cancel),
     };
     return cmocka_run_group_tests_name("sweep", tests, NULL, NULL);
 }

@@ -61,7 +61,7 @@ typedef enum selfcol_status {
     SELFCOL_EVERSION = -4, /**< options.version is 0 or unknown to this library */
     /** Reserved (never returned by 0.2): a caller-provided buffer is too small. */
     SELFCOL_EBUFS = -5,
-    /** Reserved (never returned by 0.2): a callback asked to stop. */
+    /** A callback asked to stop (selfcol_sweep_options.progress returned non-zero). */
     SELFCOL_EUSER = -6,
     /** A count, index or coordinate is outside what the library represents
      *  exactly (mesh sizes, the coordinate range of mesh.h). */

@@ -119,9 +119,20 @@ typedef struct selfcol_sweep_options {
      *  the sweep's allocator is only called from the calling thread (the
      *  workers write into arrays sized before they start). */
     unsigned int threads;
+    /* Version 2: progress and cancel (libgit2's model). */
+    /** Called on the calling thread between rounds of SELFCOL_SWEEP_ALL's
+     *  root searches (about 64 times, every 1024 candidates at least, the
+     *  last time with 1) with the fraction of the candidates done, in
+     *  [0, 1]; a non-zero return
+     *  cancels the query, which then returns SELFCOL_EUSER with the result
+     *  empty. NULL (the default): none. SELFCOL_SWEEP_EARLIEST does not call
+     *  it (its passes take about a query each). */
+    int (*progress)(void *payload, double done);
+    void *progress_payload; /**< passed to progress */
 } selfcol_sweep_options;
 
-#define SELFCOL_SWEEP_OPTIONS_VERSION 1
+/** 2 since 0.3 (progress); a version 1 struct is read without them. */
+#define SELFCOL_SWEEP_OPTIONS_VERSION 2
 
 /** Bits of selfcol_sweep_hit.flags. */
 typedef enum selfcol_sweep_hit_flag {

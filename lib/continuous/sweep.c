@@ -22,7 +22,8 @@ int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version
     SELFCOL_CHECK(opts != NULL);
     if (version == 0 || version > SELFCOL_SWEEP_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    memset(opts, 0, sizeof *opts);
+    // A version 1 caller's struct ends before `progress`: write no further.
+    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_sweep_options, progress));
     opts->version = version;
     opts->method = SELFCOL_METHOD_BVH;
     opts->kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE;
@@ -204,16 +205,24 @@ static void flag_initial(const selfcol_sweep_query *q, selfcol_sweep_hit *h) {
 // gathered afterwards in candidate order, then sorted).
 #define SWEEP_CHUNK 1024u
 
+// With a progress callback, the chunks run in about this many rounds (of
+// at least SWEEP_ROUND_MIN chunks), the callback called on the calling
+// thread between rounds: starting a round's threads costs tens of
+// microseconds against its thousand root searches or more.
+#define SWEEP_ROUNDS 64u
+#define SWEEP_ROUND_MIN 1u
+
 typedef struct narrow_job {
     selfcol_sweep_query *q;
     uint64_t next_chunk;                 // atomic
+    uint64_t end_chunk;                  // this round's last chunk + 1
     uint64_t boxes[SELFCOL_MAX_THREADS]; // root-finder boxes per worker
 } narrow_job;
 
 static int narrow_worker(void *context, unsigned worker) {
     narrow_job *job = context;
     selfcol_sweep *s = job->q->out;
-    const uint64_t chunks = (s->candidate_count + SWEEP_CHUNK - 1) / SWEEP_CHUNK;
+    const uint64_t chunks = job->end_chunk;
     for (;;) {
         const uint64_t chunk = SELFCOL_ATOMIC_FETCH_ADD(&job->next_chunk, 1);
         if (chunk >= chunks)
@@ -235,7 +244,8 @@ static int narrow_worker(void *context, unsigned worker) {
     }
 }
 
-static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, unsigned threads) {
+static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, unsigned threads,
+                      const selfcol_sweep_options *o) {
     selfcol_sweep *s = q->out;
     if (s->candidate_count > s->outcome_capacity) {
         const size_t cap = s->candidate_capacity;
@@ -258,9 +268,24 @@ static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, 
     job.q = q;
     const uint64_t chunks = (s->candidate_count + SWEEP_CHUNK - 1) / SWEEP_CHUNK;
     const unsigned workers = chunks < threads ? (unsigned)(chunks > 0 ? chunks : 1) : threads;
-    int status = selfcol_parallel__run(executor, workers, narrow_worker, &job);
-    if (status != SELFCOL_OK)
-        return status;
+    // Every chunk in one round, or rounds with the progress callback between.
+    uint64_t round = chunks > 0 ? chunks : 1;
+    if (o->progress != NULL) {
+        round = chunks / SWEEP_ROUNDS;
+        round = round > SWEEP_ROUND_MIN ? round : SWEEP_ROUND_MIN;
+    }
+    uint64_t first = 0;
+    do {
+        job.next_chunk = first;
+        job.end_chunk = first + round < chunks ? first + round : chunks;
+        int status = selfcol_parallel__run(executor, workers, narrow_worker, &job);
+        if (status != SELFCOL_OK)
+            return status;
+        const double done = chunks > 0 ? (double)job.end_chunk / (double)chunks : 1.0;
+        if (o->progress != NULL && o->progress(o->progress_payload, done) != 0)
+            return SELFCOL_EUSER;
+        first = job.end_chunk;
+    } while (first < chunks);
     for (unsigned w = 0; w < workers; ++w)
         s->stats.narrow_boxes += job.boxes[w];
     double earliest = 1.0;
@@ -507,8 +532,9 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
     SELFCOL_CHECK_VERSION(opts, SELFCOL_SWEEP_OPTIONS_VERSION);
     selfcol_sweep_options o;
     selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
-    if (opts != NULL)
-        o = *opts; // version 1 is the only layout so far
+    if (opts != NULL) // a version 1 struct ends before `progress`
+        memcpy(&o, opts, opts->version >= 2 ? sizeof o : offsetof(selfcol_sweep_options, progress));
+    o.version = SELFCOL_SWEEP_OPTIONS_VERSION;
     SELFCOL_CHECK(o.method == SELFCOL_METHOD_EXACT || o.method == SELFCOL_METHOD_BVH ||
                   o.method == SELFCOL_METHOD_EXHAUSTIVE);
     SELFCOL_CHECK(o.kinds != 0 && (o.kinds & ~(uint32_t)(SELFCOL_KIND_VF | SELFCOL_KIND_EE)) == 0);
@@ -561,8 +587,8 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
                                                        : selfcol_sweep__bvh(&q);
         narrow_start = selfcol_core__seconds();
         if (status == SELFCOL_OK)
-            status = context != NULL ? narrow_all(&q, &context->executor, context->threads)
-                                     : narrow_all(&q, NULL, o.threads);
+            status = context != NULL ? narrow_all(&q, &context->executor, context->threads, &o)
+                                     : narrow_all(&q, NULL, o.threads, &o);
         if (status == SELFCOL_OK)
             status = sort_hits(result);
         result->stats.narrow_seconds = selfcol_core__seconds() - narrow_start;

@@ -20,6 +20,7 @@ C status (``InvalidArgument`` is also a ``ValueError``, ``OutOfMemory`` a
 """
 
 from ._core import (
+    Cancelled,
     Contacts,
     Error,
     Hierarchy,
@@ -46,9 +47,8 @@ from ._core import (
 __version__ = "0.3.0"
 
 __all__ = [
-    "Contacts", "Error", "Hierarchy", "InvalidArgument", "Mesh", "Mismatch", "OutOfMemory",
-    "RangeError", "Scene", "SceneStore", "Sequence", "StaleHierarchy", "Store", "StoreContacts",
-    "Sweep",
-    "VersionError", "collide", "mean_edge_length", "self_collide", "self_sweep", "version",
-    "__version__",
+    "Cancelled", "Contacts", "Error", "Hierarchy", "InvalidArgument", "Mesh", "Mismatch",
+    "OutOfMemory", "RangeError", "Scene", "SceneStore", "Sequence", "StaleHierarchy", "Store",
+    "StoreContacts", "Sweep", "VersionError", "collide", "mean_edge_length", "self_collide",
+    "self_sweep", "version", "__version__",
 ]

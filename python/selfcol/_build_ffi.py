@@ -189,7 +189,9 @@ typedef struct selfcol_sweep selfcol_sweep;
 typedef struct selfcol_sweep_options {
     unsigned int version; uint32_t method; uint32_t kinds; uint32_t mode;
     double separation; unsigned int threads;
+    int (*progress)(void *payload, double done); void *progress_payload;
 } selfcol_sweep_options;
+extern "Python" int _selfcol_sweep_progress(void *payload, double done);
 typedef struct selfcol_sweep_hit {
     uint32_t kind; uint32_t first; uint32_t second; uint32_t first_mesh; uint32_t second_mesh;
     uint32_t a[2]; uint32_t b[3]; uint32_t flags; double toi;

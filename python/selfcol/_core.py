@@ -12,6 +12,9 @@ another thread at the same time.
 
 from __future__ import annotations
 
+import sys
+import threading
+import time
 from typing import Any, Dict, Iterable, Iterator, List, Optional, Tuple, Union
 from typing import Sequence as SequenceOf
 
@@ -64,6 +67,10 @@ class StaleHierarchy(Error, RuntimeError):
     """SELFCOL_ESTALE: a hierarchy was not refit after its mesh moved."""
 
 
+class Cancelled(Error):
+    """SELFCOL_EUSER: a progress callback asked the call to stop."""
+
+
 _ERRORS = {
     int(lib.SELFCOL_EINVAL): InvalidArgument,
     int(lib.SELFCOL_ENOMEM): OutOfMemory,
@@ -71,6 +78,7 @@ _ERRORS = {
     int(lib.SELFCOL_ERANGE): RangeError,
     int(lib.SELFCOL_EMISMATCH): Mismatch,
     int(lib.SELFCOL_ESTALE): StaleHierarchy,
+    int(lib.SELFCOL_EUSER): Cancelled,
 }
 
 
@@ -694,33 +702,41 @@ class Hierarchy:
         return Contacts(c, (self.mesh, other.mesh), d)
 
     def self_sweep(self, start: Any, separation: float = 0.0, method: Union[str, int] = "bvh",
-                   kinds: KindsArg = "vf,ee", mode: str = "all", threads: int = 1) -> "Sweep":
+                   kinds: KindsArg = "vf,ee", mode: str = "all", threads: int = 1,
+                   progress: Any = None) -> "Sweep":
         """Continuous self-query over one step, from ``start`` (t = 0) to the
         mesh's current positions (t = 1) (selfcol_hierarchy_self_sweep).
         ``method``: "bvh" (default), "exact" (BVH and the curvature criterion
         over the step: the same true collisions, fewer candidates where
-        patches move smoothly) or "exhaustive" (the reference)."""
+        patches move smoothly) or "exhaustive" (the reference). ``mode``:
+        "all" (every pair; long on big steps) or "earliest" (the first time
+        of contact only, what a simulator needs: much faster). ``progress``
+        (mode "all"): True for a line on standard error, or a callable
+        given the fraction done that returns True to cancel (then
+        selfcol.Cancelled); Ctrl-C stops the query in every case."""
         S = _as_double_positions(start, self.mesh.vertex_count, "start")
         opts = _sweep_options(separation, method, kinds, mode, threads)
         sw = _new_sweep()
-        _check(lib.selfcol_hierarchy_self_sweep(self._h, _ptr("double *", S), sw, opts),
-               "selfcol_hierarchy_self_sweep")
+        _run_sweep(opts, progress,
+                   lambda: lib.selfcol_hierarchy_self_sweep(self._h, _ptr("double *", S), sw, opts),
+                   "selfcol_hierarchy_self_sweep")
         return Sweep(sw)
 
     def sweep(self, start: Any, other: "Hierarchy", other_start: Any, separation: float = 0.0,
               method: Union[str, int] = "bvh", kinds: KindsArg = "vf,ee", mode: str = "all",
-              threads: int = 1) -> "Sweep":
+              threads: int = 1, progress: Any = None) -> "Sweep":
         """Continuous query between this mesh (0) and other's (1) over one step
-        (selfcol_hierarchy_sweep)."""
+        (selfcol_hierarchy_sweep); ``progress`` as self_sweep."""
         if not isinstance(other, Hierarchy):
             raise _invalid("sweep needs another selfcol.Hierarchy")
         S0 = _as_double_positions(start, self.mesh.vertex_count, "start")
         S1 = _as_double_positions(other_start, other.mesh.vertex_count, "other_start")
         opts = _sweep_options(separation, method, kinds, mode, threads)
         sw = _new_sweep()
-        _check(lib.selfcol_hierarchy_sweep(self._h, _ptr("double *", S0), other._h,
-                                           _ptr("double *", S1), sw, opts),
-               "selfcol_hierarchy_sweep")
+        _run_sweep(opts, progress,
+                   lambda: lib.selfcol_hierarchy_sweep(self._h, _ptr("double *", S0), other._h,
+                                                       _ptr("double *", S1), sw, opts),
+                   "selfcol_hierarchy_sweep")
         return Sweep(sw)
 
     def count(self, quantity: str) -> int:
@@ -877,6 +893,66 @@ def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg, 
         raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
     opts.threads = min(int(threads), 1 << 31)
     return opts
+
+
+class _SweepProgress:
+    """The progress of one continuous query (its ALL mode's root searches):
+    a callable given by the caller (fraction done -> truthy to cancel), a
+    line on standard error (True), or nothing (None); Ctrl-C cancels in
+    every case, and the KeyboardInterrupt is raised once the C call has
+    returned."""
+
+    def __init__(self, progress: Any) -> None:
+        self.progress = progress
+        self.error: Optional[BaseException] = None
+        self.start = time.perf_counter()
+
+    def step(self, done: float) -> int:
+        if callable(self.progress):
+            return 1 if self.progress(done) else 0
+        if self.progress:
+            elapsed = time.perf_counter() - self.start
+            left = elapsed * (1 - done) / done if done > 0 else 0.0
+            sys.stderr.write("\rselfcol: continuous query %5.1f %%, %.0f s left   "
+                             % (100 * done, left))
+            if done >= 1.0:
+                sys.stderr.write("\n")
+            sys.stderr.flush()
+        return 0
+
+
+_progress_now = threading.local()  # the _SweepProgress of this thread's running query
+
+
+def _progress_failed(exc_type: Any, exc_value: BaseException, tb: Any) -> int:
+    # An exception in the callback (Ctrl-C arriving there included): keep it
+    # for after the call, and cancel.
+    state = getattr(_progress_now, "state", None)
+    if state is not None and state.error is None:
+        state.error = exc_value
+    return 1
+
+
+@ffi.def_extern(onerror=_progress_failed)  # type: ignore[untyped-decorator]
+def _selfcol_sweep_progress(payload: Any, done: float) -> int:
+    state: _SweepProgress = ffi.from_handle(payload)
+    return state.step(done)
+
+
+def _run_sweep(opts: Any, progress: Any, call: Any, what: str) -> None:
+    """Runs a continuous query with the progress callback installed."""
+    state = _SweepProgress(progress)
+    handle = ffi.new_handle(state)
+    opts.progress = lib._selfcol_sweep_progress
+    opts.progress_payload = handle
+    _progress_now.state = state
+    try:
+        status = call()
+    finally:
+        _progress_now.state = None
+    if state.error is not None:
+        raise state.error
+    _check(status, what)
 
 
 def _new_sweep() -> Any:
@@ -1293,8 +1369,11 @@ def collide(V1: Any, F1: Any, V2: Any = None, F2: Any = None, distance: Optional
 
 def self_sweep(V0: Any, V1: Any, F: Any, separation: float = 0.0,
                method: Union[str, int] = "bvh", kinds: KindsArg = "vf,ee",
-               mode: str = "all", threads: int = 1) -> Sweep:
+               mode: str = "all", threads: int = 1, progress: Any = None) -> Sweep:
     """Continuous self-query of the surface F moving linearly from V0 (t = 0)
     to V1 (t = 1): every VF/EE pair coming within ``separation``, with
-    conservative times of impact and the collision-free fraction."""
-    return Hierarchy(Mesh(V1, F)).self_sweep(V0, separation, method, kinds, mode, threads)
+    conservative times of impact and the collision-free fraction.
+    ``mode="earliest"`` gives the first time of contact only, much faster;
+    ``progress``: see Hierarchy.self_sweep."""
+    return Hierarchy(Mesh(V1, F)).self_sweep(V0, separation, method, kinds, mode, threads,
+                                             progress)

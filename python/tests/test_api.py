@@ -303,3 +303,26 @@ def test_mesh_like_objects():
         return
     t = trimesh.Trimesh(vertices=V, faces=F, process=False)
     assert np.array_equal(selfcol.self_collide(t).records, ref.records)
+
+
+def test_sweep_progress_and_cancel():
+    """A continuous query's progress callback sees fractions rising to 1 and
+    the same hits as without; returning True cancels (selfcol.Cancelled);
+    an exception in the callback (Ctrl-C's KeyboardInterrupt included) stops
+    the query and is raised after it."""
+    V, F = folded(60, 12)
+    W = V + np.array([0.0, 0.0, 0.3]) * np.sin(np.arange(V.shape[0]))[:, None]
+    ref = selfcol.self_sweep(V, W, F, separation=0.01)
+    seen = []
+    got = selfcol.self_sweep(V, W, F, separation=0.01, progress=lambda f: seen.append(f))
+    assert np.array_equal(got.hits, ref.hits) and ref.hits.shape[0] > 0
+    assert seen and seen[-1] == 1.0 and seen == sorted(seen)
+    with pytest.raises(selfcol.Cancelled):
+        selfcol.self_sweep(V, W, F, separation=0.01, progress=lambda f: True)
+
+    def interrupt(fraction):
+        raise KeyboardInterrupt
+    with pytest.raises(KeyboardInterrupt):
+        selfcol.self_sweep(V, W, F, separation=0.01, progress=interrupt)
+    # The hierarchy still answers afterwards.
+    assert np.array_equal(selfcol.self_sweep(V, W, F, separation=0.01).hits, ref.hits)
