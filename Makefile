@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet
                 libeigen3-dev libcmocka-dev libpng-dev python3 python3-dev python3-venv
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
-.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep plot fuzz wheel
+.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep plot fuzz wheel docs
 all: build
 
 deps:
@@ -58,6 +58,10 @@ fuzz:
 # $(BUILD)/wheel/dist/selfcol-*.whl.
 wheel: deps
 	sh tools/wheel.sh $(BUILD)
+
+# The Python API reference from the docstrings (pdoc): $(BUILD)/docs/python/.
+docs: deps
+	sh tools/docs.sh $(BUILD)
 
 # ABI baselines of this version (at a release), and the check against the newest
 # ones: libselfcol, and libselfcol_bullet when the build has it (Bullet found).
