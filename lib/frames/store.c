@@ -28,6 +28,9 @@
 // union-find runs on threads (its roots do not depend on the link order);
 // the voting links, whose order decides conflicting cycles, and the vote
 // stay in one thread. The store is the same for every thread count.
+// Files: this one (the handle, the update's stages, the reads),
+// store_sides.c (sides and geometry), store_regions.c (neighbours, regions,
+// the vote); store_entry.h the entry and the handle they share.
 #include <selfcol/hierarchy.h>
 #include <selfcol/store.h>
 
@@ -38,6 +41,7 @@
 #include "base/union_find.h"
 #include "base/vec3.h"
 #include "frames/store.h"
+#include "frames/store_entry.h"
 #include "mesh/mesh.h"
 #include "narrow/narrow.h"
 #include "narrow/narrow_sweep.h"
@@ -47,127 +51,6 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
-
-// Entries are indexed by uint32_t, and the neighbour search keeps five bits
-// in the top of an entry's index (link_neighbours): PAIR_FIRST_IS_LO and
-// the entry's side codes at the pair's lo and hi ends (link_code).
-#define SELFCOL_STORE_MAX_ENTRIES ((1u << 27) - 1u)
-#define PAIR_FIRST_IS_LO (1u << 31)
-#define PAIR_LO_SHIFT 29
-#define PAIR_HI_SHIFT 27
-#define PAIR_INDEX ((1u << 27) - 1u)
-
-// One held contact. Its vertices are its elements' (mesh topology), its
-// geometry is recomputed on demand: nothing here is a double.
-typedef struct store_entry {
-    uint32_t first, second; // as in selfcol_contact
-    uint32_t age, missed;   // as in selfcol_store_contact
-    uint32_t region;        // of the last update
-    uint8_t kind;           // selfcol_contact_kind
-    uint8_t meshes;         // first_mesh | second_mesh << 1
-    uint8_t flags;          // selfcol_store_contact_flag bits (all below 1 << 8)
-    uint8_t sides;          // (side + 1) | (right_side + 1) << 2
-} store_entry;
-
-struct selfcol_store {
-    selfcol_allocator allocator;
-    unsigned threads; // of an update (selfcol_store_options)
-    uint32_t remnance;
-    int consistency;
-    int orientation[2];            // per mesh slot: 0 none, +1 / -1 (store.h)
-    const selfcol_mesh *meshes[2]; // meshes[0] NULL until the first update after create or clear
-    selfcol_mesh_identity identity[2]; // of meshes[], from the same update
-    uint64_t positions_version[2];     // of meshes[] at the last update (copies check them)
-    // selfcol_store_update_swept: the meshes' positions at the step's start,
-    // during that update only (NULL otherwise).
-    const double *step_start[2];
-
-    store_entry *entries, *spare; // held entries; the merge's destination
-    size_t count, capacity;       // capacity of every per-entry array
-
-    // Per entry, for one update: the grouping union-find, the voting
-    // union-find with parity, and the entry's link code (link_code).
-    uint32_t *group_parent, *vote_parent;
-    int8_t *vote_parity;
-    uint16_t *link_code;
-
-    selfcol_store_region *regions; // the last update's, grown apart from the entries
-    size_t region_count, region_capacity;
-
-    // The neighbour search (link_neighbours): per vertex-pair occurrence its
-    // pair's hi end and its entry (with the PAIR_ bits); pair_capacity
-    // occurrences. Per chunk of the entries (at most `threads`: chunk c's
-    // array at bucket_offset + c * bucket_count) and per bucket (lo end's
-    // mesh and vertex, hi end's mesh): the count of the chunk's occurrences
-    // in the bucket, taken during the merge, then where the chunk writes
-    // its next one (sort_pairs). Per mesh slot and vertex, the stamp and
-    // first position of the bucket pass.
-    uint32_t *pair_hi, *pair_entry;
-    size_t pair_capacity;
-    uint32_t *bucket_offset;
-    size_t bucket_count; // per chunk; threads * bucket_count offsets
-    uint32_t *hi_stamp[2], *hi_first[2];
-    size_t hi_count[2];
-    uint32_t bucket_stamp;
-
-    // Per mesh slot: the surface normal at each vertex (vertex_normal), kept
-    // for one update: valid where normal_stamp equals stamp (even), being
-    // written by one thread where it is stamp + 1. Sized to the mesh's
-    // vertices at its first update (a store's meshes are fixed until
-    // selfcol_store_clear), so no update clears them.
-    float *normals[2];
-    uint32_t *normal_stamp[2];
-    size_t normal_count[2];
-    uint32_t stamp;
-
-    selfcol_store_update_stats stats;
-};
-
-// ---------------------------------------------------------------------------
-// Entry fields
-
-static uint32_t first_mesh(const store_entry *e) {
-    return e->meshes & 1u;
-}
-
-static uint32_t second_mesh(const store_entry *e) {
-    return (uint32_t)e->meshes >> 1;
-}
-
-static int side_of(const store_entry *e) {
-    return (int)(e->sides & 3u) - 1;
-}
-
-static int right_side_of(const store_entry *e) {
-    return (int)((e->sides >> 2) & 3u) - 1;
-}
-
-static void set_sides(store_entry *e, int side, int right_side) {
-    e->sides = (uint8_t)((side + 1) | (right_side + 1) << 2);
-}
-
-// The vertices of an entry's elements, from its meshes' topology (what the
-// query's record held: the update checks records against it).
-static void entry_vertices(const selfcol_store *s, const store_entry *e, uint32_t a[2],
-                           uint32_t b[3]) {
-    const selfcol_mesh *mf = s->meshes[first_mesh(e)], *ms = s->meshes[second_mesh(e)];
-    if (e->kind == SELFCOL_CONTACT_VF) {
-        a[0] = a[1] = e->first;
-    } else {
-        a[0] = mf->edges[2 * (size_t)e->first];
-        a[1] = mf->edges[2 * (size_t)e->first + 1];
-    }
-    if (e->kind == SELFCOL_CONTACT_EE) {
-        b[0] = ms->edges[2 * (size_t)e->second];
-        b[1] = ms->edges[2 * (size_t)e->second + 1];
-        b[2] = SELFCOL_INVALID_INDEX;
-    } else {
-        const uint32_t *t = ms->triangles + 3 * (size_t)e->second;
-        b[0] = t[0];
-        b[1] = t[1];
-        b[2] = t[2];
-    }
-}
 
 // ---------------------------------------------------------------------------
 // Creation and memory
@@ -345,10 +228,6 @@ static int reserve_pairs(selfcol_store *s, size_t keys) {
 // Buckets of the neighbour search: one per (lo end's mesh, lo vertex, hi
 // end's mesh) where lo orders before hi by (mesh, vertex): (0, v, 0), then
 // (0, v, 1) and (1, v, 1) when there is a second mesh.
-static size_t buckets_of(const selfcol_mesh *const meshes[2]) {
-    const size_t n0 = meshes[0]->vertex_count;
-    return meshes[1] != NULL ? 2 * n0 + meshes[1]->vertex_count : n0;
-}
 
 // The arrays per mesh vertex: normal caches and the neighbour search's
 // buckets and stamps (grown only; every stamp 0 = nothing cached).
@@ -465,662 +344,6 @@ static int record_matches(const selfcol_mesh *const meshes[2], const selfcol_con
                 return 0;
     }
     return 1;
-}
-
-// ---------------------------------------------------------------------------
-// Geometry
-
-static const double *vertex_of(const selfcol_store *s, uint32_t mesh, uint32_t v) {
-    return selfcol_mesh__position(s->meshes[mesh], v);
-}
-
-// Exact side of the first element relative to the second's reference
-// direction (store.h): VF orient3d(b0, b1, b2, v), EE orient3d(a0, a1, b0, b1).
-static int exact_side(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
-                      const uint32_t b[3]) {
-    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
-    if (e->kind == SELFCOL_CONTACT_VF)
-        return selfcol_predicates__orient3d(vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
-                                            vertex_of(s, sm, b[2]), vertex_of(s, fm, a[0]));
-    return selfcol_predicates__orient3d(vertex_of(s, fm, a[0]), vertex_of(s, fm, a[1]),
-                                        vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]));
-}
-
-// Distance, weights and direction of an entry at the current positions, by
-// the closed-form narrow phase with the query's arguments (pairs.c): a VF or
-// EE record bit for bit as a closed-form query gives it; an EF one as
-// selfcol_narrow__ef gives it (all zero if it finds no crossing, which only
-// a libccd query can have reported).
-static void geometry(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
-                     const uint32_t b[3], selfcol_narrow_result *r) {
-    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
-    if (e->kind == SELFCOL_CONTACT_VF) {
-        selfcol_narrow__vf(vertex_of(s, fm, a[0]), vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
-                           vertex_of(s, sm, b[2]), r);
-    } else if (e->kind == SELFCOL_CONTACT_EE) {
-        selfcol_narrow__ee(vertex_of(s, fm, a[0]), vertex_of(s, fm, a[1]), vertex_of(s, sm, b[0]),
-                           vertex_of(s, sm, b[1]), r);
-    } else if (!selfcol_narrow__ef(vertex_of(s, fm, a[0]), vertex_of(s, fm, a[1]),
-                                   vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
-                                   vertex_of(s, sm, b[2]), r)) {
-        memset(r, 0, sizeof *r);
-    }
-}
-
-// ---------------------------------------------------------------------------
-// Oriented surfaces (store.h: "Oriented surfaces")
-
-static void add_triangle_normal(const selfcol_mesh *m, uint32_t t, double n[3]) {
-    const uint32_t *tri = m->triangles + 3 * (size_t)t;
-    double c[3];
-    vec3_triangle_normal(c, selfcol_mesh__position(m, tri[0]), selfcol_mesh__position(m, tri[1]),
-                         selfcol_mesh__position(m, tri[2]));
-    vec3_add(n, n, c);
-}
-
-// Adds `orientation` times the unit outward normal of an element (a vertex,
-// an edge by index, or a triangle by index) of mesh m to o; a zero normal
-// (degenerate triangles only) adds nothing.
-static void add_element_normal(const selfcol_mesh *m, int orientation, int vertices, uint32_t index,
-                               double o[3]) {
-    double n[3] = {0.0, 0.0, 0.0};
-    if (vertices == 1) {
-        for (uint32_t k = m->vertex_tri_offsets[index]; k < m->vertex_tri_offsets[index + 1]; ++k)
-            add_triangle_normal(m, m->vertex_tris[k], n);
-    } else if (vertices == 2) {
-        for (uint32_t k = m->edge_tri_offsets[index]; k < m->edge_tri_offsets[index + 1]; ++k)
-            add_triangle_normal(m, m->edge_tris[k], n);
-    } else {
-        add_triangle_normal(m, index, n);
-    }
-    double u[3];
-    if (vec3_normalize(u, n))
-        for (int k = 0; k < 3; ++k)
-            o[k] += orientation * u[k];
-}
-
-// The right side an oriented surface gives a VF/EE entry: +1, -1, or 0 when
-// neither mesh is oriented or the sign is not clear.
-static int oriented_right_side(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
-                               const uint32_t b[3]) {
-    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
-    const int of = s->orientation[fm], os = s->orientation[sm];
-    if (of == 0 && os == 0)
-        return 0;
-    const selfcol_mesh *mf = s->meshes[fm], *ms = s->meshes[sm];
-    const int vf = e->kind == SELFCOL_CONTACT_VF;
-    double o[3] = {0.0, 0.0, 0.0}, r[3], unit_r[3];
-    if (os != 0)
-        add_element_normal(ms, os, vf ? 3 : 2, e->second, o);
-    if (of != 0) {
-        double nf[3] = {0.0, 0.0, 0.0};
-        add_element_normal(mf, of, vf ? 1 : 2, e->first, nf);
-        vec3_sub(o, o, nf);
-    }
-    // The reference direction R (store.h; side = sign((first - second) . R)).
-    if (vf) {
-        vec3_triangle_normal(r, vertex_of(s, sm, b[0]), vertex_of(s, sm, b[1]),
-                             vertex_of(s, sm, b[2]));
-    } else {
-        double u[3], w[3];
-        vec3_sub(u, vertex_of(s, fm, a[1]), vertex_of(s, fm, a[0]));
-        vec3_sub(w, vertex_of(s, sm, b[1]), vertex_of(s, sm, b[0]));
-        vec3_cross(r, u, w);
-    }
-    if (!vec3_normalize(unit_r, r))
-        return 0;
-    const double d = vec3_dot(o, unit_r);
-    return d > 1e-9 ? 1 : d < -1e-9 ? -1 : 0;
-}
-
-// Side tracking of a VF/EE entry at the current positions: a nonzero exact
-// sign different from the held side is a crossing; 0 keeps the held side.
-// An oriented entry's right side is then recomputed from the normals.
-// selfcol_store_update_swept: whether the entry's primitives may touch at
-// some time of the step, every vertex moving linearly from its step-start
-// position to its current one (the continuous narrow phase, no false
-// negatives: narrow_sweep.h). 0 is a proof that they never touched.
-static int touched_in_step(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
-                           const uint32_t b[3]) {
-    const uint32_t fm = first_mesh(e), sm = second_mesh(e);
-    const int vf = e->kind == SELFCOL_CONTACT_VF;
-    const uint32_t ids[4] = {a[0], vf ? b[0] : a[1], vf ? b[1] : b[0], vf ? b[2] : b[1]};
-    const uint32_t of[4] = {fm, vf ? sm : fm, sm, sm};
-    const double *start[4], *end[4];
-    for (int k = 0; k < 4; ++k) {
-        start[k] = s->step_start[of[k]] + 3 * (size_t)ids[k];
-        end[k] = vertex_of(s, of[k], ids[k]);
-    }
-    double toi;
-    return vf ? selfcol_narrow_sweep__vf_before(start, end, 0.0, 1.0, &toi, NULL)
-              : selfcol_narrow_sweep__ee_before(start, end, 0.0, 1.0, &toi, NULL);
-}
-
-static void track_side(selfcol_store *s, store_entry *e, const uint32_t a[2], const uint32_t b[3],
-                       selfcol_store_update_stats *st) {
-    if (e->kind == SELFCOL_CONTACT_EF) {
-        set_sides(e, 0, 0);
-        return;
-    }
-    int side = side_of(e), right_side = right_side_of(e);
-    if (s->orientation[first_mesh(e)] != 0 || s->orientation[second_mesh(e)] != 0) {
-        e->flags |= SELFCOL_STORE_ORIENTED;
-        const int given = oriented_right_side(s, e, a, b);
-        if (given != 0)
-            right_side = given;
-    }
-    const int now = exact_side(s, e, a, b);
-    if (now != 0) {
-        if (side != 0 && now != side && s->step_start[0] != NULL && !touched_in_step(s, e, a, b)) {
-            // The sign changed but the elements never touched during the
-            // step: they went around each other, not through. Where they
-            // belong turned with the reference direction: no crossing.
-            e->flags |= SELFCOL_STORE_PASSED_AROUND;
-            right_side = right_side != 0 ? -right_side : 0;
-            st->passed_around++;
-        } else if (side != 0 && now != side) {
-            e->flags |= SELFCOL_STORE_FLIPPED;
-            e->flags &= (uint8_t)~SELFCOL_STORE_SETTLED; // a crossing reopens the vote
-            st->flipped++;
-        }
-        side = now;
-        if (right_side == 0)
-            right_side = now; // first decided side: taken as the right one
-    }
-    set_sides(e, side, right_side);
-}
-
-// ---------------------------------------------------------------------------
-// Union-find
-
-static void group_unite(uint32_t *parent, uint32_t x, uint32_t y) {
-    x = selfcol_union_find__root(parent, x);
-    y = selfcol_union_find__root(parent, y);
-    if (x != y)
-        parent[x < y ? y : x] = x < y ? x : y; // the smaller index is the root
-}
-
-// group_unite for threads sharing the parents (the wait-free union-find of
-// Anderson and Woll 1991, linking by index): every parent is read and
-// written atomically; a root goes under the smaller root by a compare-and-
-// swap that fails if it stopped being a root meanwhile (then both roots are
-// found again); path halving writes a grandparent, an ancestor whichever
-// thread writes it. Each group's root is its smallest entry whatever the
-// order of the links, as with group_unite: the regions do not depend on the
-// threads.
-static uint32_t group_root_shared(uint32_t *parent, uint32_t x) {
-    for (;;) {
-        const uint32_t p = __atomic_load_n(&parent[x], __ATOMIC_RELAXED);
-        if (p == x)
-            return x;
-        const uint32_t g = __atomic_load_n(&parent[p], __ATOMIC_RELAXED);
-        if (g != p)
-            __atomic_store_n(&parent[x], g, __ATOMIC_RELAXED);
-        x = g;
-    }
-}
-
-static void group_unite_shared(uint32_t *parent, uint32_t x, uint32_t y) {
-    for (;;) {
-        x = group_root_shared(parent, x);
-        y = group_root_shared(parent, y);
-        if (x == y)
-            return;
-        const uint32_t root = x < y ? x : y, child = x < y ? y : x;
-        uint32_t expected = child;
-        if (__atomic_compare_exchange_n(&parent[child], &expected, root, 0, __ATOMIC_RELAXED,
-                                        __ATOMIC_RELAXED))
-            return;
-    }
-}
-
-// Root of x in the voting union-find, and x's parity relative to it
-// (o_x = parity * o_root), compressing the path (two iterative passes).
-static uint32_t vote_find(uint32_t *parent, int8_t *parity, uint32_t x, int *parity_out) {
-    uint32_t root = x;
-    int p = 1;
-    while (parent[root] != root) {
-        p *= parity[root];
-        root = parent[root];
-    }
-    uint32_t y = x;
-    int py = p;
-    while (parent[y] != y) {
-        const uint32_t next = parent[y];
-        const int pnext = py * parity[y];
-        parent[y] = root;
-        parity[y] = (int8_t)py;
-        y = next;
-        py = pnext;
-    }
-    *parity_out = p;
-    return root;
-}
-
-// Links x and y with o_x = relation * o_y; a link inside one group is
-// ignored (consistent or not: the first links win).
-static void vote_unite(uint32_t *parent, int8_t *parity, uint32_t x, uint32_t y, int relation) {
-    int px, py;
-    uint32_t rx = vote_find(parent, parity, x, &px), ry = vote_find(parent, parity, y, &py);
-    if (rx == ry)
-        return;
-    // o_rx = px o_x = px relation o_y = px relation py o_ry.
-    const int8_t link = (int8_t)(px * relation * py);
-    if (rx < ry) {
-        parent[ry] = rx;
-        parity[ry] = link;
-    } else {
-        parent[rx] = ry;
-        parity[rx] = link;
-    }
-}
-
-// The unit normal of the surface at vertex v of mesh `mesh`: the
-// area-weighted sum of its triangles' normals. 0 when v has none usable (no
-// triangle, degenerate ones, or a one-ring whose winding cancels, as at a
-// fold's hinge).
-// Kept as floats (12 bytes per vertex); computed once per update, by the
-// first thread that needs it. A thread that finds it missing computes it
-// (the same floats whoever computes them) and publishes it if no other
-// thread has claimed the vertex: a claim (stamp + 1) and the publication
-// (stamp) are atomic, so a cached normal is read only once it is written.
-static int vertex_normal(selfcol_store *s, uint32_t mesh, uint32_t v, double normal[3]) {
-    float *cached = s->normals[mesh] + 3 * (size_t)v;
-    uint32_t *stamp = &s->normal_stamp[mesh][v];
-    const uint32_t ready = s->stamp, claimed = s->stamp + 1;
-    uint32_t seen = SELFCOL_ATOMIC_LOAD(stamp);
-    if (seen == ready) {
-        for (int k = 0; k < 3; ++k)
-            normal[k] = cached[k];
-    } else {
-        const selfcol_mesh *m = s->meshes[mesh];
-        double n[3] = {0.0, 0.0, 0.0}, u[3] = {0.0, 0.0, 0.0};
-        for (uint32_t k = m->vertex_tri_offsets[v]; k < m->vertex_tri_offsets[v + 1]; ++k)
-            add_triangle_normal(m, m->vertex_tris[k], n);
-        vec3_normalize(u, n); // (0, 0, 0) when there is none
-        float f[3];
-        for (int k = 0; k < 3; ++k) {
-            f[k] = (float)u[k];
-            normal[k] = f[k];
-        }
-        if (seen != claimed && SELFCOL_ATOMIC_CAS(stamp, &seen, claimed)) {
-            memcpy(cached, f, sizeof f);
-            SELFCOL_ATOMIC_STORE(stamp, ready);
-        }
-    }
-    return normal[0] != 0.0 || normal[1] != 0.0 || normal[2] != 0.0;
-}
-
-// The cosine a link needs, between the surface normals at its two vertices
-// and between each direction and each normal (60 degrees): measured on the
-// crumpling ribbon held clean by the Bullet adapter (EF = 0), queried at
-// 0.5 x mean edge, 0 of ~150k candidate links contradict the geometry with
-// 0.5; with 0.3, 3-5 per frame do (all where a border edge meets the other
-// layer edge-on, whose directions point every way).
-#define SELFCOL_STORE_LINK_COS 0.5
-
-// Vertex pairs an entry has: |first's vertices| x |second's|.
-static int pairs_of_kind(uint32_t kind) {
-    return kind == SELFCOL_CONTACT_VF ? 3 : kind == SELFCOL_CONTACT_EE ? 4 : 6;
-}
-
-// Neighbours i and j sharing a vertex pair {u, w} are compared through the
-// surface normals at u and at w (store.h, "Consistency rule"). Each
-// direction (the record's) points from the second element to the first, so
-// it says which side of the surface at u (and at w) the entry's first
-// element is on. That side is what is compared, not the directions
-// themselves: two directions leaning opposite ways off the normal (closest
-// points on opposite borders, frequent when the gap is small against d)
-// point to the same side, although their dot product is negative (seed
-// 3.2.1 propagates the surfaces' orientation; this is its local form). Same
-// roles (parity +1) should point to the same side, crosswise ones (-1) to
-// opposite sides: o_i = parity * relation * o_j. The link is made only
-// where the geometry is clear: the two surfaces within 60 degrees of
-// parallel or antiparallel, every direction within 60 degrees of both
-// normals' lines, and the same relation through both normals.
-//
-// All of that reads from each entry alone, once per update: its link code.
-// Per vertex slot (a[0], a[1], b[0], b[1], b[2]: bits 2 k and 2 k + 1) the
-// side code of its direction at that vertex's normal: 1 for the normal's
-// side, 2 for the other, 0 when it leans more than 60 degrees off the
-// normal's line or the vertex has no normal. Per vertex pair in pair_of()'s
-// order (bit 10 + k), whether the normals at its ends are within 60 degrees
-// of parallel or antiparallel. Entries that do not vote (EF, oriented) have
-// code 0. A link then compares two side codes per end (link_entries).
-#define SIDE_CODE(code, slot) (((code) >> (2 * (slot))) & 3u)
-#define PAIR_CLEAR(code, k) (((code) >> (10 + (k))) & 1u)
-
-static uint16_t link_code(selfcol_store *s, const store_entry *e, const uint32_t a[2],
-                          const uint32_t b[3], const double direction[3]) {
-    const int na = e->kind == SELFCOL_CONTACT_VF ? 1 : 2,
-              nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
-    const uint32_t vertex[5] = {a[0], a[1], b[0], b[1], b[2]};
-    const uint32_t mesh[5] = {first_mesh(e), first_mesh(e), second_mesh(e), second_mesh(e),
-                              second_mesh(e)};
-    double normal[5][3];
-    int has_normal[5] = {0, 0, 0, 0, 0};
-    unsigned code = 0;
-    for (int slot = 0; slot < 5; ++slot) {
-        if ((slot >= na && slot < 2) || slot >= 2 + nb)
-            continue;
-        has_normal[slot] = vertex_normal(s, mesh[slot], vertex[slot], normal[slot]);
-        const double p = vec3_dot(direction, normal[slot]);
-        if (has_normal[slot] && fabs(p) >= SELFCOL_STORE_LINK_COS)
-            code |= (p > 0 ? 1u : 2u) << (2 * slot);
-    }
-    const int pairs = pairs_of_kind(e->kind);
-    for (int k = 0; k < pairs; ++k) {
-        const int su = k / nb, sw = 2 + k % nb;
-        if (has_normal[su] && has_normal[sw] &&
-            fabs(vec3_dot(normal[su], normal[sw])) >= SELFCOL_STORE_LINK_COS)
-            code |= 1u << (10 + k);
-    }
-    return (uint16_t)code;
-}
-
-// Two entries sharing a vertex pair: link their orientations where both
-// side codes read clearly through the normals at both ends and give the
-// same relation (link_code). lo_i, hi_i, lo_j, hi_j: each entry's side
-// code at the pair's two ends, 0 where the pair's normals are not clear.
-// (They are grouped too, by the caller.)
-static void link_entries(selfcol_store *s, uint32_t i, uint32_t j, int same_roles, uint32_t lo_i,
-                         uint32_t hi_i, uint32_t lo_j, uint32_t hi_j) {
-    if (lo_i == 0 || lo_j == 0 || hi_i == 0 || hi_j == 0)
-        return;
-    const int through_lo = lo_i == lo_j ? 1 : -1, through_hi = hi_i == hi_j ? 1 : -1;
-    if (through_lo != through_hi)
-        return;
-    vote_unite(s->vote_parent, s->vote_parity, i, j, (same_roles ? 1 : -1) * through_lo);
-}
-
-// One vertex pair {u, w} of an entry: u a vertex of its first element (of
-// mesh mu), w of its second (of mesh mw); first_is_lo when (mu, u) orders
-// before (mw, w). An entry has pairs_of_kind() of them, taken in the order
-// p over the first element's vertices, q over the second's. bucket: the
-// neighbour search's bucket of the pair (lo end's mesh and vertex, hi
-// end's mesh: buckets_of()); hi: its hi end.
-typedef struct vertex_pair {
-    int first_is_lo;
-    int u_slot, w_slot; // of u and w in link_code's order
-    uint32_t hi;
-    size_t bucket;
-} vertex_pair;
-
-static vertex_pair pair_of(const store_entry *e, const uint32_t a[2], const uint32_t b[3], int k,
-                           size_t n0) {
-    const int nb = e->kind == SELFCOL_CONTACT_EE ? 2 : 3;
-    const uint32_t u = a[k / nb], w = b[k % nb], mu = first_mesh(e), mw = second_mesh(e);
-    vertex_pair v;
-    v.u_slot = k / nb;
-    v.w_slot = 2 + k % nb;
-    v.first_is_lo = mu < mw || (mu == mw && u < w);
-    const uint32_t lo = v.first_is_lo ? u : w, lo_mesh = v.first_is_lo ? mu : mw;
-    const uint32_t hi_mesh = v.first_is_lo ? mw : mu;
-    v.hi = v.first_is_lo ? w : u;
-    // (0, lo, 0) at lo, (0, lo, 1) at n0 + lo, (1, lo, 1) at 2 n0 + lo.
-    v.bucket = (lo_mesh + hi_mesh) * n0 + lo;
-    return v;
-}
-
-// Counts an entry's vertex pairs into their buckets (count[b]: the counts
-// of the entry's chunk), with the vertices the merge has just read
-// (sort_pairs sorts them).
-static void count_pairs(const selfcol_store *s, uint32_t *count, const store_entry *e,
-                        const uint32_t a[2], const uint32_t b[3]) {
-    const size_t n0 = s->meshes[0]->vertex_count;
-    const int pairs = pairs_of_kind(e->kind);
-    for (int k = 0; k < pairs; ++k)
-        count[pair_of(e, a, b, k, n0).bucket]++;
-}
-
-// The counts of every chunk (bucket_offset) become the position where the
-// chunk writes its first occurrence of each bucket: buckets in order, and
-// inside a bucket the chunks in order, so the sort is stable whatever the
-// number of chunks.
-static void bucket_starts(selfcol_store *s, size_t chunks) {
-    const size_t buckets = buckets_of(s->meshes);
-    uint32_t running = 0;
-    for (size_t x = 0; x < buckets; ++x) {
-        for (size_t c = 0; c < chunks; ++c) {
-            uint32_t *slot = &s->bucket_offset[c * s->bucket_count + x];
-            const uint32_t count = *slot;
-            *slot = running;
-            running += count;
-        }
-    }
-}
-
-// Lists the vertex-pair occurrences of entries lo .. hi - 1 (chunk c) in
-// their buckets (the counting sort's scatter): each with its pair's hi end,
-// and its entry with the entry's side codes at the pair's ends (link_code).
-// Afterwards the chunk's offsets are its ends in each bucket, and the last
-// chunk's are the buckets' ends.
-static void sort_pairs(selfcol_store *s, size_t c, size_t lo, size_t hi_index) {
-    const size_t n0 = s->meshes[0]->vertex_count;
-    uint32_t *off = s->bucket_offset + c * s->bucket_count, *hi = s->pair_hi,
-             *entry = s->pair_entry;
-    for (uint32_t i = (uint32_t)lo; i < hi_index; ++i) {
-        const store_entry *e = &s->entries[i];
-        uint32_t a[2], b[3];
-        entry_vertices(s, e, a, b);
-        const unsigned code = s->link_code[i];
-        const int pairs = pairs_of_kind(e->kind);
-        for (int k = 0; k < pairs; ++k) {
-            const vertex_pair v = pair_of(e, a, b, k, n0);
-            const uint32_t p = off[v.bucket]++;
-            uint32_t side_u = 0, side_w = 0;
-            if (PAIR_CLEAR(code, k)) {
-                side_u = SIDE_CODE(code, v.u_slot);
-                side_w = SIDE_CODE(code, v.w_slot);
-            }
-            hi[p] = v.hi;
-            entry[p] = i | (v.first_is_lo ? PAIR_FIRST_IS_LO | side_u << PAIR_LO_SHIFT |
-                                                side_w << PAIR_HI_SHIFT
-                                          : side_w << PAIR_LO_SHIFT | side_u << PAIR_HI_SHIFT);
-        }
-    }
-}
-
-// Entries sharing a vertex pair are neighbours (link_entries). Each
-// occurrence of a pair is linked to the pair's first occurrence. The
-// occurrences are found without a sort or a hash (a hash of a few million
-// pairs is a cache miss per probe): a counting sort into buckets by their
-// lo end (counted during the merge, listed by sort_pairs; stable, so each
-// bucket lists its occurrences in entry order), then one pass per bucket,
-// in which a stamp per hi vertex marks each pair's first occurrence and
-// every later one is linked to it at once. The links are made in that
-// order: buckets by lo end, then entry order. A link that closes a cycle
-// against the relation is ignored, so the order decides which links win;
-// it is fixed by the entries and the meshes alone (not by the threads).
-// (Making the links in entry order instead, by replaying the occurrences,
-// cost a random read per occurrence: 20-30 % of the update on cloth-ball
-// 92 -> 93.) Each occurrence carries its entry's side codes at the pair's
-// ends (link_code), so a link reads nothing of either entry but its
-// union-find parents. bucket_end: the buckets' ends (sort_pairs).
-// The grouping union-find (regions), whose result does not depend on the
-// order of its links, is done here when group_here, else by threads
-// afterwards (group_chunk): each occurrence's hi end is then replaced by
-// the entry it is grouped with (its own where it links nothing).
-static void link_neighbours(selfcol_store *s, const uint32_t *bucket_end, int group_here) {
-    const size_t n0 = s->meshes[0]->vertex_count;
-    const size_t buckets = buckets_of(s->meshes);
-    uint32_t *hi = s->pair_hi;
-    const uint32_t *entry = s->pair_entry;
-    // Per bucket, the first occurrence of each hi end: stamps unique to the
-    // bucket (a running count, cleared when it would wrap).
-    if (s->bucket_stamp > UINT32_MAX - buckets - 1) {
-        for (int k = 0; k < 2; ++k)
-            if (s->hi_count[k] > 0)
-                memset(s->hi_stamp[k], 0, s->hi_count[k] * sizeof *s->hi_stamp[k]);
-        s->bucket_stamp = 0;
-    }
-    for (size_t x = 0; x < buckets; ++x) {
-        const uint32_t start = x == 0 ? 0 : bucket_end[x - 1], end = bucket_end[x];
-        if (end - start < 2) { // one occurrence links nothing
-            if (end > start && !group_here)
-                hi[start] = entry[start] & PAIR_INDEX;
-            continue;
-        }
-        const uint32_t stamp = ++s->bucket_stamp;
-        const int hi_mesh = x >= n0 ? 1 : 0;
-        uint32_t *seen = s->hi_stamp[hi_mesh], *first = s->hi_first[hi_mesh];
-        for (uint32_t p = start; p < end; ++p) {
-            const uint32_t y = hi[p], ei = entry[p], i = ei & PAIR_INDEX;
-            if (seen[y] != stamp) {
-                seen[y] = stamp;
-                first[y] = p;
-                if (!group_here)
-                    hi[p] = i;
-                continue;
-            }
-            const uint32_t ej = entry[first[y]], j = ej & PAIR_INDEX;
-            if (!group_here)
-                hi[p] = j;
-            if (i == j)
-                continue;
-            if (group_here)
-                group_unite(s->group_parent, i, j);
-            link_entries(s, i, j, ((ei ^ ej) & PAIR_FIRST_IS_LO) == 0, ei >> PAIR_LO_SHIFT & 3u,
-                         ei >> PAIR_HI_SHIFT & 3u, ej >> PAIR_LO_SHIFT & 3u,
-                         ej >> PAIR_HI_SHIFT & 3u);
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------
-// The vote
-
-// The vote's arrays, per group root r: the votes for o = +1 and o = -1 of
-// contacts new in this update (new_votes[2 r], [2 r + 1]) and of contacts
-// held from earlier updates (held_votes), the group's oldest contact, and
-// the region label of r's grouping root. They live in the neighbour
-// search's two arrays, free once the links are made: each holds a word per
-// vertex pair, at least 3 per entry.
-typedef struct tally {
-    uint32_t *new_votes, *held_votes, *oldest, *label;
-} tally;
-
-static tally tally_of(const selfcol_store *s) {
-    const size_t n = s->count;
-    tally t = {NULL, NULL, NULL, NULL};
-    if (n > 0) {
-        t.new_votes = s->pair_hi;
-        t.oldest = s->pair_hi + 2 * n;
-        t.held_votes = s->pair_entry;
-        t.label = s->pair_entry + 2 * n;
-    }
-    return t;
-}
-
-// Tallies each voting group's votes and numbers the regions by their first
-// entry (entry regions set); returns the number of regions.
-static size_t tally_and_label(selfcol_store *s, selfcol_store_update_stats *st) {
-    const size_t n = s->count;
-    const tally t = tally_of(s);
-    for (size_t i = 0; i < n; ++i) {
-        t.new_votes[2 * i] = t.new_votes[2 * i + 1] = 0;
-        t.held_votes[2 * i] = t.held_votes[2 * i + 1] = 0;
-        t.oldest[i] = SELFCOL_INVALID_INDEX;
-    }
-    // Tally: contact i's vote, in its group's frame, is sigma_i * o_i with
-    // sigma_i = side * right_side (+1 on its right side). Contacts whose
-    // side was never decided abstain.
-    for (uint32_t i = 0; i < n; ++i) {
-        const store_entry *e = &s->entries[i];
-        if (e->kind == SELFCOL_CONTACT_EF || side_of(e) == 0 || (e->flags & SELFCOL_STORE_ORIENTED))
-            continue;
-        st->voted++;
-        int o;
-        const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
-        const int vote = side_of(e) * right_side_of(e) * o;
-        uint32_t *votes = (e->flags & SELFCOL_STORE_NEW) ? t.new_votes : t.held_votes;
-        votes[2 * r + (vote > 0 ? 0 : 1)]++;
-        const uint32_t old = t.oldest[r];
-        if (old == SELFCOL_INVALID_INDEX || e->age > s->entries[old].age)
-            t.oldest[r] = i;
-    }
-    // Regions, numbered by their first entry.
-    for (size_t i = 0; i < n; ++i)
-        t.label[i] = SELFCOL_INVALID_INDEX;
-    size_t regions = 0;
-    for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t g = selfcol_union_find__root(s->group_parent, i);
-        if (t.label[g] == SELFCOL_INVALID_INDEX)
-            t.label[g] = (uint32_t)regions++;
-        s->entries[i].region = t.label[g];
-    }
-    return regions;
-}
-
-// Each voting group's majority right side, imposed; then the region
-// records (s->regions holds `regions`).
-static void impose(selfcol_store *s, size_t regions, selfcol_store_update_stats *st) {
-    const size_t n = s->count;
-    const tally t = tally_of(s);
-    if (regions > 0)
-        memset(s->regions, 0, regions * sizeof *s->regions);
-    for (uint32_t i = 0; i < n; ++i) {
-        store_entry *e = &s->entries[i];
-        selfcol_store_region *reg = &s->regions[e->region];
-        if (e->kind == SELFCOL_CONTACT_EF) {
-            reg->interferences++;
-            reg->flags |= SELFCOL_REGION_CROSSED;
-            continue;
-        }
-        reg->contacts++;
-        if (e->flags & SELFCOL_STORE_ORIENTED) {
-            reg->oriented++;
-            st->oriented++;
-            continue;
-        }
-        int o;
-        const uint32_t r = vote_find(s->vote_parent, s->vote_parity, i, &o);
-        // A group with held contacts follows their votes only: a held
-        // contact's right side carries memory (of its side before a
-        // crossing, or of an earlier vote), a new contact's is a guess (its
-        // current side). New contacts decide only groups of new contacts.
-        const uint32_t *h = t.held_votes + 2 * r;
-        const uint32_t *v = h[0] + h[1] > 0 ? h : t.new_votes + 2 * r;
-        const uint32_t plus = v[0], minus = v[1];
-        const int side = side_of(e);
-        if (side == 0) {
-            reg->abstained++;
-            continue;
-        }
-        int majority; // the group's winning sigma * o
-        if (plus != minus) {
-            majority = plus > minus ? 1 : -1;
-        } else if (plus == 0) {
-            majority = 0; // nobody voted: nothing to impose
-        } else {
-            // Tie: the oldest contact keeps its right side.
-            const store_entry *oldest = &s->entries[t.oldest[r]];
-            int ot;
-            vote_find(s->vote_parent, s->vote_parity, t.oldest[r], &ot);
-            majority = side_of(oldest) * right_side_of(oldest) * ot;
-            reg->flags |= SELFCOL_REGION_TIE;
-        }
-        // A decided side always has a right side (track_side).
-        const int right_side = right_side_of(e);
-        if (side * right_side * o == majority || majority == 0) {
-            reg->votes_majority++;
-        } else {
-            reg->votes_minority++;
-            if (s->consistency && !(e->flags & SELFCOL_STORE_SETTLED)) {
-                set_sides(e, side, -right_side);
-                e->flags |= SELFCOL_STORE_CORRECTED;
-                st->corrected++;
-                reg->flags |= SELFCOL_REGION_CORRECTED;
-            }
-        }
-        if (s->consistency && majority != 0)
-            e->flags |= SELFCOL_STORE_SETTLED; // through a vote: settled until it crosses
-    }
-    for (size_t r = 0; r < regions; ++r) {
-        st->crossed_regions += (s->regions[r].flags & SELFCOL_REGION_CROSSED) != 0;
-        st->corrected_regions += (s->regions[r].flags & SELFCOL_REGION_CORRECTED) != 0;
-    }
-    st->regions = regions;
 }
 
 // ---------------------------------------------------------------------------
@@ -1306,7 +529,7 @@ static void size_chunk(update_job *job, size_t c) {
             kind = h->kind;
         }
         ++n;
-        keys += (size_t)pairs_of_kind(kind);
+        keys += (size_t)selfcol_store__pairs_of_kind(kind);
     }
     job->kept[c] = n;
     job->keys[c] = keys;
@@ -1369,16 +592,16 @@ static void merge_chunk(update_job *job, size_t c) {
         } else {
             entry_vertices(s, e, a, b);
         }
-        count_pairs(s, count, e, a, b);
-        track_side(s, e, a, b, st);
+        selfcol_store__count_pairs(s, count, e, a, b);
+        selfcol_store__track_side(s, e, a, b, st);
         s->link_code[n] = 0;
         if (e->kind != SELFCOL_CONTACT_EF && !(e->flags & SELFCOL_STORE_ORIENTED)) {
             selfcol_narrow_result r;
             if (direction == NULL) { // a remnant's, at the current positions
-                geometry(s, e, a, b, &r);
+                selfcol_store__geometry(s, e, a, b, &r);
                 direction = r.direction;
             }
-            s->link_code[n] = link_code(s, e, a, b, direction);
+            s->link_code[n] = selfcol_store__link_code(s, e, a, b, direction);
         }
         if (e->kind == SELFCOL_CONTACT_EF)
             st->interferences++;
@@ -1394,7 +617,7 @@ static void merge_chunk(update_job *job, size_t c) {
 static void sort_chunk(update_job *job, size_t c) {
     selfcol_store *s = job->s;
     const size_t lo = job->entry_at[c], hi = job->entry_at[c + 1];
-    sort_pairs(s, c, lo, hi);
+    selfcol_store__sort_pairs(s, c, lo, hi);
     for (size_t k = lo; k < hi; ++k) {
         s->group_parent[k] = s->vote_parent[k] = (uint32_t)k;
         s->vote_parity[k] = 1;
@@ -1411,7 +634,7 @@ static void group_chunk(update_job *job, size_t c) {
     for (size_t p = lo; p < hi; ++p) {
         const uint32_t i = entry[p] & PAIR_INDEX, j = partner[p];
         if (i != j)
-            group_unite_shared(s->group_parent, i, j);
+            selfcol_store__group_unite_shared(s->group_parent, i, j);
     }
 }
 
@@ -1557,18 +780,18 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
 
     // 2. Regions and voting groups: the vertex pairs sorted by bucket,
     // chunk by chunk of the entries (stable), then linked in one thread.
-    bucket_starts(store, job.chunks);
+    selfcol_store__bucket_starts(store, job.chunks);
     run_stage(&job, STAGE_SORT);
     const uint32_t *bucket_end = store->bucket_offset + (job.chunks - 1) * store->bucket_count;
     job.pairs = keys;
     const size_t group_chunks = chunks_for(keys, store->threads);
-    link_neighbours(store, bucket_end, group_chunks == 1);
+    selfcol_store__link_neighbours(store, bucket_end, group_chunks == 1);
     if (group_chunks > 1) {
         job.chunks = group_chunks;
         run_stage(&job, STAGE_GROUP);
     }
     // 3. The vote.
-    const size_t regions = tally_and_label(store, &st);
+    const size_t regions = selfcol_store__tally_and_label(store, &st);
     status = reserve_regions(store, regions);
     if (status != SELFCOL_OK) { // the store as it was
         store->entries = store->spare;
@@ -1578,7 +801,7 @@ int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
         store->meshes[1] = old_meshes[1];
         return status;
     }
-    impose(store, regions, &st);
+    selfcol_store__impose(store, regions, &st);
     store->region_count = regions;
     store->identity[0] = first->identity;
     store->positions_version[0] = first->positions_version;
@@ -1619,7 +842,7 @@ int selfcol_store_copy_contacts(const selfcol_store *store, size_t first_index, 
         uint32_t a[2], b[3];
         entry_vertices(store, e, a, b);
         selfcol_narrow_result r;
-        geometry(store, e, a, b, &r);
+        selfcol_store__geometry(store, e, a, b, &r);
         c->kind = e->kind;
         c->first = e->first;
         c->second = e->second;
