@@ -25,7 +25,9 @@ from ._core import (
     Error,
     Hierarchy,
     InvalidArgument,
+    Kind,
     Mesh,
+    Method,
     Mismatch,
     OutOfMemory,
     RangeError,
@@ -36,6 +38,7 @@ from ._core import (
     Store,
     StoreContacts,
     Sweep,
+    SweepFlag,
     VersionError,
     collide,
     mean_edge_length,
@@ -47,8 +50,8 @@ from ._core import (
 __version__ = "0.3.0"
 
 __all__ = [
-    "Cancelled", "Contacts", "Error", "Hierarchy", "InvalidArgument", "Mesh", "Mismatch",
-    "OutOfMemory", "RangeError", "Scene", "SceneStore", "Sequence", "StaleHierarchy", "Store",
-    "StoreContacts", "Sweep", "VersionError", "collide", "mean_edge_length", "self_collide",
-    "self_sweep", "version", "__version__",
+    "Cancelled", "Contacts", "Error", "Hierarchy", "InvalidArgument", "Kind", "Mesh", "Method",
+    "Mismatch", "OutOfMemory", "RangeError", "Scene", "SceneStore", "Sequence", "StaleHierarchy",
+    "Store", "StoreContacts", "Sweep", "SweepFlag", "VersionError", "collide", "mean_edge_length",
+    "self_collide", "self_sweep", "version", "__version__",
 ]

@@ -12,6 +12,7 @@ another thread at the same time.
 
 from __future__ import annotations
 
+import enum
 import sys
 import threading
 import time
@@ -212,6 +213,31 @@ def _ptr(ctype: str, a: np.ndarray) -> Any:
 # --------------------------------------------------------------------------
 # Options
 
+class Kind(enum.IntEnum):
+    """A contact's kind, the value of ``records["kind"]`` (contacts.h)."""
+
+    VF = 0  #: a vertex closer than the distance to a triangle
+    EE = 1  #: two edges closer than the distance
+    EF = 2  #: an edge crossing a triangle
+
+
+class Method(enum.IntEnum):
+    """A query's method (``method=`` takes these, their names or numbers)."""
+
+    EXHAUSTIVE = 0
+    BVH = 1
+    SEED = 2
+    CONE = 3
+    EXACT = 4
+
+
+class SweepFlag(enum.IntFlag):
+    """Bits of a continuous query's ``flags`` (Sweep.flags)."""
+
+    INITIAL = 1     #: within the separation already at t = 0
+    UNRESOLVED = 2  #: the root finder's budget ran out (reported conservatively)
+
+
 _METHODS = {"exhaustive": 0, "bvh": 1, "seed": 2, "cone": 3, "exact": 4}
 _NARROW = {"closed": 0, "closed_form": 0, "libccd": 1}
 _KINDS = {"vf": int(lib.SELFCOL_KIND_VF), "ee": int(lib.SELFCOL_KIND_EE),
@@ -252,6 +278,8 @@ def _kinds_mask(kinds: KindsArg) -> int:
 
 
 def _lookup(table: Dict[str, int], value: Union[str, int], what: str) -> int:
+    if isinstance(value, enum.Enum):
+        value = int(value)
     if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
         if int(value) not in table.values():
             raise _invalid("unknown %s %r (one of %s, or their numbers %s)"
@@ -967,8 +995,8 @@ class Sweep:
     [vertex, triangle], ``ee`` (n, 4), ``toi``, ``flags``,
     ``free_fraction`` (the least toi, 1 when nothing collides), ``stats``."""
 
-    INITIAL = 1
-    UNRESOLVED = 2
+    INITIAL = SweepFlag.INITIAL
+    UNRESOLVED = SweepFlag.UNRESOLVED
 
     def __init__(self, handle: Any) -> None:
         ptr = ffi.new("selfcol_sweep_hit **")

@@ -326,3 +326,16 @@ def test_sweep_progress_and_cancel():
         selfcol.self_sweep(V, W, F, separation=0.01, progress=interrupt)
     # The hierarchy still answers afterwards.
     assert np.array_equal(selfcol.self_sweep(V, W, F, separation=0.01).hits, ref.hits)
+
+
+def test_enums():
+    """Kind, Method and SweepFlag name the C library's numbers."""
+    V, F = folded()
+    c = selfcol.self_collide(V, F, method=selfcol.Method.EXACT)
+    assert np.array_equal(c.records, selfcol.self_collide(V, F, method="exact").records)
+    kinds = c.records["kind"]
+    assert (kinds == selfcol.Kind.EF).sum() == c.counts["ef"] > 0
+    assert [int(k) for k in selfcol.Kind] == [0, 1, 2]
+    assert selfcol.Sweep.INITIAL == selfcol.SweepFlag.INITIAL == 1
+    with pytest.raises(selfcol.InvalidArgument):
+        selfcol.self_collide(V, F, method=7)
