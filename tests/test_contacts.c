@@ -365,6 +365,98 @@ static void test_intersecting_triangles(void **state) {
     selfcol_contacts_destroy(c);
 }
 
+// Triangle classes, against a marking written here from the records and the
+// mesh's public adjacency: a crumpled sheet (self) and two sheets (both
+// arrays); classes only go up across calls; NULL arguments.
+static void mark_by_hand(const selfcol_contacts *c, const selfcol_mesh *m0, const selfcol_mesh *m1,
+                         uint8_t *k0, uint8_t *k1) {
+    const selfcol_contact *r = NULL;
+    size_t n = 0;
+    assert_int_equal(selfcol_contacts_data(c, &r, &n), SELFCOL_OK);
+    const selfcol_mesh *mesh[2] = {m0, m1};
+    uint8_t *k[2] = {k0, m0 == m1 ? k0 : k1};
+    for (size_t i = 0; i < n; ++i) {
+        const int f = (int)r[i].first_mesh, g = (int)r[i].second_mesh;
+        const uint32_t *tris = NULL;
+        size_t m = 0;
+        const uint8_t level = r[i].kind == SELFCOL_CONTACT_EF ? 2 : 1;
+        if (r[i].kind != SELFCOL_CONTACT_EE && k[g][r[i].second] < level)
+            k[g][r[i].second] = level;
+        if (r[i].kind == SELFCOL_CONTACT_VF)
+            assert_int_equal(selfcol_mesh_vertex_triangles(mesh[f], r[i].first, &tris, &m),
+                             SELFCOL_OK);
+        else
+            assert_int_equal(selfcol_mesh_edge_triangles(mesh[f], r[i].first, &tris, &m),
+                             SELFCOL_OK);
+        for (size_t j = 0; j < m; ++j)
+            if (k[f][tris[j]] < level)
+                k[f][tris[j]] = level;
+        if (r[i].kind == SELFCOL_CONTACT_EE) {
+            assert_int_equal(selfcol_mesh_edge_triangles(mesh[g], r[i].second, &tris, &m),
+                             SELFCOL_OK);
+            for (size_t j = 0; j < m; ++j)
+                if (k[g][tris[j]] < 1)
+                    k[g][tris[j]] = 1;
+        }
+    }
+}
+
+static void test_triangle_classes(void **state) {
+    (void)state;
+    fixture a = {0}, b = {0};
+    assert_int_equal(fixture_crumpled(&a, 24, 24, 3, 5.0), 0);
+    assert_int_equal(fixture_crumpled(&b, 16, 20, 5, 5.0), 0);
+    const double shift[3] = {0.4, 0.3, 0.0};
+    fixture_translate(&b, shift);
+    selfcol_mesh *ma = NULL, *mb = NULL;
+    selfcol_hierarchy *ha = NULL, *hb = NULL;
+    selfcol_contacts *c = NULL;
+    assert_int_equal(
+        selfcol_mesh_create(&ma, a.vertex_count, a.positions, a.triangle_count, a.triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(
+        selfcol_mesh_create(&mb, b.vertex_count, b.positions, b.triangle_count, b.triangles, NULL),
+        SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&ha, ma, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&hb, mb, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    selfcol_query_options o;
+    selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
+    o.distance = 0.05;
+    const size_t na = a.triangle_count, nb = b.triangle_count;
+    uint8_t *got_a = calloc(na, 1), *got_b = calloc(nb, 1);
+    uint8_t *want_a = calloc(na, 1), *want_b = calloc(nb, 1);
+    assert_true(got_a && got_b && want_a && want_b);
+    assert_int_equal(selfcol_hierarchy_self_collide(ha, c, &o), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_triangle_classes(c, ma, ma, got_a, NULL), SELFCOL_OK);
+    mark_by_hand(c, ma, ma, want_a, NULL);
+    assert_memory_equal(got_a, want_a, na);
+    size_t marked[3] = {0, 0, 0};
+    for (size_t t = 0; t < na; ++t)
+        marked[got_a[t]]++;
+    assert_true(marked[1] > 0 && marked[2] > 0); // both classes met
+    // A second query adds to the same arrays (classes only go up).
+    assert_int_equal(selfcol_hierarchy_collide(ha, hb, c, &o), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_triangle_classes(c, ma, mb, got_a, got_b), SELFCOL_OK);
+    mark_by_hand(c, ma, mb, want_a, want_b);
+    assert_memory_equal(got_a, want_a, na);
+    assert_memory_equal(got_b, want_b, nb);
+    assert_int_equal(selfcol_contacts_triangle_classes(NULL, ma, ma, got_a, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_triangle_classes(c, ma, mb, got_a, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_contacts_triangle_classes(c, ma, ma, NULL, NULL), SELFCOL_EINVAL);
+    free(got_a);
+    free(got_b);
+    free(want_a);
+    free(want_b);
+    selfcol_contacts_destroy(c);
+    selfcol_hierarchy_destroy(ha);
+    selfcol_hierarchy_destroy(hb);
+    selfcol_mesh_destroy(ma);
+    selfcol_mesh_destroy(mb);
+    fixture_free(&a);
+    fixture_free(&b);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_create_checks_its_options),
@@ -373,6 +465,7 @@ int main(void) {
         cmocka_unit_test(test_stats_write_only_their_version),
         cmocka_unit_test(test_clear_empties_and_keeps_the_memory),
         cmocka_unit_test(test_intersecting_triangles),
+        cmocka_unit_test(test_triangle_classes),
     };
     return cmocka_run_group_tests_name("contacts", tests, NULL, NULL);
 }

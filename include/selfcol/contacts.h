@@ -231,6 +231,33 @@ SELFCOL_API int selfcol_contacts_intersecting_triangles(selfcol_contacts *contac
                                                         const uint32_t **pairs_out,
                                                         size_t *count_out);
 
+/** Classes of selfcol_contacts_triangle_classes(): what a triangle takes part in. */
+typedef enum selfcol_triangle_class {
+    SELFCOL_TRIANGLE_PLAIN = 0, /**< no contact */
+    SELFCOL_TRIANGLE_NEAR = 1,  /**< a VF or EE proximity (its corner, edge or face) */
+    SELFCOL_TRIANGLE_INTERSECTING =
+        2 /**< an EF interference (the crossed face, or the crossing edge's) */
+} selfcol_triangle_class;
+
+/**
+ * Raises each triangle's class to what it takes part in in the last query's
+ * records (the marking of `selfcol-cli check --mark`): a VF proximity's
+ * face, and every face around its vertex, are NEAR; an EE proximity's
+ * edges' faces are NEAR; an EF interference's crossed face and the
+ * crossing edge's faces are INTERSECTING. A class only goes up (max), so
+ * one array can gather several queries.
+ * @param[in] first, second the query's meshes (the same mesh twice for a self query)
+ * @param[in,out] first_classes one byte per triangle of first (selfcol_triangle_class)
+ * @param[in,out] second_classes one per triangle of second; ignored (may be
+ *                NULL) for a self query, which writes first_classes only
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL arguments, records naming an
+ *         element the meshes do not have).
+ */
+SELFCOL_API int selfcol_contacts_triangle_classes(const selfcol_contacts *contacts,
+                                                  const selfcol_mesh *first,
+                                                  const selfcol_mesh *second,
+                                                  uint8_t *first_classes, uint8_t *second_classes);
+
 /**
  * Bytes of memory held by the contact set.
  * @return the byte count; 0 for NULL.

@@ -211,3 +211,48 @@ int selfcol_contacts_intersecting_triangles(selfcol_contacts *contacts, const se
     *count_out = contacts->pair_count;
     return SELFCOL_OK;
 }
+
+// ---------------------------------------------------------------------------
+// Triangle classes (contacts.h)
+
+static void raise_to(uint8_t *classes, uint32_t t, uint8_t c) {
+    if (classes[t] < c)
+        classes[t] = c;
+}
+
+static void raise_edge_faces(const selfcol_mesh *m, uint8_t *classes, uint32_t e, uint8_t c) {
+    for (uint32_t j = m->edge_tri_offsets[e]; j < m->edge_tri_offsets[e + 1]; ++j)
+        raise_to(classes, m->edge_tris[j], c);
+}
+
+int selfcol_contacts_triangle_classes(const selfcol_contacts *contacts, const selfcol_mesh *first,
+                                      const selfcol_mesh *second, uint8_t *first_classes,
+                                      uint8_t *second_classes) {
+    SELFCOL_CHECK(contacts != NULL && first != NULL && second != NULL && first_classes != NULL);
+    const int self = first == second;
+    SELFCOL_CHECK(self || second_classes != NULL);
+    const selfcol_mesh *const mesh[2] = {first, second};
+    uint8_t *const classes[2] = {first_classes, self ? first_classes : second_classes};
+    const selfcol_records *r = &contacts->records;
+    for (size_t i = 0; i < r->count; ++i) {
+        const selfcol_contact *c = &r->items[i];
+        const unsigned mf = c->first_mesh & 1u, ms = c->second_mesh & 1u;
+        const selfcol_mesh *a = mesh[mf], *b = mesh[ms];
+        if (c->kind == SELFCOL_CONTACT_VF) {
+            SELFCOL_CHECK(c->first < a->vertex_count && c->second < b->triangle_count);
+            raise_to(classes[ms], c->second, SELFCOL_TRIANGLE_NEAR);
+            for (uint32_t j = a->vertex_tri_offsets[c->first];
+                 j < a->vertex_tri_offsets[c->first + 1]; ++j)
+                raise_to(classes[mf], a->vertex_tris[j], SELFCOL_TRIANGLE_NEAR);
+        } else if (c->kind == SELFCOL_CONTACT_EE) {
+            SELFCOL_CHECK(c->first < a->edge_count && c->second < b->edge_count);
+            raise_edge_faces(a, classes[mf], c->first, SELFCOL_TRIANGLE_NEAR);
+            raise_edge_faces(b, classes[ms], c->second, SELFCOL_TRIANGLE_NEAR);
+        } else {
+            SELFCOL_CHECK(c->first < a->edge_count && c->second < b->triangle_count);
+            raise_to(classes[ms], c->second, SELFCOL_TRIANGLE_INTERSECTING);
+            raise_edge_faces(a, classes[mf], c->first, SELFCOL_TRIANGLE_INTERSECTING);
+        }
+    }
+    return SELFCOL_OK;
+}

@@ -117,6 +117,9 @@ size_t selfcol_contacts_count(const selfcol_contacts *contacts);
 int selfcol_contacts_data(const selfcol_contacts *contacts, const selfcol_contact **data_out,
                           size_t *count_out);
 int selfcol_contacts_stats(const selfcol_contacts *contacts, selfcol_query_stats *stats);
+int selfcol_contacts_triangle_classes(const selfcol_contacts *contacts, const selfcol_mesh *first,
+                                      const selfcol_mesh *second, uint8_t *first_classes,
+                                      uint8_t *second_classes);
 int selfcol_contacts_intersecting_triangles(selfcol_contacts *contacts, const selfcol_mesh *first,
                                             const selfcol_mesh *second, const uint32_t **pairs_out,
                                             size_t *count_out);
@@ -306,6 +309,9 @@ int meshio_read(const char *path, meshio_mesh *mesh, meshio_error *err,
                 const meshio_progress *progress);
 void meshio_mesh_free(meshio_mesh *mesh);
 size_t meshio_weld(const double *positions, size_t vertex_count, uint32_t *representative_out);
+int meshio_write_marked_ply(const char *path, const double *positions, size_t vertex_count,
+                            const uint32_t *triangles, size_t triangle_count,
+                            const unsigned char *classes, const char *comment, meshio_error *err);
 """
 
 

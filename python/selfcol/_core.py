@@ -13,6 +13,7 @@ another thread at the same time.
 from __future__ import annotations
 
 import enum
+import os
 import sys
 import threading
 import time
@@ -631,6 +632,44 @@ class Contacts:
                 out[:] = np.frombuffer(ffi.buffer(ptr[0], 8 * n), dtype=np.uint32).reshape(n, 2)
             self._intersecting = out
         return self._intersecting.copy()
+
+    def triangle_classes(self) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray]]:
+        """Per triangle, what it takes part in: 0 nothing, 1 a proximity (VF,
+        EE), 2 an interference (EF): ``selfcol-cli check --mark``'s marking
+        (selfcol_contacts_triangle_classes). One uint8 array for a self
+        query, a pair (first mesh, second mesh) for two."""
+        if self._h is None:
+            raise _invalid("triangle_classes: a Contacts loaded from a pickle has no records "
+                           "in C; query again")
+        m0 = self._meshes[0]
+        m1 = self._meshes[1] if len(self._meshes) > 1 else m0
+        c0 = np.zeros(m0.triangle_count, dtype=np.uint8)
+        c1 = np.zeros(m1.triangle_count, dtype=np.uint8) if m1 is not m0 else c0
+        _check(lib.selfcol_contacts_triangle_classes(self._h, m0._h, m1._h,
+                                                     _ptr("uint8_t *", c0),
+                                                     _ptr("uint8_t *", c1)),
+               "selfcol_contacts_triangle_classes")
+        return c0 if m1 is m0 else (c0, c1)
+
+    def write_marked(self, path: str) -> None:
+        """Writes the mesh as ``selfcol-cli check --mark`` does (self queries):
+        an ASCII PLY with intersecting faces red, faces within the distance
+        orange, the rest grey, and vertex colours for Blender's importer."""
+        if len(self._meshes) != 1:
+            raise _invalid("write_marked: only for a self query")
+        classes = self.triangle_classes()
+        assert isinstance(classes, np.ndarray)
+        m = self._meshes[0]
+        P = np.ascontiguousarray(m.positions, dtype=np.float64)
+        T = np.ascontiguousarray(m.triangles, dtype=np.uint32)
+        err = ffi.new("meshio_error *")
+        comment = ("selfcol %s (Python): red faces intersect, orange faces are within the "
+                   "detection distance" % version()).encode()
+        if lib.meshio_write_marked_ply(os.fsencode(path), _ptr("double *", P), P.shape[0],
+                                       _ptr("uint32_t *", T), T.shape[0],
+                                       ffi.cast("unsigned char *", classes.ctypes.data),
+                                       comment, err) != 0:
+            raise OSError(ffi.string(err.message).decode("utf-8", "replace"))
 
     def __repr__(self) -> str:
         c = self.counts

@@ -339,3 +339,27 @@ def test_enums():
     assert selfcol.Sweep.INITIAL == selfcol.SweepFlag.INITIAL == 1
     with pytest.raises(selfcol.InvalidArgument):
         selfcol.self_collide(V, F, method=7)
+
+
+def test_marked_mesh_matches_the_cli(cli, tmp_path):
+    """write_marked writes the PLY of selfcol-cli check --mark, byte for byte
+    but its comment line; triangle_classes is its marking."""
+    from selfcol.io import read_mesh
+    path = os.path.join(ROOT, "tests", "data", "folded_ribbon.obj")
+    V, F = read_mesh(path)
+    c = selfcol.self_collide(V, F)
+    classes = c.triangle_classes()
+    assert classes.shape == (F.shape[0],) and set(np.unique(classes)) <= {0, 1, 2}
+    assert (classes == 2).sum() > 0 and (classes == 1).sum() > 0
+    # Every intersecting pair's triangles are marked 2.
+    assert (classes[c.intersecting_triangles().ravel()] == 2).all()
+    ours = tmp_path / "ours.ply"
+    c.write_marked(str(ours))
+    theirs = tmp_path / "cli.ply"
+    cli("--mark", theirs, path)  # selfcol-cli check --json - --mark cli.ply ribbon
+    strip = lambda p: [x for x in p.read_bytes().split(b"\n")  # noqa: E731
+                       if not x.startswith(b"comment")]
+    assert strip(ours) == strip(theirs)
+    W = V + np.array([0.0, 0.0, 1e3])
+    a, b = selfcol.collide(V, F, W, F).triangle_classes()
+    assert a.shape == b.shape == (F.shape[0],) and a.max() == 0 and b.max() == 0

@@ -47,19 +47,6 @@ static int push(meshio_array *array, uint32_t k0, uint32_t k1, uint32_t k2, uint
     return 0;
 }
 
-static void raise_class(unsigned char *classes, uint32_t t, unsigned char c) {
-    if (classes != NULL && classes[t] < c)
-        classes[t] = c;
-}
-
-static void raise_edge(unsigned char *classes, const cli_part *part, uint32_t edge) {
-    const uint32_t *tris;
-    size_t n;
-    if (classes != NULL && selfcol_mesh_edge_triangles(part->mesh, edge, &tris, &n) == SELFCOL_OK)
-        for (size_t i = 0; i < n; ++i)
-            raise_class(classes, tris[i] + part->triangle_offset, 1);
-}
-
 int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *const parts[2],
                  unsigned char *classes) {
     const selfcol_contact *c;
@@ -94,13 +81,6 @@ int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *con
         int status = 0;
         if (c[i].kind == SELFCOL_CONTACT_VF) {
             status = push(&sets->vf, c[i].a[0] + vo, t, 0, 0, c[i].distance);
-            raise_class(classes, t, 1);
-            const uint32_t *tris;
-            size_t m;
-            if (classes != NULL &&
-                selfcol_mesh_vertex_triangles(pf->mesh, c[i].a[0], &tris, &m) == SELFCOL_OK)
-                for (size_t j = 0; j < m; ++j)
-                    raise_class(classes, tris[j] + pf->triangle_offset, 1);
         } else if (c[i].kind == SELFCOL_CONTACT_EE) {
             uint32_t a0 = c[i].a[0] + vo, a1 = c[i].a[1] + vo;
             uint32_t b0 = c[i].b[0] + so, b1 = c[i].b[1] + so;
@@ -118,8 +98,6 @@ int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *con
                 status = push(&sets->ee, b0, b1, a0, a1, c[i].distance);
             else
                 status = push(&sets->ee, a0, a1, b0, b1, c[i].distance);
-            raise_edge(classes, pf, c[i].first);
-            raise_edge(classes, ps, c[i].second);
         } else if (c[i].kind == SELFCOL_CONTACT_EF) {
             uint32_t a0 = c[i].a[0] + vo, a1 = c[i].a[1] + vo;
             status = push(&sets->ef, a0 < a1 ? a0 : a1, a0 < a1 ? a1 : a0, t, 0, 0.0);
@@ -129,7 +107,6 @@ int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *con
             // have such an edge: the intersection segment ends on an edge of
             // one crossing the other. So these pairs are exactly the
             // intersecting triangle pairs of the EF set.
-            raise_class(classes, t, 2);
             const uint32_t *tris;
             size_t m;
             if (status == 0 &&
@@ -137,13 +114,18 @@ int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *con
                 for (size_t j = 0; j < m && status == 0; ++j) {
                     uint32_t s = tris[j] + pf->triangle_offset;
                     status = push(&sets->tt, s < t ? s : t, s < t ? t : s, 0, 0, 0.0);
-                    raise_class(classes, s, 2);
                 }
             }
         }
         if (status != 0)
             return -1;
     }
+    // The pictures' classes (--mark, --png): the library's marking.
+    if (classes != NULL &&
+        selfcol_contacts_triangle_classes(contacts, parts[0]->mesh, parts[1]->mesh,
+                                          classes + parts[0]->triangle_offset,
+                                          classes + parts[1]->triangle_offset) != SELFCOL_OK)
+        return -1;
     return 0;
 }
 
@@ -395,44 +377,15 @@ void cli_write_csv(FILE *out, long frame, const cli_sets *sets) {
     csv_rows(out, frame, "tt", &sets->tt, 2, 0);
 }
 
-static const unsigned char class_colours[3][3] = {
-    {190, 196, 206}, /* plain */
-    {245, 166, 35},  /* proximity */
-    {214, 39, 40}    /* intersecting */
-};
-
 int cli_write_marked_ply(const char *path, const double *positions, size_t vertex_count,
                          const uint32_t *triangles, size_t triangle_count,
                          const unsigned char *classes, cli_error *err) {
-    // Vertex colours too: Blender's importer reads only those; a vertex takes
-    // the most severe class of its triangles.
-    unsigned char *vertex_class = calloc(vertex_count + 1, 1);
-    unsigned char *vertex_rgb = malloc(3 * vertex_count + 1);
-    unsigned char *triangle_rgb = malloc(3 * triangle_count + 1);
-    if (vertex_class == NULL || vertex_rgb == NULL || triangle_rgb == NULL) {
-        free(vertex_class);
-        free(vertex_rgb);
-        free(triangle_rgb);
-        return cli_fail(err, "%s: out of memory", path);
-    }
-    for (size_t t = 0; t < triangle_count; ++t) {
-        for (int k = 0; k < 3; ++k)
-            if (vertex_class[triangles[3 * t + k]] < classes[t])
-                vertex_class[triangles[3 * t + k]] = classes[t];
-        memcpy(triangle_rgb + 3 * t, class_colours[classes[t]], 3);
-    }
-    for (size_t v = 0; v < vertex_count; ++v)
-        memcpy(vertex_rgb + 3 * v, class_colours[vertex_class[v]], 3);
     char comment[160];
     snprintf(comment, sizeof comment,
              "selfcol-cli %s: red faces intersect, orange faces are within the detection distance",
              selfcol_version_string());
-    int status = meshio_write_coloured_ply(path, positions, vertex_count, vertex_rgb, triangles,
-                                           triangle_count, triangle_rgb, comment, err);
-    free(vertex_class);
-    free(vertex_rgb);
-    free(triangle_rgb);
-    return status;
+    return meshio_write_marked_ply(path, positions, vertex_count, triangles, triangle_count,
+                                   classes, comment, err);
 }
 
 // ---------------------------------------------------------------------------

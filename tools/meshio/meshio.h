@@ -104,6 +104,17 @@ int meshio_write_coloured_ply(const char *path, const double *positions, size_t 
                               size_t triangle_count, const unsigned char *triangle_rgb,
                               const char *comment, meshio_error *err);
 
+/**
+ * The coloured PLY of `selfcol-cli check --mark`: per triangle its class
+ * (0 plain: grey, 1 within the detection distance: orange, 2 intersecting:
+ * red; selfcol_triangle_class), per vertex the most severe class of its
+ * triangles (Blender's importer reads vertex colours only). Returns 0, or
+ * -1 with err set.
+ */
+int meshio_write_marked_ply(const char *path, const double *positions, size_t vertex_count,
+                            const uint32_t *triangles, size_t triangle_count,
+                            const unsigned char *classes, const char *comment, meshio_error *err);
+
 /** A growable array of fixed-size items (realloc doubling). */
 typedef struct meshio_array {
     void *data;

@@ -7,6 +7,7 @@
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 int meshio_write_coloured_ply(const char *path, const double *positions, size_t vertex_count,
@@ -39,4 +40,42 @@ int meshio_write_coloured_ply(const char *path, const double *positions, size_t 
     if (fclose(f) != 0 || bad)
         return meshio_fail(err, "%s: write error", path);
     return 0;
+}
+
+// Colours of meshio_write_marked_ply's classes.
+static const unsigned char class_colours[3][3] = {
+    {190, 196, 206}, /* plain */
+    {245, 166, 35},  /* proximity */
+    {214, 39, 40}    /* intersecting */
+};
+
+int meshio_write_marked_ply(const char *path, const double *positions, size_t vertex_count,
+                            const uint32_t *triangles, size_t triangle_count,
+                            const unsigned char *classes, const char *comment, meshio_error *err) {
+    // Vertex colours too: Blender's importer reads only those; a vertex takes
+    // the most severe class of its triangles.
+    unsigned char *vertex_class = calloc(vertex_count + 1, 1);
+    unsigned char *vertex_rgb = malloc(3 * vertex_count + 1);
+    unsigned char *triangle_rgb = malloc(3 * triangle_count + 1);
+    if (vertex_class == NULL || vertex_rgb == NULL || triangle_rgb == NULL) {
+        free(vertex_class);
+        free(vertex_rgb);
+        free(triangle_rgb);
+        return meshio_fail(err, "%s: out of memory", path);
+    }
+    for (size_t t = 0; t < triangle_count; ++t) {
+        const unsigned char c = classes[t] < 3 ? classes[t] : 2;
+        for (int k = 0; k < 3; ++k)
+            if (vertex_class[triangles[3 * t + k]] < c)
+                vertex_class[triangles[3 * t + k]] = c;
+        memcpy(triangle_rgb + 3 * t, class_colours[c], 3);
+    }
+    for (size_t v = 0; v < vertex_count; ++v)
+        memcpy(vertex_rgb + 3 * v, class_colours[vertex_class[v]], 3);
+    int status = meshio_write_coloured_ply(path, positions, vertex_count, vertex_rgb, triangles,
+                                           triangle_count, triangle_rgb, comment, err);
+    free(vertex_class);
+    free(vertex_rgb);
+    free(triangle_rgb);
+    return status;
 }
