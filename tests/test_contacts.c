@@ -275,6 +275,20 @@ static void check_pairs(selfcol_contacts *c, const selfcol_mesh *m0, const selfc
     free(want);
 }
 
+// Two crumpled sheets, the second over the first: each crosses itself, and
+// they cross each other.
+static void crossing_sheets(world *first, world *second, unsigned n) {
+    fixture a = {0}, b = {0};
+    assert_int_equal(fixture_crumpled(&a, n, n, 3, 5.0), 0);
+    assert_int_equal(fixture_crumpled(&b, 2 * n / 3, 4 * n / 5, 5, 5.0), 0);
+    const double shift[3] = {0.4, 0.3, 0.0};
+    fixture_translate(&b, shift);
+    world_make(first, &a);
+    world_make(second, &b);
+    fixture_free(&a);
+    fixture_free(&b);
+}
+
 static void test_intersecting_triangles(void **state) {
     (void)state;
     // The README's example: edges (3, 4) and (3, 5) cross triangle 0.
@@ -311,21 +325,10 @@ static void test_intersecting_triangles(void **state) {
     selfcol_mesh_destroy(m);
 
     // A crumpled sheet crossing itself, then two sheets through each other.
-    fixture a = {0}, b = {0};
-    assert_int_equal(fixture_crumpled(&a, 30, 30, 3, 5.0), 0);
-    assert_int_equal(fixture_crumpled(&b, 20, 24, 5, 5.0), 0);
-    const double shift[3] = {0.4, 0.3, 0.0};
-    fixture_translate(&b, shift);
-    selfcol_mesh *ma = NULL, *mb = NULL;
-    selfcol_hierarchy *ha = NULL, *hb = NULL;
-    assert_int_equal(
-        selfcol_mesh_create(&ma, a.vertex_count, a.positions, a.triangle_count, a.triangles, NULL),
-        SELFCOL_OK);
-    assert_int_equal(
-        selfcol_mesh_create(&mb, b.vertex_count, b.positions, b.triangle_count, b.triangles, NULL),
-        SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_create(&ha, ma, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_create(&hb, mb, NULL), SELFCOL_OK);
+    world wa, wb;
+    crossing_sheets(&wa, &wb, 30);
+    selfcol_mesh *ma = wa.mesh, *mb = wb.mesh;
+    selfcol_hierarchy *ha = wa.hierarchy, *hb = wb.hierarchy;
     selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
     o.distance = 0.01;
     size_t total = 0;
@@ -356,12 +359,8 @@ static void test_intersecting_triangles(void **state) {
     assert_int_equal(n, self_pairs);
     selfcol_contacts_destroy(counted);
     assert_int_equal(alloc.live, 0);
-    selfcol_hierarchy_destroy(ha);
-    selfcol_hierarchy_destroy(hb);
-    selfcol_mesh_destroy(ma);
-    selfcol_mesh_destroy(mb);
-    fixture_free(&a);
-    fixture_free(&b);
+    world_free(&wa);
+    world_free(&wb);
     selfcol_contacts_destroy(c);
 }
 
@@ -403,27 +402,16 @@ static void mark_by_hand(const selfcol_contacts *c, const selfcol_mesh *m0, cons
 
 static void test_triangle_classes(void **state) {
     (void)state;
-    fixture a = {0}, b = {0};
-    assert_int_equal(fixture_crumpled(&a, 24, 24, 3, 5.0), 0);
-    assert_int_equal(fixture_crumpled(&b, 16, 20, 5, 5.0), 0);
-    const double shift[3] = {0.4, 0.3, 0.0};
-    fixture_translate(&b, shift);
-    selfcol_mesh *ma = NULL, *mb = NULL;
-    selfcol_hierarchy *ha = NULL, *hb = NULL;
-    selfcol_contacts *c = NULL;
-    assert_int_equal(
-        selfcol_mesh_create(&ma, a.vertex_count, a.positions, a.triangle_count, a.triangles, NULL),
-        SELFCOL_OK);
-    assert_int_equal(
-        selfcol_mesh_create(&mb, b.vertex_count, b.positions, b.triangle_count, b.triangles, NULL),
-        SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_create(&ha, ma, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_create(&hb, mb, NULL), SELFCOL_OK);
-    assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    world wa, wb;
+    crossing_sheets(&wa, &wb, 24);
+    selfcol_mesh *ma = wa.mesh, *mb = wb.mesh;
+    selfcol_hierarchy *ha = wa.hierarchy, *hb = wb.hierarchy;
+    selfcol_contacts *c = wa.contacts;
     selfcol_query_options o;
     selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
     o.distance = 0.05;
-    const size_t na = a.triangle_count, nb = b.triangle_count;
+    const size_t na = selfcol_mesh_count(ma, SELFCOL_MESH_TRIANGLES);
+    const size_t nb = selfcol_mesh_count(mb, SELFCOL_MESH_TRIANGLES);
     uint8_t *got_a = calloc(na, 1), *got_b = calloc(nb, 1);
     uint8_t *want_a = calloc(na, 1), *want_b = calloc(nb, 1);
     assert_true(got_a && got_b && want_a && want_b);
@@ -448,13 +436,8 @@ static void test_triangle_classes(void **state) {
     free(got_b);
     free(want_a);
     free(want_b);
-    selfcol_contacts_destroy(c);
-    selfcol_hierarchy_destroy(ha);
-    selfcol_hierarchy_destroy(hb);
-    selfcol_mesh_destroy(ma);
-    selfcol_mesh_destroy(mb);
-    fixture_free(&a);
-    fixture_free(&b);
+    world_free(&wa);
+    world_free(&wb);
 }
 
 int main(void) {

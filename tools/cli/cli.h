@@ -88,9 +88,11 @@ void cli_sets_free(cli_sets *sets);
  * Appends the contacts of one query (a self query of parts[i], or the query
  * between parts[0] and parts[1]) to sets, in file indices. classes, if not
  * NULL, receives per output triangle 2 (intersecting) or at least 1 (near a
- * proximity). Returns 0 or -1 (out of memory).
+ * proximity). The intersecting pairs and the classes come from the library
+ * (contacts.h), which keeps the pairs in the contact set: not const.
+ * Returns 0 or -1 (out of memory).
  */
-int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *const parts[2],
+int cli_sets_add(cli_sets *sets, selfcol_contacts *contacts, cli_part *const parts[2],
                  unsigned char *classes);
 
 /** Sorts every array and removes duplicate triangle pairs. Returns 0 or -1. */

@@ -2,10 +2,10 @@
 // SPDX-License-Identifier: MIT
 
 // From library contacts to the output contract: index arrays in file
-// indices (sorted, the second mesh's indices after the first's), the
-// intersecting triangle pairs derived from the EF interferences, the JSON and
-// CSV writers, the colours of --mark's PLY (written by selfcol_meshio), and
-// opening and closing the commands' output files.
+// indices (sorted, the second mesh's indices after the first's), with the
+// intersecting triangle pairs and the triangles' classes the library derives
+// (contacts.h), the JSON and CSV writers, --mark's PLY (written by
+// selfcol_meshio), and opening and closing the commands' output files.
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
@@ -47,7 +47,7 @@ static int push(meshio_array *array, uint32_t k0, uint32_t k1, uint32_t k2, uint
     return 0;
 }
 
-int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *const parts[2],
+int cli_sets_add(cli_sets *sets, selfcol_contacts *contacts, cli_part *const parts[2],
                  unsigned char *classes) {
     const selfcol_contact *c;
     size_t n;
@@ -101,23 +101,21 @@ int cli_sets_add(cli_sets *sets, const selfcol_contacts *contacts, cli_part *con
         } else if (c[i].kind == SELFCOL_CONTACT_EF) {
             uint32_t a0 = c[i].a[0] + vo, a1 = c[i].a[1] + vo;
             status = push(&sets->ef, a0 < a1 ? a0 : a1, a0 < a1 ? a1 : a0, t, 0, 0.0);
-            // The edge passes through t, so every triangle having that edge
-            // intersects t (their intersection holds the crossing point). Two
-            // triangles that intersect away from their common vertices always
-            // have such an edge: the intersection segment ends on an edge of
-            // one crossing the other. So these pairs are exactly the
-            // intersecting triangle pairs of the EF set.
-            const uint32_t *tris;
-            size_t m;
-            if (status == 0 &&
-                selfcol_mesh_edge_triangles(pf->mesh, c[i].first, &tris, &m) == SELFCOL_OK) {
-                for (size_t j = 0; j < m && status == 0; ++j) {
-                    uint32_t s = tris[j] + pf->triangle_offset;
-                    status = push(&sets->tt, s < t ? s : t, s < t ? t : s, 0, 0, 0.0);
-                }
-            }
         }
         if (status != 0)
+            return -1;
+    }
+    // The intersecting triangle pairs, derived from the EF records by the
+    // library (selfcol_contacts_intersecting_triangles), in file indices.
+    const uint32_t *pairs;
+    size_t pair_count;
+    if (selfcol_contacts_intersecting_triangles(contacts, parts[0]->mesh, parts[1]->mesh, &pairs,
+                                                &pair_count) != SELFCOL_OK)
+        return -1;
+    for (size_t k = 0; k < pair_count; ++k) {
+        const uint32_t a = pairs[2 * k] + parts[0]->triangle_offset;
+        const uint32_t b = pairs[2 * k + 1] + parts[1]->triangle_offset;
+        if (push(&sets->tt, a < b ? a : b, a < b ? b : a, 0, 0, 0.0) != 0)
             return -1;
     }
     // The pictures' classes (--mark, --png): the library's marking.
