@@ -232,6 +232,137 @@ static void test_random_motions_against_sampled_distance(void **state) {
     assert_true(separated > 100);     // and the filter does say something
 }
 
+// ------------------------------------------------------------- may_touch
+
+static int may_touch(const double *p0, const double *a0, const double *b0, const double *c0,
+                     const double *p1, const double *a1, const double *b1, const double *c1,
+                     int edge_edge, int *outcome) {
+    const double *const start[4] = {p0, a0, b0, c0};
+    const double *const end[4] = {p1, a1, b1, c1};
+    selfcol_narrow_sweep_info info = {-1, 0, 0};
+    const int answer = selfcol_narrow_sweep__may_touch(start, end, edge_edge, &info);
+    *outcome = info.outcome;
+    return answer;
+}
+
+// The yes/no question of the contact store: crossings answered by a witness,
+// sign changes without contact (a vertex passing beside a triangle, edges
+// turning past each other) proven apart, degenerate and non-finite input
+// answered like the search.
+static void test_may_touch_hand_made(void **state) {
+    (void)state;
+    int outcome;
+    const double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
+    // Straight through the middle: a witness.
+    const double p0[3] = {0.25, 0.25, 1}, p1[3] = {0.25, 0.25, -1};
+    assert_int_equal(may_touch(p0, a, b, c, p1, a, b, c, 0, &outcome), 1);
+    assert_int_equal(outcome, SELFCOL_NARROW_SWEEP_WITNESS);
+    // Through the plane beside the triangle (x + y = 1.5): the side of the
+    // plane changes, the vertex never touches.
+    const double q0[3] = {0.75, 0.75, 1}, q1[3] = {0.75, 0.75, -1};
+    assert_int_equal(may_touch(q0, a, b, c, q1, a, b, c, 0, &outcome), 0);
+    assert_int_equal(outcome, SELFCOL_NARROW_SWEEP_SEPARATED);
+    // A vertex crossing the plane beside the corner b, from beyond it in x to
+    // beyond it in y (the gap to the triangle turns by 90 degrees).
+    const double r0[3] = {1.2, 0.0, 0.5}, r1[3] = {1.0, 0.2, -0.5};
+    assert_int_equal(may_touch(r0, a, b, c, r1, a, b, c, 0, &outcome), 0);
+    assert_int_equal(outcome, SELFCOL_NARROW_SWEEP_SEPARATED);
+    // Edge a falls through edge b (x = 0): a witness; moved to x = 5: apart.
+    const double e0[3] = {-1, 0, 1}, f0[3] = {1, 0, 1}, e1[3] = {-1, 0, -1}, f1[3] = {1, 0, -1};
+    const double g[3] = {0, -1, 0}, h[3] = {0, 1, 0}, g5[3] = {5, -1, 0}, h5[3] = {5, 1, 0};
+    assert_int_equal(may_touch(e0, f0, g, h, e1, f1, g, h, 1, &outcome), 1);
+    assert_int_equal(outcome, SELFCOL_NARROW_SWEEP_WITNESS);
+    assert_int_equal(may_touch(e0, f0, g5, h5, e1, f1, g5, h5, 1, &outcome), 0);
+    // An edge turning past a still edge 0.1 above it, parallel at t = 1/2:
+    // the reference normal (their cross product) flips, the gap does not.
+    const double k0[3] = {-1, -0.5, 0.1}, l0[3] = {1, 0.5, 0.1};
+    const double k1[3] = {-1, 0.5, 0.1}, l1[3] = {1, -0.5, 0.1};
+    const double m0[3] = {-1, 0, 0}, n0[3] = {1, 0, 0};
+    assert_int_equal(may_touch(k0, l0, m0, n0, k1, l1, m0, n0, 1, &outcome), 0);
+    assert_int_equal(outcome, SELFCOL_NARROW_SWEEP_SEPARATED);
+    // Lowered onto the edge (z = 0): it touches all along the turn.
+    const double k0z[3] = {-1, -0.5, 0}, l0z[3] = {1, 0.5, 0};
+    const double k1z[3] = {-1, 0.5, 0}, l1z[3] = {1, -0.5, 0};
+    assert_int_equal(may_touch(k0z, l0z, m0, n0, k1z, l1z, m0, n0, 1, &outcome), 1);
+    // Collinear overlapping edges sliding along each other (no coplanarity
+    // sign change to bisect: the search answers).
+    const double s0[3] = {2, 0, 0}, s1[3] = {3, 0, 0}, s2[3] = {0, 0, 0}, s3[3] = {1, 0, 0};
+    assert_int_equal(may_touch(s0, s1, a, b, s2, s3, a, b, 1, &outcome), 1);
+    // A vertex resting on a still triangle.
+    const double on[3] = {0.2, 0.2, 0};
+    assert_int_equal(may_touch(on, a, b, c, on, a, b, c, 0, &outcome), 1);
+    // Non-finite input: conservatively 1.
+    const double bad[3] = {NAN, 0, 0};
+    assert_int_equal(may_touch(bad, a, b, c, p1, a, b, c, 0, &outcome), 1);
+    assert_int_equal(outcome, SELFCOL_NARROW_SWEEP_INVALID);
+}
+
+// Random pairs, half of them made to cross (the second primitive's end
+// position moved so that a point of the first passes through it at a random
+// time), against the search on the same input: the same answer for every
+// pair of this seed (they can differ only for a pair that comes within the
+// tolerance without touching, which random data of this size does not
+// produce), and every stage exercised.
+static void test_may_touch_against_search(void **state) {
+    (void)state;
+    int stage[5] = {0, 0, 0, 0, 0}, touching = 0;
+    const int trials = 4000;
+    for (int trial = 0; trial < trials; ++trial) {
+        const int vf = trial % 2, crossing = (trial / 2) % 2;
+        const double scale = trial % 3 == 0 ? 1e-3 : (trial % 3 == 1 ? 1.0 : 1e3);
+        double x[8][3];
+        for (int k = 0; k < 8; ++k)
+            for (int i = 0; i < 3; ++i)
+                x[k][i] = scale * uniform(-1.0, 1.0);
+        if (crossing) {
+            // At time t*, move everything so that the first primitive's point
+            // at weights w meets the second's at weights w' (shift the second
+            // primitive's end positions by the gap / t*).
+            const double t_star = uniform(0.1, 0.9);
+            const double wa = uniform(0.05, 0.95), wb = uniform(0.05, 0.45),
+                         wc = uniform(0.05, 0.45);
+            double y[4][3], pa[3], pb[3];
+            for (int k = 0; k < 4; ++k)
+                lerp(y[k], x[k], x[k + 4], t_star);
+            for (int i = 0; i < 3; ++i) {
+                if (vf) {
+                    pa[i] = y[0][i];
+                    pb[i] = (1 - wb - wc) * y[1][i] + wb * y[2][i] + wc * y[3][i];
+                } else {
+                    pa[i] = (1 - wa) * y[0][i] + wa * y[1][i];
+                    pb[i] = (1 - wb) * y[2][i] + wb * y[3][i];
+                }
+            }
+            for (int k = vf ? 1 : 2; k < 4; ++k)
+                for (int i = 0; i < 3; ++i)
+                    x[k + 4][i] += (pa[i] - pb[i]) / t_star;
+        }
+        const double *const start[4] = {x[0], x[1], x[2], x[3]};
+        const double *const end[4] = {x[4], x[5], x[6], x[7]};
+        selfcol_narrow_sweep_info info;
+        const int answer = selfcol_narrow_sweep__may_touch(start, end, !vf, &info);
+        double toi;
+        const int reference =
+            vf ? selfcol_narrow_sweep__vf_before(start, end, 0.0, 1.0, &toi, NULL)
+               : selfcol_narrow_sweep__ee_before(start, end, 0.0, 1.0, &toi, NULL);
+        if (answer != reference)
+            fail_msg("trial %d (%s, %s): may_touch %d (outcome %d), the search %d", trial,
+                     vf ? "VF" : "EE", crossing ? "crossing" : "random", answer, info.outcome,
+                     reference);
+        if (crossing && !answer)
+            fail_msg("trial %d (%s): made to cross, answered 0", trial, vf ? "VF" : "EE");
+        touching += answer;
+        stage[info.outcome]++;
+    }
+    print_message(
+        "may_touch: %d pairs, %d may touch; separated %d, witness %d, search accepted %d\n", trials,
+        touching, stage[SELFCOL_NARROW_SWEEP_SEPARATED], stage[SELFCOL_NARROW_SWEEP_WITNESS],
+        stage[SELFCOL_NARROW_SWEEP_ACCEPTED]);
+    assert_true(touching >= trials / 4);
+    assert_true(stage[SELFCOL_NARROW_SWEEP_SEPARATED] > trials / 10);
+    assert_true(stage[SELFCOL_NARROW_SWEEP_WITNESS] > trials / 5);
+}
+
 // ------------------------------------------------- benchmark sample queries
 
 // One query: 8 points (the file's row order) and its ground truth.
@@ -355,7 +486,8 @@ static double now_ns(void) {
 typedef struct family_result {
     long queries, positives, false_negatives, false_positives, budget;
     long separated,
-        separated_wrongly; // selfcol_narrow_sweep__separated: said apart, of which truth 1
+        separated_wrongly;  // selfcol_narrow_sweep__separated: said apart, of which truth 1
+    long may_touch_wrongly; // selfcol_narrow_sweep__may_touch: 0 for a truth 1
     long max_checks;
     double ns;
 } family_result;
@@ -384,6 +516,12 @@ static void run_queries(const query_list *list, int vf, const char *family, fami
         const double(*x)[3] = (const double(*)[3])list->q[k].x;
         const double *const start[4] = {x[0], x[1], x[2], x[3]};
         const double *const end[4] = {x[4], x[5], x[6], x[7]};
+        // The store's yes/no question: no false negative either.
+        if (list->q[k].truth && !selfcol_narrow_sweep__may_touch(start, end, !vf, NULL)) {
+            ++r->may_touch_wrongly;
+            print_message("MAY_TOUCH SAYS APART, BUT COLLIDES: %s %s query %zu\n", family,
+                          vf ? "VF" : "EE", k);
+        }
         if (selfcol_narrow_sweep__separated(start, end, !vf, 0.0)) {
             ++r->separated;
             if (list->q[k].truth) {
@@ -424,7 +562,7 @@ static void test_ccd_sample_queries_when_present(void **state) {
         skip();
     }
     long total_fn = 0, total[2] = {0, 0}, total_fp[2] = {0, 0}, total_pos[2] = {0, 0};
-    long total_separated = 0, total_separated_wrongly = 0;
+    long total_separated = 0, total_separated_wrongly = 0, total_may_touch_wrongly = 0;
     double total_ns[2] = {0.0, 0.0};
     print_message("%-28s %4s %7s %6s %4s %5s %9s %9s %9s\n", "family", "kind", "queries", "truth1",
                   "FN", "FP", "FPbudget", "maxboxes", "ns/query");
@@ -446,6 +584,7 @@ static void test_ccd_sample_queries_when_present(void **state) {
             total_fn += r.false_negatives;
             total_separated += r.separated;
             total_separated_wrongly += r.separated_wrongly;
+            total_may_touch_wrongly += r.may_touch_wrongly;
             total[vf] += r.queries;
             total_fp[vf] += r.false_positives;
             total_pos[vf] += r.positives;
@@ -467,6 +606,7 @@ static void test_ccd_sample_queries_when_present(void **state) {
     }
     assert_int_equal(total_fn, 0);
     assert_int_equal(total_separated_wrongly, 0);
+    assert_int_equal(total_may_touch_wrongly, 0);
 }
 
 int main(void) {
@@ -477,6 +617,8 @@ int main(void) {
         cmocka_unit_test(test_delta_catches_near_miss),
         cmocka_unit_test(test_degenerate_motions),
         cmocka_unit_test(test_random_motions_against_sampled_distance),
+        cmocka_unit_test(test_may_touch_hand_made),
+        cmocka_unit_test(test_may_touch_against_search),
         cmocka_unit_test(test_ccd_sample_queries_when_present),
     };
     return cmocka_run_group_tests_name("narrow_sweep", tests, NULL, NULL);

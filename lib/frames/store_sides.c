@@ -146,9 +146,7 @@ static int touched_in_step(const selfcol_store *s, const store_entry *e, const u
         start[k] = s->step_start[of[k]] + 3 * (size_t)ids[k];
         end[k] = vertex_of(s, of[k], ids[k]);
     }
-    double toi;
-    return vf ? selfcol_narrow_sweep__vf_before(start, end, 0.0, 1.0, &toi, NULL)
-              : selfcol_narrow_sweep__ee_before(start, end, 0.0, 1.0, &toi, NULL);
+    return selfcol_narrow_sweep__may_touch(start, end, !vf, NULL);
 }
 
 void selfcol_store__track_side(selfcol_store *s, store_entry *e, const uint32_t a[2],

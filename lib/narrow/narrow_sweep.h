@@ -61,7 +61,8 @@ enum {
     SELFCOL_NARROW_SWEEP_SEPARATED = 0, // answer 0: every box was proven root-free
     SELFCOL_NARROW_SWEEP_ACCEPTED = 1,  // answer 1: a box met the tolerance
     SELFCOL_NARROW_SWEEP_BUDGET = 2,    // answer 1: box budget or depth ran out
-    SELFCOL_NARROW_SWEEP_INVALID = 3    // answer 1: non-finite or huge coordinates
+    SELFCOL_NARROW_SWEEP_INVALID = 3,   // answer 1: non-finite or huge coordinates
+    SELFCOL_NARROW_SWEEP_WITNESS = 4    // answer 1 (may_touch only): a point within tolerance
 };
 
 typedef struct selfcol_narrow_sweep_info {
@@ -121,5 +122,15 @@ int selfcol_narrow_sweep__separated(const double *const start[4], const double *
 // apart along the same direction, so a caller testing many keeps one hint.
 int selfcol_narrow_sweep__separated_from(const double *const start[4], const double *const end[4],
                                          int edge_edge, double delta, unsigned *hint);
+
+// "May the primitives touch (delta = 0) at some t in [0, 1]?", for callers
+// that need no time of impact: the guarantees of the _before functions with
+// t_max = 1 (no false negatives; an answer 1 has the same false-positive
+// bound), usually far cheaper. The separation test first (0), then a witness
+// point found near a coplanarity time and checked by the search's own
+// acceptance test (1, outcome WITNESS), else the search. Points and edge_edge
+// as in the functions above; info may be NULL. Proof in narrow_sweep.c.
+int selfcol_narrow_sweep__may_touch(const double *const start[4], const double *const end[4],
+                                    int edge_edge, selfcol_narrow_sweep_info *info);
 
 #endif // SELFCOL_NARROW_SWEEP_H

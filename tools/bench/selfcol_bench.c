@@ -1028,12 +1028,14 @@ typedef struct store_sample {
     int grew;          // the byte count grew in this update
 } store_sample;
 
-// One timed update; the sample's refit and query are the caller's.
+// One timed update (selfcol_store_update_swept from `start` when not NULL);
+// the sample's refit and query are the caller's.
 static int store_measure(selfcol_store *store, const selfcol_mesh *mesh,
-                         const selfcol_contacts *detected, store_sample *sm) {
+                         const selfcol_contacts *detected, const double *start, store_sample *sm) {
     const size_t before = selfcol_store_byte_count(store);
     double t0 = now();
-    int rc = selfcol_store_update(store, mesh, NULL, detected);
+    int rc = start != NULL ? selfcol_store_update_swept(store, mesh, NULL, detected, start, NULL)
+                           : selfcol_store_update(store, mesh, NULL, detected);
     sm->update = now() - t0;
     if (rc != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: store update: %s\n", selfcol_status_string(rc));
@@ -1248,9 +1250,9 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
             sm.query = now() - t1;
             store_sample sm2 = sm;
             if (rc == SELFCOL_OK)
-                rc = store_measure(store, mesh, c, &sm);
+                rc = store_measure(store, mesh, c, NULL, &sm);
             if (rc == SELFCOL_OK) // the same update on two threads, right after
-                rc = store_measure(store2, mesh, c, &sm2);
+                rc = store_measure(store2, mesh, c, NULL, &sm2);
             if (rc != SELFCOL_OK)
                 break;
             if (run == 0) {
@@ -1324,12 +1326,14 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
     selfcol_hierarchy *h = NULL;
     selfcol_contacts *ca = NULL, *cb = NULL;
     selfcol_store *store = NULL;
-    store_sample first[MAX_REPS], fresh[MAX_REPS], steady[MAX_REPS], steady2[MAX_REPS];
+    store_sample first[MAX_REPS], fresh[MAX_REPS], steady[MAX_REPS], steady2[MAX_REPS],
+        swept[MAX_REPS];
     double qa[MAX_REPS], qb[MAX_REPS], refit[MAX_REPS];
     memset(first, 0, sizeof first);
     memset(fresh, 0, sizeof fresh);
     memset(steady, 0, sizeof steady);
     memset(steady2, 0, sizeof steady2);
+    memset(swept, 0, sizeof swept);
     int rc = selfcol_mesh_create(&mesh, a.vertex_count, a.positions, a.triangle_count, a.triangles,
                                  NULL);
     // The scale rule of run_case (mean edge at least 5 cm), so that these rows
@@ -1384,25 +1388,26 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
         if (rc == SELFCOL_OK)
             rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
         if (rc == SELFCOL_OK)
-            rc = store_measure(store, mesh, ca, &first[i]);
+            rc = store_measure(store, mesh, ca, NULL, &first[i]);
         if (rc == SELFCOL_OK)
             rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
         if (rc == SELFCOL_OK)
-            rc = store_measure(store, mesh, cb, &fresh[i]);
+            rc = store_measure(store, mesh, cb, NULL, &fresh[i]);
         first[i].query = qa[i], first[i].refit = refit[i];
         fresh[i].query = qb[i], fresh[i].refit = refit[i];
         selfcol_store_destroy(store);
         store = NULL;
     }
     // b on a store holding a, its arrays grown: one untimed pair, then clear
-    // (memory kept), a, timed b, reps times; on one thread and on two,
-    // alternately (one store each).
-    selfcol_store *stores[2] = {NULL, NULL};
-    store_sample *samples[2] = {steady, steady2};
-    for (int t = 0; t < 2 && rc == SELFCOL_OK; ++t)
-        rc = store_create(&stores[t], (unsigned)t + 1);
+    // (memory kept), a, timed b, reps times; on one thread, on two, and with
+    // the step's start (selfcol_store_update_swept from a's positions, one
+    // thread), in turn (one store each).
+    selfcol_store *stores[3] = {NULL, NULL, NULL};
+    store_sample *samples[3] = {steady, steady2, swept};
+    for (int t = 0; t < 3 && rc == SELFCOL_OK; ++t)
+        rc = store_create(&stores[t], t == 1 ? 2 : 1);
     for (unsigned i = 0; rc == SELFCOL_OK && i <= reps; ++i) {
-        for (int t = 0; t < 2 && rc == SELFCOL_OK; ++t) {
+        for (int t = 0; t < 3 && rc == SELFCOL_OK; ++t) {
             store_sample warm;
             selfcol_store_clear(stores[t]);
             rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
@@ -1411,13 +1416,14 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
             if (rc == SELFCOL_OK)
                 rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
             if (rc == SELFCOL_OK)
-                rc = store_measure(stores[t], mesh, cb, i > 0 ? &samples[t][i - 1] : &warm);
+                rc = store_measure(stores[t], mesh, cb, t == 2 ? a.positions : NULL,
+                                   i > 0 ? &samples[t][i - 1] : &warm);
             if (i > 0)
                 samples[t][i - 1].query = qb[i - 1], samples[t][i - 1].refit = refit[i - 1];
         }
     }
-    selfcol_store_destroy(stores[0]);
-    selfcol_store_destroy(stores[1]);
+    for (int t = 0; t < 3; ++t)
+        selfcol_store_destroy(stores[t]);
     int status = rc == SELFCOL_OK ? 0 : 1;
     if (rc != SELFCOL_OK)
         fprintf(stderr, "selfcol-bench: %s: %s\n", sc->name, selfcol_status_string(rc));
@@ -1442,6 +1448,11 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
         status |= store_row(&cx, "STORE", 1, steady, reps, note);
         snprintf(note, sizeof note, "as STORE on 2 threads, alternating with it");
         status |= store_row(&cx, "STORE", 2, steady2, reps, note);
+        snprintf(note, sizeof note,
+                 "as STORE, with frame %g's positions as the step's start "
+                 "(selfcol_store_update_swept), alternating with it",
+                 sc->p[1]);
+        status |= store_row(&cx, "STORE-SWEPT", 1, swept, reps, note);
     }
     selfcol_contacts_destroy(ca);
     selfcol_contacts_destroy(cb);
