@@ -8,7 +8,9 @@
 // cloth against a capsule collider finds the triangles cloth against a
 // finely triangulated capsule finds, with the same distances within the
 // triangulation's sagitta; collider and pose errors; no allocation in a
-// steady state, and every allocation failure reported and leak-free.
+// steady state, and every allocation failure reported and leak-free; the
+// step's start given by the caller tells a crossing from a pass-around on the
+// path since the last update.
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -900,6 +902,181 @@ static void test_errors(void **state) {
 }
 
 // ---------------------------------------------------------------------------
+// The step's start (selfcol_scene_set_surface_start)
+
+// Triangle A (z = 0, x + y <= 1) and a small triangle B around the point
+// p, both cloth, self-collision off: only the pair A-B is queried.
+static void small_triangle(double out[9], double x, double y, double z) {
+    const double corners[9] = {x, y, z, x + 0.05, y, z, x, y + 0.05, z};
+    memcpy(out, corners, sizeof corners);
+}
+
+typedef struct start_run {
+    uint64_t flipped, passed_around;
+} start_run;
+
+// B goes from `first` (update 1) to `last` (update 2); with `start` not
+// NULL the scene is told that update 2's step began there.
+static start_run run_start(const double first[3], const double *start, const double last[3]) {
+    const double a_pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const uint32_t tri[3] = {0, 1, 2};
+    double b_pos[9], b_start[9];
+    small_triangle(b_pos, first[0], first[1], first[2]);
+    selfcol_mesh *ma = NULL, *mb = NULL;
+    assert_int_equal(selfcol_mesh_create(&ma, 3, a_pos, 1, tri, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_create(&mb, 3, b_pos, 1, tri, NULL), SELFCOL_OK);
+    selfcol_scene *sc = make_scene(0.5, NULL);
+    const uint32_t ia = add(sc, ma, SELFCOL_SURFACE_CLOTH, 0, 0);
+    const uint32_t ib = add(sc, mb, SELFCOL_SURFACE_CLOTH, 0, 0);
+    // The first update has no path (no last positions yet); the starts given
+    // before it make the scene keep the positions of every update from then.
+    if (start != NULL) {
+        assert_int_equal(selfcol_scene_set_surface_start(sc, ib, b_pos), SELFCOL_OK);
+        assert_int_equal(selfcol_scene_set_surface_start(sc, ia, a_pos), SELFCOL_OK);
+    }
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    assert_true(selfcol_store_contact_count(store_of(sc, ia, ib)) > 0);
+    small_triangle(b_pos, last[0], last[1], last[2]);
+    assert_int_equal(selfcol_mesh_set_positions(mb, b_pos, 3), SELFCOL_OK);
+    if (start != NULL) {
+        small_triangle(b_start, start[0], start[1], start[2]);
+        assert_int_equal(selfcol_scene_set_surface_start(sc, ib, b_start), SELFCOL_OK);
+        assert_int_equal(selfcol_scene_set_surface_start(sc, ia, a_pos), SELFCOL_OK);
+    }
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    const selfcol_scene_update_stats st = stats_of(sc);
+    assert_true(st.contacts > 0);
+    start_run r = {st.flipped, st.passed_around};
+    selfcol_scene_destroy(sc);
+    selfcol_mesh_destroy(ma);
+    selfcol_mesh_destroy(mb);
+    return r;
+}
+
+static void test_surface_start(void **state) {
+    (void)state;
+    // B passes A's plane beside it (x + y > 1), never touching: with the
+    // start, every sign change passed around; without it, each is a crossing.
+    const double beside_above[3] = {1.2, 0.2, 0.1}, beside_below[3] = {1.2, 0.2, -0.1};
+    const start_run known = run_start(beside_above, beside_above, beside_below);
+    const start_run guessed = run_start(beside_above, NULL, beside_below);
+    print_message("beside: with the start %llu flipped, %llu passed around; without it %llu "
+                  "flipped\n",
+                  (unsigned long long)known.flipped, (unsigned long long)known.passed_around,
+                  (unsigned long long)guessed.flipped);
+    assert_true(guessed.flipped > 0);
+    assert_int_equal(known.flipped, 0);
+    assert_int_equal(known.passed_around, guessed.flipped);
+
+    // The path has two segments: B above A's middle at update 1, pushed
+    // straight through A (the caller's response, say: the step's start
+    // below A), then moved beside A, still below. The crossing is on the
+    // first segment (B's corners through A: flipped); the other sign changes
+    // (B's edges past A's, A's corners past B's plane) never touched.
+    const double above_middle[3] = {0.2, 0.2, 0.1}, below_middle[3] = {0.2, 0.2, -0.1};
+    const start_run pushed = run_start(above_middle, below_middle, beside_below);
+    const start_run plain = run_start(above_middle, NULL, beside_below);
+    print_message("pushed through: %llu flipped, %llu passed around; without the start %llu "
+                  "flipped\n",
+                  (unsigned long long)pushed.flipped, (unsigned long long)pushed.passed_around,
+                  (unsigned long long)plain.flipped);
+    assert_true(pushed.flipped >= 3); // at least B's three corners
+    assert_int_equal(pushed.flipped + pushed.passed_around, plain.flipped);
+    // A store told only the step's start (one segment, below -> beside)
+    // calls the same sign changes passed around: the reason the scene keeps
+    // the positions of the last update.
+    {
+        const double a_pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        const uint32_t tri[3] = {0, 1, 2};
+        double b_pos[9], b_start[9];
+        small_triangle(b_pos, 0.2, 0.2, 0.1);
+        selfcol_mesh *ma = NULL, *mb = NULL;
+        assert_int_equal(selfcol_mesh_create(&ma, 3, a_pos, 1, tri, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_mesh_create(&mb, 3, b_pos, 1, tri, NULL), SELFCOL_OK);
+        selfcol_hierarchy *ha = NULL, *hb = NULL;
+        assert_int_equal(selfcol_hierarchy_create(&ha, ma, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_create(&hb, mb, NULL), SELFCOL_OK);
+        selfcol_query_options q;
+        selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+        q.distance = 0.5;
+        q.kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF;
+        selfcol_contacts *c = NULL;
+        selfcol_store *store = NULL;
+        assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_store_create(&store, NULL), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_collide(ha, hb, c, &q), SELFCOL_OK);
+        assert_int_equal(selfcol_store_update(store, ma, mb, c), SELFCOL_OK);
+        small_triangle(b_start, 0.2, 0.2, -0.1);
+        small_triangle(b_pos, 1.2, 0.2, -0.1);
+        assert_int_equal(selfcol_mesh_set_positions(mb, b_pos, 3), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_refit(hb), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_collide(ha, hb, c, &q), SELFCOL_OK);
+        assert_int_equal(selfcol_store_update_swept(store, ma, mb, c, a_pos, b_start), SELFCOL_OK);
+        selfcol_store_update_stats ss;
+        ss.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+        assert_int_equal(selfcol_store_stats(store, &ss), SELFCOL_OK);
+        assert_int_equal(ss.flipped, 0);
+        assert_int_equal(ss.passed_around, plain.flipped);
+        selfcol_store_destroy(store);
+        selfcol_contacts_destroy(c);
+        selfcol_hierarchy_destroy(ha);
+        selfcol_hierarchy_destroy(hb);
+        selfcol_mesh_destroy(ma);
+        selfcol_mesh_destroy(mb);
+    }
+
+    // The starts are consumed by the update: one more update without one
+    // judges as before (beside -> above again: a sign change, flipped).
+    // Errors: a static surface, a removed or unknown one, NULL, NaN.
+    const double a_pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const uint32_t tri[3] = {0, 1, 2};
+    double b_pos[9];
+    small_triangle(b_pos, 1.2, 0.2, 0.1);
+    selfcol_mesh *ma = NULL, *mb = NULL, *mf = NULL;
+    assert_int_equal(selfcol_mesh_create(&ma, 3, a_pos, 1, tri, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_create(&mb, 3, b_pos, 1, tri, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_mesh_create(&mf, 3, a_pos, 1, tri, NULL), SELFCOL_OK);
+    selfcol_scene *sc = make_scene(0.5, NULL);
+    const uint32_t ia = add(sc, ma, SELFCOL_SURFACE_CLOTH, 0, 0);
+    const uint32_t ib = add(sc, mb, SELFCOL_SURFACE_CLOTH, 0, 0);
+    const uint32_t is = add(sc, mf, SELFCOL_SURFACE_STATIC, 0, 0);
+    const double *pa = a_pos;
+    assert_int_equal(selfcol_scene_set_surface_start(sc, ib, b_pos), SELFCOL_OK);
+    assert_int_equal(selfcol_scene_set_surface_start(sc, ia, pa), SELFCOL_OK);
+    assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+    for (int frame = 0; frame < 3; ++frame) {
+        double from[9];
+        memcpy(from, b_pos, sizeof from);
+        small_triangle(b_pos, 1.2, 0.2, frame % 2 ? 0.1 : -0.1);
+        assert_int_equal(selfcol_mesh_set_positions(mb, b_pos, 3), SELFCOL_OK);
+        if (frame < 2) {
+            assert_int_equal(selfcol_scene_set_surface_start(sc, ib, from), SELFCOL_OK);
+            assert_int_equal(selfcol_scene_set_surface_start(sc, ia, pa), SELFCOL_OK);
+        }
+        assert_int_equal(selfcol_scene_update(sc), SELFCOL_OK);
+        const selfcol_scene_update_stats st = stats_of(sc);
+        if (frame < 2)
+            assert_true(st.flipped == 0 && st.passed_around > 0);
+        else
+            assert_true(st.flipped > 0 && st.passed_around == 0);
+    }
+    assert_int_equal(selfcol_scene_set_surface_start(sc, is, a_pos), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_scene_set_surface_start(sc, 7, a_pos), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_scene_set_surface_start(sc, ia, NULL), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_scene_set_surface_start(NULL, ia, a_pos), SELFCOL_EINVAL);
+    double bad[9];
+    memcpy(bad, a_pos, sizeof bad);
+    bad[4] = NAN;
+    assert_int_equal(selfcol_scene_set_surface_start(sc, ia, bad), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_scene_remove_surface(sc, ib), SELFCOL_OK);
+    assert_int_equal(selfcol_scene_set_surface_start(sc, ib, b_pos), SELFCOL_EINVAL);
+    selfcol_scene_destroy(sc);
+    selfcol_mesh_destroy(ma);
+    selfcol_mesh_destroy(mb);
+    selfcol_mesh_destroy(mf);
+}
+
+// ---------------------------------------------------------------------------
 // Memory
 
 // A cloth over a sphere body with a capsule collider, run for `frames`
@@ -933,13 +1110,19 @@ static int run_scene(const selfcol_allocator *al, int frames, long *calls_after_
     uint32_t cid = 0;
     if (status == SELFCOL_OK)
         status = selfcol_scene_add_collider(sc, &desc, &cid);
+    // Each update is told its step's start (the cloth's previous positions).
+    double *start = malloc(3 * cloth_s.vertex_count * sizeof *start);
+    assert_non_null(start);
     for (int f = 0; f < frames && status == SELFCOL_OK; ++f) {
         const double at[3] = {0.05 * (f % 2), 0.0, 1.05};
         status = selfcol_scene_set_collider_pose(sc, cid, at, NULL);
+        memcpy(start, cloth_s.positions, 3 * cloth_s.vertex_count * sizeof *start);
         for (size_t v = 0; v < cloth_s.vertex_count && status == SELFCOL_OK; ++v)
             cloth_s.positions[3 * v + 2] += f % 2 ? 0.002 : -0.002; // two states, alternating
         if (status == SELFCOL_OK)
             status = selfcol_mesh_set_positions(mc, cloth_s.positions, cloth_s.vertex_count);
+        if (status == SELFCOL_OK)
+            status = selfcol_scene_set_surface_start(sc, 0, start);
         if (status == SELFCOL_OK)
             status = selfcol_scene_update(sc);
         if (f == 2 && calls_after_three != NULL)
@@ -953,6 +1136,7 @@ static int run_scene(const selfcol_allocator *al, int frames, long *calls_after_
     selfcol_scene_destroy(sc);
     selfcol_mesh_destroy(mc);
     selfcol_mesh_destroy(mb);
+    free(start);
     fixture_free(&cloth_s);
     fixture_free(&ball);
     return status;
@@ -1006,6 +1190,7 @@ int main(void) {
         cmocka_unit_test(test_capsule_collider_matches_triangulated_capsule),
         cmocka_unit_test(test_collider_contacts_name_no_duplicate),
         cmocka_unit_test(test_coherent_updates_equal_fresh_ones),
+        cmocka_unit_test(test_surface_start),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_memory),
     };

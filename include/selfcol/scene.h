@@ -217,9 +217,14 @@ typedef struct selfcol_scene_update_stats {
     uint64_t collider_contacts;    /**< collider contacts found */
     uint64_t collider_penetrating; /**< of which penetrating */
     double seconds;                /**< wall time of the update */
+    /* Version 2 */
+    /** summed over the stores: sign changes that the step's start proved
+     *  were no crossing (selfcol_scene_set_surface_start()) */
+    uint64_t passed_around;
 } selfcol_scene_update_stats;
 
-#define SELFCOL_SCENE_UPDATE_STATS_VERSION 1
+/** The library writes the fields of the caller's version (1: up to `seconds`). */
+#define SELFCOL_SCENE_UPDATE_STATS_VERSION 2
 
 /**
  * Writes the defaults into opts (distance 0: must be set).
@@ -337,6 +342,29 @@ SELFCOL_API int selfcol_scene_set_collider_pose(selfcol_scene *scene, uint32_t c
  * @return SELFCOL_OK; SELFCOL_EINVAL for a NULL scene.
  */
 SELFCOL_API int selfcol_scene_set_context(selfcol_scene *scene, selfcol_context *context);
+
+/**
+ * The positions of a cloth or body surface at the start of the step that the
+ * next selfcol_scene_update() ends (3 doubles per vertex, copied), e.g. where
+ * the caller's collision response left it after the last update. That update
+ * then judges each sign change of the surface's pairs on the surface's path:
+ * straight from its positions at the last update to these, then straight to
+ * its current ones. A sign change is a crossing only if the elements may
+ * have touched on the way (the continuous test of sweep.h's narrow phase);
+ * otherwise they went around each other (SELFCOL_STORE_PASSED_AROUND, as
+ * selfcol_store_update_swept()), which removes the two-frame pass-around
+ * limit of the README. A pair uses it when each of its surfaces has a path
+ * for this update (a start given, and an update since its first start) or
+ * is static and not rebuilt since the last update; other pairs are updated
+ * as before. Every update consumes the starts: give them before each update.
+ * The scene keeps two arrays per such surface (48 bytes per vertex), made at
+ * its first call.
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL arguments, an unknown or removed
+ *         surface, a static one, or a coordinate outside mesh.h's contract);
+ *         SELFCOL_ENOMEM (the arrays, first call only: nothing changed).
+ */
+SELFCOL_API int selfcol_scene_set_surface_start(selfcol_scene *scene, uint32_t surface,
+                                                const double *positions);
 
 /**
  * One frame: refits the cloth and body hierarchies (never a static one),

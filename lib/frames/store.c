@@ -686,6 +686,21 @@ int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
     return status;
 }
 
+int selfcol_store__update_path(selfcol_store *store, const selfcol_mesh *first,
+                               const selfcol_mesh *second, const selfcol_contacts *detected,
+                               const double *const first_path[2],
+                               const double *const second_path[2]) {
+    SELFCOL_CHECK(store != NULL && first_path != NULL && first_path[0] != NULL);
+    SELFCOL_CHECK((second == NULL) == (second_path == NULL));
+    SELFCOL_CHECK(second_path == NULL || second_path[0] != NULL);
+    store->step_before[0] = first_path[0];
+    store->step_before[1] = second_path != NULL ? second_path[0] : NULL;
+    const int status = selfcol_store_update_swept(store, first, second, detected, first_path[1],
+                                                  second_path != NULL ? second_path[1] : NULL);
+    store->step_before[0] = store->step_before[1] = NULL;
+    return status;
+}
+
 int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
                          const selfcol_mesh *second, const selfcol_contacts *detected) {
     SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL);

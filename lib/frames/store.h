@@ -12,4 +12,15 @@
 // SELFCOL_EVERSION or SELFCOL_EINVAL. Stores and scenes go through it.
 int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts);
 
+// selfcol_store_update_swept() on a path of two straight segments per mesh:
+// path[0] the positions at the store's previous update, path[1] those at the
+// step's start (after the caller moved the meshes, e.g. a collision
+// response), then the current ones. A sign change is a crossing when the
+// elements may have touched on either segment. second_path NULL for a self
+// store. The scene's swept updates (selfcol_scene_set_surface_start()).
+int selfcol_store__update_path(selfcol_store *store, const selfcol_mesh *first,
+                               const selfcol_mesh *second, const selfcol_contacts *detected,
+                               const double *const first_path[2],
+                               const double *const second_path[2]);
+
 #endif // SELFCOL_STORE_INTERNAL_H

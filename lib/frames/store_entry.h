@@ -44,8 +44,11 @@ struct selfcol_store {
     selfcol_mesh_identity identity[2]; // of meshes[], from the same update
     uint64_t positions_version[2];     // of meshes[] at the last update (copies check them)
     // selfcol_store_update_swept: the meshes' positions at the step's start,
-    // during that update only (NULL otherwise).
+    // during that update only (NULL otherwise); selfcol_store__update_path
+    // adds the positions at the previous update (the path then runs from
+    // these through step_start to the current positions; NULL: one segment).
     const double *step_start[2];
+    const double *step_before[2];
 
     store_entry *entries, *spare; // held entries; the merge's destination
     size_t count, capacity;       // capacity of every per-entry array

@@ -135,17 +135,25 @@ static int oriented_right_side(const selfcol_store *s, const store_entry *e, con
 // some time of the step, every vertex moving linearly from its step-start
 // position to its current one (the continuous narrow phase, no false
 // negatives: narrow_sweep.h). 0 is a proof that they never touched.
+// With the positions at the previous update (selfcol_store__update_path),
+// the path has two straight segments, before -> start -> current, and the
+// elements may have touched on either.
 static int touched_in_step(const selfcol_store *s, const store_entry *e, const uint32_t a[2],
                            const uint32_t b[3]) {
     const uint32_t fm = first_mesh(e), sm = second_mesh(e);
     const int vf = e->kind == SELFCOL_CONTACT_VF;
     const uint32_t ids[4] = {a[0], vf ? b[0] : a[1], vf ? b[1] : b[0], vf ? b[2] : b[1]};
     const uint32_t of[4] = {fm, vf ? sm : fm, sm, sm};
-    const double *start[4], *end[4];
+    const double *before[4], *start[4], *end[4];
     for (int k = 0; k < 4; ++k) {
+        const double *path_before = s->step_before[of[k]];
         start[k] = s->step_start[of[k]] + 3 * (size_t)ids[k];
+        before[k] = path_before != NULL ? path_before + 3 * (size_t)ids[k] : start[k];
         end[k] = vertex_of(s, of[k], ids[k]);
     }
+    if ((s->step_before[0] != NULL || s->step_before[1] != NULL) &&
+        selfcol_narrow_sweep__may_touch(before, start, !vf, NULL))
+        return 1;
     return selfcol_narrow_sweep__may_touch(start, end, !vf, NULL);
 }
 

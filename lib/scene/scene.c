@@ -24,6 +24,7 @@
 #include "scene/collider.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 // Surfaces and colliders are numbered by uint32_t but kept few: pairs are
@@ -38,6 +39,14 @@ typedef struct scene_surface {
     int self_collision;
     int orientation;            // of its stores (body: from its volume)
     uint64_t positions_version; // a static mesh's, when added
+    // Cloth and body surfaces, once selfcol_scene_set_surface_start was
+    // called (3 V each): `start`, the positions at the start of the next
+    // update's step, valid when has_start (until that update); `last`, the
+    // positions at the last update, valid when has_last. A static surface's
+    // are its mesh's positions, valid unless it was rebuilt (moved) since
+    // the last update (has_start).
+    double *start, *last;
+    int has_start, has_last;
 } scene_surface;
 
 typedef struct scene_pair {
@@ -168,6 +177,17 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
     return SELFCOL_OK;
 }
 
+static void free_start(const selfcol_scene *scene, scene_surface *s) {
+    if (s->start != NULL) {
+        selfcol_alloc__free_array(&scene->allocator, s->start, 3 * s->mesh->vertex_count,
+                                  sizeof *s->start);
+        selfcol_alloc__free_array(&scene->allocator, s->last, 3 * s->mesh->vertex_count,
+                                  sizeof *s->last);
+    }
+    s->start = s->last = NULL;
+    s->has_start = s->has_last = 0;
+}
+
 int selfcol_scene_set_context(selfcol_scene *scene, selfcol_context *context) {
     SELFCOL_CHECK(scene != NULL);
     selfcol_contacts__lend_context(scene->detected, context);
@@ -178,8 +198,10 @@ void selfcol_scene_destroy(selfcol_scene *scene) {
     if (scene == NULL)
         return;
     const selfcol_allocator al = scene->allocator;
-    for (size_t i = 0; i < scene->surface_count; ++i)
+    for (size_t i = 0; i < scene->surface_count; ++i) {
         selfcol_hierarchy_destroy(scene->surfaces[i].hierarchy);
+        free_start(scene, &scene->surfaces[i]);
+    }
     for (size_t i = 0; i < scene->pair_count; ++i) {
         selfcol_store_destroy(scene->pairs[i].store);
         selfcol_sequence_destroy(scene->pairs[i].sequence);
@@ -276,8 +298,14 @@ int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
     const selfcol_allocator *al = &scene->allocator;
     const size_t id = scene->surface_count;
     size_t new_pairs = 0;
-    scene_surface add = {
-        mesh, NULL, o.kind, o.self_collision, orientation, mesh->positions_version};
+    scene_surface add;
+    memset(&add, 0, sizeof add);
+    add.mesh = mesh;
+    add.kind = o.kind;
+    add.self_collision = o.self_collision;
+    add.orientation = orientation;
+    add.positions_version = mesh->positions_version;
+    add.has_start = o.kind == SELFCOL_SURFACE_STATIC; // a static surface's path: not moved
     for (size_t i = 0; i <= id; ++i)
         new_pairs += pair_tested(i < id ? &scene->surfaces[i] : &add, &add, i == id);
     int status = reserve(al, (void **)&scene->surfaces, &scene->surface_capacity,
@@ -345,6 +373,7 @@ int selfcol_scene_remove_surface(selfcol_scene *scene, uint32_t id) {
     scene->pair_count = kept;
     scene_surface *s = &scene->surfaces[id];
     selfcol_hierarchy_destroy(s->hierarchy);
+    free_start(scene, s);
     s->hierarchy = NULL;
     s->mesh = NULL;
     scene->live_surfaces--;
@@ -372,6 +401,8 @@ int selfcol_scene_rebuild_surface(selfcol_scene *scene, uint32_t id) {
     selfcol_hierarchy_destroy(s->hierarchy);
     s->hierarchy = rebuilt;
     s->positions_version = s->mesh->positions_version;
+    if (s->kind == SELFCOL_SURFACE_STATIC)
+        s->has_start = 0; // moved on purpose: the path is not known
     scene->builds++;
     return SELFCOL_OK;
 }
@@ -452,6 +483,55 @@ static int roots_apart(const selfcol_hierarchy *a, const selfcol_hierarchy *b, d
                                     d);
 }
 
+int selfcol_scene_set_surface_start(selfcol_scene *scene, uint32_t surface,
+                                    const double *positions) {
+    SELFCOL_CHECK(scene != NULL && positions != NULL && surface < scene->surface_count);
+    scene_surface *s = &scene->surfaces[surface];
+    SELFCOL_CHECK(s->mesh != NULL && s->kind != SELFCOL_SURFACE_STATIC);
+    const size_t n = s->mesh->vertex_count;
+    SELFCOL_CHECK(selfcol_mesh__positions_in_contract(positions, n));
+    if (s->start == NULL && n > 0) {
+        double *start = selfcol_alloc__array(&scene->allocator, 3 * n, sizeof *start);
+        double *last = selfcol_alloc__array(&scene->allocator, 3 * n, sizeof *last);
+        if (start == NULL || last == NULL) {
+            selfcol_alloc__free_array(&scene->allocator, start, 3 * n, sizeof *start);
+            selfcol_alloc__free_array(&scene->allocator, last, 3 * n, sizeof *last);
+            return SELFCOL_ENOMEM;
+        }
+        s->start = start;
+        s->last = last; // from the next update on
+    }
+    if (n > 0)
+        memcpy(s->start, positions, 3 * n * sizeof *s->start);
+    s->has_start = 1;
+    return SELFCOL_OK;
+}
+
+// A surface's path since the last update when known (path[0] the positions
+// at the last update, path[1] at the step's start): a static surface's are
+// its current ones (unless rebuilt since the last update), a moving one's
+// those kept and given. Returns 0 when unknown.
+static int path_of(const scene_surface *s, const double *path[2]) {
+    if (s->kind == SELFCOL_SURFACE_STATIC) {
+        path[0] = path[1] = s->mesh->positions;
+        return s->has_start;
+    }
+    path[0] = s->last;
+    path[1] = s->start;
+    return s->has_start && s->has_last;
+}
+
+// The pair's store update: on the surfaces' paths when both know theirs.
+static int update_store(const scene_pair *pair, const scene_surface *a, const scene_surface *b,
+                        const selfcol_contacts *detected) {
+    const int self = pair->first == pair->second;
+    const double *first_path[2], *second_path[2];
+    if (path_of(a, first_path) && (self || path_of(b, second_path)))
+        return selfcol_store__update_path(pair->store, a->mesh, self ? NULL : b->mesh, detected,
+                                          first_path, self ? NULL : second_path);
+    return selfcol_store_update(pair->store, a->mesh, self ? NULL : b->mesh, detected);
+}
+
 int selfcol_scene_update(selfcol_scene *scene) {
     SELFCOL_CHECK(scene != NULL);
     const double start = selfcol_core__seconds();
@@ -498,9 +578,7 @@ int selfcol_scene_update(selfcol_scene *scene) {
             st.pairs_queried++;
         }
         if (status == SELFCOL_OK)
-            status =
-                selfcol_store_update(pair->store, a->mesh,
-                                     pair->first == pair->second ? NULL : b->mesh, scene->detected);
+            status = update_store(pair, a, b, scene->detected);
         if (status == SELFCOL_OK) {
             selfcol_store_update_stats ss;
             ss.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
@@ -511,6 +589,7 @@ int selfcol_scene_update(selfcol_scene *scene) {
             st.corrected += ss.corrected;
             st.voted += ss.voted;
             st.oriented += ss.oriented;
+            st.passed_around += ss.passed_around;
         }
     }
     for (size_t c = 0; c < scene->collider_count && status == SELFCOL_OK; ++c)
@@ -523,6 +602,16 @@ int selfcol_scene_update(selfcol_scene *scene) {
                 scene->collider_tolerance, scene->stack, scene->scratch, &scene->allocator,
                 &scene->found, &st.collider_candidates);
         }
+    // The starts are consumed (static: not moved since); the positions of
+    // this update begin the next path, unless the stores are not all at
+    // this update (a failure).
+    for (size_t i = 0; i < scene->surface_count; ++i) {
+        scene_surface *s = &scene->surfaces[i];
+        s->has_start = s->kind == SELFCOL_SURFACE_STATIC;
+        s->has_last = status == SELFCOL_OK && s->last != NULL;
+        if (s->has_last)
+            memcpy(s->last, s->mesh->positions, 3 * s->mesh->vertex_count * sizeof *s->last);
+    }
     if (status != SELFCOL_OK) {
         scene->found.count = 0;
         scene->stats = st;
@@ -563,10 +652,13 @@ int selfcol_scene_stats(const selfcol_scene *scene, selfcol_scene_update_stats *
     if (stats->version == 0 || stats->version > SELFCOL_SCENE_UPDATE_STATS_VERSION)
         return SELFCOL_EVERSION;
     const unsigned version = stats->version;
-    *stats = scene->stats;
-    stats->builds = scene->builds;
-    stats->surfaces = scene->live_surfaces;
-    stats->colliders = scene->collider_count;
+    selfcol_scene_update_stats st = scene->stats;
+    st.builds = scene->builds;
+    st.surfaces = scene->live_surfaces;
+    st.colliders = scene->collider_count;
+    // A version 1 caller's struct ends before passed_around.
+    memcpy(stats, &st,
+           version >= 2 ? sizeof *stats : offsetof(selfcol_scene_update_stats, passed_around));
     stats->version = version;
     return SELFCOL_OK;
 }
@@ -581,8 +673,12 @@ size_t selfcol_scene_byte_count(const selfcol_scene *scene) {
                    scene->scratch_capacity * sizeof *scene->scratch +
                    scene->found.capacity * sizeof *scene->found.items +
                    selfcol_contacts_byte_count(scene->detected);
-    for (size_t i = 0; i < scene->surface_count; ++i)
-        bytes += selfcol_hierarchy_byte_count(scene->surfaces[i].hierarchy);
+    for (size_t i = 0; i < scene->surface_count; ++i) {
+        const scene_surface *s = &scene->surfaces[i];
+        bytes += selfcol_hierarchy_byte_count(s->hierarchy);
+        if (s->start != NULL)
+            bytes += 2 * 3 * s->mesh->vertex_count * sizeof *s->start;
+    }
     for (size_t p = 0; p < scene->pair_count; ++p)
         bytes += selfcol_store_byte_count(scene->pairs[p].store) +
                  selfcol_sequence_byte_count(scene->pairs[p].sequence);

@@ -268,7 +268,7 @@ typedef struct selfcol_scene_update_stats {
     uint64_t pairs_queried; uint64_t pairs_apart; uint64_t contacts; uint64_t interferences;
     uint64_t flipped; uint64_t corrected; uint64_t voted; uint64_t oriented;
     uint64_t collider_candidates; uint64_t collider_contacts; uint64_t collider_penetrating;
-    double seconds;
+    double seconds; uint64_t passed_around;
 } selfcol_scene_update_stats;
 int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned int version);
 int selfcol_scene_surface_options_init(selfcol_scene_surface_options *opts, uint32_t kind,
@@ -276,6 +276,8 @@ int selfcol_scene_surface_options_init(selfcol_scene_surface_options *opts, uint
 int selfcol_scene_collider_desc_init(selfcol_scene_collider_desc *desc, uint32_t shape,
                                      unsigned int version);
 int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts);
+int selfcol_scene_set_surface_start(selfcol_scene *scene, uint32_t surface,
+                                    const double *positions);
 void selfcol_scene_destroy(selfcol_scene *scene);
 int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
                               const selfcol_scene_surface_options *opts, uint32_t *id_out);

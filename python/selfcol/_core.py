@@ -1356,6 +1356,19 @@ class Scene:
                                                    _ptr("double *", R)),
                "selfcol_scene_set_collider_pose")
 
+    def set_surface_start(self, surface: int, positions: Any) -> None:
+        """Where a cloth or body surface was at the start of the step that
+        the next update() ends ((n, 3), copied): that update then tells a
+        crossing from a pass-around on the way (selfcol_scene_set_surface_start).
+        Give it again before each update."""
+        sid = _u32(surface)
+        mesh = self._surfaces.get(int(sid))
+        if mesh is None:
+            raise _invalid("set_surface_start: no surface %d in this scene" % sid)
+        P = _as_double_positions(positions, mesh.vertex_count, "positions")
+        _check(lib.selfcol_scene_set_surface_start(self._h, sid, _ptr("double *", P)),
+               "selfcol_scene_set_surface_start")
+
     def update(self) -> Dict[str, Union[int, float]]:
         """Refits, queries every pair and the colliders, updates the stores
         (selfcol_scene_update; GIL released); returns the counters."""

@@ -302,3 +302,35 @@ def test_scene_coherent_option():
         m.set_positions(V * 0.999)
         sc.update()
         assert len(sc.store(0, 0)) > 0
+
+
+def test_scene_surface_start_tells_a_pass_around():
+    # A small triangle passes the plane of a big one beside it: a sign change
+    # without contact. Told the step's start, the scene calls it passed
+    # around; not told, a crossing (selfcol_scene_set_surface_start).
+    A = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    F = np.array([[0, 1, 2]], np.uint32)
+
+    def small(z):
+        return np.array([[1.2, 0.2, z], [1.25, 0.2, z], [1.2, 0.25, z]])
+
+    out = {}
+    for told in (True, False):
+        sc = selfcol.Scene(distance=0.5)
+        ma, mb = selfcol.Mesh(A, F), selfcol.Mesh(small(0.1), F)
+        ia = sc.add_surface(ma, self_collision=False)
+        ib = sc.add_surface(mb, self_collision=False)
+        if told:
+            sc.set_surface_start(ia, A)
+            sc.set_surface_start(ib, small(0.1))
+        sc.update()
+        mb.set_positions(small(-0.1))
+        if told:
+            sc.set_surface_start(ia, A)
+            sc.set_surface_start(ib, small(0.1))
+        out[told] = sc.update()
+    assert out[False]["flipped"] > 0 and out[False]["passed_around"] == 0
+    assert out[True]["flipped"] == 0
+    assert out[True]["passed_around"] == out[False]["flipped"]
+    with np.testing.assert_raises(selfcol.InvalidArgument):
+        sc.set_surface_start(ib, np.zeros((4, 3)))
