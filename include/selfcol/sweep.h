@@ -111,10 +111,13 @@ typedef struct selfcol_sweep_options {
     uint32_t mode;
     /** Separation delta >= 0 in mesh units; default 0. */
     double separation;
-    /** Threads the root searches of SELFCOL_SWEEP_ALL may use, 1 to
-     *  SELFCOL_MAX_THREADS; default 1. The hits and counters (apart from
-     *  times) are the same for every count; the broad phase and
-     *  SELFCOL_SWEEP_EARLIEST run on the calling thread. Unlike a discrete
+    /** Threads the query may use, 1 to SELFCOL_MAX_THREADS; default 1:
+     *  the broad phase of SELFCOL_METHOD_BVH (its traversal's tasks, in
+     *  both modes) and the root searches of SELFCOL_SWEEP_ALL. The hits,
+     *  the fraction and the counters (apart from times) are the same for
+     *  every count. SELFCOL_METHOD_EXACT's culling and EXHAUSTIVE's loops,
+     *  and EARLIEST's root searches (few: a pass rarely searches more than
+     *  a few thousand pairs), run on the calling thread. Unlike a discrete
      *  query's contacts, whose workers push records on their own threads,
      *  the sweep's allocator is only called from the calling thread (the
      *  workers write into arrays sized before they start). */

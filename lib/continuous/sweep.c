@@ -67,7 +67,7 @@ void selfcol_sweep_destroy(selfcol_sweep *sweep) {
     selfcol_alloc__free_array(&al, sweep->candidates, sweep->candidate_capacity,
                               sizeof *sweep->candidates);
     selfcol_alloc__free_array(&al, sweep->boxes, sweep->box_capacity, sizeof *sweep->boxes);
-    selfcol_alloc__free_array(&al, sweep->stack, sweep->stack_capacity, sizeof *sweep->stack);
+    selfcol_sweep__free_workers(sweep);
     selfcol_alloc__free_array(&al, sweep->positions_at, sweep->positions_capacity,
                               sizeof *sweep->positions_at);
     selfcol_alloc__free_array(&al, sweep->outcome, sweep->outcome_capacity, sizeof *sweep->outcome);
@@ -399,7 +399,8 @@ static double mean_motion(const double *x0, const double *x1, size_t vertices) {
     return vertices > 0 ? sum / (double)vertices : 0.0;
 }
 
-static int run_earliest(selfcol_sweep_query *q, uint32_t method) {
+static int run_earliest(selfcol_sweep_query *q, uint32_t method, const selfcol_executor *executor,
+                        unsigned threads) {
     selfcol_sweep *s = q->out;
     const int meshes = q->self ? 1 : 2;
     size_t coordinates = 0;
@@ -447,8 +448,9 @@ static int run_earliest(selfcol_sweep_query *q, uint32_t method) {
                 q->end[1] = q->end[0];
         }
         s->stats.passes++;
-        const int status = method == SELFCOL_METHOD_EXHAUSTIVE ? selfcol_sweep__exhaustive(q)
-                                                               : selfcol_sweep__bvh(q);
+        const int status = method == SELFCOL_METHOD_EXHAUSTIVE
+                               ? selfcol_sweep__exhaustive(q)
+                               : selfcol_sweep__bvh(q, executor, threads);
         if (status != SELFCOL_SWEEP__RESTART) {
             if (status != SELFCOL_OK)
                 return status;
@@ -579,16 +581,18 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
     }
     int status = reserve_boxes(result, doubles);
     double narrow_start = start_time;
+    // Who runs the broad phase's tasks and ALL's root searches.
+    const selfcol_executor *executor = context != NULL ? &context->executor : NULL;
+    const unsigned threads = context != NULL ? context->threads : o.threads;
     if (status == SELFCOL_OK && o.mode == SELFCOL_SWEEP_EARLIEST) {
-        status = run_earliest(&q, o.method);
+        status = run_earliest(&q, o.method, executor, threads);
     } else if (status == SELFCOL_OK) {
         result->stats.passes = 1;
         status = o.method == SELFCOL_METHOD_EXHAUSTIVE ? selfcol_sweep__exhaustive(&q)
-                                                       : selfcol_sweep__bvh(&q);
+                                                       : selfcol_sweep__bvh(&q, executor, threads);
         narrow_start = selfcol_core__seconds();
         if (status == SELFCOL_OK)
-            status = context != NULL ? narrow_all(&q, &context->executor, context->threads, &o)
-                                     : narrow_all(&q, NULL, o.threads, &o);
+            status = narrow_all(&q, executor, threads, &o);
         if (status == SELFCOL_OK)
             status = sort_hits(result);
         result->stats.narrow_seconds = selfcol_core__seconds() - narrow_start;
@@ -658,7 +662,9 @@ size_t selfcol_sweep_byte_count(const selfcol_sweep *sweep) {
     return sizeof *sweep + (sweep->hit_capacity + sweep->spare_capacity) * sizeof *sweep->hits +
            sweep->candidate_capacity * sizeof *sweep->candidates +
            sweep->box_capacity * sizeof *sweep->boxes +
-           sweep->stack_capacity * sizeof *sweep->stack +
+           sweep->front_capacity * sizeof *sweep->front +
+           sweep->segment_capacity * sizeof *sweep->segments +
+           sweep->worker_capacity * sizeof *sweep->workers +
            sweep->positions_capacity * sizeof *sweep->positions_at +
            sweep->outcome_capacity * (sizeof *sweep->outcome + sizeof *sweep->toi) +
            sweep->cull_capacity * (sizeof *sweep->cull_cones + sizeof *sweep->cull_altitudes) +

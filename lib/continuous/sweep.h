@@ -23,6 +23,32 @@ typedef struct selfcol_sweep_candidate {
     uint32_t first, second;
 } selfcol_sweep_candidate;
 
+// One worker of the broad phase (sweep_search.c): its counters, filter
+// hints, traversal stack and the candidates it found, in the order of its
+// tasks (`direct`: candidates go straight to the query instead, one worker).
+typedef struct selfcol_sweep_worker {
+    struct selfcol_sweep_query *q;
+    int direct;
+    // On the calling thread (its arrays may grow); off it, a full array
+    // stops the task instead (overflow), which the calling thread grows and
+    // runs again: the sweep's allocator is only called from the calling
+    // thread.
+    int on_caller, overflow;
+    uint64_t node_pairs, vf_candidates, ee_candidates, separated;
+    unsigned hint[2]; // the direction that last showed a VF (0) or EE (1) pair apart
+    uint32_t *stack;
+    size_t stack_capacity;
+    selfcol_sweep_candidate *found;
+    size_t found_count, found_capacity;
+} selfcol_sweep_worker;
+
+// Where one task's candidates lie: worker, first index, count.
+typedef struct selfcol_sweep_segment {
+    uint32_t worker;
+    uint32_t count;
+    size_t first;
+} selfcol_sweep_segment;
+
 struct selfcol_sweep {
     selfcol_allocator allocator;
     selfcol_sweep_hit *hits, *hit_spare; // spare: the sort's destination
@@ -31,8 +57,15 @@ struct selfcol_sweep {
     size_t candidate_count, candidate_capacity;
     double *boxes; // swept boxes (lo, hi) of triangles and nodes, both meshes
     size_t box_capacity;
-    uint32_t *stack; // the traversal's node pairs
-    size_t stack_capacity;
+    // The BVH broad phase's tasks: the front of node pairs (2 per task), the
+    // segments of a round of tasks, the workers.
+    uint32_t *front;
+    size_t front_capacity;
+    selfcol_sweep_segment *segments;
+    uint32_t *pending; // tasks of the round still to run (segment_capacity)
+    size_t segment_capacity;
+    selfcol_sweep_worker *workers;
+    unsigned worker_capacity;
     double *positions_at; // EARLIEST: positions at t_box, 3 V per mesh
     size_t positions_capacity;
     uint8_t *outcome; // ALL, per candidate: 0 apart, 1 hit, 3 unresolved hit
@@ -68,9 +101,6 @@ typedef struct selfcol_sweep_query {
     // to the list); `earliest` is the least time found so far.
     int earliest_mode;
     double earliest;
-    // The direction that last showed a VF (0) or EE (1) candidate apart
-    // (selfcol_narrow_sweep__separated_from), tried first on the next.
-    unsigned separating_hint[2];
     // EARLIEST: a restart pays only while the boxes' sweep over [0, t_box],
     // t_box times the mean vertex motion over the step, exceeds this length
     // (sweep.c, "EARLIEST").
@@ -100,8 +130,15 @@ int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_can
 // show apart) and the counters node_pairs, candidates and separated.
 // q->out->boxes must hold 6 doubles per vertex (and, for BVH, per triangle
 // and node) of each mesh. EXHAUSTIVE writes the candidates sorted by key.
+// BVH runs its traversal's tasks on `threads` workers of `executor` (NULL:
+// POSIX threads), with the same candidates, counters and EARLIEST time for
+// every thread count (sweep_search.c, "Threads"); EXACT's culling keeps it
+// on one.
 int selfcol_sweep__exhaustive(selfcol_sweep_query *q);
-int selfcol_sweep__bvh(selfcol_sweep_query *q);
+int selfcol_sweep__bvh(selfcol_sweep_query *q, const struct selfcol_executor *executor,
+                       unsigned threads);
+// Frees the workers' arrays (selfcol_sweep_destroy).
+void selfcol_sweep__free_workers(selfcol_sweep *s);
 
 // EXACT (sweep_cull.c): the per-node cones and altitudes over [0, t_box] of
 // a self query's hierarchy (SELFCOL_OK or SELFCOL_ENOMEM), then whether
