@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet
                 libeigen3-dev libcmocka-dev libpng-dev python3 python3-dev python3-venv
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
-.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep plot fuzz wheel docs
+.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep plot fuzz wheel docs blender-addon blender-test
 all: build
 
 deps:
@@ -58,6 +58,15 @@ fuzz:
 # $(BUILD)/wheel/dist/selfcol-*.whl.
 wheel: deps
 	sh tools/wheel.sh $(BUILD)
+
+# The Blender add-on's zip, the module inside (tools/blender_addon.sh):
+# $(BUILD)/blender/selfcol_blender-$(VERSION).zip. blender-test also installs
+# it into Debian's blender, headless, and checks its marks against selfcol-cli.
+blender-addon: deps
+	sh tools/blender_addon.sh $(BUILD)
+
+blender-test: build
+	sh tools/blender_addon.sh $(BUILD) --test
 
 # The Python API reference from the docstrings (pdoc): $(BUILD)/docs/python/.
 docs: deps
