@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-FileCopyrightText: 2026 selfcol authors
 # SPDX-License-Identifier: MIT
-# Usage: sh tools/blender_addon.sh [BUILD] [--test]
+# Usage: sh tools/blender_addon.sh [BUILD] [--test] [--screenshot]
 # `make blender-addon` (and, with --test, `make blender-test`, which CI runs).
 # Builds the Blender add-on's zip, the one file an artist installs
 # (Preferences > Add-ons > Install...): adapters/blender/selfcol_blender/
@@ -13,14 +13,18 @@
 # --test: installs Debian's blender when missing (tools/deps.sh) and runs
 # adapters/blender/tests/test_addon.py in it, headless: the add-on installed
 # from the zip and enabled, its marks checked against selfcol-cli's.
+# --screenshot: renders the add-on page's picture (Cycles, CPU) to
+# BUILD/blender/blender-addon.png (committed as docs/images/blender-addon.png).
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 build=build
 test=0
+shot=0
 for a in "$@"; do
   case "$a" in
     --test) test=1 ;;
+    --screenshot) shot=1 ;;
     *) build=$a ;;
   esac
 done
@@ -68,7 +72,7 @@ rm -f "$zip"
 (cd "$out" && "$py" -m zipfile -c "$zip" selfcol_blender)
 echo "blender-addon: $zip ($(du -k "$zip" | cut -f1) kB)"
 
-[ "$test" -eq 1 ] || exit 0
+[ "$test" -eq 1 ] || [ "$shot" -eq 1 ] || exit 0
 if ! command -v blender >/dev/null 2>&1; then
   sh tools/deps.sh blender || { echo "blender-test: blender not installable: skipped"; exit 0; }
 fi
@@ -77,5 +81,12 @@ cli="$build/tools/cli/selfcol-cli"
 rm -rf "$out/test"
 mkdir -p "$out/test"
 # A user's add-on folder of its own, so that the run leaves the real one alone.
-BLENDER_USER_SCRIPTS="$out/test/scripts" blender -b --factory-startup --python-exit-code 1 \
-  --python adapters/blender/tests/test_addon.py -- "$zip" "$cli" "$out/test"
+if [ "$test" -eq 1 ]; then
+  BLENDER_USER_SCRIPTS="$out/test/scripts" blender -b --factory-startup --python-exit-code 1 \
+    --python adapters/blender/tests/test_addon.py -- "$zip" "$cli" "$out/test"
+fi
+
+if [ "$shot" -eq 1 ]; then
+  BLENDER_USER_SCRIPTS="$out/test/scripts" blender -b --factory-startup --python-exit-code 1 \
+    --python adapters/blender/tests/screenshot.py -- "$zip" "$out/blender-addon.png"
+fi

@@ -43,8 +43,10 @@ import selfcol_blender  # noqa: E402
 check(hasattr(bpy.ops.selfcol, "check"), "the add-on's operator is registered")
 
 # 2. A folded cloth: u in [0, 2] along the sheet, v across. The first half
-# lies flat; the second folds back over it and its height
-# 0.25 sin(3 pi (u - 1)) dips below the first half for u in (4/3, 5/3).
+# lies flat; the second folds back over it, its height
+# 0.25 sin(3 pi (u - 1)) + 0.004 dipping below the first half around
+# u in (4/3, 5/3) (the offset keeps the crossings off the grid's lines) and
+# starting just above it at the hinge (near faces there).
 NU, NV = 48, 16
 us = np.linspace(0.0, 2.0, NU + 1)
 vs = np.linspace(0.0, 1.0, NV + 1)
@@ -54,7 +56,7 @@ for u in us:
         if u <= 1.0:
             verts.append((u, v, 0.0))
         else:
-            verts.append((2.0 - u, v, 0.25 * math.sin(3.0 * math.pi * (u - 1.0))))
+            verts.append((2.0 - u, v, 0.25 * math.sin(3.0 * math.pi * (u - 1.0)) + 0.004))
 faces = []
 for i in range(NU):
     for j in range(NV):
