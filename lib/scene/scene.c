@@ -46,6 +46,7 @@ typedef struct scene_surface {
     // are its mesh's positions, valid unless it was rebuilt (moved) since
     // the last update (has_start).
     double *start, *last;
+    size_t start_count; // doubles in each (3 V when made): freed without the mesh
     int has_start, has_last;
 } scene_surface;
 
@@ -179,12 +180,11 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
 
 static void free_start(const selfcol_scene *scene, scene_surface *s) {
     if (s->start != NULL) {
-        selfcol_alloc__free_array(&scene->allocator, s->start, 3 * s->mesh->vertex_count,
-                                  sizeof *s->start);
-        selfcol_alloc__free_array(&scene->allocator, s->last, 3 * s->mesh->vertex_count,
-                                  sizeof *s->last);
+        selfcol_alloc__free_array(&scene->allocator, s->start, s->start_count, sizeof *s->start);
+        selfcol_alloc__free_array(&scene->allocator, s->last, s->start_count, sizeof *s->last);
     }
     s->start = s->last = NULL;
+    s->start_count = 0;
     s->has_start = s->has_last = 0;
 }
 
@@ -500,6 +500,7 @@ int selfcol_scene_set_surface_start(selfcol_scene *scene, uint32_t surface,
         }
         s->start = start;
         s->last = last; // from the next update on
+        s->start_count = 3 * n;
     }
     if (n > 0)
         memcpy(s->start, positions, 3 * n * sizeof *s->start);
@@ -676,8 +677,7 @@ size_t selfcol_scene_byte_count(const selfcol_scene *scene) {
     for (size_t i = 0; i < scene->surface_count; ++i) {
         const scene_surface *s = &scene->surfaces[i];
         bytes += selfcol_hierarchy_byte_count(s->hierarchy);
-        if (s->start != NULL)
-            bytes += 2 * 3 * s->mesh->vertex_count * sizeof *s->start;
+        bytes += 2 * s->start_count * sizeof *s->start;
     }
     for (size_t p = 0; p < scene->pair_count; ++p)
         bytes += selfcol_store_byte_count(scene->pairs[p].store) +
