@@ -244,25 +244,31 @@ static int narrow_worker(void *context, unsigned worker) {
     }
 }
 
+// Room for n outcomes and times (ALL's per-candidate arrays).
+static int reserve_outcomes(selfcol_sweep *s, size_t n) {
+    if (n <= s->outcome_capacity)
+        return SELFCOL_OK;
+    uint8_t *outcome = selfcol_alloc__array(&s->allocator, n, sizeof *outcome);
+    double *toi = selfcol_alloc__array(&s->allocator, n, sizeof *toi);
+    if (outcome == NULL || toi == NULL) {
+        selfcol_alloc__free_array(&s->allocator, outcome, n, sizeof *outcome);
+        selfcol_alloc__free_array(&s->allocator, toi, n, sizeof *toi);
+        return SELFCOL_ENOMEM;
+    }
+    selfcol_alloc__free_array(&s->allocator, s->outcome, s->outcome_capacity, sizeof *s->outcome);
+    selfcol_alloc__free_array(&s->allocator, s->toi, s->outcome_capacity, sizeof *s->toi);
+    s->outcome = outcome;
+    s->toi = toi;
+    s->outcome_capacity = n;
+    return SELFCOL_OK;
+}
+
 static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, unsigned threads,
                       const selfcol_sweep_options *o) {
     selfcol_sweep *s = q->out;
-    if (s->candidate_count > s->outcome_capacity) {
-        const size_t cap = s->candidate_capacity;
-        uint8_t *outcome = selfcol_alloc__array(&s->allocator, cap, sizeof *outcome);
-        double *toi = selfcol_alloc__array(&s->allocator, cap, sizeof *toi);
-        if (outcome == NULL || toi == NULL) {
-            selfcol_alloc__free_array(&s->allocator, outcome, cap, sizeof *outcome);
-            selfcol_alloc__free_array(&s->allocator, toi, cap, sizeof *toi);
-            return SELFCOL_ENOMEM;
-        }
-        selfcol_alloc__free_array(&s->allocator, s->outcome, s->outcome_capacity,
-                                  sizeof *s->outcome);
-        selfcol_alloc__free_array(&s->allocator, s->toi, s->outcome_capacity, sizeof *s->toi);
-        s->outcome = outcome;
-        s->toi = toi;
-        s->outcome_capacity = cap;
-    }
+    if (s->candidate_count > s->outcome_capacity &&
+        reserve_outcomes(s, s->candidate_capacity) != SELFCOL_OK)
+        return SELFCOL_ENOMEM;
     narrow_job job;
     memset(&job, 0, sizeof job);
     job.q = q;
@@ -375,6 +381,95 @@ int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_can
         return SELFCOL_SWEEP__RESTART; // nothing is earlier: run_earliest stops
     const int pays = q->t_box * q->motion_per_time > q->restart_sweep;
     return toi < 0.25 * q->t_box && pays ? SELFCOL_SWEEP__RESTART : SELFCOL_OK;
+}
+
+// EARLIEST's root searches of a round of the BVH broad phase (its candidates
+// in task order, sweep_search.c), on the workers, in batches of
+// EARLIEST_BATCH: every candidate of a batch is searched before the time
+// found when the batch starts, then the batch's answers are taken in order
+// by the rule of selfcol_sweep__earliest_pair (a hit earlier than the time
+// found so far becomes the hit; a restart is asked as there). The bound of a
+// batch does not depend on the threads, so neither do the hit, the time and
+// the counters; a batch searches a little more than one candidate at a time
+// would (its later candidates are bounded by its start's time, not by its
+// earlier ones' hits).
+#define EARLIEST_BATCH 256u
+#define EARLIEST_GRAIN 8u
+
+typedef struct earliest_job {
+    selfcol_sweep_query *q;
+    const selfcol_sweep_candidate *c;
+    uint64_t count;                      // the batch's candidates
+    uint64_t next;                       // atomic: the next grain
+    double bound;                        // the time found at the batch's start
+    uint64_t boxes[SELFCOL_MAX_THREADS]; // root-finder boxes per worker
+} earliest_job;
+
+static int earliest_worker(void *context, unsigned worker) {
+    earliest_job *job = context;
+    selfcol_sweep *s = job->q->out;
+    for (;;) {
+        const uint64_t first = SELFCOL_ATOMIC_FETCH_ADD(&job->next, EARLIEST_GRAIN);
+        if (first >= job->count)
+            return SELFCOL_OK;
+        const uint64_t end =
+            first + EARLIEST_GRAIN < job->count ? first + EARLIEST_GRAIN : job->count;
+        for (uint64_t i = first; i < end; ++i) {
+            selfcol_sweep_hit h;
+            hit_of(job->q, &job->c[i], &h);
+            selfcol_narrow_sweep_info info;
+            double toi = job->bound;
+            const int hit = root_before(job->q, &h, job->bound, &toi, &info);
+            job->boxes[worker] += (uint64_t)info.checks;
+            s->outcome[i] =
+                (uint8_t)(hit ? (info.outcome == SELFCOL_NARROW_SWEEP_ACCEPTED ? 1 : 3) : 0);
+            s->toi[i] = toi;
+        }
+    }
+}
+
+int selfcol_sweep__earliest_round(selfcol_sweep_query *q, const selfcol_sweep_candidate *c,
+                                  size_t n, const selfcol_executor *executor, unsigned threads) {
+    selfcol_sweep *s = q->out;
+    if (n == 0)
+        return SELFCOL_OK;
+    int status = reserve_outcomes(s, n < EARLIEST_BATCH ? n : EARLIEST_BATCH);
+    if (status != SELFCOL_OK)
+        return status;
+    const double start = selfcol_core__seconds();
+    for (size_t at = 0; at < n && status == SELFCOL_OK; at += EARLIEST_BATCH) {
+        earliest_job job;
+        memset(&job, 0, sizeof job);
+        job.q = q;
+        job.c = c + at;
+        job.count = n - at < EARLIEST_BATCH ? n - at : EARLIEST_BATCH;
+        job.bound = q->earliest;
+        const uint64_t grains = (job.count + EARLIEST_GRAIN - 1) / EARLIEST_GRAIN;
+        const unsigned workers = grains < threads ? (unsigned)grains : threads;
+        status = selfcol_parallel__run(executor, workers, earliest_worker, &job);
+        for (unsigned w = 0; w < workers; ++w)
+            s->stats.narrow_boxes += job.boxes[w];
+        for (size_t i = 0; i < job.count && status == SELFCOL_OK; ++i) {
+            const double toi = s->toi[i];
+            if (s->outcome[i] == 0 || (s->hit_count > 0 && !(toi < q->earliest)))
+                continue;
+            selfcol_sweep_hit h;
+            hit_of(q, &job.c[i], &h);
+            h.toi = toi;
+            if (s->outcome[i] == 3)
+                h.flags |= SELFCOL_SWEEP_UNRESOLVED;
+            if (toi == 0.0)
+                flag_initial(q, &h);
+            s->hits[0] = h; // room reserved by run_earliest
+            s->hit_count = 1;
+            q->earliest = toi;
+            const int pays = q->t_box * q->motion_per_time > q->restart_sweep;
+            if (toi == 0.0 || (toi < 0.25 * q->t_box && pays))
+                status = SELFCOL_SWEEP__RESTART; // as selfcol_sweep__earliest_pair
+        }
+    }
+    s->stats.narrow_seconds += selfcol_core__seconds() - start;
+    return status;
 }
 
 // Below this sweep, in mean edges, the boxes are nearly the static ones:

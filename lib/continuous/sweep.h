@@ -125,6 +125,14 @@ int selfcol_sweep__push_candidate(selfcol_sweep *s, const selfcol_sweep_candidat
 // q->restart_sweep (sweep.c, "EARLIEST").
 int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_candidate *c);
 
+// EARLIEST: the root searches of n candidates (a round of the BVH broad
+// phase, in task order) on `threads` workers of `executor`, in batches whose
+// bound is the time found at the batch's start; the same answers as above
+// for every thread count (sweep.c).
+int selfcol_sweep__earliest_round(selfcol_sweep_query *q, const selfcol_sweep_candidate *c,
+                                  size_t n, const struct selfcol_executor *executor,
+                                  unsigned threads);
+
 // Broad phases (sweep_search.c): fill q->out's candidates (the pairs whose
 // swept boxes are near and that the separating-direction filter does not
 // show apart) and the counters node_pairs, candidates and separated.

@@ -658,20 +658,29 @@ static int reserve_segments(selfcol_sweep *s, size_t n) {
 }
 
 // A round's candidates in task order: to ALL's list, or to EARLIEST's root
-// searches (which may ask for a restart: the rest of the round is dropped).
-static int take_round(selfcol_sweep_query *q, size_t tasks) {
+// searches on the workers (which may ask for a restart: the rest of the
+// round is dropped), through the list too (cleared first: EARLIEST keeps no
+// candidates).
+static int take_round(selfcol_sweep_query *q, size_t tasks, const selfcol_executor *executor,
+                      unsigned threads) {
     selfcol_sweep *s = q->out;
+    if (q->earliest_mode)
+        s->candidate_count = 0;
     for (size_t t = 0; t < tasks; ++t) {
         const selfcol_sweep_segment *seg = &s->segments[t];
         const selfcol_sweep_candidate *c = s->workers[seg->worker].found + seg->first;
         for (uint32_t k = 0; k < seg->count; ++k) {
-            const int status = q->earliest_mode ? selfcol_sweep__earliest_pair(q, &c[k])
-                                                : selfcol_sweep__push_candidate(s, &c[k]);
+            const int status = selfcol_sweep__push_candidate(s, &c[k]);
             if (status != SELFCOL_OK)
                 return status;
         }
     }
-    return SELFCOL_OK;
+    if (!q->earliest_mode)
+        return SELFCOL_OK;
+    const int status =
+        selfcol_sweep__earliest_round(q, s->candidates, s->candidate_count, executor, threads);
+    s->candidate_count = 0;
+    return status;
 }
 
 int selfcol_sweep__bvh(selfcol_sweep_query *q, const selfcol_executor *executor, unsigned threads) {
@@ -722,7 +731,7 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q, const selfcol_executor *executor,
         const size_t end = first + round < tasks ? first + round : tasks;
         status = run_round(q, &bx, executor, threads, first, end);
         if (status == SELFCOL_OK)
-            status = take_round(q, end - first);
+            status = take_round(q, end - first, executor, threads);
     }
     for (unsigned i = 0; i < threads && i < s->worker_capacity; ++i)
         add_counters(s, &s->workers[i]);
