@@ -357,6 +357,31 @@ static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, 
 // filter's separation by that. The root finder always gets the exact start
 // and end.
 
+// EARLIEST's rule for one root search's answer: a hit earlier than the time
+// found so far (or the first hit) becomes the hit; then a restart is asked
+// when the time is 0 (nothing is earlier: run_earliest stops) or below a
+// quarter of t_box while the boxes' sweep still pays.
+static int take_earliest(selfcol_sweep_query *q, const selfcol_sweep_candidate *c, int hit,
+                         int resolved, double toi) {
+    selfcol_sweep *s = q->out;
+    if (!hit || (s->hit_count > 0 && !(toi < q->earliest)))
+        return SELFCOL_OK;
+    selfcol_sweep_hit h;
+    hit_of(q, c, &h);
+    h.toi = toi;
+    if (!resolved)
+        h.flags |= SELFCOL_SWEEP_UNRESOLVED;
+    if (toi == 0.0)
+        flag_initial(q, &h);
+    s->hits[0] = h; // room reserved by run_earliest
+    s->hit_count = 1;
+    q->earliest = toi;
+    if (toi == 0.0)
+        return SELFCOL_SWEEP__RESTART;
+    const int pays = q->t_box * q->motion_per_time > q->restart_sweep;
+    return toi < 0.25 * q->t_box && pays ? SELFCOL_SWEEP__RESTART : SELFCOL_OK;
+}
+
 int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_candidate *c) {
     selfcol_sweep *s = q->out;
     selfcol_sweep_hit h;
@@ -367,20 +392,7 @@ int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_can
     const int hit = root_before(q, &h, q->earliest, &toi, &info);
     s->stats.narrow_seconds += selfcol_core__seconds() - start;
     s->stats.narrow_boxes += (uint64_t)info.checks;
-    if (!hit || (s->hit_count > 0 && !(toi < q->earliest)))
-        return SELFCOL_OK;
-    h.toi = toi;
-    if (info.outcome != SELFCOL_NARROW_SWEEP_ACCEPTED)
-        h.flags |= SELFCOL_SWEEP_UNRESOLVED;
-    if (toi == 0.0)
-        flag_initial(q, &h);
-    s->hits[0] = h; // room reserved by run_earliest
-    s->hit_count = 1;
-    q->earliest = toi;
-    if (toi == 0.0)
-        return SELFCOL_SWEEP__RESTART; // nothing is earlier: run_earliest stops
-    const int pays = q->t_box * q->motion_per_time > q->restart_sweep;
-    return toi < 0.25 * q->t_box && pays ? SELFCOL_SWEEP__RESTART : SELFCOL_OK;
+    return take_earliest(q, c, hit, info.outcome == SELFCOL_NARROW_SWEEP_ACCEPTED, toi);
 }
 
 // EARLIEST's root searches of a round of the BVH broad phase (its candidates
@@ -449,24 +461,8 @@ int selfcol_sweep__earliest_round(selfcol_sweep_query *q, const selfcol_sweep_ca
         status = selfcol_parallel__run(executor, workers, earliest_worker, &job);
         for (unsigned w = 0; w < workers; ++w)
             s->stats.narrow_boxes += job.boxes[w];
-        for (size_t i = 0; i < job.count && status == SELFCOL_OK; ++i) {
-            const double toi = s->toi[i];
-            if (s->outcome[i] == 0 || (s->hit_count > 0 && !(toi < q->earliest)))
-                continue;
-            selfcol_sweep_hit h;
-            hit_of(q, &job.c[i], &h);
-            h.toi = toi;
-            if (s->outcome[i] == 3)
-                h.flags |= SELFCOL_SWEEP_UNRESOLVED;
-            if (toi == 0.0)
-                flag_initial(q, &h);
-            s->hits[0] = h; // room reserved by run_earliest
-            s->hit_count = 1;
-            q->earliest = toi;
-            const int pays = q->t_box * q->motion_per_time > q->restart_sweep;
-            if (toi == 0.0 || (toi < 0.25 * q->t_box && pays))
-                status = SELFCOL_SWEEP__RESTART; // as selfcol_sweep__earliest_pair
-        }
+        for (size_t i = 0; i < job.count && status == SELFCOL_OK; ++i)
+            status = take_earliest(q, &job.c[i], s->outcome[i] != 0, s->outcome[i] == 1, s->toi[i]);
     }
     s->stats.narrow_seconds += selfcol_core__seconds() - start;
     return status;

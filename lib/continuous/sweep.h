@@ -29,10 +29,10 @@ typedef struct selfcol_sweep_candidate {
 typedef struct selfcol_sweep_worker {
     struct selfcol_sweep_query *q;
     int direct;
-    // On the calling thread (its arrays may grow); off it, a full array
-    // stops the task instead (overflow), which the calling thread grows and
-    // runs again: the sweep's allocator is only called from the calling
-    // thread.
+    // On the calling thread (building the front: its stack may grow); off
+    // it, a full array stops the task instead (overflow), which the calling
+    // thread grows and runs again: the sweep's allocator is only called from
+    // the calling thread.
     int on_caller, overflow;
     uint64_t node_pairs, vf_candidates, ee_candidates, separated;
     unsigned hint[2]; // the direction that last showed a VF (0) or EE (1) pair apart

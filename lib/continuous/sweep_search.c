@@ -130,22 +130,10 @@ static int emit(selfcol_sweep_worker *w, const selfcol_sweep_candidate *c) {
     if (w->direct)
         return w->q->earliest_mode ? selfcol_sweep__earliest_pair(w->q, c)
                                    : selfcol_sweep__push_candidate(w->q->out, c);
-    if (w->found_count == w->found_capacity) {
-        if (!w->on_caller)
-            return SWEEP_OVERFLOW;
-        selfcol_sweep *s = w->q->out;
-        if (w->found_capacity > SIZE_MAX / 2 / sizeof *w->found)
-            return SELFCOL_ENOMEM;
-        const size_t cap = w->found_capacity < 1024 ? 1024 : 2 * w->found_capacity;
-        selfcol_sweep_candidate *grown = selfcol_alloc__array(&s->allocator, cap, sizeof *grown);
-        if (grown == NULL)
-            return SELFCOL_ENOMEM;
-        if (w->found_count > 0)
-            memcpy(grown, w->found, w->found_count * sizeof *grown);
-        selfcol_alloc__free_array(&s->allocator, w->found, w->found_capacity, sizeof *w->found);
-        w->found = grown;
-        w->found_capacity = cap;
-    }
+    // A full list stops the task (run_round grows it on the calling thread
+    // and runs the task again): workers never allocate.
+    if (w->found_count == w->found_capacity)
+        return SWEEP_OVERFLOW;
     w->found[w->found_count++] = *c;
     return SELFCOL_OK;
 }
