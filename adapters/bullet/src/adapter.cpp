@@ -552,18 +552,23 @@ int hold_back(selfcol_bullet *a, double dt) {
                 const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
                 // On Bullet's scheduler when the adapter uses it (the hits
                 // are the same).
+                // Without it, on the queries' threads: the broad phase's
+                // tasks and the root searches (the hits are the same).
                 selfcol_context *c = a->task_context;
+                selfcol_sweep_options so;
+                selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
+                so.threads = a->opts.query.threads;
                 int status;
                 if (i == j && c != nullptr)
-                    status = selfcol_context_self_sweep(c, bi.sweep_tree, si, a->sweep, nullptr);
+                    status = selfcol_context_self_sweep(c, bi.sweep_tree, si, a->sweep, &so);
                 else if (i == j)
-                    status = selfcol_hierarchy_self_sweep(bi.sweep_tree, si, a->sweep, nullptr);
+                    status = selfcol_hierarchy_self_sweep(bi.sweep_tree, si, a->sweep, &so);
                 else if (c != nullptr)
                     status = selfcol_context_sweep(c, bi.sweep_tree, si, bj.sweep_tree, sj,
-                                                   a->sweep, nullptr);
+                                                   a->sweep, &so);
                 else
                     status = selfcol_hierarchy_sweep(bi.sweep_tree, si, bj.sweep_tree, sj, a->sweep,
-                                                     nullptr);
+                                                     &so);
                 if (status != SELFCOL_OK)
                     return status;
                 const selfcol_sweep_hit *h = nullptr;

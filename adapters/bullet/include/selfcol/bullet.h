@@ -181,7 +181,9 @@ typedef struct selfcol_bullet_options {
      * SELFCOL_BULLET_CONTINUOUS_PASSES times. Kinematic nodes (zero inverse
      * mass) are never held: a pair of kinematic nodes only is left alone.
      * The first step after an attach or detach has no last positions and
-     * is not checked. Costs a continuous query per pass (stats).
+     * is not checked. Costs a continuous query per pass (stats), on
+     * query.threads (or Bullet's scheduler: selfcol_bullet_use_task_scheduler);
+     * the held positions do not depend on the threads.
      */
     int continuous;
     /**
