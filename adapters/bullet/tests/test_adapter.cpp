@@ -957,8 +957,11 @@ struct counting_scheduler : btITaskScheduler {
 
 // Nodes after 4 steps of two crumpling sheets, with or without the
 // adapter's stages on Bullet's scheduler (switched on before the first
-// step, or between steps).
-static std::vector<btScalar> crumple_steps(int scheduler) { // 0 off, 1 from the start, 2 later
+// step, or between steps), or on 3 of selfcol's own threads (query.threads:
+// the queries and the continuous passes).
+static std::vector<btScalar>
+crumple_steps(int scheduler,
+              unsigned threads = 1) { // 0 off, 1 from the start, 2 later
     demo::options o;
     demo::world w(o, 0.0);
     btSoftBody *low = w.add_sheet(btVector3(0, 0, 0), btVector3(0.3f, 0, 0), btVector3(0, 0, 0.3f),
@@ -972,6 +975,7 @@ static std::vector<btScalar> crumple_steps(int scheduler) { // 0 off, 1 from the
     opts.automatic = 0;
     opts.query.distance = 0.005;
     opts.continuous = 1; // its continuous queries go through the scheduler too
+    opts.query.threads = threads;
     selfcol_bullet *a = nullptr;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
@@ -999,7 +1003,7 @@ static std::vector<btScalar> crumple_steps(int scheduler) { // 0 off, 1 from the
     return x;
 }
 
-static void task_scheduler_gives_the_same_steps() {
+static void task_scheduler_and_threads_give_the_same_steps() {
     CHECK(selfcol_bullet_use_task_scheduler(nullptr, 1) == SELFCOL_EINVAL);
     btITaskScheduler *before = btGetTaskScheduler();
     counting_scheduler scheduler;
@@ -1008,12 +1012,13 @@ static void task_scheduler_gives_the_same_steps() {
     const int calls_without = scheduler.calls;
     const std::vector<btScalar> from_start = crumple_steps(1);
     const std::vector<btScalar> later = crumple_steps(2);
+    const std::vector<btScalar> threaded = crumple_steps(0, 3);
     // A build of Bullet without BT_THREADSAFE runs btParallelFor's body
     // itself and never calls the scheduler: then only equality is checked.
     std::printf("Bullet's scheduler ran %d parallel-fors for selfcol\n",
                 scheduler.calls - calls_without);
     btSetTaskScheduler(before);
-    CHECK(!own.empty() && own == from_start && own == later);
+    CHECK(!own.empty() && own == from_start && own == later && own == threaded);
     demo::options o;
     demo::world w(o, 0.0);
     selfcol_bullet *a = nullptr;
@@ -1040,7 +1045,7 @@ int main() {
     continuous_option_stops_a_pass_through();
     allocation_failure_at_every_call();
     destroy_after_the_world();
-    task_scheduler_gives_the_same_steps();
+    task_scheduler_and_threads_give_the_same_steps();
     if (failures == 0)
         std::printf("test_bullet_adapter: all checks passed\n");
     return failures == 0 ? 0 : 1;
