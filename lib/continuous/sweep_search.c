@@ -422,12 +422,13 @@ static int run_task(selfcol_sweep_worker *w, const bvh_boxes *bx, uint32_t a, ui
 // count). Workers take tasks from a counter and write each task's candidates
 // to their own list; a segment per task says where. The candidates are then
 // read in task order: ALL's list, or EARLIEST's root searches. EARLIEST runs
-// the tasks in rounds of ROUND_TASKS, its root searches between rounds (on
-// the calling thread, in task order, each bounded by the time found so far),
-// and a restart is decided between rounds: the same candidates, counters and
-// time for every thread count. A serial traversal restarting mid-pass at the
-// first candidate below a quarter of t_box did less work on its first
-// passes; a round is the granularity here.
+// the tasks in rounds of ROUND_TASKS, its root searches between rounds (in
+// task order, on the workers in batches bounded by the time found at each
+// batch's start: sweep.c, selfcol_sweep__earliest_round), and a restart is
+// decided between rounds: the same candidates, counters and time for every
+// thread count. A serial traversal restarting mid-pass at the first
+// candidate below a quarter of t_box did less work on its first passes; a
+// round is the granularity here.
 #define FRONT_TASKS 2048u
 #define ROUND_TASKS 128u
 
