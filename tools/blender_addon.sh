@@ -76,6 +76,15 @@ echo "blender-addon: $zip ($(du -k "$zip" | cut -f1) kB)"
 if ! command -v blender >/dev/null 2>&1; then
   sh tools/deps.sh blender || { echo "blender-test: blender not installable: skipped"; exit 0; }
 fi
+# The add-on carries a module built for the wheel's Python: Blender's must be
+# the same version (Debian's blender uses Debian's python3).
+blender_py=$(blender -b --factory-startup --python-expr \
+  'import sys; print("BLENDER_PY %d%d" % sys.version_info[:2])' 2>/dev/null |
+  sed -n 's/^BLENDER_PY //p')
+if [ "$blender_py" != "$tag" ]; then
+  echo "blender-test: Blender's Python is ${blender_py:-unknown}, the wheel's $tag: skipped"
+  exit 0
+fi
 cli="$build/tools/cli/selfcol-cli"
 [ -x "$cli" ] || { echo "blender-test: $cli missing (make build first)"; exit 1; }
 rm -rf "$out/test"
