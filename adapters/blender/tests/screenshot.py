@@ -9,9 +9,13 @@ Run by `sh tools/blender_addon.sh BUILD --screenshot`; the committed picture
 is docs/images/blender-addon.png."""
 
 import math
+import os
 import sys
 
 import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from folded_cloth import folded_cloth  # noqa: E402
 
 argv = sys.argv[sys.argv.index("--") + 1:]
 ZIP, PNG = argv[0], argv[1]
@@ -20,28 +24,8 @@ bpy.ops.preferences.addon_enable(module="selfcol_blender")
 
 for obj in list(bpy.data.objects):
     bpy.data.objects.remove(obj)
-# The test's cloth, finer: a sheet folded back over itself, its folded half
-# dipping through the other (u in [0, 2] along it).
-NU, NV = 96, 32
-verts, faces = [], []
-for i in range(NU + 1):
-    u = 2.0 * i / NU
-    for j in range(NV + 1):
-        v = j / NV
-        verts.append((u, v, 0.0) if u <= 1.0 else
-                     (2.0 - u, v, 0.25 * math.sin(3.0 * math.pi * (u - 1.0)) + 0.004))
-for i in range(NU):
-    for j in range(NV):
-        a = i * (NV + 1) + j
-        faces.append((a, a + NV + 1, a + NV + 2, a + 1))
-mesh = bpy.data.meshes.new("cloth")
-mesh.from_pydata(verts, [], faces)
-cloth = bpy.data.objects.new("cloth", mesh)
-bpy.context.collection.objects.link(cloth)
-twist = cloth.modifiers.new("twist", "SIMPLE_DEFORM")
-twist.deform_method = "TWIST"
-twist.deform_axis = "X"
-twist.angle = math.radians(1.0)
+# The test's cloth (folded_cloth.py), finer, nearly untwisted.
+cloth, mesh, twist, verts = folded_cloth(96, 32, 1.0)
 bpy.context.view_layer.objects.active = cloth
 assert bpy.ops.selfcol.check() == {"FINISHED"}
 

@@ -25,6 +25,9 @@ import sys
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from folded_cloth import folded_cloth  # noqa: E402
+
 argv = sys.argv[sys.argv.index("--") + 1:]
 ZIP, CLI, OUT = argv[0], argv[1], argv[2]
 
@@ -42,37 +45,11 @@ import selfcol_blender  # noqa: E402
 
 check(hasattr(bpy.ops.selfcol, "check"), "the add-on's operator is registered")
 
-# 2. A folded cloth: u in [0, 2] along the sheet, v across. The first half
-# lies flat; the second folds back over it, its height
-# 0.25 sin(3 pi (u - 1)) + 0.004 dipping below the first half around
-# u in (4/3, 5/3) (the offset keeps the crossings off the grid's lines) and
-# starting just above it at the hinge (near faces there).
-NU, NV = 48, 16
-us = np.linspace(0.0, 2.0, NU + 1)
-vs = np.linspace(0.0, 1.0, NV + 1)
-verts = []
-for u in us:
-    for v in vs:
-        if u <= 1.0:
-            verts.append((u, v, 0.0))
-        else:
-            verts.append((2.0 - u, v, 0.25 * math.sin(3.0 * math.pi * (u - 1.0)) + 0.004))
-faces = []
-for i in range(NU):
-    for j in range(NV):
-        a = i * (NV + 1) + j
-        faces.append((a, a + NV + 1, a + NV + 2, a + 1))
-mesh = bpy.data.meshes.new("cloth")
-mesh.from_pydata(verts, [], faces)
-mesh.update()
-cloth = bpy.data.objects.new("cloth", mesh)
-bpy.context.collection.objects.link(cloth)
+# 2. The folded cloth (folded_cloth.py), moved and scaled, with an 8 degree
+# twist.
+cloth, mesh, twist, verts = folded_cloth(48, 16, 8.0)
 cloth.location = (0.3, -0.2, 1.0)
 cloth.scale = (1.5, 1.5, 1.5)
-twist = cloth.modifiers.new("twist", "SIMPLE_DEFORM")
-twist.deform_method = "TWIST"
-twist.deform_axis = "X"
-twist.angle = math.radians(8.0)
 bpy.context.view_layer.objects.active = cloth
 cloth.select_set(True)
 
