@@ -113,14 +113,15 @@ typedef struct selfcol_sweep_options {
     double separation;
     /** Threads the query may use, 1 to SELFCOL_MAX_THREADS; default 1:
      *  the broad phase of SELFCOL_METHOD_BVH (its traversal's tasks, in
-     *  both modes) and the root searches of SELFCOL_SWEEP_ALL. The hits,
-     *  the fraction and the counters (apart from times) are the same for
-     *  every count. SELFCOL_METHOD_EXACT's culling and EXHAUSTIVE's loops,
-     *  and EARLIEST's root searches (few: a pass rarely searches more than
-     *  a few thousand pairs), run on the calling thread. Unlike a discrete
-     *  query's contacts, whose workers push records on their own threads,
-     *  the sweep's allocator is only called from the calling thread (the
-     *  workers write into arrays sized before they start). */
+     *  both modes) and the root searches (ALL's, and EARLIEST's in batches
+     *  of the BVH method). The hits, the fraction and the counters (apart
+     *  from times) are the same for every count. SELFCOL_METHOD_EXACT's
+     *  culling keeps its broad phase on the calling thread, and EXHAUSTIVE
+     *  runs there entirely. Unlike a discrete query's contacts, whose
+     *  workers push records on their own threads, the sweep's allocator is
+     *  only called from the calling thread (the workers write into arrays
+     *  the calling thread grew; a worker that finds one full leaves its
+     *  task to be run again after the calling thread grows it). */
     unsigned int threads;
     /* Version 2: progress and cancel (libgit2's model). */
     /** Called on the calling thread between rounds of SELFCOL_SWEEP_ALL's

@@ -199,10 +199,11 @@ static void flag_initial(const selfcol_sweep_query *q, selfcol_sweep_hit *h) {
 // parallel edges sliding at the tolerance) is then asked again over [0,
 // fraction of the others) only, as EARLIEST would, and lowers the fraction
 // only if it may collide before it.
-// The root searches of ALL, shared among the query's threads in chunks of
-// candidates taken from a counter; each writes its candidates' outcome into
-// per-candidate slots (no allocation, no order dependence: the hits are
-// gathered afterwards in candidate order, then sorted).
+// Root searches shared among the query's threads (ALL's, and EARLIEST's
+// batches): a counter hands out `grain` candidates at a time, and each
+// search writes its candidate's outcome (0 apart, 1 hit, 3 unresolved hit)
+// and time into per-candidate slots: no allocation, no order dependence
+// (the hits are gathered afterwards in candidate order).
 #define SWEEP_CHUNK 1024u
 
 // With a progress callback, the chunks run in about this many rounds (of
@@ -214,28 +215,28 @@ static void flag_initial(const selfcol_sweep_query *q, selfcol_sweep_hit *h) {
 
 typedef struct narrow_job {
     selfcol_sweep_query *q;
-    uint64_t next_chunk;                 // atomic
-    uint64_t end_chunk;                  // this round's last chunk + 1
+    const selfcol_sweep_candidate *c;    // s->outcome[i] and s->toi[i] are c[i]'s
+    double bound;                        // every search is before this time
+    uint64_t grain;                      // candidates per take
+    uint64_t next;                       // atomic: the next candidate
+    uint64_t end;                        // this round's last candidate + 1
     uint64_t boxes[SELFCOL_MAX_THREADS]; // root-finder boxes per worker
 } narrow_job;
 
 static int narrow_worker(void *context, unsigned worker) {
     narrow_job *job = context;
     selfcol_sweep *s = job->q->out;
-    const uint64_t chunks = job->end_chunk;
     for (;;) {
-        const uint64_t chunk = SELFCOL_ATOMIC_FETCH_ADD(&job->next_chunk, 1);
-        if (chunk >= chunks)
+        const uint64_t first = SELFCOL_ATOMIC_FETCH_ADD(&job->next, job->grain);
+        if (first >= job->end)
             return SELFCOL_OK;
-        const size_t end = (size_t)((chunk + 1) * SWEEP_CHUNK) < s->candidate_count
-                               ? (size_t)((chunk + 1) * SWEEP_CHUNK)
-                               : s->candidate_count;
-        for (size_t i = (size_t)chunk * SWEEP_CHUNK; i < end; ++i) {
+        const uint64_t end = first + job->grain < job->end ? first + job->grain : job->end;
+        for (uint64_t i = first; i < end; ++i) {
             selfcol_sweep_hit h;
-            hit_of(job->q, &s->candidates[i], &h);
+            hit_of(job->q, &job->c[i], &h);
             selfcol_narrow_sweep_info info;
-            double toi = 1.0;
-            const int hit = root_before(job->q, &h, 1.0, &toi, &info);
+            double toi = job->bound;
+            const int hit = root_before(job->q, &h, job->bound, &toi, &info);
             job->boxes[worker] += (uint64_t)info.checks;
             s->outcome[i] =
                 (uint8_t)(hit ? (info.outcome == SELFCOL_NARROW_SWEEP_ACCEPTED ? 1 : 3) : 0);
@@ -272,6 +273,9 @@ static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, 
     narrow_job job;
     memset(&job, 0, sizeof job);
     job.q = q;
+    job.c = s->candidates;
+    job.bound = 1.0;
+    job.grain = SWEEP_CHUNK;
     const uint64_t chunks = (s->candidate_count + SWEEP_CHUNK - 1) / SWEEP_CHUNK;
     const unsigned workers = chunks < threads ? (unsigned)(chunks > 0 ? chunks : 1) : threads;
     // Every chunk in one round, or rounds with the progress callback between.
@@ -282,15 +286,17 @@ static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, 
     }
     uint64_t first = 0;
     do {
-        job.next_chunk = first;
-        job.end_chunk = first + round < chunks ? first + round : chunks;
+        const uint64_t end_chunk = first + round < chunks ? first + round : chunks;
+        job.next = first * SWEEP_CHUNK;
+        job.end = end_chunk * SWEEP_CHUNK < s->candidate_count ? end_chunk * SWEEP_CHUNK
+                                                               : s->candidate_count;
         int status = selfcol_parallel__run(executor, workers, narrow_worker, &job);
         if (status != SELFCOL_OK)
             return status;
-        const double done = chunks > 0 ? (double)job.end_chunk / (double)chunks : 1.0;
+        const double done = chunks > 0 ? (double)end_chunk / (double)chunks : 1.0;
         if (o->progress != NULL && o->progress(o->progress_payload, done) != 0)
             return SELFCOL_EUSER;
-        first = job.end_chunk;
+        first = end_chunk;
     } while (first < chunks);
     for (unsigned w = 0; w < workers; ++w)
         s->stats.narrow_boxes += job.boxes[w];
@@ -408,38 +414,6 @@ int selfcol_sweep__earliest_pair(selfcol_sweep_query *q, const selfcol_sweep_can
 #define EARLIEST_BATCH 256u
 #define EARLIEST_GRAIN 8u
 
-typedef struct earliest_job {
-    selfcol_sweep_query *q;
-    const selfcol_sweep_candidate *c;
-    uint64_t count;                      // the batch's candidates
-    uint64_t next;                       // atomic: the next grain
-    double bound;                        // the time found at the batch's start
-    uint64_t boxes[SELFCOL_MAX_THREADS]; // root-finder boxes per worker
-} earliest_job;
-
-static int earliest_worker(void *context, unsigned worker) {
-    earliest_job *job = context;
-    selfcol_sweep *s = job->q->out;
-    for (;;) {
-        const uint64_t first = SELFCOL_ATOMIC_FETCH_ADD(&job->next, EARLIEST_GRAIN);
-        if (first >= job->count)
-            return SELFCOL_OK;
-        const uint64_t end =
-            first + EARLIEST_GRAIN < job->count ? first + EARLIEST_GRAIN : job->count;
-        for (uint64_t i = first; i < end; ++i) {
-            selfcol_sweep_hit h;
-            hit_of(job->q, &job->c[i], &h);
-            selfcol_narrow_sweep_info info;
-            double toi = job->bound;
-            const int hit = root_before(job->q, &h, job->bound, &toi, &info);
-            job->boxes[worker] += (uint64_t)info.checks;
-            s->outcome[i] =
-                (uint8_t)(hit ? (info.outcome == SELFCOL_NARROW_SWEEP_ACCEPTED ? 1 : 3) : 0);
-            s->toi[i] = toi;
-        }
-    }
-}
-
 int selfcol_sweep__earliest_round(selfcol_sweep_query *q, const selfcol_sweep_candidate *c,
                                   size_t n, const selfcol_executor *executor, unsigned threads) {
     selfcol_sweep *s = q->out;
@@ -450,18 +424,19 @@ int selfcol_sweep__earliest_round(selfcol_sweep_query *q, const selfcol_sweep_ca
         return status;
     const double start = selfcol_core__seconds();
     for (size_t at = 0; at < n && status == SELFCOL_OK; at += EARLIEST_BATCH) {
-        earliest_job job;
+        narrow_job job;
         memset(&job, 0, sizeof job);
         job.q = q;
         job.c = c + at;
-        job.count = n - at < EARLIEST_BATCH ? n - at : EARLIEST_BATCH;
         job.bound = q->earliest;
-        const uint64_t grains = (job.count + EARLIEST_GRAIN - 1) / EARLIEST_GRAIN;
+        job.grain = EARLIEST_GRAIN;
+        job.end = n - at < EARLIEST_BATCH ? n - at : EARLIEST_BATCH;
+        const uint64_t grains = (job.end + EARLIEST_GRAIN - 1) / EARLIEST_GRAIN;
         const unsigned workers = grains < threads ? (unsigned)grains : threads;
-        status = selfcol_parallel__run(executor, workers, earliest_worker, &job);
+        status = selfcol_parallel__run(executor, workers, narrow_worker, &job);
         for (unsigned w = 0; w < workers; ++w)
             s->stats.narrow_boxes += job.boxes[w];
-        for (size_t i = 0; i < job.count && status == SELFCOL_OK; ++i)
+        for (size_t i = 0; i < job.end && status == SELFCOL_OK; ++i)
             status = take_earliest(q, &job.c[i], s->outcome[i] != 0, s->outcome[i] == 1, s->toi[i]);
     }
     s->stats.narrow_seconds += selfcol_core__seconds() - start;

@@ -324,6 +324,24 @@ static int leaf_pair(selfcol_sweep_worker *w, const double *const tri_boxes[2],
     return status;
 }
 
+// Doubles an array of `size`-byte elements (to at least `least`), its first
+// `used` kept: on the calling thread (a worker never grows one).
+static int grow_array(selfcol_sweep *s, void **array, size_t *capacity, size_t used, size_t size,
+                      size_t least) {
+    const size_t cap = *capacity < least ? least : 2 * *capacity;
+    if (cap > SIZE_MAX / 2 / size)
+        return SELFCOL_ENOMEM;
+    void *grown = selfcol_alloc__array(&s->allocator, cap, size);
+    if (grown == NULL)
+        return SELFCOL_ENOMEM;
+    if (used > 0)
+        memcpy(grown, *array, used * size);
+    selfcol_alloc__free_array(&s->allocator, *array, *capacity, size);
+    *array = grown;
+    *capacity = cap;
+    return SELFCOL_OK;
+}
+
 // Appends node pair (a, b) to an array of pairs (*top entries, 2 per
 // pair), grown on the sweep's allocator when `grow` (the calling thread),
 // else SWEEP_OVERFLOW when full.
@@ -332,15 +350,9 @@ static int push_pair(selfcol_sweep *s, int grow, uint32_t **array, size_t *capac
     if (*top + 2 > *capacity) {
         if (!grow)
             return SWEEP_OVERFLOW;
-        const size_t cap = *capacity < 256 ? 256 : 2 * *capacity;
-        uint32_t *grown = selfcol_alloc__array(&s->allocator, cap, sizeof *grown);
-        if (grown == NULL)
-            return SELFCOL_ENOMEM;
-        if (*top > 0)
-            memcpy(grown, *array, *top * sizeof *grown);
-        selfcol_alloc__free_array(&s->allocator, *array, *capacity, sizeof *grown);
-        *array = grown;
-        *capacity = cap;
+        const int status = grow_array(s, (void **)array, capacity, *top, sizeof **array, 256);
+        if (status != SELFCOL_OK)
+            return status;
     }
     (*array)[(*top)++] = a;
     (*array)[(*top)++] = b;
@@ -477,24 +489,6 @@ static int bvh_worker(void *context, unsigned worker) {
     }
 }
 
-// Doubles an array of `size`-byte elements (to at least `least`), its first
-// `used` kept: on the calling thread, between runs of the workers.
-static int grow_array(selfcol_sweep *s, void **array, size_t *capacity, size_t used, size_t size,
-                      size_t least) {
-    const size_t cap = *capacity < least ? least : 2 * *capacity;
-    if (cap > SIZE_MAX / 2 / size)
-        return SELFCOL_ENOMEM;
-    void *grown = selfcol_alloc__array(&s->allocator, cap, size);
-    if (grown == NULL)
-        return SELFCOL_ENOMEM;
-    if (used > 0)
-        memcpy(grown, *array, used * size);
-    selfcol_alloc__free_array(&s->allocator, *array, *capacity, size);
-    *array = grown;
-    *capacity = cap;
-    return SELFCOL_OK;
-}
-
 // Runs tasks [first, end) on the workers. A task that found a worker's
 // array full runs again after the calling thread has grown that array,
 // until every task has run: the workers never allocate (the sweep's
@@ -592,15 +586,15 @@ void selfcol_sweep__free_workers(selfcol_sweep *s) {
 // pairs and the rest stay as tasks. Counted on worker 0.
 static int build_front(selfcol_sweep_worker *w0, const bvh_boxes *bx, size_t *tasks) {
     selfcol_sweep *s = w0->q->out;
-    size_t top = 0, head = 0, scratch_top = 0;
+    size_t top = 0, scratch_top = 0;
     int status = push_pair(s, 1, &s->front, &s->front_capacity, &top, 0, 0);
-    // A queue in the front array itself: [head, top) pending, [0, head) done
-    // (tasks). Each pass over the queue expands the internal pairs once.
-    while (status == SELFCOL_OK && (top - head) / 2 < FRONT_TASKS) {
+    // The front array itself is the queue: each pass over it expands its
+    // internal pairs once, in order.
+    while (status == SELFCOL_OK && top / 2 < FRONT_TASKS) {
         int expanded = 0;
         const size_t end = top;
-        size_t kept = head;
-        for (size_t i = head; i < end && status == SELFCOL_OK; i += 2) {
+        size_t kept = 0;
+        for (size_t i = 0; i < end && status == SELFCOL_OK; i += 2) {
             const uint32_t a = s->front[i], b = s->front[i + 1];
             if (!expands(w0->q, a, b)) {
                 s->front[kept++] = a; // a leaf pair: a task as it is
@@ -616,7 +610,7 @@ static int build_front(selfcol_sweep_worker *w0, const bvh_boxes *bx, size_t *ta
         }
         if (status != SELFCOL_OK)
             break;
-        // The pairs of this pass now lie in [head, kept) (leaves kept) and
+        // The pairs of this pass now lie in [0, kept) (leaves kept) and
         // [end, top) (children): close the gap, in order.
         memmove(s->front + kept, s->front + end, (top - end) * sizeof *s->front);
         top = kept + (top - end);

@@ -536,6 +536,9 @@ int hold_back(selfcol_bullet *a, double dt) {
                 return status;
         }
     a->keep.assign(a->node_total, 1.0);
+    selfcol_sweep_options so;
+    selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
+    so.threads = a->opts.query.threads;
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
         for (const attached_body &b : a->bodies) {
             int status = selfcol_mesh_set_positions_float(
@@ -550,14 +553,9 @@ int hold_back(selfcol_bullet *a, double dt) {
                 const attached_body &bi = a->bodies[i], &bj = a->bodies[j];
                 const double *si = a->previous.data() + 3 * size_t(bi.first_node);
                 const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
-                // On Bullet's scheduler when the adapter uses it (the hits
-                // are the same).
-                // Without it, on the queries' threads: the broad phase's
-                // tasks and the root searches (the hits are the same).
+                // On Bullet's scheduler when the adapter uses it, else on
+                // the queries' threads (so): the hits are the same.
                 selfcol_context *c = a->task_context;
-                selfcol_sweep_options so;
-                selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
-                so.threads = a->opts.query.threads;
                 int status;
                 if (i == j && c != nullptr)
                     status = selfcol_context_self_sweep(c, bi.sweep_tree, si, a->sweep, &so);
