@@ -314,6 +314,12 @@ size_t meshio_weld(const double *positions, size_t vertex_count, uint32_t *repre
 int meshio_write_marked_ply(const char *path, const double *positions, size_t vertex_count,
                             const uint32_t *triangles, size_t triangle_count,
                             const unsigned char *classes, const char *comment, meshio_error *err);
+typedef struct meshio_view {
+    double azimuth, elevation;
+    int width, height;
+} meshio_view;
+int meshio_render_rgb(const double *positions, const uint32_t *triangles, size_t triangle_count,
+                      const unsigned char *classes, const meshio_view *view, unsigned char *out);
 """
 
 

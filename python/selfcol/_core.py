@@ -15,8 +15,10 @@ from __future__ import annotations
 import enum
 import os
 import sys
+import struct
 import threading
 import time
+import zlib
 from typing import Any, Dict, Iterable, Iterator, List, Optional, Tuple, Union
 from typing import Sequence as SequenceOf
 
@@ -671,10 +673,73 @@ class Contacts:
                                        comment, err) != 0:
             raise OSError(ffi.string(err.message).decode("utf-8", "replace"))
 
+    def render(self, width: int = 1024, height: int = 768, azimuth: float = 35.0,
+               elevation: float = 25.0) -> np.ndarray:
+        """The picture of ``selfcol-cli check --png`` (its ``--size WxH`` and
+        ``--view AZ,EL``), pixel for pixel: intersecting triangles red,
+        triangles within the distance amber, the rest light steel, on white,
+        seen orthographically from the angles in degrees (y is up). An
+        ``(height, width, 3)`` uint8 RGB array, rows top first. Two meshes
+        are drawn together, marked by this query (the CLI's picture of two
+        files also marks each one's self-contacts)."""
+        for name, value in (("width", width), ("height", height)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+                    or not 16 <= value <= 4096:
+                raise _invalid("render: %s = %r is not a whole number of pixels in 16..4096"
+                               % (name, value))
+        for name, angle in (("azimuth", azimuth), ("elevation", elevation)):
+            if not isinstance(angle, (int, float, np.integer, np.floating)) \
+                    or isinstance(angle, bool) or not np.isfinite(angle):
+                raise _invalid("render: %s = %r is not a finite angle in degrees"
+                               % (name, angle))
+        classes = self.triangle_classes()
+        parts = classes if isinstance(classes, tuple) else (classes,)
+        positions, triangles, offset = [], [], 0
+        for m in self._meshes[:len(parts)]:
+            positions.append(np.asarray(m.positions, dtype=np.float64))
+            triangles.append(np.asarray(m.triangles, dtype=np.int64) + offset)
+            offset += m.positions.shape[0]
+        P = np.ascontiguousarray(np.concatenate(positions), dtype=np.float64)
+        T = np.ascontiguousarray(np.concatenate(triangles), dtype=np.uint32)
+        C = np.ascontiguousarray(np.concatenate(parts), dtype=np.uint8)
+        view = ffi.new("meshio_view *", {"azimuth": float(azimuth), "elevation": float(elevation),
+                                         "width": int(width), "height": int(height)})
+        out = np.empty((int(height), int(width), 3), dtype=np.uint8)
+        if lib.meshio_render_rgb(_ptr("double *", P), _ptr("uint32_t *", T), T.shape[0],
+                                 ffi.cast("unsigned char *", C.ctypes.data), view,
+                                 ffi.cast("unsigned char *", out.ctypes.data)) != 0:
+            raise MemoryError("render: no memory for a %dx%d picture" % (width, height))
+        return out
+
+    def write_png(self, path: str, width: int = 1024, height: int = 768,
+                  azimuth: float = 35.0, elevation: float = 25.0) -> None:
+        """Writes render()'s picture to a PNG file: ``selfcol-cli check
+        --png`` from Python (the same pixels; the file's compression may
+        differ)."""
+        _write_png(path, self.render(width, height, azimuth, elevation))
+
     def __repr__(self) -> str:
         c = self.counts
         return "selfcol.Contacts(vf=%d, ee=%d, ef=%d, distance=%g)" % (
             c["vf"], c["ee"], c["ef"], self.distance_used)
+
+
+def _write_png(path: str, rgb: np.ndarray) -> None:
+    """An 8-bit RGB PNG (no filter, zlib level 6): the standard library's
+    zlib is all a picture needs, so the wheel carries no libpng."""
+    height, width = rgb.shape[:2]
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+
+    rows = np.zeros((height, 1 + 3 * width), dtype=np.uint8)  # filter byte 0: none
+    rows[:, 1:] = rgb.reshape(height, 3 * width)
+    data = (b"\x89PNG\r\n\x1a\n"
+            + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows.tobytes(), 6)) + chunk(b"IEND", b""))
+    with open(path, "wb") as f:
+        f.write(data)
 
 
 def _record_dict(r: Any) -> Dict[str, Any]:

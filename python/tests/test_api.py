@@ -341,6 +341,89 @@ def test_enums():
         selfcol.self_collide(V, F, method=7)
 
 
+def _read_png_rgb(path):
+    """Decodes an 8-bit RGB, non-interlaced PNG (every filter type: libpng
+    picks them row by row) into an (height, width, 3) uint8 array."""
+    import struct
+    import zlib
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    width, height, depth, colour, _, _, interlace = header
+    assert (depth, colour, interlace) == (8, 2, 0)
+    raw = zlib.decompress(idat)
+    stride = 3 * width
+    out = np.zeros((height, stride), dtype=np.int64)
+    previous = np.zeros(stride, dtype=np.int64)
+    for y in range(height):
+        kind = raw[y * (stride + 1)]
+        row = np.frombuffer(raw, dtype=np.uint8, count=stride,
+                            offset=y * (stride + 1) + 1).astype(np.int64)
+        if kind in (0, 2):
+            row = (row + (previous if kind == 2 else 0)) % 256
+        else:  # sub, average and Paeth read the pixel to the left: one byte at a time
+            for x in range(stride):
+                a = row[x - 3] if x >= 3 else 0
+                b, c = previous[x], previous[x - 3] if x >= 3 else 0
+                if kind == 1:
+                    pred = a
+                elif kind == 3:
+                    pred = (a + b) // 2
+                else:
+                    p = a + b - c
+                    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                    pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                row[x] = (row[x] + pred) % 256
+        out[y] = previous = row
+    return out.astype(np.uint8).reshape(height, width, 3)
+
+
+def test_picture_matches_the_cli(cli, tmp_path):
+    """render() draws selfcol-cli check --png's picture pixel for pixel (its
+    --size and --view); write_png's file holds those pixels."""
+    from selfcol.io import read_mesh
+    path = os.path.join(ROOT, "tests", "data", "folded_ribbon.obj")
+    V, F = read_mesh(path)
+    c = selfcol.self_collide(V, F)
+    picture = c.render(160, 120, azimuth=20.0, elevation=40.0)
+    assert picture.shape == (120, 160, 3) and picture.dtype == np.uint8
+    theirs = tmp_path / "cli.png"
+    cli("--png", theirs, "--size", "160x120", "--view", "20,40", path)
+    assert (picture == _read_png_rgb(theirs)).all()
+    # Red (intersecting) and amber (near) pixels are both there, on white.
+    flat = picture.reshape(-1, 3).astype(int)
+    red, green, blue = flat[:, 0], flat[:, 1], flat[:, 2]
+    assert ((red > 100) & (green < 50) & (blue < 50)).any()
+    assert ((red > 100) & (green > 70) & (blue < 40)).any()
+    assert (flat == 255).all(axis=1).any()
+    ours = tmp_path / "ours.png"
+    c.write_png(str(ours), 160, 120, 20.0, 40.0)
+    assert (_read_png_rgb(ours) == picture).all()
+    # Two meshes, drawn together: the marks are this query's, so a copy
+    # lifted half through the ribbon shows red, one far away none (the CLI
+    # marks each mesh's self-contacts too, so its picture is not the same).
+    def marked(rgb):
+        r, g, b = (rgb.reshape(-1, 3).astype(int)[:, k] for k in range(3))
+        return ((r > 100) & (b < 50) & ((g < 50) | (g > 70))).sum()
+    lifted = selfcol.collide(V, F, V + np.array([0.0, 0.05, 0.0]), F)
+    assert lifted.counts["ef"] > 0 and marked(lifted.render(160, 120)) > 0
+    apart = selfcol.collide(V, F, V + np.array([0.0, 50.0, 0.0]), F)
+    assert sum(apart.counts.values()) == 0
+    far = apart.render(160, 120)
+    assert marked(far) == 0 and (far.reshape(-1, 3) != 255).any(axis=1).any()
+    for bad in ({"width": 15}, {"height": 4097}, {"width": 100.0}, {"azimuth": float("nan")}):
+        with pytest.raises(selfcol.InvalidArgument):
+            c.render(**bad)
+
+
 def test_marked_mesh_matches_the_cli(cli, tmp_path):
     """write_marked writes the PLY of selfcol-cli check --mark, byte for byte
     but its comment line; triangle_classes is its marking."""

@@ -155,11 +155,8 @@ int cli_write_marked_ply(const char *path, const double *positions, size_t verte
                          const uint32_t *triangles, size_t triangle_count,
                          const unsigned char *classes, cli_error *err);
 
-/** View of a picture: angles in degrees, size in pixels. */
-typedef struct cli_view {
-    double azimuth, elevation;
-    int width, height;
-} cli_view;
+/** View of a picture: angles in degrees, size in pixels (meshio.h). */
+typedef meshio_view cli_view;
 
 /** Renders the triangles (flat shaded, z-buffered) coloured by class into a PNG. */
 int cli_write_png(const char *path, const double *positions, const uint32_t *triangles,

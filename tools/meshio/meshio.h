@@ -115,6 +115,23 @@ int meshio_write_marked_ply(const char *path, const double *positions, size_t ve
                             const uint32_t *triangles, size_t triangle_count,
                             const unsigned char *classes, const char *comment, meshio_error *err);
 
+/** View of a picture: angles in degrees (y is up), size in pixels. */
+typedef struct meshio_view {
+    double azimuth, elevation;
+    int width, height;
+} meshio_view;
+
+/**
+ * The picture of `selfcol-cli check --png`: the triangles flat-shaded and
+ * z-buffered, coloured by class (0 plain: light steel, 1 within the
+ * detection distance: amber, 2 intersecting: red), seen orthographically
+ * from the view's angles and fitted to the picture, on white. Writes
+ * width * height * 3 bytes of RGB, rows top first, into out. Returns 0, or
+ * -1 when its work memory (16 to 64 bytes per pixel) cannot be allocated.
+ */
+int meshio_render_rgb(const double *positions, const uint32_t *triangles, size_t triangle_count,
+                      const unsigned char *classes, const meshio_view *view, unsigned char *out);
+
 /** A growable array of fixed-size items (realloc doubling). */
 typedef struct meshio_array {
     void *data;
