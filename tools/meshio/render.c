@@ -101,7 +101,11 @@ static void raster_triangle(const camera *cam, double s[3][3], const float colou
     double min_altitude = INFINITY;
     for (int k = 0; k < 3; ++k) {
         const double *a = s[(k + 1) % 3], *b = s[(k + 2) % 3];
-        length[k] = hypot(b[0] - a[0], b[1] - a[1]);
+        // Not hypot(): its x86-64 glibc symbol is 2.35's, and the Python
+        // wheel links this file (manylinux_2_34 would become 2_35). Screen
+        // coordinates are far from overflow.
+        const double dx = b[0] - a[0], dy = b[1] - a[1];
+        length[k] = sqrt(dx * dx + dy * dy);
         if (length[k] > 0)
             min_altitude = fmin(min_altitude, fabs(area) / length[k]);
     }
