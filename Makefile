@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake make gcc g++ pkg-config libccd-dev libbullet-dev libbullet
                 libeigen3-dev libcmocka-dev libpng-dev python3 python3-dev python3-venv
 VERSION := $(shell sed -n 's/^\#define SELFCOL_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)/\2/p' include/selfcol/version.h | paste -sd.)
 
-.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep plot fuzz wheel docs blender-addon blender-test
+.PHONY: all build deps test run clean version abi-dump abi-check bench bench-full bench-smoke bench-sweep bench-python plot fuzz wheel docs blender-addon blender-test
 all: build
 
 deps:
@@ -44,6 +44,12 @@ bench-smoke: build
 
 bench-sweep: build
 	sh tools/bench/run_sweep.sh --build $(BUILD)
+
+# Python packages side by side on cloth-ball 92 (tools/bench/side_by_side.sh):
+# install time into a fresh venv and one-thread queries of selfcol's wheel,
+# ipctk, pymeshlab, libigl and trimesh -> tools/bench/results/side_by_side.md.
+bench-python: wheel
+	sh tools/bench/side_by_side.sh --build $(BUILD)
 
 plot:
 	sh tools/plot/plot.sh
