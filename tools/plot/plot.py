@@ -587,6 +587,63 @@ def chart_sequence(seq, path):
     plt.close(fig)
 
 
+def load_step_trace(path):
+    """Per step of the Bullet ribbon (selfcol-bullet-bench --trace): for each
+    mode, the median over the runs of each step's times (ms)."""
+    if not os.path.exists(path):
+        return None
+    per = {}
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            key = (r["mode"], int(r["step"]))
+            cols = ("step_ms", "detect_ms", "response_ms", "store_ms")
+            per.setdefault(key, []).append([float(r[c]) if r[c] != "" else 0.0 for c in cols])
+    out = {}
+    for (mode, step), runs in per.items():
+        columns = list(zip(*runs))  # each column over the runs
+        out.setdefault(mode, {})[step] = [sorted(c)[len(c) // 2] for c in columns]
+    return out
+
+
+def chart_step_trace(trace, path, size, window):
+    """Stacked per-step times of the selfcol run (Bullet's own part of the
+    step, selfcol's query, store, response) against the step without
+    self-collision, medians over the runs, binned by 12 steps."""
+    sel, off = trace.get("selfcol"), trace.get("off")
+    if not sel or not off:
+        return False
+    steps = sorted(set(sel) & set(off))
+    binned = []
+    for i in range(0, len(steps), 12):
+        chunk = steps[i:i + 12]
+        med = lambda vals: sorted(vals)[len(vals) // 2]  # noqa: E731
+        step, detect, response, store = (med([sel[s][k] for s in chunk]) for k in range(4))
+        binned.append((chunk[0], med([off[s][0] for s in chunk]),
+                       max(step - detect - response, 0.0), max(detect - store, 0.0), store,
+                       response))
+    x = [b[0] for b in binned]
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    ax.stackplot(x, [b[2] for b in binned], [b[3] for b in binned], [b[4] for b in binned],
+                 [b[5] for b in binned],
+                 labels=["Bullet's own step (with selfcol)", "selfcol: positions, refit, query",
+                         "selfcol: contact store", "selfcol: response"],
+                 colors=["#bbbbbb", "#1f77b4", "#ff7f0e", "#2ca02c"], alpha=0.85)
+    ax.plot(x, [b[1] for b in binned], color="black", lw=1.2, label="step without self-collision")
+    ax.axvspan(x[-1] - window, x[-1] + 12, color="#d62728", alpha=0.06,
+               label="measured window (the last %d steps)" % window)
+    ax.set_xlabel("step (1/240 s each; the ends are driven together over all of them)",
+                  fontsize=8)
+    ax.set_ylabel("ms per step (median of runs, 12-step bins)", fontsize=8)
+    ax.set_title("Bullet ribbon %s, one thread: where each world step's time goes" % size,
+                 fontsize=9)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return True
+
+
 def replace_block(text, name, content):
     pat = re.compile(r"(<!-- generated:%s -->\n).*?(<!-- /generated:%s -->)" % (name, name), re.S)
     if not pat.search(text):
@@ -638,6 +695,11 @@ def main():
         p = os.path.join(docs, "bench-sequence.png")
         chart_sequence(seq, p)
         written.append(p)
+    trace = load_step_trace(os.path.join(results, "bullet_step_20k_trace.csv"))
+    if trace:
+        p = os.path.join(docs, "bench-bullet-step.png")
+        if chart_step_trace(trace, p, "20k", 360):
+            written.append(p)
     md = os.path.join(docs, "benchmarks.md")
     text = open(md).read() if os.path.exists(md) else "# Benchmarks\n"
     text = generated_tables(text, a, results, rows, meta, store)
