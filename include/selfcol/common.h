@@ -97,6 +97,30 @@ typedef struct selfcol_allocator {
 /** Sentinel index: "no such vertex, edge or triangle". */
 #define SELFCOL_INVALID_INDEX UINT32_MAX
 
+/**
+ * What an options struct's check (selfcol_query_options_check() and its
+ * siblings, one per options struct) found wrong: the field, by its C name,
+ * and a sentence a front can print as it is. A status code says that an
+ * option was refused; this says which and why, with no global state: the
+ * caller asks, after a call failed or before making it.
+ */
+typedef struct selfcol_options_problem {
+    unsigned int version; /**< SELFCOL_OPTIONS_PROBLEM_VERSION, set by the caller */
+    /** What the options' consumer (the create or query call) returns for
+     *  them: SELFCOL_OK when they are accepted, else SELFCOL_EINVAL or
+     *  SELFCOL_EVERSION. */
+    int status;
+    /** The refused field as the C code names it ("distance", "threads",
+     *  "query.kinds" in a struct nested by value); "" when accepted. */
+    char field[64];
+    /** The whole sentence, naming the struct, the field, the value and what
+     *  is accepted: "selfcol_query_options.distance = nan is not a finite
+     *  distance in 0 .. 1e+100"; "" when accepted. */
+    char message[256];
+} selfcol_options_problem;
+
+#define SELFCOL_OPTIONS_PROBLEM_VERSION 1
+
 /** @} */
 SELFCOL_END_DECLS
 

@@ -98,6 +98,16 @@ typedef struct selfcol_context_options {
 SELFCOL_API int selfcol_context_options_init(selfcol_context_options *opts, unsigned int version);
 
 /**
+ * Names what selfcol_context_create() refuses in opts, if anything: the field, its
+ * value and what is accepted (common.h, selfcol_options_problem).
+ * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as selfcol_context_create()
+ *         for these options; SELFCOL_EINVAL for a NULL problem,
+ *         SELFCOL_EVERSION for its version.
+ */
+SELFCOL_API int selfcol_context_options_check(const selfcol_context_options *opts,
+                                              selfcol_options_problem *problem);
+
+/**
  * Creates a context. It allocates its buffers at the first queries.
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_context_destroy().
  * @param[in] opts options, or NULL for the defaults

@@ -47,6 +47,15 @@ SELFCOL_API int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts,
                                                unsigned int version);
 
 /**
+ * Names what selfcol_hierarchy_create() refuses in opts, if anything
+ * (selfcol_query_options_check() says how).
+ * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as
+ *         selfcol_hierarchy_create() for these options.
+ */
+SELFCOL_API int selfcol_hierarchy_options_check(const selfcol_hierarchy_options *opts,
+                                                selfcol_options_problem *problem);
+
+/**
  * Creates a hierarchy over a mesh, from its topology (Volino & Magnenat
  * Thalmann's automatic hierarchisation): every node is an edge-connected
  * patch of triangles, built bottom-up by matching each patch with an adjacent
@@ -190,6 +199,19 @@ typedef struct selfcol_query_options {
  * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
  */
 SELFCOL_API int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version);
+
+/**
+ * Names what a query refuses in opts, if anything: the field, its value and
+ * what is accepted (common.h, selfcol_options_problem), for a front's error
+ * message or a check before the call. Allocates nothing.
+ * @param[in] opts query options, or NULL (the defaults: accepted)
+ * @param[in,out] problem its version set by the caller; the rest written
+ * @return what the queries return for opts, short of their other arguments
+ *         (SELFCOL_OK, SELFCOL_EINVAL, SELFCOL_EVERSION); SELFCOL_EINVAL for
+ *         a NULL problem; SELFCOL_EVERSION for its version.
+ */
+SELFCOL_API int selfcol_query_options_check(const selfcol_query_options *opts,
+                                            selfcol_options_problem *problem);
 
 /**
  * Finds the self-contacts of the hierarchy's mesh at its current positions,

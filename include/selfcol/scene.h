@@ -233,6 +233,17 @@ typedef struct selfcol_scene_update_stats {
 SELFCOL_API int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned int version);
 
 /**
+ * Names what selfcol_scene_create() refuses in opts, if anything: the field
+ * (nested ones as "query.distance", "store.threads", "sequence.skin"), its
+ * value and what is accepted (common.h, selfcol_options_problem).
+ * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as
+ *         selfcol_scene_create() for these options (NULL opts: SELFCOL_EINVAL);
+ *         SELFCOL_EINVAL for a NULL problem, SELFCOL_EVERSION for its version.
+ */
+SELFCOL_API int selfcol_scene_options_check(const selfcol_scene_options *opts,
+                                            selfcol_options_problem *problem);
+
+/**
  * Writes the defaults of a kind into opts (self-collision on for a cloth
  * only; orientation 0).
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, unknown kind); SELFCOL_EVERSION.

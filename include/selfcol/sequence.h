@@ -145,6 +145,16 @@ typedef struct selfcol_sequence_run_stats {
 SELFCOL_API int selfcol_sequence_options_init(selfcol_sequence_options *opts, unsigned int version);
 
 /**
+ * Names what selfcol_sequence_create() refuses in opts, if anything: the field, its
+ * value and what is accepted (common.h, selfcol_options_problem).
+ * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as selfcol_sequence_create()
+ *         for these options; SELFCOL_EINVAL for a NULL problem,
+ *         SELFCOL_EVERSION for its version.
+ */
+SELFCOL_API int selfcol_sequence_options_check(const selfcol_sequence_options *opts,
+                                               selfcol_options_problem *problem);
+
+/**
  * Creates an empty sequence (its first query is fresh).
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_sequence_destroy().
  * @param[in] opts options, or NULL for defaults

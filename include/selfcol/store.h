@@ -208,6 +208,16 @@ typedef struct selfcol_store_update_stats {
 SELFCOL_API int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version);
 
 /**
+ * Names what selfcol_store_create() refuses in opts, if anything: the field,
+ * its value and what is accepted (common.h, selfcol_options_problem).
+ * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as
+ *         selfcol_store_create() for these options; SELFCOL_EINVAL for a
+ *         NULL problem, SELFCOL_EVERSION for its version.
+ */
+SELFCOL_API int selfcol_store_options_check(const selfcol_store_options *opts,
+                                            selfcol_options_problem *problem);
+
+/**
  * Creates an empty store.
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_store_destroy().
  * @param[in] opts options, or NULL for defaults

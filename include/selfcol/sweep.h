@@ -210,6 +210,16 @@ typedef struct selfcol_sweep_query_stats {
 SELFCOL_API int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version);
 
 /**
+ * Names what the continuous queries refuse in opts, if anything: the field,
+ * its value and what is accepted (common.h, selfcol_options_problem).
+ * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as the queries for
+ *         these options (short of their other arguments); SELFCOL_EINVAL
+ *         for a NULL problem, SELFCOL_EVERSION for its version.
+ */
+SELFCOL_API int selfcol_sweep_options_check(const selfcol_sweep_options *opts,
+                                            selfcol_options_problem *problem);
+
+/**
  * Creates an empty result.
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_sweep_destroy().
  * @param[in] allocator its allocator hooks (copied), or NULL for malloc/free

@@ -9,6 +9,7 @@
 #include "base/alloc.h"
 #include "base/core.h"
 #include "base/parallel.h"
+#include "base/problem.h"
 #include "narrow/narrow.h"
 #include "narrow/narrow_sweep.h"
 #include "query/context.h"
@@ -589,6 +590,53 @@ static int sort_hits(selfcol_sweep *s) {
 // ---------------------------------------------------------------------------
 // Queries
 
+// The options read as their version says (NULL: the defaults) and checked;
+// `at` names a refused field (problem.h; NULL: the status only).
+static int sweep_options(selfcol_sweep_options *o, const selfcol_sweep_options *opts,
+                         const selfcol_problem_at *at) {
+    selfcol_sweep_options_init(o, SELFCOL_SWEEP_OPTIONS_VERSION);
+    if (opts != NULL) {
+        const int version =
+            selfcol_problem__version(at, opts->version, SELFCOL_SWEEP_OPTIONS_VERSION);
+        if (version != SELFCOL_OK)
+            return version;
+        // A version 1 struct ends before `progress`.
+        memcpy(o, opts, opts->version >= 2 ? sizeof *o : offsetof(selfcol_sweep_options, progress));
+    }
+    o->version = SELFCOL_SWEEP_OPTIONS_VERSION;
+    SELFCOL_CHECK_FIELD(at,
+                        o->method == SELFCOL_METHOD_EXACT || o->method == SELFCOL_METHOD_BVH ||
+                            o->method == SELFCOL_METHOD_EXHAUSTIVE,
+                        "method",
+                        "= %u is not EXACT, BVH or EXHAUSTIVE (SEED and CONE have no "
+                        "continuous query)",
+                        o->method);
+    SELFCOL_CHECK_FIELD(
+        at, o->kinds != 0 && (o->kinds & ~(uint32_t)(SELFCOL_KIND_VF | SELFCOL_KIND_EE)) == 0,
+        "kinds", "= 0x%x is not a nonempty mask of SELFCOL_KIND_VF and SELFCOL_KIND_EE", o->kinds);
+    SELFCOL_CHECK_FIELD(at, o->mode == SELFCOL_SWEEP_ALL || o->mode == SELFCOL_SWEEP_EARLIEST,
+                        "mode", "= %u is not a selfcol_sweep_mode (%d or %d)", o->mode,
+                        (int)SELFCOL_SWEEP_ALL, (int)SELFCOL_SWEEP_EARLIEST);
+    SELFCOL_CHECK_FIELD(at,
+                        isfinite(o->separation) && o->separation >= 0.0 &&
+                            o->separation <= SELFCOL_MESH_MAX_COORDINATE,
+                        "separation", "= %g is not a distance in 0 .. %g", o->separation,
+                        SELFCOL_MESH_MAX_COORDINATE);
+    SELFCOL_CHECK_FIELD(at, o->threads >= 1 && o->threads <= SELFCOL_MAX_THREADS, "threads",
+                        "= %u is not in 1 .. %d", o->threads, SELFCOL_MAX_THREADS);
+    return SELFCOL_OK;
+}
+
+int selfcol_sweep_options_check(const selfcol_sweep_options *opts,
+                                selfcol_options_problem *problem) {
+    const int begun = selfcol_problem__begin(problem);
+    if (begun != SELFCOL_OK)
+        return begun;
+    const selfcol_problem_at at = {problem, "selfcol_sweep_options", ""};
+    selfcol_sweep_options checked;
+    return sweep_options(&checked, opts, &at);
+}
+
 // A continuous query; with a context (NULL: none), ALL's root searches run
 // on its workers and scheduler, and the options' threads are not read.
 static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *first,
@@ -597,19 +645,10 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
                      const selfcol_sweep_options *opts) {
     SELFCOL_CHECK(first != NULL && second != NULL && first_start != NULL && second_start != NULL &&
                   result != NULL);
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_SWEEP_OPTIONS_VERSION);
     selfcol_sweep_options o;
-    selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
-    if (opts != NULL) // a version 1 struct ends before `progress`
-        memcpy(&o, opts, opts->version >= 2 ? sizeof o : offsetof(selfcol_sweep_options, progress));
-    o.version = SELFCOL_SWEEP_OPTIONS_VERSION;
-    SELFCOL_CHECK(o.method == SELFCOL_METHOD_EXACT || o.method == SELFCOL_METHOD_BVH ||
-                  o.method == SELFCOL_METHOD_EXHAUSTIVE);
-    SELFCOL_CHECK(o.kinds != 0 && (o.kinds & ~(uint32_t)(SELFCOL_KIND_VF | SELFCOL_KIND_EE)) == 0);
-    SELFCOL_CHECK(o.mode == SELFCOL_SWEEP_ALL || o.mode == SELFCOL_SWEEP_EARLIEST);
-    SELFCOL_CHECK(isfinite(o.separation) && o.separation >= 0.0 &&
-                  o.separation <= SELFCOL_MESH_MAX_COORDINATE);
-    SELFCOL_CHECK(o.threads >= 1 && o.threads <= SELFCOL_MAX_THREADS);
+    const int checked = sweep_options(&o, opts, NULL);
+    if (checked != SELFCOL_OK)
+        return checked;
     if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||
         !selfcol_mesh__is(second->mesh, &second->mesh_identity))
         return SELFCOL_EMISMATCH;

@@ -49,6 +49,7 @@
 
 #include "base/alloc.h"
 #include "base/core.h"
+#include "base/problem.h"
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
 #include "query/contacts.h"
@@ -95,18 +96,42 @@ int selfcol_sequence_options_init(selfcol_sequence_options *opts, unsigned int v
     return SELFCOL_OK;
 }
 
+int selfcol_sequence__options(selfcol_sequence_options *out, const selfcol_sequence_options *opts,
+                              const selfcol_problem_at *at) {
+    selfcol_sequence_options_init(out, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    if (opts != NULL) {
+        const int version =
+            selfcol_problem__version(at, opts->version, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+        if (version != SELFCOL_OK)
+            return version;
+        out->allocator = opts->allocator;
+        out->skin = opts->skin;
+    }
+    SELFCOL_CHECK_ALLOCATOR(at, out->allocator);
+    SELFCOL_CHECK_FIELD(
+        at, isfinite(out->skin) && out->skin >= 0.0 && out->skin <= SELFCOL_MESH_MAX_COORDINATE,
+        "skin", "= %g is not a distance in 0 .. %g (0: automatic)", out->skin,
+        SELFCOL_MESH_MAX_COORDINATE);
+    return SELFCOL_OK;
+}
+
+int selfcol_sequence_options_check(const selfcol_sequence_options *opts,
+                                   selfcol_options_problem *problem) {
+    const int begun = selfcol_problem__begin(problem);
+    if (begun != SELFCOL_OK)
+        return begun;
+    const selfcol_problem_at at = {problem, "selfcol_sequence_options", ""};
+    selfcol_sequence_options checked;
+    return selfcol_sequence__options(&checked, opts, &at);
+}
+
 int selfcol_sequence_create(selfcol_sequence **out, const selfcol_sequence_options *opts) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_SEQUENCE_OPTIONS_VERSION);
     selfcol_sequence_options o;
-    selfcol_sequence_options_init(&o, SELFCOL_SEQUENCE_OPTIONS_VERSION);
-    if (opts != NULL) {
-        o.allocator = opts->allocator;
-        o.skin = opts->skin;
-    }
-    SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
-    SELFCOL_CHECK(isfinite(o.skin) && o.skin >= 0.0 && o.skin <= SELFCOL_MESH_MAX_COORDINATE);
+    const int checked = selfcol_sequence__options(&o, opts, NULL);
+    if (checked != SELFCOL_OK)
+        return checked;
     selfcol_sequence *s = selfcol_alloc__raw(&o.allocator, sizeof *s);
     if (s == NULL)
         return SELFCOL_ENOMEM;
@@ -367,7 +392,7 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
                selfcol_contacts *contacts, const selfcol_query_options *given) {
     SELFCOL_CHECK(s != NULL && first != NULL && second != NULL && contacts != NULL);
     selfcol_query_options o;
-    int status = selfcol_query__options(&o, given);
+    int status = selfcol_query__options(&o, given, NULL);
     if (status != SELFCOL_OK)
         return status;
     if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||

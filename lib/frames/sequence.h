@@ -8,6 +8,8 @@
 
 #include <selfcol/sequence.h>
 
+#include "base/problem.h"
+
 // Right after a query answered by a partial rebuild (and before the
 // positions change), compares the near pairs of the cluster pairs it
 // queried again with those a full rebuild at the same positions lists for
@@ -22,5 +24,11 @@ int selfcol_sequence__check_partial(selfcol_sequence *s, selfcol_hierarchy *firs
 // rebuild has to grow it (a partial rebuild builds its new pairs behind the
 // kept ones, in that buffer). SELFCOL_ENOMEM leaves the list as it was.
 int selfcol_sequence__trim_list(selfcol_sequence *s);
+
+// Reads a caller's sequence options (NULL: the defaults) and checks them:
+// SELFCOL_OK, SELFCOL_EVERSION or SELFCOL_EINVAL; `at` names a refused field
+// (problem.h; NULL: the status only). Sequences and scenes go through it.
+int selfcol_sequence__options(selfcol_sequence_options *out, const selfcol_sequence_options *opts,
+                              const selfcol_problem_at *at);
 
 #endif // SELFCOL_SEQUENCE_PRIVATE_H

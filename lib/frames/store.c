@@ -38,6 +38,7 @@
 #include "base/core.h"
 #include "base/parallel.h"
 #include "base/predicates.h"
+#include "base/problem.h"
 #include "base/union_find.h"
 #include "base/vec3.h"
 #include "frames/store.h"
@@ -69,8 +70,14 @@ int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version
     return SELFCOL_OK;
 }
 
-int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts) {
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_STORE_OPTIONS_VERSION);
+int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts,
+                           const selfcol_problem_at *at) {
+    if (opts != NULL) {
+        const int version =
+            selfcol_problem__version(at, opts->version, SELFCOL_STORE_OPTIONS_VERSION);
+        if (version != SELFCOL_OK)
+            return version;
+    }
     selfcol_store_options_init(out, SELFCOL_STORE_OPTIONS_VERSION);
     if (opts != NULL) {
         // Version 1 callers' structs end before `threads` (read as 1).
@@ -78,19 +85,33 @@ int selfcol_store__options(selfcol_store_options *out, const selfcol_store_optio
                opts->version >= 2 ? sizeof *out : offsetof(selfcol_store_options, threads));
     }
     out->version = SELFCOL_STORE_OPTIONS_VERSION;
-    SELFCOL_CHECK(selfcol_alloc__valid(&out->allocator));
-    SELFCOL_CHECK(out->consistency == 0 || out->consistency == 1);
-    SELFCOL_CHECK(out->first_orientation >= -1 && out->first_orientation <= 1);
-    SELFCOL_CHECK(out->second_orientation >= -1 && out->second_orientation <= 1);
-    SELFCOL_CHECK(out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS);
+    SELFCOL_CHECK_ALLOCATOR(at, out->allocator);
+    SELFCOL_CHECK_FIELD(at, out->consistency == 0 || out->consistency == 1, "consistency",
+                        "= %d is not 0 or 1", out->consistency);
+    SELFCOL_CHECK_FIELD(at, out->first_orientation >= -1 && out->first_orientation <= 1,
+                        "first_orientation", "= %d is not -1, 0 or +1", out->first_orientation);
+    SELFCOL_CHECK_FIELD(at, out->second_orientation >= -1 && out->second_orientation <= 1,
+                        "second_orientation", "= %d is not -1, 0 or +1", out->second_orientation);
+    SELFCOL_CHECK_FIELD(at, out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS, "threads",
+                        "= %u is not in 1 .. %d", out->threads, SELFCOL_MAX_THREADS);
     return SELFCOL_OK;
+}
+
+int selfcol_store_options_check(const selfcol_store_options *opts,
+                                selfcol_options_problem *problem) {
+    const int begun = selfcol_problem__begin(problem);
+    if (begun != SELFCOL_OK)
+        return begun;
+    const selfcol_problem_at at = {problem, "selfcol_store_options", ""};
+    selfcol_store_options checked;
+    return selfcol_store__options(&checked, opts, &at);
 }
 
 int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
     selfcol_store_options o;
-    const int checked = selfcol_store__options(&o, opts);
+    const int checked = selfcol_store__options(&o, opts, NULL);
     if (checked != SELFCOL_OK)
         return checked;
     selfcol_store *s = selfcol_alloc__raw(&o.allocator, sizeof *s);

@@ -7,10 +7,13 @@
 
 #include <selfcol/store.h>
 
+#include "base/problem.h"
+
 // Reads a caller's store options (NULL: the defaults) as their version says
 // into a copy of the current version, and checks every field: SELFCOL_OK,
 // SELFCOL_EVERSION or SELFCOL_EINVAL. Stores and scenes go through it.
-int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts);
+int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts,
+                           const selfcol_problem_at *at);
 
 // selfcol_store_update_swept() on a path of two straight segments per mesh:
 // path[0] the positions at the store's previous update, path[1] those at the

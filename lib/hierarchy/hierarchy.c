@@ -5,6 +5,7 @@
 
 #include "base/alloc.h"
 #include "base/core.h"
+#include "base/problem.h"
 
 #include <stddef.h>
 #include <string.h>
@@ -21,21 +22,49 @@ int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts, unsigned int
     return SELFCOL_OK;
 }
 
+// The options read as their version says (NULL: the defaults) and checked;
+// `at` names a refused field (problem.h; NULL: the status only).
+static int hierarchy_options(const selfcol_hierarchy_options *opts, selfcol_allocator *allocator,
+                             unsigned *threads, const selfcol_problem_at *at) {
+    const selfcol_allocator none = {NULL, NULL, NULL};
+    *allocator = none;
+    *threads = 1; // also for a version 1 struct, which ends before `threads`
+    if (opts != NULL) {
+        const int version =
+            selfcol_problem__version(at, opts->version, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+        if (version != SELFCOL_OK)
+            return version;
+        *allocator = opts->allocator;
+        if (opts->version >= 2)
+            *threads = opts->threads;
+    }
+    SELFCOL_CHECK_ALLOCATOR(at, *allocator);
+    SELFCOL_CHECK_FIELD(at, *threads >= 1 && *threads <= SELFCOL_MAX_THREADS, "threads",
+                        "= %u is not in 1 .. %d", *threads, SELFCOL_MAX_THREADS);
+    return SELFCOL_OK;
+}
+
+int selfcol_hierarchy_options_check(const selfcol_hierarchy_options *opts,
+                                    selfcol_options_problem *problem) {
+    const int begun = selfcol_problem__begin(problem);
+    if (begun != SELFCOL_OK)
+        return begun;
+    const selfcol_problem_at at = {problem, "selfcol_hierarchy_options", ""};
+    selfcol_allocator allocator;
+    unsigned threads;
+    return hierarchy_options(opts, &allocator, &threads, &at);
+}
+
 int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
                              const selfcol_hierarchy_options *opts) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
     SELFCOL_CHECK(mesh != NULL);
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
-    selfcol_allocator allocator = {NULL, NULL, NULL};
-    unsigned threads = 1; // also for a version 1 struct, which ends before `threads`
-    if (opts != NULL) {
-        allocator = opts->allocator;
-        if (opts->version >= 2)
-            threads = opts->threads;
-    }
-    SELFCOL_CHECK(selfcol_alloc__valid(&allocator));
-    SELFCOL_CHECK(threads >= 1 && threads <= SELFCOL_MAX_THREADS);
+    selfcol_allocator allocator;
+    unsigned threads;
+    const int checked = hierarchy_options(opts, &allocator, &threads, NULL);
+    if (checked != SELFCOL_OK)
+        return checked;
     selfcol_hierarchy *h = selfcol_alloc__raw(&allocator, sizeof *h);
     if (h == NULL)
         return SELFCOL_ENOMEM;

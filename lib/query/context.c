@@ -5,6 +5,7 @@
 
 #include "base/alloc.h"
 #include "base/core.h"
+#include "base/problem.h"
 
 #include <string.h>
 
@@ -18,17 +19,44 @@ int selfcol_context_options_init(selfcol_context_options *opts, unsigned int ver
     return SELFCOL_OK;
 }
 
+// The options (NULL: the defaults) checked; `at` names a refused field.
+static int context_options(selfcol_context_options *o, const selfcol_context_options *opts,
+                           const selfcol_problem_at *at) {
+    selfcol_context_options_init(o, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    if (opts != NULL) {
+        const int version =
+            selfcol_problem__version(at, opts->version, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        if (version != SELFCOL_OK)
+            return version;
+        *o = *opts;
+    }
+    SELFCOL_CHECK_ALLOCATOR(at, o->allocator);
+    SELFCOL_CHECK_FIELD(at, o->threads >= 1 && o->threads <= SELFCOL_MAX_THREADS, "threads",
+                        "= %u is not in 1 .. %d", o->threads, SELFCOL_MAX_THREADS);
+    SELFCOL_CHECK_FIELD(at, (o->enqueue_task == NULL) == (o->finish_task == NULL),
+                        o->enqueue_task == NULL ? "enqueue_task" : "finish_task",
+                        "is NULL while %s is set: give both callbacks, or neither",
+                        o->enqueue_task == NULL ? "finish_task" : "enqueue_task");
+    return SELFCOL_OK;
+}
+
+int selfcol_context_options_check(const selfcol_context_options *opts,
+                                  selfcol_options_problem *problem) {
+    const int begun = selfcol_problem__begin(problem);
+    if (begun != SELFCOL_OK)
+        return begun;
+    const selfcol_problem_at at = {problem, "selfcol_context_options", ""};
+    selfcol_context_options checked;
+    return context_options(&checked, opts, &at);
+}
+
 int selfcol_context_create(selfcol_context **out, const selfcol_context_options *opts) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_CONTEXT_OPTIONS_VERSION);
     selfcol_context_options o;
-    selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
-    if (opts != NULL)
-        o = *opts;
-    SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
-    SELFCOL_CHECK(o.threads >= 1 && o.threads <= SELFCOL_MAX_THREADS);
-    SELFCOL_CHECK((o.enqueue_task == NULL) == (o.finish_task == NULL));
+    const int checked = context_options(&o, opts, NULL);
+    if (checked != SELFCOL_OK)
+        return checked;
     selfcol_context *c = selfcol_alloc__raw(&o.allocator, sizeof *c);
     if (c == NULL)
         return SELFCOL_ENOMEM;

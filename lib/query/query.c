@@ -9,6 +9,7 @@
 #include "query/traverse.h"
 
 #include "base/core.h"
+#include "base/problem.h"
 #include "hierarchy/hierarchy.h"
 
 #include <math.h>
@@ -31,8 +32,14 @@ int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version
     return SELFCOL_OK;
 }
 
-int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts) {
-    SELFCOL_CHECK_VERSION(opts, SELFCOL_QUERY_OPTIONS_VERSION);
+int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts,
+                           const selfcol_problem_at *at) {
+    if (opts != NULL) {
+        const int version =
+            selfcol_problem__version(at, opts->version, SELFCOL_QUERY_OPTIONS_VERSION);
+        if (version != SELFCOL_OK)
+            return version;
+    }
     selfcol_query_options_init(out, SELFCOL_QUERY_OPTIONS_VERSION);
     if (opts != NULL) {
         out->method = opts->method;
@@ -43,16 +50,36 @@ int selfcol_query__options(selfcol_query_options *out, const selfcol_query_optio
         if (opts->version >= 2)
             out->threads = opts->threads;
     }
-    SELFCOL_CHECK(out->method <= SELFCOL_METHOD_EXACT);
-    SELFCOL_CHECK(out->narrow == SELFCOL_NARROW_CLOSED_FORM ||
-                  out->narrow == SELFCOL_NARROW_LIBCCD);
-    SELFCOL_CHECK((out->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0);
+    SELFCOL_CHECK_FIELD(at, out->method <= SELFCOL_METHOD_EXACT, "method",
+                        "= %u is not a selfcol_method (0 .. %d)", out->method,
+                        (int)SELFCOL_METHOD_EXACT);
+    SELFCOL_CHECK_FIELD(
+        at, out->narrow == SELFCOL_NARROW_CLOSED_FORM || out->narrow == SELFCOL_NARROW_LIBCCD,
+        "narrow", "= %u is not a selfcol_narrow (%d or %d)", out->narrow,
+        (int)SELFCOL_NARROW_CLOSED_FORM, (int)SELFCOL_NARROW_LIBCCD);
+    SELFCOL_CHECK_FIELD(at, (out->kinds & ~(uint32_t)SELFCOL_KIND_ALL) == 0, "kinds",
+                        "= 0x%x has bits beyond SELFCOL_KIND_ALL (0x%x)", out->kinds,
+                        (unsigned)SELFCOL_KIND_ALL);
     // The distance obeys the coordinates' contract (mesh.h): its square must
     // not overflow in the closed forms.
-    SELFCOL_CHECK(isfinite(out->distance) && out->distance >= 0.0 &&
-                  out->distance <= SELFCOL_MESH_MAX_COORDINATE);
-    SELFCOL_CHECK(out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS);
+    SELFCOL_CHECK_FIELD(at,
+                        isfinite(out->distance) && out->distance >= 0.0 &&
+                            out->distance <= SELFCOL_MESH_MAX_COORDINATE,
+                        "distance", "= %g is not a distance in 0 .. %g", out->distance,
+                        SELFCOL_MESH_MAX_COORDINATE);
+    SELFCOL_CHECK_FIELD(at, out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS, "threads",
+                        "= %u is not in 1 .. %d", out->threads, SELFCOL_MAX_THREADS);
     return SELFCOL_OK;
+}
+
+int selfcol_query_options_check(const selfcol_query_options *opts,
+                                selfcol_options_problem *problem) {
+    const int begun = selfcol_problem__begin(problem);
+    if (begun != SELFCOL_OK)
+        return begun;
+    const selfcol_problem_at at = {problem, "selfcol_query_options", ""};
+    selfcol_query_options checked;
+    return selfcol_query__options(&checked, opts, &at);
 }
 
 selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, unsigned threads) {
@@ -75,7 +102,7 @@ static int run_query(selfcol_context *context, const selfcol_hierarchy *first,
                      const selfcol_query_options *given) {
     SELFCOL_CHECK(first != NULL && second != NULL && contacts != NULL);
     selfcol_query_options checked;
-    int status = selfcol_query__options(&checked, given);
+    int status = selfcol_query__options(&checked, given, NULL);
     if (status != SELFCOL_OK)
         return status;
     if (!selfcol_mesh__is(first->mesh, &first->mesh_identity) ||

@@ -9,6 +9,7 @@
 #ifndef SELFCOL_QUERY_H
 #define SELFCOL_QUERY_H
 
+#include "base/problem.h"
 #include <selfcol/hierarchy.h>
 
 #include "mesh/mesh.h"
@@ -44,8 +45,10 @@ typedef struct selfcol_query {
 // Reads a caller's query options (NULL: the defaults) as their version says
 // into a copy of the current version, and checks every field: SELFCOL_OK,
 // SELFCOL_EVERSION or SELFCOL_EINVAL. Every user of query options (queries,
-// scenes, adapters through scenes) goes through it.
-int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts);
+// scenes, adapters through scenes) goes through it; `at` names a refused
+// field (problem.h; NULL: the status only).
+int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts,
+                           const selfcol_problem_at *at);
 
 // A query with options already checked by selfcol_query__options, restricted
 // by `filter` (NULL: none), on the context's threads and working memory (the

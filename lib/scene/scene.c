@@ -15,7 +15,9 @@
 #include "base/alloc.h"
 #include "base/box.h"
 #include "base/core.h"
+#include "base/problem.h"
 #include "base/vec3.h"
+#include "frames/sequence.h"
 #include "frames/store.h"
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
@@ -121,34 +123,84 @@ int selfcol_scene_collider_desc_init(selfcol_scene_collider_desc *desc, uint32_t
     return SELFCOL_OK;
 }
 
+// An allocator that must be all zero (the scene's own allocator serves).
+static int allocator_unset(const selfcol_allocator *a) {
+    return a->alloc == NULL && a->free == NULL && a->user == NULL;
+}
+
+// The scene's options checked, the nested query and store options read as
+// their versions say into query and store; `at` names a refused field.
+static int scene_options(const selfcol_scene_options *o, selfcol_query_options *query,
+                         selfcol_store_options *store, const selfcol_problem_at *at) {
+    // Version 1 was 0.2's layout (fields copied from the query and store
+    // options): its fields are not where this layout reads them.
+    if (o->version != SELFCOL_SCENE_OPTIONS_VERSION)
+        return selfcol_problem__field(at, SELFCOL_EVERSION, "version",
+                                      "= %u is not %d (0: never initialised; 1 was 0.2's "
+                                      "layout)",
+                                      o->version, SELFCOL_SCENE_OPTIONS_VERSION);
+    SELFCOL_CHECK_ALLOCATOR(at, o->allocator);
+    char prefix[3][64];
+    const selfcol_problem_at at_query = selfcol_problem__nested(at, "query", prefix[0]);
+    int status = selfcol_query__options(query, &o->query, &at_query);
+    if (status != SELFCOL_OK)
+        return status;
+    SELFCOL_CHECK_FIELD(&at_query, query->distance > 0.0, "distance",
+                        "= %g: a scene needs a distance > 0 (its thickness)", query->distance);
+    SELFCOL_CHECK_FIELD(&at_query, query->kinds != 0, "kinds", "= 0: a scene needs some kind");
+    const selfcol_problem_at at_store = selfcol_problem__nested(at, "store", prefix[1]);
+    status = selfcol_store__options(store, &o->store, &at_store);
+    if (status != SELFCOL_OK)
+        return status;
+    SELFCOL_CHECK_FIELD(&at_store, allocator_unset(&store->allocator), "allocator",
+                        "is set: a scene's stores use the scene's allocator (leave it zero)");
+    SELFCOL_CHECK_FIELD(&at_store, store->first_orientation == 0, "first_orientation",
+                        "= %d: a scene's surfaces give their own orientation (leave it 0)",
+                        store->first_orientation);
+    SELFCOL_CHECK_FIELD(&at_store, store->second_orientation == 0, "second_orientation",
+                        "= %d: a scene's surfaces give their own orientation (leave it 0)",
+                        store->second_orientation);
+    SELFCOL_CHECK_FIELD(at, isfinite(o->collider_tolerance) && o->collider_tolerance >= 0.0,
+                        "collider_tolerance", "= %g is not a finite tolerance >= 0",
+                        o->collider_tolerance);
+    SELFCOL_CHECK_FIELD(at, o->coherent == 0 || o->coherent == 1, "coherent", "= %d is not 0 or 1",
+                        o->coherent);
+    const selfcol_problem_at at_sequence = selfcol_problem__nested(at, "sequence", prefix[2]);
+    selfcol_sequence_options sequence;
+    status = selfcol_sequence__options(&sequence, &o->sequence, &at_sequence);
+    if (status != SELFCOL_OK)
+        return status;
+    SELFCOL_CHECK_FIELD(&at_sequence, allocator_unset(&o->sequence.allocator), "allocator",
+                        "is set: a scene's sequences use the scene's allocator (leave it zero)");
+    return SELFCOL_OK;
+}
+
+int selfcol_scene_options_check(const selfcol_scene_options *opts,
+                                selfcol_options_problem *problem) {
+    const int begun = selfcol_problem__begin(problem);
+    if (begun != SELFCOL_OK)
+        return begun;
+    if (opts == NULL) {
+        const selfcol_problem_at at = {problem, "selfcol_scene_create", ""};
+        return selfcol_problem__field(&at, SELFCOL_EINVAL, "opts",
+                                      "is NULL: a scene needs options (a distance > 0)");
+    }
+    const selfcol_problem_at at = {problem, "selfcol_scene_options", ""};
+    selfcol_query_options query;
+    selfcol_store_options store;
+    return scene_options(opts, &query, &store, &at);
+}
+
 int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
     SELFCOL_CHECK(opts != NULL);
-    // Version 1 was 0.2's layout (fields copied from the query and store
-    // options): its fields are not where this layout reads them.
-    if (opts->version != SELFCOL_SCENE_OPTIONS_VERSION)
-        return SELFCOL_EVERSION;
     const selfcol_scene_options o = *opts;
-    SELFCOL_CHECK(selfcol_alloc__valid(&o.allocator));
     selfcol_query_options query;
     selfcol_store_options store;
-    int status = selfcol_query__options(&query, &o.query);
-    if (status == SELFCOL_OK)
-        status = selfcol_store__options(&store, &o.store);
+    int status = scene_options(&o, &query, &store, NULL);
     if (status != SELFCOL_OK)
         return status;
-    SELFCOL_CHECK(query.distance > 0.0 && query.kinds != 0);
-    SELFCOL_CHECK(store.allocator.alloc == NULL && store.allocator.free == NULL &&
-                  store.allocator.user == NULL);
-    SELFCOL_CHECK(store.first_orientation == 0 && store.second_orientation == 0);
-    SELFCOL_CHECK(isfinite(o.collider_tolerance) && o.collider_tolerance >= 0.0);
-    SELFCOL_CHECK(o.coherent == 0 || o.coherent == 1);
-    SELFCOL_CHECK_VERSION(&o.sequence, SELFCOL_SEQUENCE_OPTIONS_VERSION);
-    SELFCOL_CHECK(o.sequence.allocator.alloc == NULL && o.sequence.allocator.free == NULL &&
-                  o.sequence.allocator.user == NULL);
-    SELFCOL_CHECK(isfinite(o.sequence.skin) && o.sequence.skin >= 0.0 &&
-                  o.sequence.skin <= SELFCOL_MESH_MAX_COORDINATE);
     selfcol_contacts_options copts;
     selfcol_contacts_options_init(&copts, SELFCOL_CONTACTS_OPTIONS_VERSION);
     copts.allocator = o.allocator;

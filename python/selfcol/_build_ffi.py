@@ -295,6 +295,27 @@ int selfcol_scene_collider_contacts(const selfcol_scene *scene,
 int selfcol_scene_stats(const selfcol_scene *scene, selfcol_scene_update_stats *stats);
 size_t selfcol_scene_byte_count(const selfcol_scene *scene);
 
+/* Options that name what they refuse (common.h). */
+typedef struct selfcol_options_problem {
+    unsigned int version;
+    int status;
+    char field[64];
+    char message[256];
+} selfcol_options_problem;
+#define SELFCOL_OPTIONS_PROBLEM_VERSION ...
+int selfcol_query_options_check(const selfcol_query_options *opts,
+                                selfcol_options_problem *problem);
+int selfcol_hierarchy_options_check(const selfcol_hierarchy_options *opts,
+                                    selfcol_options_problem *problem);
+int selfcol_store_options_check(const selfcol_store_options *opts,
+                                selfcol_options_problem *problem);
+int selfcol_sequence_options_check(const selfcol_sequence_options *opts,
+                                   selfcol_options_problem *problem);
+int selfcol_sweep_options_check(const selfcol_sweep_options *opts,
+                                selfcol_options_problem *problem);
+int selfcol_scene_options_check(const selfcol_scene_options *opts,
+                                selfcol_options_problem *problem);
+
 /* tools/meshio: the mesh file readers of selfcol-cli (selfcol.io). */
 typedef struct meshio_error {
     char message[640];

@@ -96,6 +96,18 @@ def _check(status: int, what: str) -> None:
         raise cls(status, "%s: %s (status %d)" % (what, _status_text(status), status))
 
 
+def _check_options(check: Any, opts: Any, what: str) -> None:
+    """Refuses options the C library would refuse, with its sentence naming
+    the field, the value and what is accepted (selfcol_*_options_check)."""
+    problem = ffi.new("selfcol_options_problem *")
+    problem.version = lib.SELFCOL_OPTIONS_PROBLEM_VERSION
+    status = check(opts, problem)
+    if status != 0:
+        message = ffi.string(problem.message).decode("utf-8", "replace")
+        cls = _ERRORS.get(status, Error)
+        raise cls(status, "%s: %s" % (what, message or _status_text(status)))
+
+
 def _check_mesh(status: int, what: str, P: np.ndarray, T: Optional[np.ndarray]) -> None:
     """_check for the mesh functions: on EINVAL or ERANGE, names the first
     element the C library refuses (mesh.h's contract) instead of the status
@@ -310,6 +322,7 @@ def _query_options(distance: float, method: Union[str, int], kinds: KindsArg, th
     if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
         raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
     opts.threads = min(int(threads), 1 << 31)
+    _check_options(lib.selfcol_query_options_check, opts, "query options")
     return opts
 
 
@@ -787,6 +800,7 @@ class Hierarchy:
         _check(lib.selfcol_hierarchy_options_init(opts, lib.SELFCOL_HIERARCHY_OPTIONS_VERSION),
                "selfcol_hierarchy_options_init")
         opts.threads = min(int(threads), 1 << 31)
+        _check_options(lib.selfcol_hierarchy_options_check, opts, "Hierarchy")
         out = ffi.new("selfcol_hierarchy **")
         _check(lib.selfcol_hierarchy_create(out, mesh._h, opts), "selfcol_hierarchy_create")
         self._h = ffi.gc(out[0], lib.selfcol_hierarchy_destroy)
@@ -909,6 +923,7 @@ class Sequence:
             opts.skin = float(skin)
         except (TypeError, ValueError):
             raise _invalid("skin must be a number, got %r" % (skin,)) from None
+        _check_options(lib.selfcol_sequence_options_check, opts, "Sequence")
         out = ffi.new("selfcol_sequence **")
         _check(lib.selfcol_sequence_create(out, opts), "selfcol_sequence_create")
         self._h = ffi.gc(out[0], lib.selfcol_sequence_destroy)
@@ -1024,6 +1039,7 @@ def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg, 
     if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
         raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
     opts.threads = min(int(threads), 1 << 31)
+    _check_options(lib.selfcol_sweep_options_check, opts, "sweep options")
     return opts
 
 
@@ -1215,6 +1231,8 @@ def _store_options(remnance: int, consistency: bool, first_orientation: int,
     if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
         raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
     opts.threads = min(int(threads), 1 << 31)
+    if into is None:  # nested in a scene's options: checked with them
+        _check_options(lib.selfcol_store_options_check, opts, "store options")
     return opts
 
 
@@ -1345,6 +1363,7 @@ class Scene:
         if collider_tolerance is not None:
             opts.collider_tolerance = float(collider_tolerance)
         opts.coherent = 1 if coherent else 0
+        _check_options(lib.selfcol_scene_options_check, opts, "Scene")
         out = ffi.new("selfcol_scene **")
         _check(lib.selfcol_scene_create(out, opts), "selfcol_scene_create")
         self._h = ffi.gc(out[0], lib.selfcol_scene_destroy)

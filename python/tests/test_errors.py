@@ -203,3 +203,29 @@ def test_mesh_errors_name_the_element():
     W[2, 0] = np.inf
     with pytest.raises(selfcol.InvalidArgument, match=r"V\[2, 0\] = inf is not finite"):
         m.set_positions(W)
+
+
+@pytest.mark.parametrize("call, names", [
+    (lambda: selfcol.self_collide(V, F, distance=float("nan")),
+     "selfcol_query_options.distance = nan"),
+    (lambda: selfcol.self_collide(V, F, distance=1e200), "selfcol_query_options.distance = 1e+200"),
+    (lambda: selfcol.self_collide(V, F, threads=100), "selfcol_query_options.threads = 100"),
+    (lambda: selfcol.Hierarchy(selfcol.Mesh(V, F), threads=65),
+     "selfcol_hierarchy_options.threads = 65"),
+    (lambda: selfcol.Hierarchy(selfcol.Mesh(V, F)).self_sweep(V, separation=-1),
+     "selfcol_sweep_options.separation = -1"),
+    (lambda: selfcol.Hierarchy(selfcol.Mesh(V, F)).self_sweep(V, threads=99),
+     "selfcol_sweep_options.threads = 99"),
+    (lambda: selfcol.Sequence(skin=float("inf")), "selfcol_sequence_options.skin = inf"),
+    (lambda: selfcol.Store(threads=70), "selfcol_store_options.threads = 70"),
+    (lambda: selfcol.Scene(distance=0.0), "selfcol_scene_options.query.distance = 0"),
+    (lambda: selfcol.Scene(distance=0.1, collider_tolerance=-1.0),
+     "selfcol_scene_options.collider_tolerance = -1"),
+])
+def test_refused_options_are_named(call, names):
+    """Options the C library refuses are named by its own check
+    (selfcol_*_options_check): the struct, the field and the value."""
+    with pytest.raises(selfcol.InvalidArgument) as info:
+        call()
+    assert names in str(info.value)
+    assert "invalid argument or input data" not in str(info.value)

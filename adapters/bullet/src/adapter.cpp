@@ -30,9 +30,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <string>
 #include <vector>
 
 static_assert(sizeof(btScalar) == sizeof(float),
@@ -762,33 +764,104 @@ extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigne
 
 namespace {
 
+// Names a refused field of selfcol_bullet_options in problem (may be
+// NULL); returns status.
+int refuse(selfcol_options_problem *problem, int status, const char *field, const char *what,
+           double value) {
+    if (problem != nullptr) {
+        problem->status = status;
+        std::snprintf(problem->field, sizeof problem->field, "%s", field);
+        std::snprintf(problem->message, sizeof problem->message,
+                      "selfcol_bullet_options.%s = %g %s", field, value, what);
+    }
+    return status;
+}
+
 // The adapter's own fields; the nested query and store options by the
 // core's rules, which a scene made and destroyed here applies (at the
 // given distance, or 1 when it will come from the bodies): an adapter that
-// is created can make its scene, rather than fail at every step.
-int check_options(const selfcol_bullet_options &o) {
-    if ((o.allocator.alloc == nullptr) != (o.allocator.free == nullptr))
+// is created can make its scene, rather than fail at every step. problem
+// (NULL: none) names what is refused.
+int check_options(const selfcol_bullet_options &o, selfcol_options_problem *problem) {
+    if ((o.allocator.alloc == nullptr) != (o.allocator.free == nullptr)) {
+        if (problem != nullptr) {
+            problem->status = SELFCOL_EINVAL;
+            std::snprintf(problem->field, sizeof problem->field, "allocator");
+            std::snprintf(problem->message, sizeof problem->message,
+                          "selfcol_bullet_options.allocator is half set: give both alloc and "
+                          "free, or neither");
+        }
         return SELFCOL_EINVAL;
+    }
     const double distance = o.query.distance;
-    if (!(distance >= 0) || !(distance <= SELFCOL_MESH_MAX_COORDINATE))
-        return SELFCOL_EINVAL; // NaN fails both
+    if (!(distance >= 0) || !(distance <= SELFCOL_MESH_MAX_COORDINATE)) // NaN fails both
+        return refuse(problem, SELFCOL_EINVAL, "query.distance",
+                      "is not a distance in 0 .. 1.6e+60 (0: from the bodies)", distance);
     if (distance == 0 && (!(o.distance_factor > 0) || !std::isfinite(o.distance_factor)))
-        return SELFCOL_EINVAL;
+        return refuse(problem, SELFCOL_EINVAL, "distance_factor",
+                      "is not a finite factor > 0 (query.distance is 0)", o.distance_factor);
     if (!(o.repulsion > 0 && o.repulsion <= 1))
-        return SELFCOL_EINVAL;
+        return refuse(problem, SELFCOL_EINVAL, "repulsion", "is not in (0, 1]", o.repulsion);
     if (o.iterations == 0 || o.iterations > 64)
-        return SELFCOL_EINVAL;
-    if ((o.automatic != 0 && o.automatic != 1) || (o.untangle != 0 && o.untangle != 1) ||
-        (o.continuous != 0 && o.continuous != 1) || (o.coherent != 0 && o.coherent != 1))
-        return SELFCOL_EINVAL;
+        return refuse(problem, SELFCOL_EINVAL, "iterations", "is not in 1 .. 64",
+                      double(o.iterations));
+    const struct {
+        const char *field;
+        int value;
+    } flags[] = {{"automatic", o.automatic},
+                 {"untangle", o.untangle},
+                 {"continuous", o.continuous},
+                 {"coherent", o.coherent}};
+    for (const auto &f : flags)
+        if (f.value != 0 && f.value != 1)
+            return refuse(problem, SELFCOL_EINVAL, f.field, "is not 0 or 1", double(f.value));
     selfcol_scene_options so = scene_options(o, distance > 0 ? distance : 1.0);
+    if (problem != nullptr) {
+        // The scene's check names query.* and store.*, which are this
+        // struct's fields of the same names.
+        const int status = selfcol_scene_options_check(&so, problem);
+        if (status != SELFCOL_OK) {
+            const char *scene = "selfcol_scene_options.";
+            std::string text = problem->message;
+            if (text.compare(0, std::strlen(scene), scene) == 0)
+                text = "selfcol_bullet_options." + text.substr(std::strlen(scene));
+            std::snprintf(problem->message, sizeof problem->message, "%s", text.c_str());
+            return status;
+        }
+    }
     selfcol_scene *trial = nullptr;
     int status = selfcol_scene_create(&trial, &so);
     selfcol_scene_destroy(trial);
     return status;
 }
 
+// The options as given (NULL: the defaults) into o, checked.
+int read_options(const selfcol_bullet_options *opts, selfcol_bullet_options &o,
+                 selfcol_options_problem *problem) {
+    selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
+    if (opts != nullptr) {
+        if (opts->version != SELFCOL_BULLET_OPTIONS_VERSION)
+            return refuse(problem, SELFCOL_EVERSION, "version",
+                          "is not this library's (its _init function sets it)",
+                          double(opts->version));
+        o = *opts;
+    }
+    return check_options(o, problem);
+}
+
 } // namespace
+
+extern "C" int selfcol_bullet_options_check(const selfcol_bullet_options *opts,
+                                            selfcol_options_problem *problem) {
+    if (problem == nullptr)
+        return SELFCOL_EINVAL;
+    if (problem->version == 0 || problem->version > SELFCOL_OPTIONS_PROBLEM_VERSION)
+        return SELFCOL_EVERSION;
+    problem->status = SELFCOL_OK;
+    problem->field[0] = problem->message[0] = '\0';
+    selfcol_bullet_options o;
+    return read_options(opts, o, problem);
+}
 
 extern "C" int selfcol_bullet_create(selfcol_bullet **out,
                                      btDeformableMultiBodyDynamicsWorld *world,
@@ -799,13 +872,7 @@ extern "C" int selfcol_bullet_create(selfcol_bullet **out,
     if (world == nullptr)
         return SELFCOL_EINVAL;
     selfcol_bullet_options o;
-    selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
-    if (opts != nullptr) {
-        if (opts->version != SELFCOL_BULLET_OPTIONS_VERSION)
-            return SELFCOL_EVERSION;
-        o = *opts;
-    }
-    int status = check_options(o);
+    int status = read_options(opts, o, nullptr);
     if (status != SELFCOL_OK)
         return status;
     void *memory = hook_alloc(o.allocator, sizeof(selfcol_bullet), alignof(selfcol_bullet));

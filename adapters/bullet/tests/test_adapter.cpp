@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include <LinearMath/btThreads.h>
@@ -48,6 +49,43 @@ static void api_rejects_bad_input() {
     bad = opts;
     bad.version = 7;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EVERSION);
+    // selfcol_bullet_options_check names what create refuses, with create's
+    // status: the adapter's own fields and the nested ones alike.
+    struct named_case {
+        void (*spoil)(selfcol_bullet_options &);
+        int status;
+        const char *field, *message;
+    };
+    const named_case named[] = {
+        {[](selfcol_bullet_options &b) { b.query.distance = NAN; }, SELFCOL_EINVAL,
+         "query.distance", "selfcol_bullet_options.query.distance = nan"},
+        {[](selfcol_bullet_options &b) { b.repulsion = 1.5; }, SELFCOL_EINVAL, "repulsion",
+         "selfcol_bullet_options.repulsion = 1.5 is not in (0, 1]"},
+        {[](selfcol_bullet_options &b) { b.continuous = 3; }, SELFCOL_EINVAL, "continuous",
+         "= 3 is not 0 or 1"},
+        {[](selfcol_bullet_options &b) { b.query.threads = 0; }, SELFCOL_EINVAL, "query.threads",
+         "selfcol_bullet_options.query.threads = 0 is not in 1 .. 64"},
+        {[](selfcol_bullet_options &b) { b.store.consistency = 4; }, SELFCOL_EINVAL,
+         "store.consistency", "selfcol_bullet_options.store.consistency = 4"},
+        {[](selfcol_bullet_options &b) { b.store.first_orientation = 1; }, SELFCOL_EINVAL,
+         "store.first_orientation", "leave it 0"},
+        {[](selfcol_bullet_options &b) { b.version = 7; }, SELFCOL_EVERSION, "version", "= 7"},
+        {[](selfcol_bullet_options &) {}, SELFCOL_OK, "", ""},
+    };
+    for (const named_case &c : named) {
+        bad = opts;
+        c.spoil(bad);
+        selfcol_options_problem p;
+        std::memset(&p, 0x5a, sizeof p);
+        p.version = SELFCOL_OPTIONS_PROBLEM_VERSION;
+        const int checked = selfcol_bullet_options_check(&bad, &p);
+        CHECK(checked == c.status && p.status == c.status);
+        CHECK(std::strcmp(p.field, c.field) == 0);
+        CHECK(std::strstr(p.message, c.message) != nullptr);
+        if (c.status != SELFCOL_OK) // create agrees (and makes nothing)
+            CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == checked && a == nullptr);
+    }
+    CHECK(selfcol_bullet_options_check(&opts, nullptr) == SELFCOL_EINVAL);
 
     btSoftBody *sheet =
         w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);

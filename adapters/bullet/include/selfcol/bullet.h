@@ -243,6 +243,18 @@ SELFCOL_BULLET_API int selfcol_bullet_options_init(selfcol_bullet_options *opts,
                                                    unsigned int version);
 
 /**
+ * Names what selfcol_bullet_create() refuses in opts, if anything: the
+ * field ("repulsion", "query.threads", "store.consistency", ...), its value
+ * and what is accepted (selfcol/common.h, selfcol_options_problem).
+ * @return what selfcol_bullet_create() returns for these options, short of
+ *         its world and of memory (SELFCOL_OK, SELFCOL_EINVAL,
+ *         SELFCOL_EVERSION); SELFCOL_EINVAL for a NULL problem,
+ *         SELFCOL_EVERSION for its version.
+ */
+SELFCOL_BULLET_API int selfcol_bullet_options_check(const selfcol_bullet_options *opts,
+                                                    selfcol_options_problem *problem);
+
+/**
  * Creates an adapter for a deformable world (and, with automatic on, adds its
  * action to the world).
  * @param[out] out the adapter; NULL on failure

@@ -36,7 +36,9 @@
  * SELFCOL_ERANGE. Everything else is the C library's verdict (mesh.h,
  * hierarchy.h): NaN or infinite coordinates and empty meshes SELFCOL_EINVAL,
  * coordinates beyond 2^200 SELFCOL_ERANGE, out of memory SELFCOL_ENOMEM, a
- * query on a hierarchy not refit since its mesh moved SELFCOL_ESTALE.
+ * query on a hierarchy not refit since its mesh moved SELFCOL_ESTALE. Refused
+ * options are named in what() by the library's own check (the field, its
+ * value, what is accepted: selfcol_query_options_check()).
  * Nothing else is thrown but std::bad_alloc from Eigen's own allocations.
  *
  * Ownership and threads are the C library's: mesh, hierarchy and contacts
@@ -88,6 +90,24 @@ namespace detail {
 inline void check(int status, const char *call) {
     if (status != SELFCOL_OK)
         throw error(status, call);
+}
+
+/** A refused call's options named by the library's own check (one of the
+ *  selfcol_*_options_check functions): "selfcol_hierarchy_self_collide:
+ *  selfcol_query_options.distance = nan is not a distance in 0 .. 1.60694e+60:
+ *  invalid argument or input data". */
+template <typename Options>
+inline void check_options(int status, const char *call, const Options *options,
+                          int (*explain)(const Options *, selfcol_options_problem *)) {
+    if (status == SELFCOL_OK)
+        return;
+    if (status == SELFCOL_EINVAL || status == SELFCOL_EVERSION) {
+        selfcol_options_problem p;
+        p.version = SELFCOL_OPTIONS_PROBLEM_VERSION;
+        if (explain(options, &p) == status && p.message[0] != '\0')
+            throw error(status, std::string(call) + ": " + p.message);
+    }
+    throw error(status, call);
 }
 
 /** A refused mesh input's culprit, from the library's own checker
@@ -299,7 +319,8 @@ class hierarchy {
      */
     explicit hierarchy(const mesh &m, const selfcol_hierarchy_options *options = nullptr) {
         selfcol_hierarchy *h = nullptr;
-        detail::check(selfcol_hierarchy_create(&h, m.get(), options), "selfcol_hierarchy_create");
+        detail::check_options(selfcol_hierarchy_create(&h, m.get(), options),
+                              "selfcol_hierarchy_create", options, selfcol_hierarchy_options_check);
         handle_.reset(h);
     }
     /** A hierarchy borrows its mesh: never one about to be destroyed. */
@@ -541,8 +562,8 @@ inline contact_result to_result(const contacts &c) {
 inline contact_result self_collide(const hierarchy &h, contacts &buffer,
                                    const query_options &options = query_options()) {
     const selfcol_query_options o = detail::c_options(options, detail::mean_edge(h.get()));
-    detail::check(selfcol_hierarchy_self_collide(h.get(), buffer.get(), &o),
-                  "selfcol_hierarchy_self_collide");
+    detail::check_options(selfcol_hierarchy_self_collide(h.get(), buffer.get(), &o),
+                          "selfcol_hierarchy_self_collide", &o, selfcol_query_options_check);
     return to_result(buffer);
 }
 
@@ -563,8 +584,8 @@ inline contact_result collide(const hierarchy &first, const hierarchy &second, c
                               const query_options &options = query_options()) {
     const selfcol_query_options o =
         detail::c_options(options, detail::mean_edge(first.get(), second.get()));
-    detail::check(selfcol_hierarchy_collide(first.get(), second.get(), buffer.get(), &o),
-                  "selfcol_hierarchy_collide");
+    detail::check_options(selfcol_hierarchy_collide(first.get(), second.get(), buffer.get(), &o),
+                          "selfcol_hierarchy_collide", &o, selfcol_query_options_check);
     return to_result(buffer);
 }
 
