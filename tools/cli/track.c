@@ -174,6 +174,70 @@ static void print_header(const track_state *st) {
             (unsigned long)st->o->remnance, st->o->no_consistency ? "off" : "on");
 }
 
+// The track's store, query options, distance and picture buffers, from the
+// first frame's part. Returns 0, or -1 with err set.
+static int track_setup(track_state *st, cli_error *err) {
+    const cli_options *o = st->o;
+    int rc = selfcol_contacts_create(&st->contacts, NULL);
+    if (rc == SELFCOL_OK) {
+        selfcol_store_options so;
+        selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
+        so.remnance_frames = o->remnance;
+        so.consistency = o->no_consistency ? 0 : 1;
+        so.threads = o->threads;
+        rc = selfcol_store_create(&st->store, &so);
+    }
+    if (rc != SELFCOL_OK) {
+        cli_fail(err, "%s", selfcol_status_string(rc));
+        return -1;
+    }
+    selfcol_query_options_init(&st->query, SELFCOL_QUERY_OPTIONS_VERSION);
+    st->query.method = o->method;
+    st->query.narrow = o->narrow;
+    st->query.kinds = SELFCOL_KIND_ALL;
+    st->query.threads = o->threads;
+    st->mean_edge = selfcol_mesh_mean_edge_length(st->part->mesh);
+    st->distance_rel = o->distance_given ? -1.0 : o->distance_rel;
+    if (cli_detection_distance(o, st->mean_edge, &st->distance, err) != 0)
+        return -1;
+    st->query.distance = st->distance;
+    if (o->png || o->png_worst) {
+        st->classes = malloc(st->part->file.triangle_count + 1);
+        if (st->classes == NULL) {
+            cli_fail(err, "out of memory");
+            return -1;
+        }
+    }
+    if (o->png_worst) {
+        st->worst_positions = malloc(3 * st->part->file.vertex_count * sizeof(double) + 1);
+        st->worst_classes = malloc(st->part->file.triangle_count + 1);
+        if (st->worst_positions == NULL || st->worst_classes == NULL) {
+            cli_fail(err, "out of memory");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+// The human summary after the last frame.
+static void print_summary(const track_state *st, char *const *frame_names,
+                          const long *frame_numbers, long frame_count, size_t split_frames) {
+    FILE *s = st->lines;
+    fprintf(s, "  %ld frame(s): %ld with interferences\n", st->frames_done,
+            st->frames_intersecting);
+    cli_print_frame_list(s, &st->intersecting_frames, frame_numbers, frame_count);
+    if (st->frames_intersecting > 0)
+        fprintf(s, "  worst frame: %ld (%s), %llu interferences, %llu crossed region(s)\n",
+                st->worst_frame, frame_names[st->worst],
+                (unsigned long long)st->worst_interferences, (unsigned long long)st->worst_crossed);
+    cli_print_weld_warning(s, split_frames);
+    fprintf(s, "  result: %s (exit status %d)\n",
+            st->frames_intersecting    ? "INTERSECTS"
+            : st->frames_with_contacts ? "no interference, contacts found"
+                                       : "clean",
+            st->frames_intersecting ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
+}
+
 int cli_command_track(const cli_options *o) {
     if (o->input_count == 0)
         return cli_usage_error("track ", "no frame given%s", "");
@@ -221,44 +285,8 @@ int cli_command_track(const cli_options *o) {
                         &err) != 0)
         goto done;
 
-    rc = selfcol_contacts_create(&st.contacts, NULL);
-    if (rc == SELFCOL_OK) {
-        selfcol_store_options so;
-        selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
-        so.remnance_frames = o->remnance;
-        so.consistency = o->no_consistency ? 0 : 1;
-        so.threads = o->threads;
-        rc = selfcol_store_create(&st.store, &so);
-    }
-    if (rc != SELFCOL_OK) {
-        cli_fail(&err, "%s", selfcol_status_string(rc));
+    if (track_setup(&st, &err) != 0)
         goto done;
-    }
-    selfcol_query_options_init(&st.query, SELFCOL_QUERY_OPTIONS_VERSION);
-    st.query.method = o->method;
-    st.query.narrow = o->narrow;
-    st.query.kinds = SELFCOL_KIND_ALL;
-    st.query.threads = o->threads;
-    st.mean_edge = selfcol_mesh_mean_edge_length(part.mesh);
-    st.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
-    if (cli_detection_distance(o, st.mean_edge, &st.distance, &err) != 0)
-        goto done;
-    st.query.distance = st.distance;
-    if (o->png || o->png_worst) {
-        st.classes = malloc(part.file.triangle_count + 1);
-        if (st.classes == NULL) {
-            cli_fail(&err, "out of memory");
-            goto done;
-        }
-    }
-    if (o->png_worst) {
-        st.worst_positions = malloc(3 * part.file.vertex_count * sizeof(double) + 1);
-        st.worst_classes = malloc(part.file.triangle_count + 1);
-        if (st.worst_positions == NULL || st.worst_classes == NULL) {
-            cli_fail(&err, "out of memory");
-            goto done;
-        }
-    }
     if (st.lines)
         print_header(&st);
 
@@ -281,23 +309,8 @@ int cli_command_track(const cli_options *o) {
                              st.worst_classes, "--png-worst", &err) != 0)
         goto done;
 
-    if (st.lines) {
-        FILE *s = st.lines;
-        fprintf(s, "  %ld frame(s): %ld with interferences\n", st.frames_done,
-                st.frames_intersecting);
-        cli_print_frame_list(s, &st.intersecting_frames, frame_numbers, frame_count);
-        if (st.frames_intersecting > 0)
-            fprintf(s, "  worst frame: %ld (%s), %llu interferences, %llu crossed region(s)\n",
-                    st.worst_frame, frame_names[st.worst],
-                    (unsigned long long)st.worst_interferences,
-                    (unsigned long long)st.worst_crossed);
-        cli_print_weld_warning(s, split_frames);
-        fprintf(s, "  result: %s (exit status %d)\n",
-                st.frames_intersecting    ? "INTERSECTS"
-                : st.frames_with_contacts ? "no interference, contacts found"
-                                          : "clean",
-                st.frames_intersecting ? CLI_EXIT_FOUND : CLI_EXIT_CLEAN);
-    }
+    if (st.lines)
+        print_summary(&st, frame_names, frame_numbers, frame_count, split_frames);
     if (cli_close_output(st.jsonl, o->jsonl, &err) != 0) {
         st.jsonl = NULL;
         goto done;
