@@ -93,7 +93,7 @@ static void dummy_finish(void *user_task, void *user_context) {
     (void)user_context;
 }
 
-static void query_options_name_the_field(void **state) {
+static void test_query_options_name_the_field(void **state) {
     world *w = *state;
     selfcol_options_problem p = fresh_problem();
     expect(selfcol_query_options_check(NULL, &p), &p, SELFCOL_OK, "", "", NULL);
@@ -151,7 +151,7 @@ static void query_options_name_the_field(void **state) {
            "version", "newer than this library");
 }
 
-static void hierarchy_options_name_the_field(void **state) {
+static void test_hierarchy_options_name_the_field(void **state) {
     world *w = *state;
     selfcol_hierarchy_options o;
     for (int k = 0; k < 4; ++k) {
@@ -185,7 +185,7 @@ static void hierarchy_options_name_the_field(void **state) {
     }
 }
 
-static void store_options_name_the_field(void **state) {
+static void test_store_options_name_the_field(void **state) {
     (void)state;
     selfcol_store_options o;
     for (int k = 0; k < 6; ++k) {
@@ -228,7 +228,7 @@ static void store_options_name_the_field(void **state) {
     }
 }
 
-static void sequence_and_context_options_name_the_field(void **state) {
+static void test_sequence_and_context_options_name_the_field(void **state) {
     (void)state;
     selfcol_sequence_options so;
     selfcol_sequence_options_init(&so, SELFCOL_SEQUENCE_OPTIONS_VERSION);
@@ -259,7 +259,7 @@ static void sequence_and_context_options_name_the_field(void **state) {
     assert_int_equal(selfcol_context_create(&c, &co), checked);
 }
 
-static void sweep_options_name_the_field(void **state) {
+static void test_sweep_options_name_the_field(void **state) {
     world *w = *state;
     const double *start = selfcol_mesh_positions(w->mesh);
     selfcol_sweep_options o;
@@ -300,7 +300,7 @@ static void sweep_options_name_the_field(void **state) {
     }
 }
 
-static void scene_options_name_nested_fields(void **state) {
+static void test_scene_options_name_nested_fields(void **state) {
     (void)state;
     selfcol_options_problem p = fresh_problem();
     expect(selfcol_scene_options_check(NULL, &p), &p, SELFCOL_EINVAL, "selfcol_scene_create",
@@ -359,7 +359,7 @@ static void scene_options_name_nested_fields(void **state) {
     }
 }
 
-static void the_problem_is_checked_too(void **state) {
+static void test_the_problem_is_checked_too(void **state) {
     (void)state;
     assert_int_equal(selfcol_query_options_check(NULL, NULL), SELFCOL_EINVAL);
     assert_int_equal(selfcol_store_options_check(NULL, NULL), SELFCOL_EINVAL);
@@ -380,13 +380,13 @@ static void the_problem_is_checked_too(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(query_options_name_the_field),
-        cmocka_unit_test(hierarchy_options_name_the_field),
-        cmocka_unit_test(store_options_name_the_field),
-        cmocka_unit_test(sequence_and_context_options_name_the_field),
-        cmocka_unit_test(sweep_options_name_the_field),
-        cmocka_unit_test(scene_options_name_nested_fields),
-        cmocka_unit_test(the_problem_is_checked_too),
+        cmocka_unit_test(test_query_options_name_the_field),
+        cmocka_unit_test(test_hierarchy_options_name_the_field),
+        cmocka_unit_test(test_store_options_name_the_field),
+        cmocka_unit_test(test_sequence_and_context_options_name_the_field),
+        cmocka_unit_test(test_sweep_options_name_the_field),
+        cmocka_unit_test(test_scene_options_name_nested_fields),
+        cmocka_unit_test(test_the_problem_is_checked_too),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

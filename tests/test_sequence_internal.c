@@ -150,7 +150,7 @@ static void test_self_bvh_two_threads(void **state) {
     run_self(SELFCOL_METHOD_BVH, 2, 0);
 }
 
-static void partial_rebuild_grows_the_list_keeping_its_pairs(void **state) {
+static void test_partial_rebuild_grows_the_list_keeping_its_pairs(void **state) {
     (void)state;
     run_self(SELFCOL_METHOD_EXACT, 1, 1);
 }
@@ -214,7 +214,7 @@ int main(void) {
         cmocka_unit_test(test_self_exact),
         cmocka_unit_test(test_self_bvh_two_threads),
         cmocka_unit_test(test_two_surfaces),
-        cmocka_unit_test(partial_rebuild_grows_the_list_keeping_its_pairs),
+        cmocka_unit_test(test_partial_rebuild_grows_the_list_keeping_its_pairs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
