@@ -374,6 +374,139 @@ static int layout(selfcol_hierarchy *h, const builder *b, uint32_t root, const u
     return SELFCOL_OK;
 }
 
+// The build's working arrays (F entries each, order_off F + 1), the patch
+// graphs of the current and next round, and the nodes made so far.
+typedef struct build_work {
+    const selfcol_allocator *al;
+    size_t F;
+    patch_graph g, next;
+    builder b;
+    uint32_t *group, *group_size, *partner, *stamp, *order, *order_off, *tri_patch, *node_of;
+} build_work;
+
+// The next round's graph becomes the current one.
+static void next_round(build_work *w) {
+    free_graph(w->al, &w->g);
+    w->g = w->next;
+    memset(&w->next, 0, sizeof w->next);
+}
+
+// Leaf rounds: group triangles into patches of a few triangles (tri_patch:
+// each triangle's patch).
+static int leaf_rounds(build_work *w) {
+    for (size_t t = 0; t < w->F; ++t)
+        w->tri_patch[t] = (uint32_t)t;
+    for (int round = 0; round < LEAF_ROUNDS && w->g.adj_off[w->g.count] > 0; ++round) {
+        size_t groups = match_round(&w->g, w->group, w->group_size, w->partner);
+        for (size_t t = 0; t < w->F; ++t)
+            w->tri_patch[t] = w->group[w->tri_patch[t]];
+        int status =
+            contract(w->al, &w->g, w->group, groups, &w->next, w->stamp, w->order, w->order_off);
+        if (status != SELFCOL_OK)
+            return status;
+        next_round(w);
+    }
+    return SELFCOL_OK;
+}
+
+// One leaf per patch, its triangles listed in leaf order (a counting sort
+// into tri_patch); node_of: each patch's leaf.
+static int add_leaves(build_work *w) {
+    uint32_t *order = w->order, *order_off = w->order_off;
+    const size_t patches = w->g.count;
+    memset(order_off, 0, (patches + 1) * sizeof(uint32_t));
+    for (size_t t = 0; t < w->F; ++t)
+        order_off[w->tri_patch[t] + 1]++;
+    for (size_t p = 0; p < patches; ++p)
+        order_off[p + 1] += order_off[p];
+    for (size_t t = 0; t < w->F; ++t)
+        order[order_off[w->tri_patch[t]]++] = (uint32_t)t;
+    for (size_t p = patches; p > 0; --p)
+        order_off[p] = order_off[p - 1];
+    order_off[0] = 0;
+    for (size_t p = 0; p < patches; ++p) {
+        build_node leaf = {order_off[p], order_off[p + 1] - order_off[p], 0, 1, 1};
+        int status = add_node(&w->b, leaf, &w->node_of[p]);
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    // `order` now holds the leaves' triangles; keep it aside in tri_patch.
+    memcpy(w->tri_patch, order, w->F * sizeof(uint32_t));
+    return SELFCOL_OK;
+}
+
+// Internal rounds: one node per group of two or more patches, until no
+// patch has a neighbour (node_of: each remaining patch's node).
+static int internal_rounds(build_work *w) {
+    while (w->g.adj_off[w->g.count] > 0) {
+        size_t groups = match_round(&w->g, w->group, w->group_size, w->partner);
+        int status =
+            contract(w->al, &w->g, w->group, groups, &w->next, w->stamp, w->order, w->order_off);
+        if (status != SELFCOL_OK)
+            return status;
+        for (size_t gi = 0; gi < groups; ++gi) {
+            uint32_t first = w->order_off[gi], count = w->order_off[gi + 1] - w->order_off[gi];
+            if (count == 1) {
+                w->partner[gi] = w->node_of[w->order[first]];
+                continue;
+            }
+            uint32_t ids[MAX_GROUP];
+            for (uint32_t i = 0; i < count; ++i)
+                ids[i] = w->node_of[w->order[first + i]];
+            build_node inner = {(uint32_t)w->b.child_count, count, 0, 0, 1};
+            if ((status = add_children(&w->b, ids, count)) != SELFCOL_OK ||
+                (status = add_node(&w->b, inner, &w->partner[gi])) != SELFCOL_OK)
+                return status;
+        }
+        memcpy(w->node_of, w->partner, groups * sizeof(uint32_t));
+        next_round(w);
+    }
+    return SELFCOL_OK;
+}
+
+// Joins the roots of the separate parts pairwise (not connected patches):
+// the root ends in node_of[0].
+static int join_roots(build_work *w) {
+    size_t roots = w->g.count;
+    while (roots > 1) {
+        size_t out = 0;
+        for (size_t i = 0; i < roots; i += 2) {
+            if (i + 1 == roots) {
+                w->node_of[out++] = w->node_of[i];
+                continue;
+            }
+            uint32_t ids[2] = {w->node_of[i], w->node_of[i + 1]};
+            build_node join = {(uint32_t)w->b.child_count, 2, 0, 0, 0};
+            int status;
+            if ((status = add_children(&w->b, ids, 2)) != SELFCOL_OK ||
+                (status = add_node(&w->b, join, &w->node_of[out++])) != SELFCOL_OK)
+                return status;
+        }
+        roots = out;
+    }
+    return SELFCOL_OK;
+}
+
+// The tree laid out into h, then owners, orientation, boundaries.
+static int finish(selfcol_hierarchy *h, build_work *w, uint32_t *parent, uint32_t *depth) {
+    // group is free now: reuse it as leaf_of_tri.
+    int status = layout(h, &w->b, w->node_of[0], w->tri_patch, parent, depth, w->group);
+    if (status != SELFCOL_OK)
+        return status;
+    mark_duplicate_nodes(h);
+    selfcol_hierarchy__assign_owners(h);
+    // partner and stamp are free now: a BFS queue and the seen flags of the
+    // orientation walk.
+    status = selfcol_hierarchy__orient(h, parent, depth, w->group, w->partner, (uint8_t *)w->stamp);
+    if (status != SELFCOL_OK)
+        return status;
+    status = selfcol_hierarchy__build_boundaries(h, parent, depth, w->group);
+    if (status != SELFCOL_OK)
+        return status;
+    h->min_altitude = selfcol_alloc__array(w->al, h->node_count, sizeof(float));
+    return h->min_altitude != NULL ? SELFCOL_OK : SELFCOL_ENOMEM;
+}
+
 int selfcol_hierarchy__build(selfcol_hierarchy *h) {
     const selfcol_mesh *m = h->mesh;
     const selfcol_allocator *al = &h->allocator;
@@ -381,142 +514,56 @@ int selfcol_hierarchy__build(selfcol_hierarchy *h) {
     // Boundary half-edges are stored as (edge << 1) | direction.
     if (m->edge_count >= ((size_t)1 << 31))
         return SELFCOL_ERANGE;
-    int status = SELFCOL_ENOMEM;
-    patch_graph g, next;
-    memset(&g, 0, sizeof g);
-    memset(&next, 0, sizeof next);
-    builder b;
-    memset(&b, 0, sizeof b);
-    b.al = al;
-    uint32_t *group = selfcol_alloc__array(al, F, sizeof(uint32_t));
-    uint32_t *group_size = selfcol_alloc__array(al, F, sizeof(uint32_t));
-    uint32_t *partner = selfcol_alloc__array(al, F, sizeof(uint32_t));
-    uint32_t *stamp = selfcol_alloc__array(al, F, sizeof(uint32_t));
-    uint32_t *order = selfcol_alloc__array(al, F, sizeof(uint32_t));
-    uint32_t *order_off = selfcol_alloc__array(al, F + 1, sizeof(uint32_t));
-    uint32_t *tri_patch = selfcol_alloc__array(al, F, sizeof(uint32_t));
-    uint32_t *node_of = selfcol_alloc__array(al, F, sizeof(uint32_t));
+    build_work w;
+    memset(&w, 0, sizeof w);
+    w.al = al;
+    w.F = F;
+    w.b.al = al;
+    w.group = selfcol_alloc__array(al, F, sizeof(uint32_t));
+    w.group_size = selfcol_alloc__array(al, F, sizeof(uint32_t));
+    w.partner = selfcol_alloc__array(al, F, sizeof(uint32_t));
+    w.stamp = selfcol_alloc__array(al, F, sizeof(uint32_t));
+    w.order = selfcol_alloc__array(al, F, sizeof(uint32_t));
+    w.order_off = selfcol_alloc__array(al, F + 1, sizeof(uint32_t));
+    w.tri_patch = selfcol_alloc__array(al, F, sizeof(uint32_t));
+    w.node_of = selfcol_alloc__array(al, F, sizeof(uint32_t));
     uint32_t *parent = NULL, *depth = NULL;
     size_t tree_size = 0;
-    if (group == NULL || group_size == NULL || partner == NULL || stamp == NULL || order == NULL ||
-        order_off == NULL || tri_patch == NULL || node_of == NULL)
-        goto done;
-    if ((status = dual_graph(m, al, &g)) != SELFCOL_OK)
-        goto done;
-    status = SELFCOL_ENOMEM;
-
-    // Leaf rounds: group triangles into patches of a few triangles.
-    for (size_t t = 0; t < F; ++t)
-        tri_patch[t] = (uint32_t)t;
-    for (int round = 0; round < LEAF_ROUNDS && g.adj_off[g.count] > 0; ++round) {
-        size_t groups = match_round(&g, group, group_size, partner);
-        for (size_t t = 0; t < F; ++t)
-            tri_patch[t] = group[tri_patch[t]];
-        if ((status = contract(al, &g, group, groups, &next, stamp, order, order_off)) != 0)
-            goto done;
-        free_graph(al, &g);
-        g = next;
-        memset(&next, 0, sizeof next);
-        status = SELFCOL_ENOMEM;
-    }
-    // One leaf per patch; its triangles listed in leaf order (counting sort).
-    memset(order_off, 0, (g.count + 1) * sizeof(uint32_t));
-    for (size_t t = 0; t < F; ++t)
-        order_off[tri_patch[t] + 1]++;
-    for (size_t p = 0; p < g.count; ++p)
-        order_off[p + 1] += order_off[p];
-    for (size_t t = 0; t < F; ++t)
-        order[order_off[tri_patch[t]]++] = (uint32_t)t;
-    for (size_t p = g.count; p > 0; --p)
-        order_off[p] = order_off[p - 1];
-    order_off[0] = 0;
-    for (size_t p = 0; p < g.count; ++p) {
-        build_node leaf = {order_off[p], order_off[p + 1] - order_off[p], 0, 1, 1};
-        if ((status = add_node(&b, leaf, &node_of[p])) != SELFCOL_OK)
-            goto done;
-    }
-    // `order` now holds the leaves' triangles; keep it aside in tri_patch.
-    memcpy(tri_patch, order, F * sizeof(uint32_t));
-
-    // Internal rounds: one node per group of two or more.
-    while (g.adj_off[g.count] > 0) {
-        size_t groups = match_round(&g, group, group_size, partner);
-        if ((status = contract(al, &g, group, groups, &next, stamp, order, order_off)) != 0)
-            goto done;
-        for (size_t gi = 0; gi < groups; ++gi) {
-            uint32_t first = order_off[gi], count = order_off[gi + 1] - order_off[gi];
-            if (count == 1) {
-                partner[gi] = node_of[order[first]];
-                continue;
-            }
-            uint32_t ids[MAX_GROUP];
-            for (uint32_t i = 0; i < count; ++i)
-                ids[i] = node_of[order[first + i]];
-            build_node inner = {(uint32_t)b.child_count, count, 0, 0, 1};
-            if ((status = add_children(&b, ids, count)) != SELFCOL_OK ||
-                (status = add_node(&b, inner, &partner[gi])) != SELFCOL_OK)
-                goto done;
-        }
-        memcpy(node_of, partner, groups * sizeof(uint32_t));
-        free_graph(al, &g);
-        g = next;
-        memset(&next, 0, sizeof next);
-    }
-    // Join the roots of the separate parts pairwise (not connected patches).
-    size_t roots = g.count;
-    while (roots > 1) {
-        size_t out = 0;
-        for (size_t i = 0; i < roots; i += 2) {
-            if (i + 1 == roots) {
-                node_of[out++] = node_of[i];
-                continue;
-            }
-            uint32_t ids[2] = {node_of[i], node_of[i + 1]};
-            build_node join = {(uint32_t)b.child_count, 2, 0, 0, 0};
-            if ((status = add_children(&b, ids, 2)) != SELFCOL_OK ||
-                (status = add_node(&b, join, &node_of[out++])) != SELFCOL_OK)
-                goto done;
-        }
-        roots = out;
-    }
-
-    tree_size = b.node_count;
-    h->tri_order = selfcol_alloc__array(al, F, sizeof(uint32_t));
-    h->owned = selfcol_alloc__array(al, F, sizeof(uint8_t));
-    parent = selfcol_alloc__array(al, tree_size, sizeof(uint32_t));
-    depth = selfcol_alloc__array(al, tree_size, sizeof(uint32_t));
-    status = SELFCOL_ENOMEM;
-    if (h->tri_order == NULL || h->owned == NULL || parent == NULL || depth == NULL)
-        goto done;
-    // group is free now: reuse it as leaf_of_tri.
-    if ((status = layout(h, &b, node_of[0], tri_patch, parent, depth, group)) != SELFCOL_OK)
-        goto done;
-    mark_duplicate_nodes(h);
-    selfcol_hierarchy__assign_owners(h);
-    // partner and stamp are free now: a BFS queue and the seen flags of the
-    // orientation walk.
-    if ((status = selfcol_hierarchy__orient(h, parent, depth, group, partner, (uint8_t *)stamp)) !=
-        SELFCOL_OK)
-        goto done;
-    status = selfcol_hierarchy__build_boundaries(h, parent, depth, group);
+    int status = SELFCOL_ENOMEM;
+    if (w.group != NULL && w.group_size != NULL && w.partner != NULL && w.stamp != NULL &&
+        w.order != NULL && w.order_off != NULL && w.tri_patch != NULL && w.node_of != NULL)
+        status = dual_graph(m, al, &w.g);
+    if (status == SELFCOL_OK)
+        status = leaf_rounds(&w);
+    if (status == SELFCOL_OK)
+        status = add_leaves(&w);
+    if (status == SELFCOL_OK)
+        status = internal_rounds(&w);
+    if (status == SELFCOL_OK)
+        status = join_roots(&w);
     if (status == SELFCOL_OK) {
-        h->min_altitude = selfcol_alloc__array(al, h->node_count, sizeof(float));
-        status = h->min_altitude != NULL ? SELFCOL_OK : SELFCOL_ENOMEM;
+        tree_size = w.b.node_count;
+        h->tri_order = selfcol_alloc__array(al, F, sizeof(uint32_t));
+        h->owned = selfcol_alloc__array(al, F, sizeof(uint8_t));
+        parent = selfcol_alloc__array(al, tree_size, sizeof(uint32_t));
+        depth = selfcol_alloc__array(al, tree_size, sizeof(uint32_t));
+        status = h->tri_order != NULL && h->owned != NULL && parent != NULL && depth != NULL
+                     ? finish(h, &w, parent, depth)
+                     : SELFCOL_ENOMEM;
     }
-done:
-    free_graph(al, &g);
-    free_graph(al, &next);
-    selfcol_alloc__free_array(al, b.nodes, b.node_capacity, sizeof(build_node));
-    selfcol_alloc__free_array(al, b.children, b.child_capacity, sizeof(uint32_t));
+    free_graph(al, &w.g);
+    free_graph(al, &w.next);
+    selfcol_alloc__free_array(al, w.b.nodes, w.b.node_capacity, sizeof(build_node));
+    selfcol_alloc__free_array(al, w.b.children, w.b.child_capacity, sizeof(uint32_t));
     selfcol_alloc__free_array(al, parent, tree_size, sizeof(uint32_t));
     selfcol_alloc__free_array(al, depth, tree_size, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, group, F, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, group_size, F, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, partner, F, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, stamp, F, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, order, F, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, order_off, F + 1, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, tri_patch, F, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, node_of, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.group, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.group_size, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.partner, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.stamp, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.order, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.order_off, F + 1, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.tri_patch, F, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, w.node_of, F, sizeof(uint32_t));
     return status;
 }
