@@ -74,21 +74,12 @@ static void sort3(uint32_t out[3], const uint32_t *t) {
     out[2] = c;
 }
 
-static int build_edges(selfcol_mesh *m) {
-    const selfcol_allocator *al = &m->allocator;
+// Counting sort of the half-edges by their smaller vertex into half
+// (bucket_start: V + 1 offsets); flags repeated-index triangles and leaves
+// their degenerate slots' triangle_edges invalid.
+static void sort_half_edges(selfcol_mesh *m, uint32_t *bucket_start, half_edge *half) {
     const size_t V = m->vertex_count, F = m->triangle_count;
-    int status = SELFCOL_ENOMEM;
-    uint32_t *bucket_start = selfcol_alloc__array(al, V + 1, sizeof(uint32_t));
-    half_edge *half = selfcol_alloc__array(al, 3 * F, sizeof(half_edge));
-    m->triangle_edges = selfcol_alloc__array(al, 3 * F, sizeof(uint32_t));
-    m->triangle_flags = selfcol_alloc__array(al, F, sizeof(uint8_t));
-    if (bucket_start == NULL || half == NULL || m->triangle_edges == NULL ||
-        m->triangle_flags == NULL)
-        goto done;
-
-    // Counting sort of the half-edges by their smaller vertex.
     memset(bucket_start, 0, (V + 1) * sizeof(uint32_t));
-    size_t half_count = 0;
     for (size_t t = 0; t < F; ++t) {
         const uint32_t *tri = m->triangles + 3 * t;
         m->triangle_flags[t] = 0;
@@ -99,7 +90,6 @@ static int build_edges(selfcol_mesh *m) {
                 continue;
             }
             bucket_start[(u < w ? u : w) + 1]++;
-            half_count++;
         }
     }
     for (size_t v = 0; v < V; ++v)
@@ -119,8 +109,11 @@ static int build_edges(selfcol_mesh *m) {
     for (size_t v = V; v > 0; --v)
         bucket_start[v] = bucket_start[v - 1];
     bucket_start[0] = 0;
+}
 
-    // Within each bucket, equal hi values are one edge.
+// Sorts each bucket by its larger vertex; equal ones are one edge. Returns
+// the number of edges.
+static size_t count_edges(size_t V, const uint32_t *bucket_start, half_edge *half) {
     size_t edge_count = 0;
     for (size_t v = 0; v < V; ++v) {
         half_edge *items = half + bucket_start[v];
@@ -130,19 +123,18 @@ static int build_edges(selfcol_mesh *m) {
             if (i == 0 || items[i].hi != items[i - 1].hi)
                 edge_count++;
     }
-    m->edge_count = edge_count;
-    m->edges = selfcol_alloc__array(al, 2 * edge_count, sizeof(uint32_t));
-    m->edge_tri_offsets = selfcol_alloc__array(al, edge_count + 1, sizeof(uint32_t));
-    if (m->edge_tri_offsets == NULL || (edge_count > 0 && m->edges == NULL))
-        goto done;
+    return edge_count;
+}
 
-    // Assign edge ids; count each edge's distinct triangles (the two slots of
-    // a repeated-index triangle (a, a, b) on edge (a, b) are adjacent in the
-    // bucket order, so one look back removes the repeat).
+// Assigns edge ids (edges, triangle_edges) and counts each edge's distinct
+// triangles into edge_tri_offsets (the two slots of a repeated-index
+// triangle (a, a, b) on edge (a, b) are adjacent in the bucket order, so
+// one look back removes the repeat). Returns the number of entries.
+static size_t number_edges(selfcol_mesh *m, const uint32_t *bucket_start, const half_edge *half) {
     size_t e = 0, tri_entries = 0;
     m->edge_tri_offsets[0] = 0;
-    for (size_t v = 0; v < V; ++v) {
-        half_edge *items = half + bucket_start[v];
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        const half_edge *items = half + bucket_start[v];
         size_t count = bucket_start[v + 1] - bucket_start[v];
         for (size_t i = 0; i < count; ++i) {
             int new_edge = (i == 0 || items[i].hi != items[i - 1].hi);
@@ -159,14 +151,16 @@ static int build_edges(selfcol_mesh *m) {
             }
         }
     }
-    m->edge_tri_total = tri_entries;
-    m->edge_tris = selfcol_alloc__array(al, tri_entries, sizeof(uint32_t));
-    if (tri_entries > 0 && m->edge_tris == NULL)
-        goto done;
-    e = 0;
+    return tri_entries;
+}
+
+// Each edge's triangles (edge_tris, in number_edges' order), and the
+// boundary and non-manifold edge counts.
+static void list_edge_triangles(selfcol_mesh *m, const uint32_t *bucket_start,
+                                const half_edge *half) {
     size_t k = 0;
-    for (size_t v = 0; v < V; ++v) {
-        half_edge *items = half + bucket_start[v];
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        const half_edge *items = half + bucket_start[v];
         size_t count = bucket_start[v + 1] - bucket_start[v];
         for (size_t i = 0; i < count; ++i) {
             int new_edge = (i == 0 || items[i].hi != items[i - 1].hi);
@@ -175,11 +169,37 @@ static int build_edges(selfcol_mesh *m) {
         }
     }
     m->boundary_edges = m->nonmanifold_edges = 0;
-    for (e = 0; e < edge_count; ++e) {
+    for (size_t e = 0; e < m->edge_count; ++e) {
         uint32_t n = m->edge_tri_offsets[e + 1] - m->edge_tri_offsets[e];
         m->boundary_edges += (n == 1);
         m->nonmanifold_edges += (n >= 3);
     }
+}
+
+static int build_edges(selfcol_mesh *m) {
+    const selfcol_allocator *al = &m->allocator;
+    const size_t V = m->vertex_count, F = m->triangle_count;
+    int status = SELFCOL_ENOMEM;
+    uint32_t *bucket_start = selfcol_alloc__array(al, V + 1, sizeof(uint32_t));
+    half_edge *half = selfcol_alloc__array(al, 3 * F, sizeof(half_edge));
+    m->triangle_edges = selfcol_alloc__array(al, 3 * F, sizeof(uint32_t));
+    m->triangle_flags = selfcol_alloc__array(al, F, sizeof(uint8_t));
+    if (bucket_start == NULL || half == NULL || m->triangle_edges == NULL ||
+        m->triangle_flags == NULL)
+        goto done;
+    sort_half_edges(m, bucket_start, half);
+    const size_t edge_count = count_edges(V, bucket_start, half);
+    m->edge_count = edge_count;
+    m->edges = selfcol_alloc__array(al, 2 * edge_count, sizeof(uint32_t));
+    m->edge_tri_offsets = selfcol_alloc__array(al, edge_count + 1, sizeof(uint32_t));
+    if (m->edge_tri_offsets == NULL || (edge_count > 0 && m->edges == NULL))
+        goto done;
+    const size_t tri_entries = number_edges(m, bucket_start, half);
+    m->edge_tri_total = tri_entries;
+    m->edge_tris = selfcol_alloc__array(al, tri_entries, sizeof(uint32_t));
+    if (tri_entries > 0 && m->edge_tris == NULL)
+        goto done;
+    list_edge_triangles(m, bucket_start, half);
     status = SELFCOL_OK;
 done:
     selfcol_alloc__free_array(al, half, 3 * F, sizeof(half_edge));
