@@ -82,4 +82,16 @@ if [ -n "$outside" ]; then
   echo "$outside" >&2
   exit 1
 fi
+# The oldest glibc the wheel asks for: auditwheel tags it by the newest
+# symbol version the extension uses, and one libm call can raise it (hypot
+# is GLIBC_2.35 on x86-64: the renderer's once made the wheel
+# manylinux_2_35). python/README.md names manylinux_2_34 (glibc 2.34, RHEL 9).
+echo "== wheel: its glibc floor (manylinux_2_34 at most)"
+newest=$(objdump -T "$ext" | sed -n 's/.*(GLIBC_2\.\([0-9]*\)).*/\1/p' | sort -n | tail -n 1)
+echo "wheel: the extension's newest glibc symbol version: 2.$newest"
+if [ -n "$newest" ] && [ "$newest" -gt 34 ]; then
+  echo "wheel: the extension needs glibc 2.$newest, newer than 2.34:" >&2
+  objdump -T "$ext" | grep "GLIBC_2\.$newest" >&2
+  exit 1
+fi
 echo "wheel: OK ($wheel)"
