@@ -10,6 +10,8 @@
 
 #include <selfcol/common.h>
 
+#include "base/alloc.h" // SELFCOL_CHECK_ALLOCATOR
+
 // Where a validator reports: the problem (NULL: nowhere), the struct's C
 // name, and the prefix of its fields when it is nested by value in another
 // struct ("query." in selfcol_scene_options), else "".
