@@ -236,6 +236,59 @@ void final_frame(const btSoftBody *body, double distance, run_result &r) {
 }
 
 // One run, in the child process.
+// The self store's update time of the one cloth (surface 0), part of the
+// adapter's seconds_detect; 0 before the scene exists.
+double store_seconds(selfcol_bullet *adapter) {
+    const selfcol_store *st = nullptr;
+    selfcol_store_update_stats us;
+    us.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
+    if (selfcol_scene_store(selfcol_bullet_scene(adapter), 0, 0, &st) == SELFCOL_OK &&
+        st != nullptr && selfcol_store_stats(st, &us) == SELFCOL_OK)
+        return us.seconds;
+    return 0;
+}
+
+// One --trace row: step i's times (step, detect, response, store, in ms) and
+// the adapter's counters.
+void trace_step(FILE *trace, const config &cfg, const size_spec &size, demo::mode m, int rep, int i,
+                const double times_ms[4], const selfcol_bullet_step_stats &s, size_t bullet_now) {
+    std::fprintf(trace,
+                 "%s,%s,%g,%d,%d,%.4f,%.4f,%.4f,%.4f,%llu,%llu,%llu,%llu,%llu,%llu,%.4g,%zu\n",
+                 size.label.c_str(), mode_name(m), cfg.scale, rep + 1, i, times_ms[0], times_ms[1],
+                 times_ms[2], times_ms[3], (unsigned long long)s.contacts,
+                 (unsigned long long)s.interferences, (unsigned long long)s.crossed,
+                 (unsigned long long)s.flipped, (unsigned long long)s.corrected,
+                 (unsigned long long)s.responses, s.max_push, bullet_now);
+}
+
+// The window's figures (steps a..b) from the per-step series (seconds, and
+// contact counts).
+void summarize_window(run_result &r, int a, int b, const std::vector<double> &step_s,
+                      const std::vector<double> &detect_s, const std::vector<double> &response_s,
+                      const std::vector<double> &store_s, const std::vector<double> &contacts,
+                      const std::vector<double> &bcontacts) {
+    std::vector<double> ws, wd, wr, wc, wb, wst;
+    for (int i = a; i <= b; ++i) {
+        ws.push_back(1e3 * step_s[size_t(i)]);
+        wd.push_back(1e3 * detect_s[size_t(i)]);
+        wr.push_back(1e3 * response_s[size_t(i)]);
+        wc.push_back(contacts[size_t(i)]);
+        wb.push_back(bcontacts[size_t(i)]);
+        wst.push_back(1e3 * store_s[size_t(i)]);
+    }
+    r.median_ms = median(ws);
+    r.mean_ms = mean(ws);
+    r.min_ms = ws.empty() ? NAN : *std::min_element(ws.begin(), ws.end());
+    r.max_ms = ws.empty() ? NAN : *std::max_element(ws.begin(), ws.end());
+    r.detect_median_ms = median(wd);
+    r.response_median_ms = median(wr);
+    r.detect_mean_ms = mean(wd);
+    r.response_mean_ms = mean(wr);
+    r.store_median_ms = median(wst);
+    r.contacts_mean = mean(wc);
+    r.bullet_contacts_mean = mean(wb);
+}
+
 run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int rep) {
     run_result r;
     std::memset(&r, 0, sizeof r);
@@ -279,25 +332,14 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
                 r.adapter_ok = 0;
             det = s.seconds_detect;
             resp = s.seconds_response;
-            // the self store of the one cloth (surface 0): part of seconds_detect
-            const selfcol_store *st = nullptr;
-            selfcol_store_update_stats us;
-            us.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
-            if (selfcol_scene_store(selfcol_bullet_scene(w.adapter), 0, 0, &st) == SELFCOL_OK &&
-                st != nullptr && selfcol_store_stats(st, &us) == SELFCOL_OK)
-                store = us.seconds;
+            store = store_seconds(w.adapter);
         }
         store_s.push_back(store);
         const size_t bullet_now = demo::bullet_contacts(w);
-        if (trace != nullptr)
-            std::fprintf(
-                trace,
-                "%s,%s,%g,%d,%d,%.4f,%.4f,%.4f,%.4f,%llu,%llu,%llu,%llu,%llu,%llu,%.4g,%zu\n",
-                size.label.c_str(), mode_name(m), cfg.scale, rep + 1, i, 1e3 * dt, 1e3 * det,
-                1e3 * resp, 1e3 * store, (unsigned long long)s.contacts,
-                (unsigned long long)s.interferences, (unsigned long long)s.crossed,
-                (unsigned long long)s.flipped, (unsigned long long)s.corrected,
-                (unsigned long long)s.responses, s.max_push, bullet_now);
+        if (trace != nullptr) {
+            const double times_ms[4] = {1e3 * dt, 1e3 * det, 1e3 * resp, 1e3 * store};
+            trace_step(trace, cfg, size, m, rep, i, times_ms, s, bullet_now);
+        }
         detect_s.push_back(det);
         response_s.push_back(resp);
         contacts.push_back(w.adapter != nullptr ? double(s.contacts) : 0.0);
@@ -336,26 +378,7 @@ run_result run_one(const config &cfg, const size_spec &size, demo::mode m, int r
     int a = done > window_first ? window_first : 1, b = done - 1;
     r.window_first = a;
     r.window_last = b;
-    std::vector<double> ws, wd, wr, wc, wb, wst;
-    for (int i = a; i <= b; ++i) {
-        ws.push_back(1e3 * step_s[size_t(i)]);
-        wd.push_back(1e3 * detect_s[size_t(i)]);
-        wr.push_back(1e3 * response_s[size_t(i)]);
-        wc.push_back(contacts[size_t(i)]);
-        wb.push_back(bcontacts[size_t(i)]);
-        wst.push_back(1e3 * store_s[size_t(i)]);
-    }
-    r.median_ms = median(ws);
-    r.mean_ms = mean(ws);
-    r.min_ms = ws.empty() ? NAN : *std::min_element(ws.begin(), ws.end());
-    r.max_ms = ws.empty() ? NAN : *std::max_element(ws.begin(), ws.end());
-    r.detect_median_ms = median(wd);
-    r.response_median_ms = median(wr);
-    r.detect_mean_ms = mean(wd);
-    r.response_mean_ms = mean(wr);
-    r.store_median_ms = median(wst);
-    r.contacts_mean = mean(wc);
-    r.bullet_contacts_mean = mean(wb);
+    summarize_window(r, a, b, step_s, detect_s, response_s, store_s, contacts, bcontacts);
     if (w.adapter != nullptr) {
         r.contacts_end = s.contacts;
         r.interferences_end = s.interferences;
