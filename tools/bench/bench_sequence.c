@@ -200,6 +200,66 @@ static void differences(const selfcol_contacts *got, const selfcol_contacts *wan
     }
 }
 
+// What a case counts over its frames (rebuilds, near pairs, contacts: the
+// first repetition's), and the records compared.
+typedef struct tally {
+    unsigned long long misses, extras, rebuilds, fresh_frames, partials;
+    double near_sum, contacts_sum;
+    size_t bytes; // the sequence's largest size
+} tally;
+
+// BENCH_SEQUENCE_STATS: the coherent query's counters of frame k.
+static void print_frame_stats(size_t k, const selfcol_contacts *c) {
+    selfcol_query_stats q;
+    memset(&q, 0, sizeof q);
+    q.version = SELFCOL_QUERY_STATS_VERSION;
+    selfcol_contacts_stats(c, &q);
+    fprintf(stderr,
+            "frame %zu: candidates %llu filtered %llu vf %llu ee %llu ef %llu "
+            "contacts %llu/%llu/%llu broad %.2f narrow %.2f ms, contact set %zu "
+            "bytes\n",
+            k, (unsigned long long)q.candidate_pairs, (unsigned long long)q.primitives_filtered,
+            (unsigned long long)q.vf_tests, (unsigned long long)q.ee_tests,
+            (unsigned long long)q.ef_tests, (unsigned long long)q.vf_contacts,
+            (unsigned long long)q.ee_contacts, (unsigned long long)q.ef_contacts,
+            1e3 * q.broad_seconds, 1e3 * q.narrow_seconds, selfcol_contacts_byte_count(c));
+}
+
+// The case's two CSV rows, FRESH and COHERENT: per frame the median over the
+// repetitions of times[m] (frame-major, reps per frame), then their mean,
+// median and largest.
+static void print_rows(const frames *f, unsigned reps, unsigned threads, double d, double skin,
+                       double *const times[2], double *per_frame, const tally *t,
+                       size_t hierarchy_bytes) {
+    const size_t V = f->topo.vertex_count, F = f->topo.triangle_count;
+    const char *names[2] = {"FRESH", "COHERENT"};
+    for (int m = 0; m < 2; ++m) {
+        double frame_med[4096];
+        const size_t n = f->count < 4096 ? f->count : 4096;
+        double sum = 0.0, most = 0.0;
+        for (size_t k = 0; k < n; ++k) {
+            for (unsigned r = 0; r < reps; ++r)
+                per_frame[r] = times[m][k * reps + r];
+            frame_med[k] = median(per_frame, reps);
+            sum += frame_med[k];
+            most = frame_med[k] > most ? frame_med[k] : most;
+        }
+        const double mean = sum / (double)n;
+        const double med = median(frame_med, n);
+        const size_t struct_bytes = m == 0 ? hierarchy_bytes : t->bytes;
+        printf("%s,%zu,%zu,%zu,%u,%u,%.9g,%s,%.9g,%.4f,%.4f,%.4f,%llu,%llu,%llu,%.1f,%.1f,%llu,"
+               "%llu,%zu,%.1f,%.4f,%.4f,%s\n",
+               f->name, F, V, f->count, reps, threads, d, names[m], m == 0 ? 0.0 : skin, 1e3 * mean,
+               1e3 * med, 1e3 * most, m == 0 ? 0ULL : t->rebuilds, m == 0 ? 0ULL : t->fresh_frames,
+               m == 0 ? 0ULL : t->partials, m == 0 ? 0.0 : t->near_sum / (double)f->count,
+               t->contacts_sum / (double)f->count, t->misses, t->extras, struct_bytes,
+               (double)struct_bytes / (double)F, f->motion_mean, f->motion_max,
+               m == 0 ? "refit + EXACT query per frame"
+                      : "selfcol_sequence per frame (rebuilds included); struct_bytes: "
+                        "the sequence");
+    }
+}
+
 static int run_case(frames *f, unsigned reps, unsigned threads, double skin_factor) {
     const size_t V = f->topo.vertex_count, F = f->topo.triangle_count;
     selfcol_mesh *mesh = NULL;
@@ -234,9 +294,8 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
     double *per_frame = calloc(reps > f->count ? reps : f->count, sizeof(double));
     if (fresh_t == NULL || coherent_t == NULL || per_frame == NULL)
         rc = SELFCOL_ENOMEM;
-    unsigned long long misses = 0, extras = 0, rebuilds = 0, fresh_frames = 0, partials = 0;
-    double near_sum = 0.0, contacts_sum = 0.0;
-    size_t bytes = 0;
+    tally t;
+    memset(&t, 0, sizeof t);
     for (unsigned rep = 0; rc == SELFCOL_OK && rep < reps; ++rep) {
         selfcol_sequence_reset(seq);
         for (size_t k = 0; rc == SELFCOL_OK && k < f->count; ++k) {
@@ -258,68 +317,27 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
             }
             if (rc != SELFCOL_OK)
                 break;
-            differences(coherent_c, fresh_c, &misses, &extras);
-            if (getenv("BENCH_SEQUENCE_STATS") != NULL && rep == 0) {
-                selfcol_query_stats q;
-                memset(&q, 0, sizeof q);
-                q.version = SELFCOL_QUERY_STATS_VERSION;
-                selfcol_contacts_stats(coherent_c, &q);
-                fprintf(stderr,
-                        "frame %zu: candidates %llu filtered %llu vf %llu ee %llu ef %llu "
-                        "contacts %llu/%llu/%llu broad %.2f narrow %.2f ms, contact set %zu "
-                        "bytes\n",
-                        k, (unsigned long long)q.candidate_pairs,
-                        (unsigned long long)q.primitives_filtered, (unsigned long long)q.vf_tests,
-                        (unsigned long long)q.ee_tests, (unsigned long long)q.ef_tests,
-                        (unsigned long long)q.vf_contacts, (unsigned long long)q.ee_contacts,
-                        (unsigned long long)q.ef_contacts, 1e3 * q.broad_seconds,
-                        1e3 * q.narrow_seconds, selfcol_contacts_byte_count(coherent_c));
-            }
+            differences(coherent_c, fresh_c, &t.misses, &t.extras);
+            if (getenv("BENCH_SEQUENCE_STATS") != NULL && rep == 0)
+                print_frame_stats(k, coherent_c);
             selfcol_sequence_run_stats st;
             st.version = SELFCOL_SEQUENCE_RUN_STATS_VERSION;
             selfcol_sequence_stats(seq, &st);
             if (rep == 0) {
-                rebuilds += st.last_answer == SELFCOL_SEQUENCE_REBUILT;
-                fresh_frames += st.last_answer == SELFCOL_SEQUENCE_FRESH;
-                partials = st.partial_rebuilds; // since the repetition's reset
-                near_sum += (double)st.near_pairs;
-                contacts_sum += (double)selfcol_contacts_count(fresh_c);
+                t.rebuilds += st.last_answer == SELFCOL_SEQUENCE_REBUILT;
+                t.fresh_frames += st.last_answer == SELFCOL_SEQUENCE_FRESH;
+                t.partials = st.partial_rebuilds; // since the repetition's reset
+                t.near_sum += (double)st.near_pairs;
+                t.contacts_sum += (double)selfcol_contacts_count(fresh_c);
             }
             const size_t b = selfcol_sequence_byte_count(seq);
-            bytes = b > bytes ? b : bytes;
+            t.bytes = b > t.bytes ? b : t.bytes;
         }
     }
     if (rc == SELFCOL_OK) {
-        const char *names[2] = {"FRESH", "COHERENT"};
         double *times[2] = {fresh_t, coherent_t};
-        for (int m = 0; m < 2; ++m) {
-            double frame_med[4096];
-            const size_t n = f->count < 4096 ? f->count : 4096;
-            double sum = 0.0, most = 0.0;
-            for (size_t k = 0; k < n; ++k) {
-                for (unsigned r = 0; r < reps; ++r)
-                    per_frame[r] = times[m][k * reps + r];
-                frame_med[k] = median(per_frame, reps);
-                sum += frame_med[k];
-                most = frame_med[k] > most ? frame_med[k] : most;
-            }
-            const double mean = sum / (double)n;
-            const double med = median(frame_med, n);
-            const size_t struct_bytes = m == 0 ? selfcol_hierarchy_byte_count(fresh_h) : bytes;
-            printf("%s,%zu,%zu,%zu,%u,%u,%.9g,%s,%.9g,%.4f,%.4f,%.4f,%llu,%llu,%llu,%.1f,%.1f,%llu,"
-                   "%llu,"
-                   "%zu,"
-                   "%.1f,%.4f,%.4f,%s\n",
-                   f->name, F, V, f->count, reps, threads, d, names[m], m == 0 ? 0.0 : so.skin,
-                   1e3 * mean, 1e3 * med, 1e3 * most, m == 0 ? 0ULL : rebuilds,
-                   m == 0 ? 0ULL : fresh_frames, m == 0 ? 0ULL : partials,
-                   m == 0 ? 0.0 : near_sum / (double)f->count, contacts_sum / (double)f->count,
-                   misses, extras, struct_bytes, (double)struct_bytes / (double)F, f->motion_mean,
-                   f->motion_max,
-                   m == 0 ? "refit + EXACT query per frame"
-                          : "selfcol_sequence per frame (rebuilds included); struct_bytes: "
-                            "the sequence");
-        }
+        print_rows(f, reps, threads, d, so.skin, times, per_frame, &t,
+                   selfcol_hierarchy_byte_count(fresh_h));
     }
     free(fresh_t);
     free(coherent_t);
@@ -330,7 +348,7 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
     selfcol_hierarchy_destroy(fresh_h);
     selfcol_hierarchy_destroy(coherent_h);
     selfcol_mesh_destroy(mesh);
-    return rc == SELFCOL_OK && misses == 0 && extras == 0 ? 0 : 1;
+    return rc == SELFCOL_OK && t.misses == 0 && t.extras == 0 ? 0 : 1;
 }
 
 int main(int argc, char **argv) {
