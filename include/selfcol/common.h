@@ -59,7 +59,7 @@ typedef enum selfcol_status {
     SELFCOL_ENOMEM = -2,   /**< the allocator returned NULL */
     SELFCOL_EINVAL = -3,   /**< an argument or the input data is invalid */
     SELFCOL_EVERSION = -4, /**< options.version is 0 or unknown to this library */
-    /** Reserved (never returned by 0.2): a caller-provided buffer is too small. */
+    /** Reserved, never returned (0.1 to 0.3): a caller-provided buffer is too small. */
     SELFCOL_EBUFS = -5,
     /** A callback asked to stop (selfcol_sweep_options.progress returned non-zero). */
     SELFCOL_EUSER = -6,
