@@ -114,8 +114,8 @@ typedef struct selfcol_options_problem {
      *  "query.kinds" in a struct nested by value); "" when accepted. */
     char field[64];
     /** The whole sentence, naming the struct, the field, the value and what
-     *  is accepted: "selfcol_query_options.distance = nan is not a finite
-     *  distance in 0 .. 1e+100"; "" when accepted. */
+     *  is accepted: "selfcol_query_options.distance = nan is not a distance
+     *  in 0 .. 1.60694e+60"; "" when accepted. */
     char message[256];
 } selfcol_options_problem;
 
