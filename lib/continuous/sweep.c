@@ -246,23 +246,29 @@ static int narrow_worker(void *context, unsigned worker) {
     }
 }
 
-// Room for n outcomes and times (ALL's per-candidate arrays).
-static int reserve_outcomes(selfcol_sweep *s, size_t n) {
-    if (n <= s->outcome_capacity)
+int selfcol_sweep__reserve_two(selfcol_sweep *s, size_t n, size_t *capacity, void **a,
+                               size_t a_size, void **b, size_t b_size) {
+    if (n <= *capacity)
         return SELFCOL_OK;
-    uint8_t *outcome = selfcol_alloc__array(&s->allocator, n, sizeof *outcome);
-    double *toi = selfcol_alloc__array(&s->allocator, n, sizeof *toi);
-    if (outcome == NULL || toi == NULL) {
-        selfcol_alloc__free_array(&s->allocator, outcome, n, sizeof *outcome);
-        selfcol_alloc__free_array(&s->allocator, toi, n, sizeof *toi);
+    void *a_new = selfcol_alloc__array(&s->allocator, n, a_size);
+    void *b_new = selfcol_alloc__array(&s->allocator, n, b_size);
+    if (a_new == NULL || b_new == NULL) {
+        selfcol_alloc__free_array(&s->allocator, a_new, n, a_size);
+        selfcol_alloc__free_array(&s->allocator, b_new, n, b_size);
         return SELFCOL_ENOMEM;
     }
-    selfcol_alloc__free_array(&s->allocator, s->outcome, s->outcome_capacity, sizeof *s->outcome);
-    selfcol_alloc__free_array(&s->allocator, s->toi, s->outcome_capacity, sizeof *s->toi);
-    s->outcome = outcome;
-    s->toi = toi;
-    s->outcome_capacity = n;
+    selfcol_alloc__free_array(&s->allocator, *a, *capacity, a_size);
+    selfcol_alloc__free_array(&s->allocator, *b, *capacity, b_size);
+    *a = a_new;
+    *b = b_new;
+    *capacity = n;
     return SELFCOL_OK;
+}
+
+// Room for n outcomes and times (ALL's per-candidate arrays).
+static int reserve_outcomes(selfcol_sweep *s, size_t n) {
+    return selfcol_sweep__reserve_two(s, n, &s->outcome_capacity, (void **)&s->outcome,
+                                      sizeof *s->outcome, (void **)&s->toi, sizeof *s->toi);
 }
 
 static int narrow_all(selfcol_sweep_query *q, const selfcol_executor *executor, unsigned threads,

@@ -116,6 +116,12 @@ typedef struct selfcol_sweep_query {
 // again with boxes over [0, earliest].
 #define SELFCOL_SWEEP__RESTART 1
 
+// Room for n items in two arrays that share one capacity (their content is
+// not kept: both are refilled after a call). SELFCOL_OK or SELFCOL_ENOMEM,
+// which leaves the old arrays.
+int selfcol_sweep__reserve_two(selfcol_sweep *s, size_t n, size_t *capacity, void **a,
+                               size_t a_size, void **b, size_t b_size);
+
 // Appends a candidate. SELFCOL_OK or SELFCOL_ENOMEM.
 int selfcol_sweep__push_candidate(selfcol_sweep *s, const selfcol_sweep_candidate *c);
 

@@ -623,21 +623,9 @@ static int build_front(selfcol_sweep_worker *w0, const bvh_boxes *bx, size_t *ta
 
 // Room for n segments and pending tasks.
 static int reserve_segments(selfcol_sweep *s, size_t n) {
-    if (n <= s->segment_capacity)
-        return SELFCOL_OK;
-    selfcol_sweep_segment *grown = selfcol_alloc__array(&s->allocator, n, sizeof *grown);
-    uint32_t *pending = selfcol_alloc__array(&s->allocator, n, sizeof *pending);
-    if (grown == NULL || pending == NULL) {
-        selfcol_alloc__free_array(&s->allocator, grown, n, sizeof *grown);
-        selfcol_alloc__free_array(&s->allocator, pending, n, sizeof *pending);
-        return SELFCOL_ENOMEM;
-    }
-    selfcol_alloc__free_array(&s->allocator, s->segments, s->segment_capacity, sizeof *s->segments);
-    selfcol_alloc__free_array(&s->allocator, s->pending, s->segment_capacity, sizeof *s->pending);
-    s->segments = grown;
-    s->pending = pending;
-    s->segment_capacity = n;
-    return SELFCOL_OK;
+    return selfcol_sweep__reserve_two(s, n, &s->segment_capacity, (void **)&s->segments,
+                                      sizeof *s->segments, (void **)&s->pending,
+                                      sizeof *s->pending);
 }
 
 // A round's candidates in task order: to ALL's list, or to EARLIEST's root
