@@ -17,8 +17,9 @@
 // 3 nf int32 indices, native byte order.
 //
 // usage: selfcol-bench-sweep [--data DIR] [--reps N] [--only NAME] [--dump DIR] [--smoke]
-//                            [--earliest]
-// --earliest runs the EARLIEST rows only (the ALL rows take seconds each).
+//        [--earliest] [--threads N]
+// --earliest runs the EARLIEST rows only (the ALL rows take seconds each);
+// --threads N runs the rows marked "2 threads" on N (2 to 64) instead.
 #include <selfcol/selfcol.h>
 
 #include "fixtures.h"
@@ -94,7 +95,7 @@ static double median(double *v, int n) {
 
 #define MAX_REPS 64
 
-static void run(const bench_step *b, int reps, int earliest_only) {
+static void run(const bench_step *b, int reps, int earliest_only, unsigned many) {
     selfcol_mesh *m;
     selfcol_hierarchy *h;
     selfcol_sweep *r;
@@ -106,14 +107,16 @@ static void run(const bench_step *b, int reps, int earliest_only) {
         exit(1);
     }
     // Rows: ALL and EARLIEST (one thread) with each method, EXACT's ALL on
-    // two threads, and BVH's EARLIEST on two (its broad phase's tasks;
-    // EXACT's culling keeps EARLIEST on one). BVH is the box-only search
+    // `many` threads (--threads, default 2), and BVH's EARLIEST on `many`
+    // (its broad phase's tasks; EXACT's culling keeps EARLIEST on one). BVH is the box-only search
     // that EXACT refines with the curvature criterion over the step
     // (sweep_cull.c).
     enum { ROWS = 6 };
-    static const char *const row_name[ROWS] = {
-        "ALL, BVH",      "ALL, EXACT",      "ALL, EXACT, 2 threads",
-        "EARLIEST, BVH", "EARLIEST, EXACT", "EARLIEST, BVH, 2 threads"};
+    char many_all[40], many_earliest[40];
+    snprintf(many_all, sizeof many_all, "ALL, EXACT, %u threads", many);
+    snprintf(many_earliest, sizeof many_earliest, "EARLIEST, BVH, %u threads", many);
+    const char *const row_name[ROWS] = {"ALL, BVH",      "ALL, EXACT",      many_all,
+                                        "EARLIEST, BVH", "EARLIEST, EXACT", many_earliest};
     static const uint32_t row_method[ROWS] = {SELFCOL_METHOD_BVH,   SELFCOL_METHOD_EXACT,
                                               SELFCOL_METHOD_EXACT, SELFCOL_METHOD_BVH,
                                               SELFCOL_METHOD_EXACT, SELFCOL_METHOD_BVH};
@@ -126,7 +129,7 @@ static void run(const bench_step *b, int reps, int earliest_only) {
             selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
             o.method = row_method[mode];
             o.mode = mode >= 3 ? SELFCOL_SWEEP_EARLIEST : SELFCOL_SWEEP_ALL;
-            o.threads = mode == 2 || mode == 5 ? 2 : 1;
+            o.threads = mode == 2 || mode == 5 ? many : 1;
             if (selfcol_hierarchy_self_sweep(h, b->start.positions, r, &o) != SELFCOL_OK) {
                 fprintf(stderr, "bench-sweep: %s: query failed\n", b->name);
                 exit(1);
@@ -159,7 +162,7 @@ static void run(const bench_step *b, int reps, int earliest_only) {
 
 int main(int argc, char **argv) {
     const char *data = BENCH_DEFAULT_DATA_DIR, *only = NULL, *dump_dir = NULL;
-    int reps = 5, smoke = 0, earliest_only = 0;
+    int reps = 5, smoke = 0, earliest_only = 0, many = 2;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--data") == 0 && i + 1 < argc)
             data = argv[++i];
@@ -173,11 +176,17 @@ int main(int argc, char **argv) {
             smoke = 1;
         else if (strcmp(argv[i], "--earliest") == 0)
             earliest_only = 1;
+        else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
+            many = atoi(argv[++i]);
         else {
             fprintf(stderr, "usage: selfcol-bench-sweep [--data DIR] [--reps N] [--only NAME] "
-                            "[--dump DIR] [--smoke] [--earliest]\n");
+                            "[--dump DIR] [--smoke] [--earliest] [--threads N]\n");
             return 2;
         }
+    }
+    if (many < 2 || many > 64) {
+        fprintf(stderr, "bench-sweep: --threads (of the many-thread rows) must be 2 to 64\n");
+        return 2;
     }
     if (reps < 1 || reps > MAX_REPS) {
         fprintf(stderr, "bench-sweep: --reps must be 1 to %d\n", MAX_REPS);
@@ -211,7 +220,7 @@ int main(int argc, char **argv) {
         if (only == NULL || strcmp(only, b.name) == 0) {
             if (dump_dir != NULL)
                 dump(&b, dump_dir);
-            run(&b, reps, earliest_only);
+            run(&b, reps, earliest_only, (unsigned)many);
         }
         fixture_free(&b.start);
         fixture_free(&b.end);
