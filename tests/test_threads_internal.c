@@ -12,7 +12,11 @@
 //
 // The record sort (selfcol_records__sort, on the query's threads): the
 // order of one thread for every count, a stable sort of the keys, records
-// with equal keys included.
+// with equal keys included, on started threads and on a pool's.
+//
+// A handle's pool (pool.h): every worker of a stage runs once, stage after
+// stage on the same threads, with the first failing worker's status; a
+// stage started from inside a stage runs on threads of its own.
 //
 // Run under ThreadSanitizer in CI.
 #include <setjmp.h>
@@ -25,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/parallel.h"
 #include "fixtures.h"
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
@@ -205,12 +210,18 @@ static selfcol_records *random_records(size_t n, uint32_t seed) {
     return c;
 }
 
-// Sorts r on `threads` POSIX threads, with a workspace of its own.
-static void sort_records(selfcol_records *r, unsigned threads) {
+// Sorts r on `threads` workers of `executor` (NULL: POSIX threads started
+// per stage), with a workspace of its own.
+static void sort_records_on(selfcol_records *r, unsigned threads,
+                            const selfcol_executor *executor) {
     selfcol_workspace work;
     selfcol_workspace__init(&work, &r->allocator);
-    assert_int_equal(selfcol_records__sort(r, NULL, 0, &work, NULL, threads), SELFCOL_OK);
+    assert_int_equal(selfcol_records__sort(r, NULL, 0, &work, executor, threads), SELFCOL_OK);
     selfcol_workspace__free(&work);
+}
+
+static void sort_records(selfcol_records *r, unsigned threads) {
+    sort_records_on(r, threads, NULL);
 }
 
 static void free_records(selfcol_records *r) {
@@ -253,8 +264,113 @@ static void test_sort_threads_give_the_order_of_one_thread(void **state) {
             assert_memory_equal(x, y, n * sizeof *x);
             free_records(many);
         }
+        // On a pool, whose chunks are four times smaller (16 of them for
+        // 262,147 records).
+        const selfcol_allocator standard = {NULL, NULL, NULL};
+        selfcol_executor pooled = {NULL, NULL, NULL, selfcol_pool__create(&standard)};
+        assert_non_null(pooled.pool);
+        for (unsigned t = 5; t <= 16; t += 11) {
+            selfcol_records *many = random_records(sizes[z], 7);
+            sort_records_on(many, t, &pooled);
+            assert_int_equal(many->count, n);
+            assert_memory_equal(x, many->items, n * sizeof *x);
+            free_records(many);
+        }
+        assert_true(selfcol_pool__threads(pooled.pool) >= 4);
+        selfcol_pool__destroy(pooled.pool);
         free_records(one);
     }
+}
+
+// A stage of the pool tests: every worker counts its runs; workers listed
+// in fail[] return their status.
+typedef struct stage {
+    unsigned runs[SELFCOL_MAX_THREADS]; // atomic
+    int fail[SELFCOL_MAX_THREADS];
+    const selfcol_executor *nested; // non-NULL: worker 1 runs a stage of 3 on it
+    struct stage *inner;
+} stage;
+
+static int stage_worker(void *context, unsigned w) {
+    stage *s = context;
+    SELFCOL_ATOMIC_FETCH_ADD(&s->runs[w], 1u);
+    if (w == 1 && s->nested != NULL) {
+        const int status = selfcol_parallel__run(s->nested, 3, stage_worker, s->inner);
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    return s->fail[w];
+}
+
+static void test_pool_runs_every_worker_of_every_stage(void **state) {
+    (void)state;
+    const selfcol_allocator standard = {NULL, NULL, NULL};
+    selfcol_executor pooled = {NULL, NULL, NULL, selfcol_pool__create(&standard)};
+    assert_non_null(pooled.pool);
+    assert_int_equal(selfcol_pool__threads(pooled.pool), 0);
+    // Stages of changing widths on the same threads: each worker of a stage
+    // runs exactly once, the others not at all.
+    unsigned most = 0;
+    for (unsigned round = 0; round < 300; ++round) {
+        const unsigned workers = 2 + (round * 7u) % 15u; // 2 .. 16
+        most = workers > most ? workers : most;
+        stage s;
+        memset(&s, 0, sizeof s);
+        assert_int_equal(selfcol_parallel__run(&pooled, workers, stage_worker, &s), SELFCOL_OK);
+        for (unsigned w = 0; w < SELFCOL_MAX_THREADS; ++w)
+            assert_int_equal(s.runs[w], w < workers ? 1u : 0u);
+        assert_int_equal(selfcol_pool__threads(pooled.pool), most - 1);
+    }
+    // The first failing worker in worker order names the status, whichever
+    // finishes first.
+    stage failing;
+    memset(&failing, 0, sizeof failing);
+    failing.fail[5] = SELFCOL_EINVAL;
+    failing.fail[2] = SELFCOL_ENOMEM;
+    assert_int_equal(selfcol_parallel__run(&pooled, 8, stage_worker, &failing), SELFCOL_ENOMEM);
+    for (unsigned w = 0; w < 8; ++w)
+        assert_int_equal(failing.runs[w], 1u);
+    // A stage started inside a stage (worker 1) runs on threads of its own:
+    // both finish, each worker once.
+    stage outer, inner;
+    memset(&outer, 0, sizeof outer);
+    memset(&inner, 0, sizeof inner);
+    outer.nested = &pooled;
+    outer.inner = &inner;
+    assert_int_equal(selfcol_parallel__run(&pooled, 4, stage_worker, &outer), SELFCOL_OK);
+    for (unsigned w = 0; w < SELFCOL_MAX_THREADS; ++w) {
+        assert_int_equal(outer.runs[w], w < 4 ? 1u : 0u);
+        assert_int_equal(inner.runs[w], w < 3 ? 1u : 0u);
+    }
+    // More workers than the library's most are capped, as without a pool.
+    stage wide;
+    memset(&wide, 0, sizeof wide);
+    assert_int_equal(selfcol_parallel__run(&pooled, SELFCOL_MAX_THREADS + 5, stage_worker, &wide),
+                     SELFCOL_OK);
+    for (unsigned w = 0; w < SELFCOL_MAX_THREADS; ++w)
+        assert_int_equal(wide.runs[w], 1u);
+    selfcol_pool__destroy(pooled.pool);
+    selfcol_pool__destroy(NULL);
+}
+
+// A pool is allocated with its handle's allocator: a failure is NULL.
+static void test_pool_allocation_failure(void **state) {
+    (void)state;
+    test_allocator_state counter;
+    memset(&counter, 0, sizeof counter);
+    counter.fail_at = 1;
+    const selfcol_allocator failing = test_allocator(&counter);
+    assert_null(selfcol_pool__create(&failing));
+    counter.fail_at = 0;
+    selfcol_pool *p = selfcol_pool__create(&failing);
+    assert_non_null(p);
+    stage s;
+    memset(&s, 0, sizeof s);
+    const selfcol_executor pooled = {NULL, NULL, NULL, p};
+    assert_int_equal(selfcol_parallel__run(&pooled, 3, stage_worker, &s), SELFCOL_OK);
+    selfcol_pool__destroy(p);
+    assert_int_equal(counter.live, 0);
+    assert_int_equal(counter.misaligned, 0);
 }
 
 int main(void) {
@@ -262,6 +378,8 @@ int main(void) {
         cmocka_unit_test(test_refit_threads_give_the_nodes_of_one_thread),
         cmocka_unit_test(test_refit_plan_bounds_and_allocation_failure),
         cmocka_unit_test(test_sort_threads_give_the_order_of_one_thread),
+        cmocka_unit_test(test_pool_runs_every_worker_of_every_stage),
+        cmocka_unit_test(test_pool_allocation_failure),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,11 +1,13 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Per-query worker threads: POSIX threads, or the items of one task of a
-// caller's scheduler (context.h). Starting and joining a thread costs tens
-// of microseconds, against queries of milliseconds on the meshes where
-// threads pay; the library starts none unless the caller asks for more than
-// one thread (selfcol_query_options.threads, selfcol_context_options.threads).
+// Per-query worker threads: the items of one task of a caller's scheduler
+// (context.h), a handle's pool (pool.c), or POSIX threads started for the
+// stage. Starting and joining a thread costs tens of microseconds, against
+// stages of milliseconds on the meshes where threads pay, but a query with
+// many stages pays it many times: handles that run queries keep a pool. The
+// library starts no thread unless the caller asks for more than one
+// (selfcol_query_options.threads, selfcol_context_options.threads).
 #include "base/parallel.h"
 
 #include "base/core.h"
@@ -65,6 +67,10 @@ int selfcol_parallel__run(const selfcol_executor *executor, unsigned workers,
         return work(context, 0);
     if (executor != NULL && executor->enqueue_task != NULL)
         return run_scheduled(executor, workers, work, context);
+    int status;
+    if (executor != NULL && executor->pool != NULL &&
+        selfcol_pool__try_run(executor->pool, workers, work, context, &status))
+        return status;
     worker_start start[SELFCOL_MAX_THREADS];
     pthread_t thread[SELFCOL_MAX_THREADS];
     int running[SELFCOL_MAX_THREADS] = {0};
@@ -72,7 +78,7 @@ int selfcol_parallel__run(const selfcol_executor *executor, unsigned workers,
         start[w] = (worker_start){work, context, w, SELFCOL_OK};
         running[w] = pthread_create(&thread[w], NULL, worker_main, &start[w]) == 0;
     }
-    int status = work(context, 0);
+    status = work(context, 0);
     for (unsigned w = 1; w < workers; ++w) {
         if (!running[w])
             continue;

@@ -1,28 +1,35 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Worker threads for one query, started and joined inside the call (the
-// library keeps no thread or other global state between calls), and the few
-// atomic operations the shared per-query data needs.
+// Who runs a query's parallel stages: a caller's scheduler, a handle's own
+// pool of threads (pool.h: kept asleep between stages and joined when the
+// handle is destroyed; the library keeps no global state), or threads
+// started and joined inside the stage; and the few atomic operations the
+// shared per-query data needs.
 #ifndef SELFCOL_PARALLEL_H
 #define SELFCOL_PARALLEL_H
 
 #include <selfcol/context.h>
 
+#include "base/pool.h"
+
 #include <stdint.h>
 
 // Who runs a parallel stage's work items: a caller's scheduler
 // (selfcol_context_options' enqueue_task and finish_task), or, with
-// enqueue_task NULL, POSIX threads started and joined by the stage.
+// enqueue_task NULL, the handle's pool (NULL: POSIX threads started and
+// joined by the stage).
 typedef struct selfcol_executor {
     selfcol_enqueue_task_fn *enqueue_task;
     selfcol_finish_task_fn *finish_task;
     void *user_context;
+    selfcol_pool *pool;
 } selfcol_executor;
 
 // Runs work(context, w) for w = 0 .. workers - 1 and returns when all have
-// run. With `executor` NULL or without a scheduler: worker 0 on the calling
-// thread, the others on threads started here and joined before returning; a
+// run. Without a scheduler: worker 0 on the calling thread, the others on
+// the executor's pool, or (`executor` NULL, no pool, or a pool already
+// running a stage) on threads started here and joined before returning; a
 // worker whose thread cannot be started is not run (callers share their work
 // through a task counter, so the others take its part). With a scheduler:
 // one task of `workers` items, each item one worker. A worker never waits

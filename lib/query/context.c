@@ -66,6 +66,14 @@ int selfcol_context_create(selfcol_context **out, const selfcol_context_options 
     c->executor.enqueue_task = o.enqueue_task;
     c->executor.finish_task = o.finish_task;
     c->executor.user_context = o.user_context;
+    // Without a scheduler, the context's own threads run its stages.
+    if (o.enqueue_task == NULL) {
+        c->executor.pool = selfcol_pool__create(&c->allocator);
+        if (c->executor.pool == NULL) {
+            selfcol_alloc__free(&o.allocator, c, sizeof *c);
+            return SELFCOL_ENOMEM;
+        }
+    }
     selfcol_workspace__init(&c->work, &c->allocator);
     *out = c;
     return SELFCOL_OK;
@@ -75,6 +83,7 @@ void selfcol_context_destroy(selfcol_context *context) {
     if (context == NULL)
         return;
     selfcol_allocator allocator = context->allocator;
+    selfcol_pool__destroy(context->executor.pool); // joins its threads first
     for (unsigned w = 1; w < SELFCOL_MAX_THREADS; ++w) {
         selfcol_worker *worker = context->workers[w];
         if (worker == NULL)

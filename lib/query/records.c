@@ -138,8 +138,10 @@ static uint32_t digit_of(const sort_item *it, int pass) {
 // could not be started leaves its chunks to the others).
 
 // Items per chunk at least: below that, starting threads (twice per pass)
-// costs about what the chunk's share of the sort does.
+// costs about what the chunk's share of the sort does. Waking a pool's
+// threads or a scheduler's costs far less (pool.h): a quarter of it then.
 #define SORT_MIN_CHUNK 65536u
+#define SORT_MIN_CHUNK_KEPT_THREADS 16384u
 
 enum { SORT_BUILD, SORT_COUNT, SORT_SCATTER, SORT_PERMUTE };
 
@@ -269,7 +271,8 @@ int selfcol_records__sort(selfcol_records *c, selfcol_records *const *pending_se
         if (i >= n)
             return SELFCOL_OK; // already sorted (the exhaustive search emits in order)
     }
-    const size_t most = n / SORT_MIN_CHUNK;
+    const int kept = executor != NULL && (executor->pool != NULL || executor->enqueue_task != NULL);
+    const size_t most = n / (kept ? SORT_MIN_CHUNK_KEPT_THREADS : SORT_MIN_CHUNK);
     const unsigned chunks = most < 2 ? 1u : threads < most ? threads : (unsigned)most;
     const size_t count_bytes = (size_t)chunks * RADIX_PASSES * RADIX_SIZE * sizeof(size_t);
     if (n > (SIZE_MAX - count_bytes) / (2 * sizeof(sort_item)))

@@ -42,12 +42,11 @@ int selfcol_records__push(selfcol_records *r, const selfcol_contact *contact);
 // Sorts the records by (kind, first_mesh, first, second_mesh, second): an LSD
 // radix sort of their keys, then one permutation of the records. O(n); no
 // allocation once the spare buffer and `work`'s sort slot have grown. On up
-// to `threads` workers of `executor` (one per 65536 records at most), with
-// the same order for every count. The records of the `pending_count` sets
-// in `pending` are taken in too (read where they lie, no copy first): they
-// end in r, sorted with its own, and those sets are left empty.
-// SELFCOL_OK or SELFCOL_ENOMEM (the records are then left unsorted, and the
-// pending ones are lost: the caller clears r).
+// to `threads` workers of `executor` (one per 65536 records at most, 16384 with a pool or a
+// scheduler), with the same order for every count. The records of the `pending_count` sets in
+// `pending` are taken in too (read where they lie, no copy first): they end in r, sorted with its
+// own, and those sets are left empty. SELFCOL_OK or SELFCOL_ENOMEM (the records are then left
+// unsorted, and the pending ones are lost: the caller clears r).
 int selfcol_records__sort(selfcol_records *r, selfcol_records *const *pending,
                           unsigned pending_count, selfcol_workspace *work,
                           const selfcol_executor *executor, unsigned threads);
