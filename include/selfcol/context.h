@@ -15,8 +15,11 @@
  * nothing.
  *
  * Threads: a context runs each parallel stage of a query (the traversal,
- * the records' sort) as `threads` work items. By default the library starts
- * POSIX threads for them inside the call and joins them before it returns.
+ * the records' sort) as `threads` work items. By default they run on POSIX
+ * threads that the context starts at its first parallel stage and keeps
+ * asleep between stages and queries (a continuous query runs about a
+ * hundred stages; starting threads for each cost more than the work on 16
+ * cores); selfcol_context_destroy() joins them.
  * A caller with its own scheduler (a game engine's job system, Bullet's
  * btITaskScheduler, TBB) gives enqueue_task and finish_task instead, and
  * the items run wherever that scheduler puts them; Box2D v3's task
@@ -82,8 +85,8 @@ typedef struct selfcol_context_options {
      *  everything on the calling thread). With a scheduler, the number of
      *  threads it runs at once is the useful value. */
     unsigned int threads;
-    /** The caller's scheduler: both NULL (default: POSIX threads started
-     *  and joined in each stage) or both set. */
+    /** The caller's scheduler: both NULL (default: POSIX threads the
+     *  context keeps, joined by selfcol_context_destroy()) or both set. */
     selfcol_enqueue_task_fn *enqueue_task;
     selfcol_finish_task_fn *finish_task;
     void *user_context; /**< passed to enqueue_task and finish_task */

@@ -178,12 +178,14 @@ typedef struct selfcol_query_options {
     /* Version 2 */
     /** Threads the query may use, 1 to SELFCOL_MAX_THREADS; default 1.
      *  The contacts and the statistics (apart from times) are identical for
-     *  every count. With more than one, the query starts and joins its
-     *  threads itself, and the contacts' allocator may be called from them
-     *  (it must then be thread-safe). The default is one thread because an
-     *  engine usually runs queries of several meshes or scenes side by side
-     *  already, and one thread is the reference of every measurement. The
-     *  exhaustive method always uses one. */
+     *  every count. With more than one, the query runs on threads the
+     *  contact set keeps asleep between queries (its implicit context:
+     *  context.h; selfcol_contacts_destroy() joins them), and the contacts'
+     *  allocator may be called from them (it must then be thread-safe).
+     *  The default is one thread because an engine usually runs queries of
+     *  several meshes or scenes side by side already, and one thread is
+     *  the reference of every measurement. The exhaustive method always
+     *  uses one. */
     unsigned int threads;
 } selfcol_query_options;
 
