@@ -414,6 +414,13 @@ static int expands(const selfcol_sweep_query *q, uint32_t a, uint32_t b) {
     return na->child_count > 0 || nb->child_count > 0;
 }
 
+// A task's expected work: the triangles below its two nodes (one for a
+// node against itself).
+static uint64_t task_size(const selfcol_sweep_query *q, uint32_t a, uint32_t b) {
+    const uint64_t ta = q->hierarchy[0]->nodes[a].tri_count;
+    return q->self && a == b ? ta : ta + q->hierarchy[1]->nodes[b].tri_count;
+}
+
 // One task: the depth-first traversal below node pair (a, b).
 static int run_task(selfcol_sweep_worker *w, const bvh_boxes *bx, uint32_t a, uint32_t b) {
     size_t top = 0;
@@ -502,6 +509,21 @@ static int run_round(selfcol_sweep_query *q, const bvh_boxes *bx, const selfcol_
         s->pending[t] = (uint32_t)(first + t);
         s->segments[t].count = UINT32_MAX; // not run
     }
+    // On threads, the largest tasks first (by triangles, stable), so that
+    // none starts a big subtree when the others are about to finish the
+    // round. Each task writes its own segment: the order they run in
+    // changes no result.
+    if (threads > 1)
+        for (size_t t = 1; t < count; ++t) {
+            const uint32_t task = s->pending[t];
+            const uint64_t size = task_size(q, s->front[2 * task], s->front[2 * task + 1]);
+            size_t j = t;
+            for (; j > 0 && task_size(q, s->front[2 * s->pending[j - 1]],
+                                      s->front[2 * s->pending[j - 1] + 1]) < size;
+                 --j)
+                s->pending[j] = s->pending[j - 1];
+            s->pending[j] = task;
+        }
     for (unsigned i = 0; i < threads; ++i)
         s->workers[i].found_count = 0;
     while (count > 0) {

@@ -157,7 +157,8 @@ int main(int argc, char **argv) {
     const selfcol_contact *ref;
     size_t ref_count;
     selfcol_contacts_data(c[0], &ref, &ref_count);
-    printf("%s: %zu triangles, d = %.6g, EXACT, medians of %d (interleaved)\n\n", path,
+    const char *name = strrchr(path, '/') != NULL ? strrchr(path, '/') + 1 : path;
+    printf("%s: %zu triangles, d = %.6g, EXACT, medians of %d (interleaved)\n\n", name,
            s.triangle_count, d, reps);
     printf("| threads | query ms (min-max) | speed-up | busy | sort ms | refit ms | contacts | "
            "same as first |\n|---|---|---|---|---|---|---|---|\n");

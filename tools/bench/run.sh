@@ -9,6 +9,8 @@
 #   OUT/SUBSET.meta  machine, date, commit, compiler, Bullet, command, runtime
 #   OUT/sequence.csv (default; sequence-SUBSET.csv for the others)
 #                    fresh against coherent queries frame after frame
+#   OUT/threads.md   (default, with the real frames) cloth-ball 92's query on
+#                    1 and 2 threads, interleaved (selfcol-bench-threads)
 # OUT defaults to tools/bench/results (with --only, to BUILD/bench-results:
 # a partial run never replaces the committed results). --only REGEX keeps the
 # cases whose name matches, e.g. --only '^store-' for the contact-store rows
@@ -154,6 +156,23 @@ if [ -x "$seqrunner" ]; then
     fi
   done
   mv "$seqcsv.tmp" "$seqcsv"
+fi
+# Thread scaling (selfcol-bench-threads, bench_threads.c): one frame's EXACT
+# query and refit on 1 and 2 threads (this machine's cores), interleaved,
+# records compared byte for byte; the 16-core rows come from ../shared/device
+# (docs/benchmarks.md, "Threads").
+thrrunner="$build/tools/bench/selfcol-bench-threads"
+if [ "$subset" = default ] && [ -z "$only" ] && [ -x "$thrrunner" ] &&
+   [ -f "$data/sample-scalable-ccd-data/cloth-ball/frames/cloth_ball92.ply" ]; then
+  t0=$(date +%s)
+  if $timeout_cmd "$thrrunner" --data "$data" --threads 1,2 --reps 7 > "$out/threads.md.tmp" 2>> "$log"; then
+    mv "$out/threads.md.tmp" "$out/threads.md"
+    echo "bench: threads ($(( $(date +%s) - t0 )) s)"
+  else
+    rm -f "$out/threads.md.tmp"
+    echo "bench: threads FAILED (see $log)" >&2
+    failed=1
+  fi
 fi
 elapsed=$(( $(date +%s) - start ))
 
