@@ -38,15 +38,16 @@
 // ---------------------------------------------------------------------------
 // Swept boxes
 
-// The swept box of every vertex of mesh m over [0, t_box] (6 doubles
-// each), computed once per search: the pair tests read them instead of both
-// position arrays. With t_box < 1 the end position is computed (within eps
-// of the exact one, sweep.h): the box is widened by 2 eps, which rounds to at
-// least eps since eps is at least 8 ulps of every coordinate (sweep.c).
-static void vertex_boxes(const selfcol_sweep_query *q, int m, double *boxes) {
-    const selfcol_mesh *mesh = q->mesh[m];
+// The swept boxes of vertices begin .. end - 1 of mesh m over [0, t_box]
+// (6 doubles each), computed once per search: the pair tests read them
+// instead of both position arrays. With t_box < 1 the end position is
+// computed (within eps of the exact one, sweep.h): the box is widened by
+// 2 eps, which rounds to at least eps since eps is at least 8 ulps of every
+// coordinate (sweep.c).
+static void vertex_boxes(const selfcol_sweep_query *q, int m, double *boxes, size_t begin,
+                         size_t end) {
     const double widen = 2.0 * q->eps;
-    for (size_t v = 0; v < mesh->vertex_count; ++v) {
+    for (size_t v = begin; v < end; ++v) {
         const double *p0 = q->start[m] + 3 * v, *p1 = q->end[m] + 3 * v;
         double *lo = boxes + 6 * v, *hi = lo + 3;
         for (int k = 0; k < 3; ++k) {
@@ -73,39 +74,102 @@ static void primitive_box(const selfcol_sweep_query *q, int m, const uint32_t *v
     }
 }
 
-// The swept boxes of mesh m's triangles (6 doubles each, by triangle index).
-static void triangle_boxes(const selfcol_sweep_query *q, int m, double *boxes) {
-    const selfcol_mesh *mesh = q->mesh[m];
-    for (size_t t = 0; t < mesh->triangle_count; ++t)
-        primitive_box(q, m, mesh->triangles + 3 * t, 3, boxes + 6 * t, boxes + 6 * t + 3);
+// The leaves among nodes begin .. end - 1 of hierarchy m: the swept boxes
+// of their triangles (6 doubles each, by triangle index; the leaves hold
+// every triangle once, hierarchy_validate.c) and their own boxes.
+static void leaf_boxes(const selfcol_sweep_query *q, int m, double *tri_boxes, double *boxes,
+                       size_t begin, size_t end) {
+    const selfcol_hierarchy *h = q->hierarchy[m];
+    const uint32_t *triangles = q->mesh[m]->triangles;
+    for (size_t i = begin; i < end; ++i) {
+        const selfcol_node *n = &h->nodes[i];
+        if (n->child_count != 0)
+            continue;
+        double *lo = boxes + 6 * i, *hi = lo + 3;
+        const uint32_t *slot = h->tri_order + n->tri_begin;
+        for (uint32_t k = 0; k < n->tri_count; ++k) {
+            double *b = tri_boxes + 6 * (size_t)slot[k];
+            primitive_box(q, m, triangles + 3 * (size_t)slot[k], 3, b, b + 3);
+            if (k == 0) {
+                memcpy(lo, b, 3 * sizeof *lo);
+                memcpy(hi, b + 3, 3 * sizeof *hi);
+            } else {
+                selfcol_box__merge(lo, hi, b, b + 3);
+            }
+        }
+    }
 }
 
-// The swept boxes of hierarchy m's nodes from its triangles' boxes. Nodes are
-// stored breadth-first (children after their parent), so a reverse sweep
-// sees every child before its parent.
-static void node_boxes(const selfcol_sweep_query *q, int m, const double *tri_boxes,
-                       double *boxes) {
+// The internal nodes' boxes from their children's. Nodes are stored
+// breadth-first (children after their parent), so a reverse sweep sees
+// every child before its parent.
+static void internal_boxes(const selfcol_sweep_query *q, int m, double *boxes) {
     const selfcol_hierarchy *h = q->hierarchy[m];
     for (size_t i = h->node_count; i-- > 0;) {
         const selfcol_node *n = &h->nodes[i];
+        if (n->child_count == 0)
+            continue;
         double *lo = boxes + 6 * i, *hi = lo + 3;
-        if (n->child_count == 0) {
-            const uint32_t *slot = h->tri_order + n->tri_begin;
-            const double *first = tri_boxes + 6 * (size_t)slot[0];
-            memcpy(lo, first, 3 * sizeof *lo);
-            memcpy(hi, first + 3, 3 * sizeof *hi);
-            for (uint32_t k = 1; k < n->tri_count; ++k) {
-                const double *b = tri_boxes + 6 * (size_t)slot[k];
-                selfcol_box__merge(lo, hi, b, b + 3);
-            }
-        } else {
-            const double *c = boxes + 6 * (size_t)n->first_child;
-            memcpy(lo, c, 3 * sizeof *lo);
-            memcpy(hi, c + 3, 3 * sizeof *hi);
-            for (uint32_t k = 1; k < n->child_count; ++k)
-                selfcol_box__merge(lo, hi, c + 6 * k, c + 6 * k + 3);
-        }
+        const double *c = boxes + 6 * (size_t)n->first_child;
+        memcpy(lo, c, 3 * sizeof *lo);
+        memcpy(hi, c + 3, 3 * sizeof *hi);
+        for (uint32_t k = 1; k < n->child_count; ++k)
+            selfcol_box__merge(lo, hi, c + 6 * k, c + 6 * k + 3);
     }
+}
+
+// The boxes of a search on the query's threads (each pass of EARLIEST
+// makes them anew: on one thread, about 1 % of the query, but on 16 the
+// largest serial part left). Two stages of chunks taken from a counter,
+// the vertices, then the leaves (which read the vertices' boxes); the
+// internal nodes, a quarter of the nodes and a few merges each, stay on the
+// calling thread. Each box is a function of the positions alone: the same
+// for every thread count.
+#define BOX_CHUNK 4096u
+
+typedef struct box_job {
+    const selfcol_sweep_query *q;
+    double *vertex[2], *tri[2], *node[2];
+    int leaves;          // 0: the vertices' stage, 1: the leaves'
+    size_t items[2];     // per mesh: vertices, or nodes
+    uint32_t chunks[2];  // per mesh
+    uint32_t next_chunk; // atomic
+} box_job;
+
+static int box_worker(void *context, unsigned worker) {
+    (void)worker;
+    box_job *job = context;
+    for (;;) {
+        uint32_t c = SELFCOL_ATOMIC_FETCH_ADD(&job->next_chunk, 1u);
+        if (c >= job->chunks[0] + job->chunks[1])
+            return SELFCOL_OK;
+        const int m = c >= job->chunks[0];
+        c -= m ? job->chunks[0] : 0u;
+        const size_t begin = (size_t)c * BOX_CHUNK;
+        const size_t end = begin + BOX_CHUNK < job->items[m] ? begin + BOX_CHUNK : job->items[m];
+        if (job->leaves)
+            leaf_boxes(job->q, m, job->tri[m], job->node[m], begin, end);
+        else
+            vertex_boxes(job->q, m, job->vertex[m], begin, end);
+    }
+}
+
+static void box_stage(box_job *job, const selfcol_executor *executor, unsigned threads, int leaves,
+                      int meshes) {
+    job->leaves = leaves;
+    job->next_chunk = 0;
+    for (int m = 0; m < 2; ++m) {
+        job->items[m] = m >= meshes ? 0
+                        : leaves    ? job->q->hierarchy[m]->node_count
+                                    : job->q->mesh[m]->vertex_count;
+        job->chunks[m] = (uint32_t)((job->items[m] + BOX_CHUNK - 1) / BOX_CHUNK);
+    }
+    const uint32_t chunks = job->chunks[0] + job->chunks[1];
+    const unsigned workers = chunks < threads ? chunks : threads;
+    if (workers > 1)
+        (void)selfcol_parallel__run(executor, workers, box_worker, job);
+    else
+        (void)box_worker(job, 0);
 }
 
 // ---------------------------------------------------------------------------
@@ -239,7 +303,7 @@ int selfcol_sweep__exhaustive(selfcol_sweep_query *q) {
     for (int m = 0; m < meshes; ++m) {
         q->vertex_boxes[m] = at;
         at += 6 * q->mesh[m]->vertex_count;
-        vertex_boxes(q, m, at - 6 * q->mesh[m]->vertex_count);
+        vertex_boxes(q, m, at - 6 * q->mesh[m]->vertex_count, 0, q->mesh[m]->vertex_count);
     }
     if (q->self)
         q->vertex_boxes[1] = q->vertex_boxes[0];
@@ -681,10 +745,12 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q, const selfcol_executor *executor,
     const int meshes = q->self ? 1 : 2;
     double *tri_boxes[2], *nodes[2];
     double *at = s->boxes; // sized by sweep.c
+    box_job boxes;
+    memset(&boxes, 0, sizeof boxes);
+    boxes.q = q;
     for (int m = 0; m < meshes; ++m) {
-        q->vertex_boxes[m] = at;
+        q->vertex_boxes[m] = boxes.vertex[m] = at;
         at += 6 * q->mesh[m]->vertex_count;
-        vertex_boxes(q, m, at - 6 * q->mesh[m]->vertex_count);
     }
     if (q->self)
         q->vertex_boxes[1] = q->vertex_boxes[0];
@@ -693,9 +759,15 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q, const selfcol_executor *executor,
         at += 6 * q->mesh[m]->triangle_count;
         nodes[m] = at;
         at += 6 * q->hierarchy[m]->node_count;
-        triangle_boxes(q, m, tri_boxes[m]);
-        node_boxes(q, m, tri_boxes[m], nodes[m]);
     }
+    for (int m = 0; m < meshes; ++m) {
+        boxes.tri[m] = tri_boxes[m];
+        boxes.node[m] = nodes[m];
+    }
+    box_stage(&boxes, executor, threads, 0, meshes);
+    box_stage(&boxes, executor, threads, 1, meshes);
+    for (int m = 0; m < meshes; ++m)
+        internal_boxes(q, m, nodes[m]);
     if (q->self) {
         tri_boxes[1] = tri_boxes[0];
         nodes[1] = nodes[0];
