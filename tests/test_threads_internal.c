@@ -29,6 +29,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <selfcol/store.h>
+
 #include "base/parallel.h"
 #include "fixtures.h"
 #include "hierarchy/hierarchy.h"
@@ -371,6 +373,29 @@ static void test_pool_allocation_failure(void **state) {
     selfcol_pool__destroy(p);
     assert_int_equal(counter.live, 0);
     assert_int_equal(counter.misaligned, 0);
+    // A store on threads makes its pool at creation: either allocation may
+    // fail, with nothing left allocated (a hierarchy's, made with its refit
+    // plan, is held by test_refit_plan_bounds_and_allocation_failure).
+    for (long fail_at = 1; fail_at <= 3; ++fail_at) {
+        test_allocator_state st;
+        memset(&st, 0, sizeof st);
+        st.fail_at = fail_at;
+        selfcol_store_options o;
+        selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
+        o.allocator = test_allocator(&st);
+        o.threads = 3;
+        selfcol_store *store = NULL;
+        const int status = selfcol_store_create(&store, &o);
+        if (fail_at <= 2) {
+            assert_int_equal(status, SELFCOL_ENOMEM);
+            assert_null(store);
+        } else {
+            assert_int_equal(status, SELFCOL_OK);
+            assert_int_equal(st.calls, 2); // the store and its pool
+            selfcol_store_destroy(store);
+        }
+        assert_int_equal(st.live, 0);
+    }
 }
 
 int main(void) {

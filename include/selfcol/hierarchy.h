@@ -28,9 +28,10 @@ typedef struct selfcol_hierarchy_options {
     /** Threads a refit may use (selfcol_hierarchy_refit(), and the refit
      *  that ends selfcol_hierarchy_create()), 1 to SELFCOL_MAX_THREADS;
      *  default 1. The boxes, masks and cones are identical for every count.
-     *  With more than one, the refit starts and joins its threads itself
-     *  (never more than one per 4096 triangles); the build stays on the
-     *  calling thread. A version 1 struct is read as 1. Queries take their
+     *  With more than one, the refit runs on threads the hierarchy keeps
+     *  asleep between refits and selfcol_hierarchy_destroy() joins (never
+     *  more than one per 4096 triangles); the build stays on the calling
+     *  thread. A version 1 struct is read as 1. Queries take their
      *  own count (selfcol_query_options.threads). */
     unsigned int threads;
 } selfcol_hierarchy_options;

@@ -20,11 +20,11 @@
  * one, selfcol_sweep_options.threads), inside a store update with
  * selfcol_store_options.threads > 1, and inside a refit (and the refit
  * ending creation) of a hierarchy with selfcol_hierarchy_options.threads
- * > 1. Queries keep theirs asleep between calls, in the handle that runs
- * them (the context, the contact set's implicit context, or the
- * selfcol_sweep), and its destroy function joins them; store updates and
- * refits join theirs before the call returns. A query through a context
- * with a scheduler runs on the scheduler's threads instead (context.h).
+ * > 1. The handle that runs them keeps them asleep between calls (the
+ * context, the contact set's implicit context, the selfcol_sweep, the
+ * store, the hierarchy), and its destroy function joins them. A query
+ * through a context with a scheduler runs on the scheduler's threads
+ * instead (context.h).
  * The contacts' and the context's allocators may be called from a query's
  * threads at once (a store allocates before its threads start). Every
  * other callback runs on the calling thread.

@@ -3,13 +3,15 @@
 
 // A handle's own worker threads, kept asleep between its parallel stages.
 // Starting and joining POSIX threads for every stage costs tens of
-// microseconds per thread (0.6 ms for 16 on the 2-core machine), serially
-// on the calling thread: a continuous EARLIEST query runs about a hundred
-// stages (its rounds), and on 16 cores that start-up, not the work, bounded
-// its speed-up. zstd's multi-threaded compression context keeps its
-// thread pool (POOL_ctx) for the same reason. A pool belongs to one handle
-// (a query context, a contact set's implicit context, a continuous query's
-// handle), is used by one thread at a time as its handle is, starts its
+// microseconds per thread, serially on the calling thread (16 workers: 786
+// us a stage on the 2-core machine, 95 us on a pool), and a continuous
+// EARLIEST query runs about a hundred stages (its rounds). On the 16-core
+// machine, where a thread starts in a few microseconds, the pool measured
+// within that machine's noise (docs/benchmarks.md, "Threads"). zstd's
+// multi-threaded compression context keeps its thread pool (POOL_ctx) the
+// same way. A pool belongs to one handle (a query context, a contact set's
+// implicit context, a continuous query's handle, a store, a hierarchy's
+// refit), is used by one thread at a time as its handle is, starts its
 // threads at the first stage that needs them, and joins them when the
 // handle is destroyed: there is no global state.
 #ifndef SELFCOL_POOL_H
