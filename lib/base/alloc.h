@@ -26,4 +26,14 @@ void selfcol_alloc__free(const selfcol_allocator *allocator, void *ptr, size_t s
 void selfcol_alloc__free_array(const selfcol_allocator *allocator, void *ptr, size_t count,
                                size_t size);
 
+// Grows an array of old_count elements (ptr, from selfcol_alloc__array; NULL
+// when old_count is 0) to new_count >= old_count, keeping its first `used`
+// elements; returns the new array, or NULL with ptr untouched and still
+// owned by the caller. The default allocator grows in place through
+// realloc (glibc moves a large block by remapping its pages: no copy and
+// no page touched again); a caller's allocator gets a new block, a copy of
+// the used elements and the old block's free.
+void *selfcol_alloc__grow_array(const selfcol_allocator *allocator, void *ptr, size_t used,
+                                size_t old_count, size_t new_count, size_t size);
+
 #endif // SELFCOL_ALLOC_H

@@ -50,12 +50,13 @@ static int reserve_records(selfcol_records *c, size_t extra) {
     size_t need = c->count + extra;
     size_t capacity = c->capacity < 64 ? 64 : 2 * c->capacity;
     capacity = capacity > need ? capacity : need;
-    selfcol_contact *items = selfcol_alloc__array(&c->allocator, capacity, sizeof(selfcol_contact));
+    // Grown in place where the allocator can (a query's records double
+    // about a dozen times: copying them was a third of a cold query's page
+    // faults, perf on cloth-ball 92).
+    selfcol_contact *items = selfcol_alloc__grow_array(
+        &c->allocator, c->items, c->count, c->capacity, capacity, sizeof(selfcol_contact));
     if (items == NULL)
         return SELFCOL_ENOMEM;
-    if (c->count > 0)
-        memcpy(items, c->items, c->count * sizeof(selfcol_contact));
-    selfcol_alloc__free_array(&c->allocator, c->items, c->capacity, sizeof(selfcol_contact));
     c->items = items;
     c->capacity = capacity;
     return SELFCOL_OK;
