@@ -29,12 +29,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <selfcol/store.h>
-
 #include "base/parallel.h"
 #include "fixtures.h"
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
+#include "query/contacts.h"
+#include "query/context.h"
 #include "query/records.h"
 #include "test_alloc.h"
 
@@ -373,33 +373,57 @@ static void test_pool_allocation_failure(void **state) {
     selfcol_pool__destroy(p);
     assert_int_equal(counter.live, 0);
     assert_int_equal(counter.misaligned, 0);
-    // A store on threads makes its pool at creation: either allocation may
-    // fail, with nothing left allocated (a hierarchy's, made with its refit
-    // plan, is held by test_refit_plan_bounds_and_allocation_failure).
-    for (long fail_at = 1; fail_at <= 3; ++fail_at) {
-        test_allocator_state st;
-        memset(&st, 0, sizeof st);
-        st.fail_at = fail_at;
-        selfcol_store_options o;
-        selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION);
-        o.allocator = test_allocator(&st);
-        o.threads = 3;
-        selfcol_store *store = NULL;
-        const int status = selfcol_store_create(&store, &o);
-        if (fail_at <= 2) {
-            assert_int_equal(status, SELFCOL_ENOMEM);
-            assert_null(store);
-        } else {
-            assert_int_equal(status, SELFCOL_OK);
-            assert_int_equal(st.calls, 2); // the store and its pool
-            selfcol_store_destroy(store);
-        }
-        assert_int_equal(st.live, 0);
+}
+
+// Which handles keep threads: a query context does, between its queries;
+// the context a contact set makes for the calls without one does not (a
+// caller may hold many contact sets), and such queries start theirs per
+// stage. Both give one thread's records.
+static void test_only_query_contexts_keep_their_threads(void **state) {
+    (void)state;
+    fixture s;
+    assert_int_equal(fixture_crumpled(&s, 64, 64, 2, 3.0), 0);
+    selfcol_mesh *m = NULL;
+    assert_int_equal(
+        selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
+        SELFCOL_OK);
+    selfcol_hierarchy *h = create(m, 1);
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.distance = 0.1 * selfcol_mesh_mean_edge_length(m);
+    q.threads = 4;
+    selfcol_contacts *implicit = NULL, *through = NULL;
+    assert_int_equal(selfcol_contacts_create(&implicit, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_create(&through, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_self_collide(h, implicit, &q), SELFCOL_OK);
+    assert_non_null(implicit->implicit_context);
+    assert_null(implicit->implicit_context->executor.pool);
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = 4;
+    selfcol_context *context = NULL;
+    assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_OK);
+    assert_non_null(context->executor.pool);
+    assert_int_equal(selfcol_pool__threads(context->executor.pool), 0); // none until needed
+    for (int round = 0; round < 3; ++round) {
+        assert_int_equal(selfcol_context_self_collide(context, h, through, &q), SELFCOL_OK);
+        assert_int_equal(selfcol_pool__threads(context->executor.pool), 3); // kept, not added
     }
+    assert_true(selfcol_contacts_count(implicit) > 0);
+    assert_int_equal(selfcol_contacts_count(through), selfcol_contacts_count(implicit));
+    assert_memory_equal(through->records.items, implicit->records.items,
+                        selfcol_contacts_count(implicit) * sizeof(selfcol_contact));
+    selfcol_context_destroy(context);
+    selfcol_contacts_destroy(through);
+    selfcol_contacts_destroy(implicit);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(m);
+    fixture_free(&s);
 }
 
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_only_query_contexts_keep_their_threads),
         cmocka_unit_test(test_refit_threads_give_the_nodes_of_one_thread),
         cmocka_unit_test(test_refit_plan_bounds_and_allocation_failure),
         cmocka_unit_test(test_sort_threads_give_the_order_of_one_thread),

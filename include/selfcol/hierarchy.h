@@ -28,10 +28,9 @@ typedef struct selfcol_hierarchy_options {
     /** Threads a refit may use (selfcol_hierarchy_refit(), and the refit
      *  that ends selfcol_hierarchy_create()), 1 to SELFCOL_MAX_THREADS;
      *  default 1. The boxes, masks and cones are identical for every count.
-     *  With more than one, the refit runs on threads the hierarchy keeps
-     *  asleep between refits and selfcol_hierarchy_destroy() joins (never
-     *  more than one per 4096 triangles); the build stays on the calling
-     *  thread. A version 1 struct is read as 1. Queries take their
+     *  With more than one, the refit starts and joins its threads itself
+     *  (never more than one per 4096 triangles); the build stays on the
+     *  calling thread. A version 1 struct is read as 1. Queries take their
      *  own count (selfcol_query_options.threads). */
     unsigned int threads;
 } selfcol_hierarchy_options;
@@ -179,14 +178,12 @@ typedef struct selfcol_query_options {
     /* Version 2 */
     /** Threads the query may use, 1 to SELFCOL_MAX_THREADS; default 1.
      *  The contacts and the statistics (apart from times) are identical for
-     *  every count. With more than one, the query runs on threads the
-     *  contact set keeps asleep between queries (its implicit context:
-     *  context.h; selfcol_contacts_destroy() joins them), and the contacts'
-     *  allocator may be called from them (it must then be thread-safe).
-     *  The default is one thread because an engine usually runs queries of
-     *  several meshes or scenes side by side already, and one thread is
-     *  the reference of every measurement. The exhaustive method always
-     *  uses one. */
+     *  every count. With more than one, the query starts and joins its
+     *  threads itself, and the contacts' allocator may be called from them
+     *  (it must then be thread-safe). The default is one thread because an
+     *  engine usually runs queries of several meshes or scenes side by side
+     *  already, and one thread is the reference of every measurement. The
+     *  exhaustive method always uses one. */
     unsigned int threads;
 } selfcol_query_options;
 

@@ -20,11 +20,10 @@
  * one, selfcol_sweep_options.threads), inside a store update with
  * selfcol_store_options.threads > 1, and inside a refit (and the refit
  * ending creation) of a hierarchy with selfcol_hierarchy_options.threads
- * > 1. The handle that runs them keeps them asleep between calls (the
- * context, the contact set's implicit context, the selfcol_sweep, the
- * store, the hierarchy), and its destroy function joins them. A query
- * through a context with a scheduler runs on the scheduler's threads
- * instead (context.h).
+ * > 1, and joins them before the call returns, except a query through a
+ * context: a context keeps its threads asleep between its queries and
+ * selfcol_context_destroy() joins them, or, with a scheduler, runs on the
+ * scheduler's threads instead (context.h).
  * The contacts' and the context's allocators may be called from a query's
  * threads at once (a store allocates before its threads start). Every
  * other callback runs on the calling thread.

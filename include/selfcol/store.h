@@ -95,10 +95,9 @@ typedef struct selfcol_store_options {
      * geometry and what its links compare), the sort of the contacts'
      * vertex pairs and the regions' union-find are shared among them; the
      * links the vote follows and the vote stay in one thread, in the same
-     * order, so the result is the same for every count. The threads are
-     * the store's, kept asleep between updates and joined by
-     * selfcol_store_destroy(); an update uses them only above a few
-     * thousand contacts (4096 per thread).
+     * order, so the result is the same for every count. Threads are
+     * started and joined inside each update, only above a few thousand
+     * contacts (4096 per thread).
      */
     unsigned int threads;
 } selfcol_store_options;

@@ -121,10 +121,9 @@ typedef struct selfcol_sweep_options {
      *  workers push records on their own threads, the sweep's allocator is
      *  only called from the calling thread (the workers write into arrays
      *  the calling thread grew; a worker that finds one full leaves its
-     *  task to be run again after the calling thread grows it). The
-     *  threads are the selfcol_sweep's own, kept asleep between queries
-     *  and joined by selfcol_sweep_destroy() (through a context, the
-     *  context's). */
+     *  task to be run again after the calling thread grows it). Without a
+     *  context the query starts and joins its threads itself; through a
+     *  context it runs on the context's (context.h). */
     unsigned int threads;
     /* Version 2: progress and cancel (libgit2's model). */
     /** Called on the calling thread between rounds of SELFCOL_SWEEP_ALL's

@@ -5,9 +5,9 @@
 // (context.h), a handle's pool (pool.c), or POSIX threads started for the
 // stage. Starting and joining a thread costs tens of microseconds, against
 // stages of milliseconds on the meshes where threads pay, but a query with
-// many stages pays it many times: the handles that run stages keep a pool.
-// The library starts no thread unless the caller asks for more than one
-// (the threads of the query, context, sweep, store and hierarchy options).
+// many stages pays it many times: a query context keeps a pool. The
+// library starts no thread unless the caller asks for more than one (the
+// threads of the query, context, sweep, store and hierarchy options).
 #include "base/parallel.h"
 
 #include "base/core.h"

@@ -9,11 +9,12 @@
 // machine, where a thread starts in a few microseconds, the pool measured
 // within that machine's noise (docs/benchmarks.md, "Threads"). zstd's
 // multi-threaded compression context keeps its thread pool (POOL_ctx) the
-// same way. A pool belongs to one handle (a query context, a contact set's
-// implicit context, a continuous query's handle, a store, a hierarchy's
-// refit), is used by one thread at a time as its handle is, starts its
-// threads at the first stage that needs them, and joins them when the
-// handle is destroyed: there is no global state.
+// same way. A pool belongs to a query context (the one handle whose
+// lifetime the caller manages for that purpose: contact sets, sweeps,
+// stores and hierarchies may be held by the hundred, and keep no thread),
+// is used by one thread at a time as its context is, starts its threads at
+// the first stage that needs them, and joins them when the context is
+// destroyed: there is no global state.
 #ifndef SELFCOL_POOL_H
 #define SELFCOL_POOL_H
 

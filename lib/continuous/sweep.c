@@ -62,7 +62,6 @@ void selfcol_sweep_destroy(selfcol_sweep *sweep) {
     if (sweep == NULL)
         return;
     const selfcol_allocator al = sweep->allocator;
-    selfcol_pool__destroy(sweep->pool); // joins its threads first
     selfcol_alloc__free_array(&al, sweep->hits, sweep->hit_capacity, sizeof *sweep->hits);
     selfcol_alloc__free_array(&al, sweep->hit_spare, sweep->spare_capacity,
                               sizeof *sweep->hit_spare);
@@ -693,17 +692,9 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
     }
     int status = reserve_boxes(result, doubles);
     double narrow_start = start_time;
-    // Who runs the broad phase's tasks and ALL's root searches: the
-    // context's scheduler or pool, else the handle's own pool.
+    // Who runs the broad phase's tasks and ALL's root searches.
+    const selfcol_executor *executor = context != NULL ? &context->executor : NULL;
     const unsigned threads = context != NULL ? context->threads : o.threads;
-    selfcol_executor own = {NULL, NULL, NULL, NULL};
-    if (context == NULL && threads > 1 && result->pool == NULL) {
-        result->pool = selfcol_pool__create(&result->allocator);
-        if (result->pool == NULL)
-            status = SELFCOL_ENOMEM;
-    }
-    own.pool = result->pool;
-    const selfcol_executor *executor = context != NULL ? &context->executor : &own;
     if (status == SELFCOL_OK && o.mode == SELFCOL_SWEEP_EARLIEST) {
         status = run_earliest(&q, o.method, executor, threads);
     } else if (status == SELFCOL_OK) {

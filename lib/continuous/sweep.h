@@ -77,9 +77,6 @@ struct selfcol_sweep {
     double *cull_altitudes;
     size_t cull_capacity;
     selfcol_workspace work;
-    // The threads of queries made without a context (pool.h): made at the
-    // first one with threads > 1, joined by selfcol_sweep_destroy.
-    struct selfcol_pool *pool;
     selfcol_sweep_query_stats stats;
 };
 

@@ -125,10 +125,6 @@ int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts)
     s->orientation[1] = o.second_orientation;
     s->threads = o.threads;
     s->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
-    if (o.threads > 1 && (s->pool = selfcol_pool__create(&s->allocator)) == NULL) {
-        selfcol_alloc__free(&o.allocator, s, sizeof *s);
-        return SELFCOL_ENOMEM;
-    }
     *out = s;
     return SELFCOL_OK;
 }
@@ -177,7 +173,6 @@ void selfcol_store_destroy(selfcol_store *store) {
     if (store == NULL)
         return;
     selfcol_allocator al = store->allocator;
-    selfcol_pool__destroy(store->pool); // joins its threads first
     free_entry_arrays(store);
     free_pair_arrays(store);
     free_mesh_arrays(store);
@@ -691,11 +686,10 @@ static void run_stage(update_job *job, enum update_stage stage) {
     job->next_chunk = 0;
     const unsigned workers =
         job->chunks < job->s->threads ? (unsigned)job->chunks : job->s->threads;
-    const selfcol_executor own = {NULL, NULL, NULL, job->s->pool};
     if (workers <= 1)
         update_worker(job, 0);
     else
-        selfcol_parallel__run(&own, workers, update_worker, job);
+        selfcol_parallel__run(NULL, workers, update_worker, job);
 }
 
 int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,

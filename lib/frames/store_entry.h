@@ -37,9 +37,6 @@ typedef struct store_entry {
 struct selfcol_store {
     selfcol_allocator allocator;
     unsigned threads; // of an update (selfcol_store_options)
-    // Its threads, kept asleep between stages and updates (base/pool.h);
-    // NULL for one thread.
-    struct selfcol_pool *pool;
     uint32_t remnance;
     int consistency;
     int orientation[2];            // per mesh slot: 0 none, +1 / -1 (store.h)

@@ -5,7 +5,6 @@
 
 #include "base/alloc.h"
 #include "base/core.h"
-#include "base/pool.h"
 #include "base/problem.h"
 
 #include <stddef.h>
@@ -102,7 +101,6 @@ void selfcol_hierarchy_destroy(selfcol_hierarchy *hierarchy) {
     selfcol_alloc__free_array(&allocator, hierarchy->min_altitude, hierarchy->node_count,
                               sizeof(float));
     selfcol_hierarchy__free_plan(hierarchy);
-    selfcol_pool__destroy(hierarchy->pool); // joins its threads
     selfcol_alloc__free(&allocator, hierarchy, sizeof *hierarchy);
 }
 

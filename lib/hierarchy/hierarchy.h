@@ -103,9 +103,6 @@ struct selfcol_hierarchy {
     uint32_t *subtree_root;         // subtree_count
     uint32_t *subtree_level_offset; // subtree_count + 1, in pairs
     uint32_t *subtree_level;        // 2 x subtree_level_offset[subtree_count]
-    // The refit's threads, kept asleep between refits (base/pool.h), made
-    // with the first plan for more than one; joined by destroy.
-    struct selfcol_pool *pool;
 };
 
 // Builds the tree (hierarchy_build.c, with the stages of hierarchy_build.h);

@@ -400,8 +400,6 @@ int selfcol_hierarchy__plan_refit(selfcol_hierarchy *h, unsigned threads) {
             h->subtree_level[2 * at + 1] = stop;
         }
     }
-    if (h->pool == NULL && (h->pool = selfcol_pool__create(&h->allocator)) == NULL)
-        return SELFCOL_ENOMEM;
     h->cap = (uint32_t)cap;
     h->refit_workers = workers;
     return SELFCOL_OK;
@@ -432,8 +430,7 @@ void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
         refit_job job = {h, 0};
         // Workers that cannot be started leave their tasks to the others
         // (worker 0 runs here), so every subtree is refit before the join.
-        const selfcol_executor own = {NULL, NULL, NULL, h->pool};
-        (void)selfcol_parallel__run(&own, h->refit_workers, refit_worker, &job);
+        (void)selfcol_parallel__run(NULL, h->refit_workers, refit_worker, &job);
         above = h->cap;
     }
     for (size_t id = above; id-- > 0;)

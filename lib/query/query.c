@@ -9,6 +9,7 @@
 #include "query/traverse.h"
 
 #include "base/core.h"
+#include "base/pool.h"
 #include "base/problem.h"
 #include "hierarchy/hierarchy.h"
 
@@ -91,6 +92,12 @@ selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, uns
         o.allocator = contacts->records.allocator;
         if (selfcol_context_create(&contacts->implicit_context, &o) != SELFCOL_OK)
             return NULL;
+        // Without the pool a context keeps (pool.h): a caller may hold many
+        // contact sets (a Python list of results, a scene's pairs), and
+        // each would keep its threads. These queries start and join their
+        // threads per stage, as the calls without a context always did.
+        selfcol_pool__destroy(contacts->implicit_context->executor.pool);
+        contacts->implicit_context->executor.pool = NULL;
     }
     contacts->implicit_context->threads = threads;
     return contacts->implicit_context;
