@@ -18,8 +18,9 @@
  * the records' sort) as `threads` work items. By default they run on POSIX
  * threads that the context starts at its first parallel stage and keeps
  * asleep between stages and queries (a continuous query runs about a
- * hundred stages; starting threads for each cost more than the work on 16
- * cores); selfcol_context_destroy() joins them.
+ * hundred stages, each of which would otherwise start and join its
+ * threads); selfcol_context_destroy() joins them. The calls without a
+ * context start and join theirs within the call.
  * A caller with its own scheduler (a game engine's job system, Bullet's
  * btITaskScheduler, TBB) gives enqueue_task and finish_task instead, and
  * the items run wherever that scheduler puts them; Box2D v3's task

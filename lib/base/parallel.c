@@ -2,8 +2,8 @@
 // SPDX-License-Identifier: MIT
 
 // Per-query worker threads: the items of one task of a caller's scheduler
-// (context.h), a handle's pool (pool.c), or POSIX threads started for the
-// stage. Starting and joining a thread costs tens of microseconds, against
+// (context.h), a query context's pool (pool.c), or POSIX threads started
+// for the stage. Starting and joining a thread costs tens of microseconds, against
 // stages of milliseconds on the meshes where threads pay, but a query with
 // many stages pays it many times: a query context keeps a pool. The
 // library starts no thread unless the caller asks for more than one (the

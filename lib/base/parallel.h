@@ -1,11 +1,11 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Who runs a query's parallel stages: a caller's scheduler, a handle's own
-// pool of threads (pool.h: kept asleep between stages and joined when the
-// handle is destroyed; the library keeps no global state), or threads
-// started and joined inside the stage; and the few atomic operations the
-// shared per-query data needs.
+// Who runs a query's parallel stages: a caller's scheduler, a query
+// context's pool of threads (pool.h: kept asleep between stages and joined
+// when the context is destroyed; the library keeps no global state), or
+// threads started and joined inside the stage; and the few atomic
+// operations the shared per-query data needs.
 #ifndef SELFCOL_PARALLEL_H
 #define SELFCOL_PARALLEL_H
 
@@ -17,8 +17,8 @@
 
 // Who runs a parallel stage's work items: a caller's scheduler
 // (selfcol_context_options' enqueue_task and finish_task), or, with
-// enqueue_task NULL, the handle's pool (NULL: POSIX threads started and
-// joined by the stage).
+// enqueue_task NULL, a query context's pool (NULL: POSIX threads started
+// and joined by the stage).
 typedef struct selfcol_executor {
     selfcol_enqueue_task_fn *enqueue_task;
     selfcol_finish_task_fn *finish_task;

@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// A handle's own worker threads, kept asleep between its parallel stages.
+// A query context's worker threads, kept asleep between its parallel stages.
 // Starting and joining POSIX threads for every stage costs tens of
 // microseconds per thread, serially on the calling thread (16 workers: 786
 // us a stage on the 2-core machine, 95 us on a pool), and a continuous
