@@ -51,6 +51,11 @@ int selfcol_context_options_check(const selfcol_context_options *opts,
 }
 
 int selfcol_context_create(selfcol_context **out, const selfcol_context_options *opts) {
+    return selfcol_context__create(out, opts, 1);
+}
+
+int selfcol_context__create(selfcol_context **out, const selfcol_context_options *opts,
+                            int keep_threads) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
     selfcol_context_options o;
@@ -67,7 +72,7 @@ int selfcol_context_create(selfcol_context **out, const selfcol_context_options 
     c->executor.finish_task = o.finish_task;
     c->executor.user_context = o.user_context;
     // Without a scheduler, the context's own threads run its stages.
-    if (o.enqueue_task == NULL) {
+    if (keep_threads && o.enqueue_task == NULL) {
         c->executor.pool = selfcol_pool__create(&c->allocator);
         if (c->executor.pool == NULL) {
             selfcol_alloc__free(&o.allocator, c, sizeof *c);

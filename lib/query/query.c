@@ -9,7 +9,6 @@
 #include "query/traverse.h"
 
 #include "base/core.h"
-#include "base/pool.h"
 #include "base/problem.h"
 #include "hierarchy/hierarchy.h"
 
@@ -90,14 +89,12 @@ selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, uns
         selfcol_context_options o;
         selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
         o.allocator = contacts->records.allocator;
-        if (selfcol_context_create(&contacts->implicit_context, &o) != SELFCOL_OK)
-            return NULL;
         // Without the pool a context keeps (pool.h): a caller may hold many
         // contact sets (a Python list of results, a scene's pairs), and
         // each would keep its threads. These queries start and join their
         // threads per stage, as the calls without a context always did.
-        selfcol_pool__destroy(contacts->implicit_context->executor.pool);
-        contacts->implicit_context->executor.pool = NULL;
+        if (selfcol_context__create(&contacts->implicit_context, &o, 0) != SELFCOL_OK)
+            return NULL;
     }
     contacts->implicit_context->threads = threads;
     return contacts->implicit_context;
