@@ -306,33 +306,42 @@ static void test_scene_options_name_nested_fields(void **state) {
     expect(selfcol_scene_options_check(NULL, &p), &p, SELFCOL_EINVAL, "selfcol_scene_create",
            "opts", "NULL");
     selfcol_scene_options o;
-    for (int k = 0; k < 9; ++k) {
+    selfcol_query_options q;
+    selfcol_store_options st;
+    selfcol_sequence_options sq;
+    for (int k = 0; k < 11; ++k) {
         selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
-        o.query.distance = 0.1;
+        selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+        selfcol_store_options_init(&st, SELFCOL_STORE_OPTIONS_VERSION);
+        selfcol_sequence_options_init(&sq, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+        q.distance = 0.1;
+        o.query = &q;
+        o.store = &st;
+        o.sequence = &sq;
         const char *field = NULL, *value = NULL;
         int want = SELFCOL_EINVAL;
         switch (k) {
         case 0:
-            o.query.distance = 0.0;
-            field = "query.distance";
+            q.distance = 0.0;
+            field = "query->distance";
             value = "distance > 0";
             break;
         case 1:
-            o.query.threads = 99;
-            field = "query.threads";
+            q.threads = 99;
+            field = "query->threads";
             value = "= 99";
             break;
         case 2:
-            o.store.first_orientation = 1;
-            field = "store.first_orientation";
+            st.first_orientation = 1;
+            field = "store->first_orientation";
             break;
         case 3:
-            o.store.remnance_frames = 1, o.store.consistency = 5;
-            field = "store.consistency";
+            st.remnance_frames = 1, st.consistency = 5;
+            field = "store->consistency";
             break;
         case 4:
-            o.sequence.skin = NAN;
-            field = "sequence.skin";
+            sq.skin = NAN;
+            field = "sequence->skin";
             value = "nan";
             break;
         case 5:
@@ -344,9 +353,20 @@ static void test_scene_options_name_nested_fields(void **state) {
             field = "coherent";
             break;
         case 7:
-            o.store.version = 0;
-            field = "store.version";
+            st.version = 0;
+            field = "store->version";
             want = SELFCOL_EVERSION;
+            break;
+        case 8:
+            o.query = NULL; // a scene has no default distance
+            field = "query";
+            value = "NULL";
+            break;
+        case 9:
+            o.store = NULL; // NULL store and sequence options: their defaults
+            o.sequence = NULL;
+            field = "";
+            want = SELFCOL_OK;
             break;
         default: field = ""; want = SELFCOL_OK;
         }

@@ -46,10 +46,19 @@ static selfcol_mesh *mesh_of(const fixture *s) {
     return m;
 }
 
+// Query options at distance d, the other fields at their defaults.
+static selfcol_query_options query_at(double d) {
+    selfcol_query_options q;
+    assert_int_equal(selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION), SELFCOL_OK);
+    q.distance = d;
+    return q;
+}
+
 static selfcol_scene *make_scene(double d, const selfcol_allocator *al) {
     selfcol_scene_options o;
     assert_int_equal(selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION), SELFCOL_OK);
-    o.query.distance = d;
+    const selfcol_query_options q = query_at(d);
+    o.query = &q;
     if (al != NULL)
         o.allocator = *al;
     selfcol_scene *sc = NULL;
@@ -687,7 +696,8 @@ static void test_coherent_updates_equal_fresh_ones(void **state) {
     for (int k = 0; k < 3; ++k) {
         selfcol_scene_options o;
         selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
-        o.query.distance = 0.1;
+        const selfcol_query_options q = query_at(0.1);
+        o.query = &q;
         o.coherent = k != 1;
         assert_int_equal(selfcol_scene_create(&sc[k], &o), SELFCOL_OK);
         if (k == 2)
@@ -741,59 +751,130 @@ static void test_coherent_updates_equal_fresh_ones(void **state) {
     fixture_free(&floor);
 }
 
+// The scene reads the structs its options point to when it is made and
+// keeps copies: the caller's structs may change or go away afterwards. A
+// scene whose query, store and sequence options were overwritten with
+// garbage after creation holds the stores of one made with the defaults;
+// NULL store and sequence options are those defaults.
+static void test_options_are_copied(void **state) {
+    (void)state;
+    fixture cloth_s = {0}, ball = {0};
+    assert_int_equal(fixture_draped_cloth(&cloth_s, 24, 1.2, 1.0, 0.01, 0.03), 0);
+    assert_int_equal(fixture_icosphere(&ball, 2, 1.0), 0);
+    selfcol_mesh *mc = mesh_of(&cloth_s), *mb = mesh_of(&ball);
+    selfcol_scene *plain = make_scene(0.02, NULL); // store and sequence NULL
+    selfcol_scene_options o;
+    selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
+    selfcol_query_options q = query_at(0.02);
+    selfcol_store_options st;
+    selfcol_store_options_init(&st, SELFCOL_STORE_OPTIONS_VERSION);
+    selfcol_sequence_options sq;
+    selfcol_sequence_options_init(&sq, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    o.query = &q;
+    o.store = &st;
+    o.sequence = &sq;
+    selfcol_scene *copied = NULL;
+    assert_int_equal(selfcol_scene_create(&copied, &o), SELFCOL_OK);
+    memset(&q, 0xff, sizeof q);
+    memset(&st, 0xff, sizeof st);
+    memset(&sq, 0xff, sizeof sq);
+    selfcol_scene *both[2] = {plain, copied};
+    for (int k = 0; k < 2; ++k) {
+        assert_int_equal(add(both[k], mc, SELFCOL_SURFACE_CLOTH, -1, 0), 0);
+        assert_int_equal(add(both[k], mb, SELFCOL_SURFACE_BODY, -1, 0), 1);
+        assert_int_equal(selfcol_scene_update(both[k]), SELFCOL_OK);
+    }
+    const selfcol_scene_update_stats a = stats_of(plain), b = stats_of(copied);
+    assert_true(a.contacts > 0); // the cloth lies on the ball within d
+    assert_int_equal(a.contacts, b.contacts);
+    assert_int_equal(a.interferences, b.interferences);
+    assert_int_equal(a.pairs_queried, b.pairs_queried);
+    for (uint32_t first = 0; first < 2; ++first)
+        for (uint32_t second = first; second < 2; ++second) {
+            const selfcol_store *x = store_of(plain, first, second);
+            const selfcol_store *y = store_of(copied, first, second);
+            assert_int_equal(x == NULL, y == NULL);
+            if (x != NULL)
+                assert_int_equal(selfcol_store_contact_count(x), selfcol_store_contact_count(y));
+        }
+    selfcol_scene_destroy(plain);
+    selfcol_scene_destroy(copied);
+    selfcol_mesh_destroy(mc);
+    selfcol_mesh_destroy(mb);
+    fixture_free(&cloth_s);
+    fixture_free(&ball);
+}
+
 static void test_errors(void **state) {
     (void)state;
     selfcol_scene_options o;
     selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
+    assert_null(o.query);
+    assert_null(o.store);
+    assert_null(o.sequence);
+    assert_int_equal(o.coherent, 1);
     selfcol_scene *sc = (selfcol_scene *)1;
-    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL); // no distance
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL); // no query options
     assert_null(sc);
-    o.query.distance = 0.1;
-    o.query.kinds = 0;
+    selfcol_query_options q = query_at(0.0);
+    o.query = &q;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL); // no distance
+    q.distance = 0.1;
+    q.kinds = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.query.kinds = SELFCOL_KIND_ALL;
-    o.query.threads = 0;
+    q.kinds = SELFCOL_KIND_ALL;
+    q.threads = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.query.threads = 1;
+    q.threads = 1;
     o.version = 99;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
-    // 0.3: version 1 (0.2's copied fields) is another layout, refused; the
-    // nested options are checked as their own versions say.
+    // 0.4: versions 1 (0.2's copied fields) and 2 (0.3's embedded options)
+    // are other layouts, refused; the options pointed to are checked as
+    // their own versions say.
     o.version = 1;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
+    o.version = 2;
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
     assert_int_equal(selfcol_scene_options_init(&o, 1), SELFCOL_EVERSION);
+    assert_int_equal(selfcol_scene_options_init(&o, 2), SELFCOL_EVERSION);
     selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
-    o.query.distance = 0.1;
-    o.query.version = 0;
+    selfcol_store_options sto;
+    selfcol_store_options_init(&sto, SELFCOL_STORE_OPTIONS_VERSION);
+    selfcol_sequence_options sq;
+    selfcol_sequence_options_init(&sq, SELFCOL_SEQUENCE_OPTIONS_VERSION);
+    o.query = &q;
+    o.store = &sto;
+    o.sequence = &sq;
+    q.version = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
-    o.query.version = SELFCOL_QUERY_OPTIONS_VERSION;
-    o.store.version = 99;
+    q.version = SELFCOL_QUERY_OPTIONS_VERSION;
+    sto.version = 99;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
-    o.store.version = SELFCOL_STORE_OPTIONS_VERSION;
-    o.query.narrow = 7;
+    sto.version = SELFCOL_STORE_OPTIONS_VERSION;
+    q.narrow = 7;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.query.narrow = SELFCOL_NARROW_CLOSED_FORM;
-    o.store.consistency = 2;
+    q.narrow = SELFCOL_NARROW_CLOSED_FORM;
+    sto.consistency = 2;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.store.consistency = 1;
-    o.store.first_orientation = 1; // a surface's orientation comes from its kind
+    sto.consistency = 1;
+    sto.first_orientation = 1; // a surface's orientation comes from its kind
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.store.first_orientation = 0;
-    o.store.allocator.user = &o; // the scene's allocator serves its stores
+    sto.first_orientation = 0;
+    sto.allocator.user = &o; // the scene's allocator serves its stores
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.store.allocator.user = NULL;
+    sto.allocator.user = NULL;
     o.coherent = 2;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
     o.coherent = 1;
-    o.sequence.skin = -1.0; // the sequences' options are checked too
+    sq.skin = -1.0; // the sequences' options are checked too
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.sequence.skin = 0.0;
-    o.sequence.allocator.user = &o; // the scene's allocator serves its sequences
+    sq.skin = 0.0;
+    sq.allocator.user = &o; // the scene's allocator serves its sequences
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    o.sequence.allocator.user = NULL;
-    o.sequence.version = 0;
+    sq.allocator.user = NULL;
+    sq.version = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
-    o.sequence.version = SELFCOL_SEQUENCE_OPTIONS_VERSION;
+    sq.version = SELFCOL_SEQUENCE_OPTIONS_VERSION;
     assert_null(sc);
     assert_int_equal(selfcol_scene_create(&sc, NULL), SELFCOL_EINVAL);
     sc = make_scene(0.1, NULL);
@@ -888,7 +969,7 @@ static void test_errors(void **state) {
     }
     assert_int_equal(selfcol_scene_update(NULL), SELFCOL_EINVAL);
     selfcol_scene_update_stats st;
-    st.version = 0;
+    sto.version = 0;
     assert_int_equal(selfcol_scene_stats(sc, &st), SELFCOL_EVERSION);
     assert_true(selfcol_scene_byte_count(sc) > 0);
     assert_int_equal(selfcol_scene_byte_count(NULL), 0);
@@ -1089,7 +1170,8 @@ static int run_scene(const selfcol_allocator *al, int frames, long *calls_after_
     selfcol_mesh *mc = mesh_of(&cloth_s), *mb = mesh_of(&ball);
     selfcol_scene_options o;
     selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
-    o.query.distance = 0.02;
+    const selfcol_query_options q = query_at(0.02);
+    o.query = &q;
     o.allocator = *al;
     selfcol_scene *sc = NULL;
     int status = selfcol_scene_create(&sc, &o);
@@ -1191,6 +1273,7 @@ int main(void) {
         cmocka_unit_test(test_collider_contacts_name_no_duplicate),
         cmocka_unit_test(test_coherent_updates_equal_fresh_ones),
         cmocka_unit_test(test_surface_start),
+        cmocka_unit_test(test_options_are_copied),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_memory),
     };

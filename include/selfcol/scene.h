@@ -133,31 +133,32 @@ typedef struct selfcol_scene_collider_desc {
 
 /**
  * Options for selfcol_scene_create(). Initialise with selfcol_scene_options_init().
- * The scene's queries and stores take their settings from the query and
- * store options inside (composed, not copied: a field added to either is
- * reachable here without a new scene field).
+ * The scene's queries, stores and sequences take their settings from the
+ * core's own option structs, passed by pointer (docs/architecture.md,
+ * "Threads and options"): a field added to one of them changes neither
+ * this struct's layout nor its version. selfcol_scene_create() reads the
+ * pointed-to structs, each as its own version says, and keeps copies: they
+ * need not outlive the call.
  */
 typedef struct selfcol_scene_options {
     unsigned int version; /**< SELFCOL_SCENE_OPTIONS_VERSION */
     selfcol_allocator
         allocator; /**< of the scene, its hierarchies and stores; all-zero: malloc/free */
     /**
-     * The surface queries: distance (> 0, no default: it depends on the
-     * scale), kinds (default VF|EE|EF), method (default EXACT), narrow
-     * phase, threads (also those of the surfaces' refits:
-     * selfcol_hierarchy_options.threads). Initialised by
-     * selfcol_scene_options_init() with SELFCOL_QUERY_OPTIONS_VERSION; read
-     * as its own version says.
+     * The surface queries (required: a scene has no default distance):
+     * distance (> 0: the thickness, in mesh units), kinds (non-zero), method,
+     * narrow phase, and threads (those of the queries and of the surfaces'
+     * refits).
      */
-    selfcol_query_options query;
+    const selfcol_query_options *query;
     /**
-     * Every store's remnance_frames, consistency and threads (defaults as
-     * selfcol_store_options_init(): one thread, whatever query.threads
-     * says). Its allocator must be all-zero and its
+     * Every store's remnance_frames, consistency and threads; NULL for
+     * selfcol_store_options_init()'s defaults (one thread, whatever
+     * query->threads says). Its allocator must be all-zero and its
      * orientations 0: the scene's allocator serves every store, and a
      * surface's orientation comes from its kind (selfcol_scene_surface_options).
      */
-    selfcol_store_options store;
+    const selfcol_store_options *store;
     /** Absolute accuracy of collider distances (default 0: 1e-6 x distance). */
     double collider_tolerance;
     /**
@@ -169,14 +170,16 @@ typedef struct selfcol_scene_options {
      */
     int coherent;
     /**
-     * The sequences' options (skin; selfcol_sequence_options_init()
-     * defaults). Its allocator must be all-zero: the scene's serves them.
+     * The sequences' options (skin); NULL for
+     * selfcol_sequence_options_init()'s defaults. Its allocator must be
+     * all-zero: the scene's serves them.
      */
-    selfcol_sequence_options sequence;
+    const selfcol_sequence_options *sequence;
 } selfcol_scene_options;
 
-/** 2 since 0.3 (query and store options composed); version 1 (0.2's layout) is refused. */
-#define SELFCOL_SCENE_OPTIONS_VERSION 2
+/** 3 since 0.4 (the query, store and sequence options by pointer); 0.2's
+ *  version 1 and 0.3's version 2 (those options embedded) are refused. */
+#define SELFCOL_SCENE_OPTIONS_VERSION 3
 
 /** Bits of selfcol_collider_contact.flags. */
 typedef enum selfcol_collider_contact_flag {
@@ -227,14 +230,15 @@ typedef struct selfcol_scene_update_stats {
 #define SELFCOL_SCENE_UPDATE_STATS_VERSION 2
 
 /**
- * Writes the defaults into opts (distance 0: must be set).
+ * Writes the defaults into opts: no query options (they must be given, with
+ * a distance), NULL store and sequence options (their defaults), coherent 1.
  * @return SELFCOL_OK; SELFCOL_EINVAL if opts is NULL; SELFCOL_EVERSION.
  */
 SELFCOL_API int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned int version);
 
 /**
  * Names what selfcol_scene_create() refuses in opts, if anything: the field
- * (nested ones as "query.distance", "store.threads", "sequence.skin"), its
+ * (nested ones as "query->distance", "store->threads", "sequence->skin"), its
  * value and what is accepted (common.h, selfcol_options_problem).
  * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as
  *         selfcol_scene_create() for these options (NULL opts: SELFCOL_EINVAL);
@@ -261,13 +265,13 @@ SELFCOL_API int selfcol_scene_collider_desc_init(selfcol_scene_collider_desc *de
 
 /**
  * Creates an empty scene.
- * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, query.distance not in
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, NULL query, query->distance not in
  *         (0, 2^200], no kinds or unknown kinds, method, narrow phase or
  *         threads as selfcol_hierarchy_self_collide() refuses them,
  *         consistency not 0 or 1, a store allocator or orientation set,
  *         negative or non-finite tolerance, half-set allocator);
- *         SELFCOL_EVERSION (the scene's, the query's or the store's version
- *         0 or unknown, or scene version 1); SELFCOL_ENOMEM.
+ *         SELFCOL_EVERSION (the scene's, the query's, the store's or the
+ *         sequence's version 0 or unknown, or scene version 1 or 2); SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts);
 
@@ -345,10 +349,10 @@ SELFCOL_API int selfcol_scene_set_collider_pose(selfcol_scene *scene, uint32_t c
 /**
  * Runs the scene's surface queries and coherent sequences on `context`
  * (context.h: its threads, its scheduler, its working memory) from the next
- * update on, instead of the scene's own (POSIX threads, query.threads).
+ * update on, instead of the scene's own (POSIX threads, query->threads).
  * The context is borrowed: it must outlive the scene or be replaced first,
  * and must not serve another query while the scene updates. The surfaces'
- * refits keep query.threads. The records are the same either way.
+ * refits keep query->threads. The records are the same either way.
  * @param[in] context the context, or NULL to go back to the scene's own
  * @return SELFCOL_OK; SELFCOL_EINVAL for a NULL scene.
  */

@@ -14,7 +14,7 @@
 #include "common.h"
 
 #define SELFCOL_VERSION_MAJOR 0
-#define SELFCOL_VERSION_MINOR 3
+#define SELFCOL_VERSION_MINOR 4
 #define SELFCOL_VERSION_PATCH 0
 
 #define SELFCOL_VERSION_NUMBER                                                                     \

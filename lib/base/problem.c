@@ -53,7 +53,7 @@ selfcol_problem_at selfcol_problem__nested(const selfcol_problem_at *at, const c
     selfcol_problem_at nested = {NULL, "", ""};
     if (at == NULL)
         return nested;
-    snprintf(into, 64, "%s%s.", at->prefix, field);
+    snprintf(into, 64, "%s%s->", at->prefix, field);
     nested.problem = at->problem;
     nested.type = at->type;
     nested.prefix = into;

@@ -13,8 +13,8 @@
 #include "base/alloc.h" // SELFCOL_CHECK_ALLOCATOR
 
 // Where a validator reports: the problem (NULL: nowhere), the struct's C
-// name, and the prefix of its fields when it is nested by value in another
-// struct ("query." in selfcol_scene_options), else "".
+// name, and the prefix of its fields when another struct points to it
+// ("query->" in selfcol_scene_options), else "".
 typedef struct selfcol_problem_at {
     selfcol_options_problem *problem;
     const char *type;
@@ -42,8 +42,8 @@ int selfcol_problem__field(const selfcol_problem_at *at, int status, const char 
 int selfcol_problem__version(const selfcol_problem_at *at, unsigned int version,
                              unsigned int latest);
 
-// A nested struct's place: the same problem and type, prefix extended by
-// `field.` (into holds the text; 64 bytes are plenty for our names).
+// A pointed-to struct's place: the same problem and type, prefix extended
+// by `field->` (into holds the text; 64 bytes are plenty for our names).
 selfcol_problem_at selfcol_problem__nested(const selfcol_problem_at *at, const char *field,
                                            char into[64]);
 

@@ -92,11 +92,7 @@ int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned int version
         return SELFCOL_EVERSION;
     memset(opts, 0, sizeof *opts);
     opts->version = version;
-    selfcol_query_options_init(&opts->query, SELFCOL_QUERY_OPTIONS_VERSION);
-    opts->query.kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF;
-    selfcol_store_options_init(&opts->store, SELFCOL_STORE_OPTIONS_VERSION);
     opts->coherent = 1;
-    selfcol_sequence_options_init(&opts->sequence, SELFCOL_SEQUENCE_OPTIONS_VERSION);
     return SELFCOL_OK;
 }
 
@@ -128,28 +124,34 @@ static int allocator_unset(const selfcol_allocator *a) {
     return a->alloc == NULL && a->free == NULL && a->user == NULL;
 }
 
-// The scene's options checked, the nested query and store options read as
-// their versions say into query and store; `at` names a refused field.
+// The scene's options checked, the query, store and sequence options they
+// point to read as their versions say into query, store and sequence (NULL
+// store or sequence: the defaults); `at` names a refused field.
 static int scene_options(const selfcol_scene_options *o, selfcol_query_options *query,
-                         selfcol_store_options *store, const selfcol_problem_at *at) {
+                         selfcol_store_options *store, selfcol_sequence_options *sequence,
+                         const selfcol_problem_at *at) {
     // Version 1 was 0.2's layout (fields copied from the query and store
-    // options): its fields are not where this layout reads them.
+    // options), version 2 0.3's (those options embedded): their fields are
+    // not where this layout reads them.
     if (o->version != SELFCOL_SCENE_OPTIONS_VERSION)
         return selfcol_problem__field(at, SELFCOL_EVERSION, "version",
                                       "= %u is not %d (0: never initialised; 1 was 0.2's "
-                                      "layout)",
+                                      "layout, 2 0.3's)",
                                       o->version, SELFCOL_SCENE_OPTIONS_VERSION);
     SELFCOL_CHECK_ALLOCATOR(at, o->allocator);
+    SELFCOL_CHECK_FIELD(at, o->query != NULL, "query",
+                        "is NULL: a scene needs query options with a distance > 0 (its "
+                        "thickness)");
     char prefix[3][64];
     const selfcol_problem_at at_query = selfcol_problem__nested(at, "query", prefix[0]);
-    int status = selfcol_query__options(query, &o->query, &at_query);
+    int status = selfcol_query__options(query, o->query, &at_query);
     if (status != SELFCOL_OK)
         return status;
     SELFCOL_CHECK_FIELD(&at_query, query->distance > 0.0, "distance",
                         "= %g: a scene needs a distance > 0 (its thickness)", query->distance);
     SELFCOL_CHECK_FIELD(&at_query, query->kinds != 0, "kinds", "= 0: a scene needs some kind");
     const selfcol_problem_at at_store = selfcol_problem__nested(at, "store", prefix[1]);
-    status = selfcol_store__options(store, &o->store, &at_store);
+    status = selfcol_store__options(store, o->store, &at_store);
     if (status != SELFCOL_OK)
         return status;
     SELFCOL_CHECK_FIELD(&at_store, allocator_unset(&store->allocator), "allocator",
@@ -166,11 +168,10 @@ static int scene_options(const selfcol_scene_options *o, selfcol_query_options *
     SELFCOL_CHECK_FIELD(at, o->coherent == 0 || o->coherent == 1, "coherent", "= %d is not 0 or 1",
                         o->coherent);
     const selfcol_problem_at at_sequence = selfcol_problem__nested(at, "sequence", prefix[2]);
-    selfcol_sequence_options sequence;
-    status = selfcol_sequence__options(&sequence, &o->sequence, &at_sequence);
+    status = selfcol_sequence__options(sequence, o->sequence, &at_sequence);
     if (status != SELFCOL_OK)
         return status;
-    SELFCOL_CHECK_FIELD(&at_sequence, allocator_unset(&o->sequence.allocator), "allocator",
+    SELFCOL_CHECK_FIELD(&at_sequence, allocator_unset(&sequence->allocator), "allocator",
                         "is set: a scene's sequences use the scene's allocator (leave it zero)");
     return SELFCOL_OK;
 }
@@ -188,7 +189,8 @@ int selfcol_scene_options_check(const selfcol_scene_options *opts,
     const selfcol_problem_at at = {problem, "selfcol_scene_options", ""};
     selfcol_query_options query;
     selfcol_store_options store;
-    return scene_options(opts, &query, &store, &at);
+    selfcol_sequence_options sequence;
+    return scene_options(opts, &query, &store, &sequence, &at);
 }
 
 int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts) {
@@ -198,7 +200,8 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
     const selfcol_scene_options o = *opts;
     selfcol_query_options query;
     selfcol_store_options store;
-    int status = scene_options(&o, &query, &store, NULL);
+    selfcol_sequence_options sequence;
+    int status = scene_options(&o, &query, &store, &sequence, NULL);
     if (status != SELFCOL_OK)
         return status;
     selfcol_contacts_options copts;
@@ -215,7 +218,7 @@ int selfcol_scene_create(selfcol_scene **out, const selfcol_scene_options *opts)
     // no sequence is kept for them.
     s->coherent =
         o.coherent && query.method != SELFCOL_METHOD_SEED && query.method != SELFCOL_METHOD_CONE;
-    s->sequence = o.sequence;
+    s->sequence = sequence;
     s->sequence.allocator = o.allocator;
     s->distance = query.distance;
     s->collider_tolerance =

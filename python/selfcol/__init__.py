@@ -47,7 +47,7 @@ from ._core import (
     version,
 )
 
-__version__ = "0.3.0"
+__version__ = "0.4.0"
 
 __all__ = [
     "Cancelled", "Contacts", "Error", "Hierarchy", "InvalidArgument", "Kind", "Mesh", "Method",

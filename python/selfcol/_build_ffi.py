@@ -254,9 +254,9 @@ typedef struct selfcol_scene_collider_desc {
     double half_extents[3]; const double *points; size_t point_count;
 } selfcol_scene_collider_desc;
 typedef struct selfcol_scene_options {
-    unsigned int version; selfcol_allocator allocator; selfcol_query_options query;
-    selfcol_store_options store; double collider_tolerance; int coherent;
-    selfcol_sequence_options sequence;
+    unsigned int version; selfcol_allocator allocator; const selfcol_query_options *query;
+    const selfcol_store_options *store; double collider_tolerance; int coherent;
+    const selfcol_sequence_options *sequence;
 } selfcol_scene_options;
 typedef struct selfcol_collider_contact {
     uint32_t collider; uint32_t surface; uint32_t triangle; uint32_t flags;

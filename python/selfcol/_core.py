@@ -1231,7 +1231,7 @@ def _store_options(remnance: int, consistency: bool, first_orientation: int,
     if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
         raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
     opts.threads = min(int(threads), 1 << 31)
-    if into is None:  # nested in a scene's options: checked with them
+    if into is None:  # a scene's: checked with the scene's options
         _check_options(lib.selfcol_store_options_check, opts, "store options")
     return opts
 
@@ -1357,9 +1357,13 @@ class Scene:
         opts = ffi.new("selfcol_scene_options *")
         _check(lib.selfcol_scene_options_init(opts, lib.SELFCOL_SCENE_OPTIONS_VERSION),
                "selfcol_scene_options_init")
+        # The scene reads (and copies) the structs its options point to when it
+        # is created: q and store need only outlive selfcol_scene_create.
         q = _query_options(distance, method, kinds, threads, "closed")
-        opts.query = q[0]
-        _store_options(remnance, consistency, 0, 0, threads, into=ffi.addressof(opts, "store"))
+        store = _store_options(remnance, consistency, 0, 0, threads,
+                               into=ffi.new("selfcol_store_options *"))
+        opts.query = q
+        opts.store = store
         if collider_tolerance is not None:
             opts.collider_tolerance = float(collider_tolerance)
         opts.coherent = 1 if coherent else 0

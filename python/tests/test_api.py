@@ -36,7 +36,7 @@ def cli_sets(obj):
 
 
 def test_version():
-    assert selfcol.version() == selfcol.__version__ == "0.3.0"
+    assert selfcol.version() == selfcol.__version__ == "0.4.0"
 
 
 def test_bundled_ribbon_matches_cli(cli):

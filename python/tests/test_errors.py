@@ -218,7 +218,7 @@ def test_mesh_errors_name_the_element():
      "selfcol_sweep_options.threads = 99"),
     (lambda: selfcol.Sequence(skin=float("inf")), "selfcol_sequence_options.skin = inf"),
     (lambda: selfcol.Store(threads=70), "selfcol_store_options.threads = 70"),
-    (lambda: selfcol.Scene(distance=0.0), "selfcol_scene_options.query.distance = 0"),
+    (lambda: selfcol.Scene(distance=0.0), "selfcol_scene_options.query->distance = 0"),
     (lambda: selfcol.Scene(distance=0.1, collider_tolerance=-1.0),
      "selfcol_scene_options.collider_tolerance = -1"),
 ])

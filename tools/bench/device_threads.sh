@@ -14,7 +14,7 @@
 # 16 threads (warm, interleaved, records compared), EARLIEST 92 -> 93 on 1,
 # 8 and 16 threads, ipc-toolkit's discrete and continuous rows on 1 and 16,
 # and the Bullet ribbon 20k on 1 and 16 threads. With OLD_LIBSELFCOL (a
-# libselfcol.so.0.3 of another commit), EARLIEST and the discrete rows run
+# libselfcol.so.0.x of another commit with the same SONAME), EARLIEST and the discrete rows run
 # with it too, alternating, as an A/B in the same run. About 3 minutes there.
 set -eu
 build=${1:-build}
@@ -29,7 +29,11 @@ cp "$build/tools/bench/selfcol-bench-threads" .device-pack/bin/
 libs="lib"
 if [ -n "$old" ]; then
   mkdir -p .device-pack/old
-  cp "$old" .device-pack/old/libselfcol.so.0.3
+  # LD_LIBRARY_PATH swaps it in only under the programs' SONAME.
+  soname=$(objdump -p "$old" | awk '/SONAME/ {print $2}')
+  [ "$soname" = "$(objdump -p "$build/lib/libselfcol.so" | awk '/SONAME/ {print $2}')" ] ||
+    { echo "device_threads.sh: $old is $soname, not the build's SONAME" >&2; exit 1; }
+  cp "$old" ".device-pack/old/$soname"
   libs="old lib"
 fi
 cat > .device-pack/threads.sh <<EOF

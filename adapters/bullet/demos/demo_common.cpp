@@ -284,10 +284,13 @@ int world::start(const options &o) {
                      o.distance, edge);
         return 2;
     }
+    selfcol_query_options query;
+    selfcol_query_options_init(&query, SELFCOL_QUERY_OPTIONS_VERSION);
+    query.distance = o.distance;
+    query.threads = o.threads;
     selfcol_bullet_options so;
     selfcol_bullet_options_init(&so, SELFCOL_BULLET_OPTIONS_VERSION);
-    so.query.distance = o.distance;
-    so.query.threads = o.threads;
+    so.query = &query; // copied by selfcol_bullet_create()
     so.continuous = o.continuous ? 1 : 0;
     so.coherent = collision == mode::selfcol_fresh ? 0 : 1;
     int status = selfcol_bullet_create(&adapter, dynamics, &so);

@@ -136,7 +136,9 @@ inline uint64_t edge_key(uint32_t u, uint32_t w) {
 
 struct selfcol_bullet {
     selfcol_allocator hooks;
-    selfcol_bullet_options opts;
+    selfcol_bullet_options opts; // its query and store are NULL: the copies below
+    selfcol_query_options query; // the caller's, read as its version says
+    selfcol_store_options store;
     btDeformableMultiBodyDynamicsWorld *world;
     step_action *action;
     selfcol_scene *scene; // NULL until the first step with a body attached
@@ -231,14 +233,17 @@ int add_surface(selfcol_scene *scene, const selfcol_mesh *mesh, uint32_t *id) {
     return selfcol_scene_add_surface(scene, mesh, &surface, id);
 }
 
-// The scene options of the adapter's options at a distance.
-selfcol_scene_options scene_options(const selfcol_bullet_options &o, double distance) {
+// The scene options of the adapter's options at a distance; they point to
+// `query` (the adapter's query options at that distance) and to `store`.
+selfcol_scene_options scene_options(const selfcol_bullet_options &o,
+                                    const selfcol_store_options &store, double distance,
+                                    selfcol_query_options &query) {
+    query.distance = distance;
     selfcol_scene_options so;
     selfcol_scene_options_init(&so, SELFCOL_SCENE_OPTIONS_VERSION);
     so.allocator = o.allocator;
-    so.query = o.query;
-    so.query.distance = distance;
-    so.store = o.store;
+    so.query = &query;
+    so.store = &store;
     so.coherent = o.coherent;
     return so;
 }
@@ -249,7 +254,7 @@ selfcol_scene_options scene_options(const selfcol_bullet_options &o, double dist
 // body was detached before the scene existed is used up by adding a body's
 // mesh and removing it again, since the scene numbers surfaces itself.
 int build_scene(selfcol_bullet *a) {
-    double distance = a->opts.query.distance;
+    double distance = a->query.distance;
     if (distance == 0) {
         double sum = 0;
         double edges = 0;
@@ -262,7 +267,8 @@ int build_scene(selfcol_bullet *a) {
     }
     if (!(distance > 0) || !std::isfinite(distance))
         return SELFCOL_EINVAL; // every edge of zero length
-    selfcol_scene_options so = scene_options(a->opts, distance);
+    selfcol_query_options query = a->query;
+    selfcol_scene_options so = scene_options(a->opts, a->store, distance, query);
     selfcol_scene *scene = nullptr;
     int status = selfcol_scene_create(&scene, &so);
     for (size_t i = 0; status == SELFCOL_OK && i < a->bodies.size(); ++i) {
@@ -540,7 +546,7 @@ int hold_back(selfcol_bullet *a, double dt) {
     a->keep.assign(a->node_total, 1.0);
     selfcol_sweep_options so;
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
-    so.threads = a->opts.query.threads;
+    so.threads = a->query.threads;
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
         for (const attached_body &b : a->bodies) {
             int status = selfcol_mesh_set_positions_float(
@@ -746,12 +752,6 @@ extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigne
         return SELFCOL_EVERSION;
     std::memset(opts, 0, sizeof *opts);
     opts->version = version;
-    int status = selfcol_query_options_init(&opts->query, SELFCOL_QUERY_OPTIONS_VERSION);
-    if (status == SELFCOL_OK)
-        status = selfcol_store_options_init(&opts->store, SELFCOL_STORE_OPTIONS_VERSION);
-    if (status != SELFCOL_OK)
-        return status;
-    opts->query.distance = 0; // from distance_factor
     opts->distance_factor = SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR;
     opts->repulsion = SELFCOL_BULLET_DEFAULT_REPULSION;
     opts->iterations = SELFCOL_BULLET_DEFAULT_ITERATIONS;
@@ -777,12 +777,30 @@ int refuse(selfcol_options_problem *problem, int status, const char *field, cons
     return status;
 }
 
-// The adapter's own fields; the nested query and store options by the
-// core's rules, which a scene made and destroyed here applies (at the
-// given distance, or 1 when it will come from the bodies): an adapter that
-// is created can make its scene, rather than fail at every step. problem
+// The adapter's options as selfcol_bullet_create() keeps them: its own
+// fields, and copies of the query and store options they point to.
+struct settings {
+    selfcol_bullet_options o; // o.query and o.store: NULL (see query and store)
+    selfcol_query_options query;
+    selfcol_store_options store;
+};
+
+// Reads the caller's options struct as its version says into `into`, which
+// holds the defaults (a version-1 query options struct has no threads, so
+// it keeps the default one). A version this adapter does not know is
+// copied as the newest and left to the core's check, which names it.
+template <class T> void read_versioned(const T *from, T &into, size_t version1_size) {
+    if (from != nullptr)
+        std::memcpy(&into, from, from->version == 1 ? version1_size : sizeof into);
+}
+
+// The adapter's own fields; the query and store options by the core's
+// rules, which a scene made and destroyed here applies (at the given
+// distance, or 1 when it will come from the bodies): an adapter that is
+// created can make its scene, rather than fail at every step. problem
 // (NULL: none) names what is refused.
-int check_options(const selfcol_bullet_options &o, selfcol_options_problem *problem) {
+int check_options(const settings &s, selfcol_options_problem *problem) {
+    const selfcol_bullet_options &o = s.o;
     if ((o.allocator.alloc == nullptr) != (o.allocator.free == nullptr)) {
         if (problem != nullptr) {
             problem->status = SELFCOL_EINVAL;
@@ -793,13 +811,13 @@ int check_options(const selfcol_bullet_options &o, selfcol_options_problem *prob
         }
         return SELFCOL_EINVAL;
     }
-    const double distance = o.query.distance;
+    const double distance = s.query.distance;
     if (!(distance >= 0) || !(distance <= SELFCOL_MESH_MAX_COORDINATE)) // NaN fails both
-        return refuse(problem, SELFCOL_EINVAL, "query.distance",
+        return refuse(problem, SELFCOL_EINVAL, "query->distance",
                       "is not a distance in 0 .. 1.6e+60 (0: from the bodies)", distance);
     if (distance == 0 && (!(o.distance_factor > 0) || !std::isfinite(o.distance_factor)))
         return refuse(problem, SELFCOL_EINVAL, "distance_factor",
-                      "is not a finite factor > 0 (query.distance is 0)", o.distance_factor);
+                      "is not a finite factor > 0 (the query's distance is 0)", o.distance_factor);
     if (!(o.repulsion > 0 && o.repulsion <= 1))
         return refuse(problem, SELFCOL_EINVAL, "repulsion", "is not in (0, 1]", o.repulsion);
     if (o.iterations == 0 || o.iterations > 64)
@@ -815,9 +833,10 @@ int check_options(const selfcol_bullet_options &o, selfcol_options_problem *prob
     for (const auto &f : flags)
         if (f.value != 0 && f.value != 1)
             return refuse(problem, SELFCOL_EINVAL, f.field, "is not 0 or 1", double(f.value));
-    selfcol_scene_options so = scene_options(o, distance > 0 ? distance : 1.0);
+    selfcol_query_options query = s.query;
+    selfcol_scene_options so = scene_options(o, s.store, distance > 0 ? distance : 1.0, query);
     if (problem != nullptr) {
-        // The scene's check names query.* and store.*, which are this
+        // The scene's check names query->* and store->*, which are this
         // struct's fields of the same names.
         const int status = selfcol_scene_options_check(&so, problem);
         if (status != SELFCOL_OK) {
@@ -835,18 +854,25 @@ int check_options(const selfcol_bullet_options &o, selfcol_options_problem *prob
     return status;
 }
 
-// The options as given (NULL: the defaults) into o, checked.
-int read_options(const selfcol_bullet_options *opts, selfcol_bullet_options &o,
+// The options as given (NULL: the defaults) into s, checked.
+int read_options(const selfcol_bullet_options *opts, settings &s,
                  selfcol_options_problem *problem) {
-    selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
+    selfcol_bullet_options_init(&s.o, SELFCOL_BULLET_OPTIONS_VERSION);
+    selfcol_query_options_init(&s.query, SELFCOL_QUERY_OPTIONS_VERSION);
+    selfcol_store_options_init(&s.store, SELFCOL_STORE_OPTIONS_VERSION);
     if (opts != nullptr) {
         if (opts->version != SELFCOL_BULLET_OPTIONS_VERSION)
             return refuse(problem, SELFCOL_EVERSION, "version",
-                          "is not this library's (its _init function sets it)",
+                          "is not this library's (its _init function sets it; 3 was 0.3's "
+                          "layout)",
                           double(opts->version));
-        o = *opts;
+        s.o = *opts;
+        read_versioned(opts->query, s.query, offsetof(selfcol_query_options, threads));
+        read_versioned(opts->store, s.store, offsetof(selfcol_store_options, threads));
+        s.o.query = nullptr;
+        s.o.store = nullptr;
     }
-    return check_options(o, problem);
+    return check_options(s, problem);
 }
 
 } // namespace
@@ -859,8 +885,8 @@ extern "C" int selfcol_bullet_options_check(const selfcol_bullet_options *opts,
         return SELFCOL_EVERSION;
     problem->status = SELFCOL_OK;
     problem->field[0] = problem->message[0] = '\0';
-    selfcol_bullet_options o;
-    return read_options(opts, o, problem);
+    settings s;
+    return read_options(opts, s, problem);
 }
 
 extern "C" int selfcol_bullet_create(selfcol_bullet **out,
@@ -871,15 +897,18 @@ extern "C" int selfcol_bullet_create(selfcol_bullet **out,
     *out = nullptr;
     if (world == nullptr)
         return SELFCOL_EINVAL;
-    selfcol_bullet_options o;
-    int status = read_options(opts, o, nullptr);
+    settings s;
+    int status = read_options(opts, s, nullptr);
     if (status != SELFCOL_OK)
         return status;
+    const selfcol_bullet_options &o = s.o;
     void *memory = hook_alloc(o.allocator, sizeof(selfcol_bullet), alignof(selfcol_bullet));
     if (memory == nullptr)
         return SELFCOL_ENOMEM;
     selfcol_bullet *a = new (memory) selfcol_bullet(o.allocator);
     a->opts = o;
+    a->query = s.query;
+    a->store = s.store;
     a->world = world;
     a->stats.version = SELFCOL_BULLET_STEP_STATS_VERSION;
     if (o.automatic) {

@@ -22,6 +22,34 @@
 
 using namespace selfcol_bullet_detail;
 
+// Adapter options with query and store options of their own to point to
+// (default-initialised), for the cases that spoil one field. Copying one
+// re-points the copy at its own query and store.
+struct full_options {
+    selfcol_bullet_options o;
+    selfcol_query_options q;
+    selfcol_store_options s;
+    full_options() {
+        selfcol_bullet_options_init(&o, SELFCOL_BULLET_OPTIONS_VERSION);
+        selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+        selfcol_store_options_init(&s, SELFCOL_STORE_OPTIONS_VERSION);
+        o.query = &q;
+        o.store = &s;
+    }
+    full_options(const full_options &other) : o(other.o), q(other.q), s(other.s) {
+        o.query = &q;
+        o.store = &s;
+    }
+    full_options &operator=(const full_options &other) {
+        o = other.o;
+        q = other.q;
+        s = other.s;
+        o.query = &q;
+        o.store = &s;
+        return *this;
+    }
+};
+
 static void api_rejects_bad_input() {
     demo::options o;
     demo::world w(o, 0.0);
@@ -34,56 +62,57 @@ static void api_rejects_bad_input() {
     selfcol_bullet *a = reinterpret_cast<selfcol_bullet *>(&opts);
     CHECK(selfcol_bullet_create(&a, nullptr, &opts) == SELFCOL_EINVAL && a == nullptr);
     CHECK(selfcol_bullet_create(nullptr, w.dynamics, &opts) == SELFCOL_EINVAL);
-    selfcol_bullet_options bad = opts;
-    bad.query.distance = NAN;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
-    bad = opts;
-    bad.query.distance = -1;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
-    bad = opts;
-    bad.repulsion = 1.5;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
-    bad = opts;
-    bad.iterations = 0;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EINVAL);
-    bad = opts;
-    bad.version = 7;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == SELFCOL_EVERSION);
+    const full_options full;
+    full_options bad = full;
+    bad.q.distance = NAN;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad.o) == SELFCOL_EINVAL);
+    bad = full;
+    bad.q.distance = -1;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad.o) == SELFCOL_EINVAL);
+    bad = full;
+    bad.o.repulsion = 1.5;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad.o) == SELFCOL_EINVAL);
+    bad = full;
+    bad.o.iterations = 0;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad.o) == SELFCOL_EINVAL);
+    bad = full;
+    bad.o.version = 7;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &bad.o) == SELFCOL_EVERSION);
     // selfcol_bullet_options_check names what create refuses, with create's
     // status: the adapter's own fields and the nested ones alike.
     struct named_case {
-        void (*spoil)(selfcol_bullet_options &);
+        void (*spoil)(full_options &);
         int status;
         const char *field, *message;
     };
     const named_case named[] = {
-        {[](selfcol_bullet_options &b) { b.query.distance = NAN; }, SELFCOL_EINVAL,
-         "query.distance", "selfcol_bullet_options.query.distance = nan"},
-        {[](selfcol_bullet_options &b) { b.repulsion = 1.5; }, SELFCOL_EINVAL, "repulsion",
+        {[](full_options &b) { b.q.distance = NAN; }, SELFCOL_EINVAL, "query->distance",
+         "selfcol_bullet_options.query->distance = nan"},
+        {[](full_options &b) { b.o.repulsion = 1.5; }, SELFCOL_EINVAL, "repulsion",
          "selfcol_bullet_options.repulsion = 1.5 is not in (0, 1]"},
-        {[](selfcol_bullet_options &b) { b.continuous = 3; }, SELFCOL_EINVAL, "continuous",
+        {[](full_options &b) { b.o.continuous = 3; }, SELFCOL_EINVAL, "continuous",
          "= 3 is not 0 or 1"},
-        {[](selfcol_bullet_options &b) { b.query.threads = 0; }, SELFCOL_EINVAL, "query.threads",
-         "selfcol_bullet_options.query.threads = 0 is not in 1 .. 64"},
-        {[](selfcol_bullet_options &b) { b.store.consistency = 4; }, SELFCOL_EINVAL,
-         "store.consistency", "selfcol_bullet_options.store.consistency = 4"},
-        {[](selfcol_bullet_options &b) { b.store.first_orientation = 1; }, SELFCOL_EINVAL,
-         "store.first_orientation", "leave it 0"},
-        {[](selfcol_bullet_options &b) { b.version = 7; }, SELFCOL_EVERSION, "version", "= 7"},
-        {[](selfcol_bullet_options &) {}, SELFCOL_OK, "", ""},
+        {[](full_options &b) { b.q.threads = 0; }, SELFCOL_EINVAL, "query->threads",
+         "selfcol_bullet_options.query->threads = 0 is not in 1 .. 64"},
+        {[](full_options &b) { b.s.consistency = 4; }, SELFCOL_EINVAL, "store->consistency",
+         "selfcol_bullet_options.store->consistency = 4"},
+        {[](full_options &b) { b.s.first_orientation = 1; }, SELFCOL_EINVAL,
+         "store->first_orientation", "leave it 0"},
+        {[](full_options &b) { b.o.version = 7; }, SELFCOL_EVERSION, "version", "= 7"},
+        {[](full_options &) {}, SELFCOL_OK, "", ""},
     };
     for (const named_case &c : named) {
-        bad = opts;
+        bad = full;
         c.spoil(bad);
         selfcol_options_problem p;
         std::memset(&p, 0x5a, sizeof p);
         p.version = SELFCOL_OPTIONS_PROBLEM_VERSION;
-        const int checked = selfcol_bullet_options_check(&bad, &p);
+        const int checked = selfcol_bullet_options_check(&bad.o, &p);
         CHECK(checked == c.status && p.status == c.status);
         CHECK(std::strcmp(p.field, c.field) == 0);
         CHECK(std::strstr(p.message, c.message) != nullptr);
         if (c.status != SELFCOL_OK) // create agrees (and makes nothing)
-            CHECK(selfcol_bullet_create(&a, w.dynamics, &bad) == checked && a == nullptr);
+            CHECK(selfcol_bullet_create(&a, w.dynamics, &bad.o) == checked && a == nullptr);
     }
     CHECK(selfcol_bullet_options_check(&opts, nullptr) == SELFCOL_EINVAL);
 
@@ -131,42 +160,47 @@ static void api_rejects_bad_input() {
     selfcol_bullet_destroy(nullptr);
 }
 
-// Item A: the options compose the core's query and store options (version
-// 3); 0.2's layouts (versions 1 and 2) are refused. The stats struct keeps
-// its versions: a version 1 caller's stats end before `untangled`.
-static void options_composed_and_versions() {
+// Item A: the options point to the core's query and store options (version
+// 4, 0.4); 0.2's layouts (versions 1 and 2) and 0.3's (3: those options
+// embedded) are refused. The adapter copies what they point to, each read as
+// its own version says. The stats struct keeps its versions: a version 1
+// caller's stats end before `untangled`.
+static void options_by_pointer_and_versions() {
     selfcol_bullet_options opts;
     CHECK(selfcol_bullet_options_init(&opts, 1) == SELFCOL_EVERSION);
     CHECK(selfcol_bullet_options_init(&opts, 2) == SELFCOL_EVERSION);
+    CHECK(selfcol_bullet_options_init(&opts, 3) == SELFCOL_EVERSION);
     CHECK(selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION) == SELFCOL_OK);
-    selfcol_query_options q;
-    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
-    selfcol_store_options st0;
-    selfcol_store_options_init(&st0, SELFCOL_STORE_OPTIONS_VERSION);
-    CHECK(opts.query.version == SELFCOL_QUERY_OPTIONS_VERSION);
-    CHECK(opts.query.kinds == (SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF));
-    CHECK(opts.query.method == SELFCOL_METHOD_EXACT && opts.query.narrow == q.narrow);
-    CHECK(opts.query.threads == 1 && opts.query.distance == 0);
-    CHECK(opts.store.version == SELFCOL_STORE_OPTIONS_VERSION);
-    CHECK(opts.store.remnance_frames == SELFCOL_STORE_DEFAULT_REMNANCE);
-    CHECK(opts.store.consistency == 1 && st0.consistency == 1);
-    CHECK(opts.store.first_orientation == 0 && opts.store.second_orientation == 0);
-    CHECK(opts.store.allocator.alloc == nullptr && opts.store.allocator.free == nullptr);
+    CHECK(opts.query == nullptr && opts.store == nullptr); // the core's defaults
     CHECK(opts.distance_factor == SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR && opts.untangle == 1 &&
-          opts.automatic == 1);
+          opts.automatic == 1 && opts.coherent == 1 && opts.continuous == 0);
     demo::options o;
     demo::world w(o, 0.0);
     btSoftBody *sheet =
         w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
     selfcol_bullet *a = nullptr;
     selfcol_bullet_options old = opts;
-    old.version = 2;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &old) == SELFCOL_EVERSION && a == nullptr);
-    // the nested options reach the scene: remnance 0 and an explicit distance
+    for (unsigned version = 1; version <= 3; ++version) {
+        old.version = version;
+        CHECK(selfcol_bullet_create(&a, w.dynamics, &old) == SELFCOL_EVERSION && a == nullptr);
+    }
+    // the options pointed to reach the scene (the explicit distance); they are copied, so spoiling
+    // them after creation changes nothing. The query options are a version 1 struct (0.1's: no
+    // threads), whose threads field is garbage and must not be read.
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.version = 1;
+    q.threads = 0; // not part of a version 1 struct
+    q.distance = 0.03;
+    selfcol_store_options so;
+    selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
+    so.remnance_frames = 0;
     opts.automatic = 0;
-    opts.query.distance = 0.03;
-    opts.store.remnance_frames = 0;
+    opts.query = &q;
+    opts.store = &so;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    std::memset(&q, 0xff, sizeof q);
+    std::memset(&so, 0xff, sizeof so);
     CHECK(selfcol_bullet_attach(a, sheet, nullptr) == SELFCOL_OK);
     CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
     selfcol_bullet_step_stats st;
@@ -186,50 +220,43 @@ static void options_composed_and_versions() {
 static void create_validates_nested_options() {
     demo::options o;
     demo::world w(o, 0.0);
-    selfcol_bullet_options opts;
-    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
-    opts.automatic = 0;
+    full_options opts;
+    opts.o.automatic = 0;
     struct bad_case {
         const char *what;
-        void (*spoil)(selfcol_bullet_options &);
+        void (*spoil)(full_options &);
         int expect;
     };
     const bad_case cases[] = {
-        {"threads 0", [](selfcol_bullet_options &b) { b.query.threads = 0; }, SELFCOL_EINVAL},
-        {"threads 65", [](selfcol_bullet_options &b) { b.query.threads = SELFCOL_MAX_THREADS + 1; },
+        {"threads 0", [](full_options &b) { b.q.threads = 0; }, SELFCOL_EINVAL},
+        {"threads 65", [](full_options &b) { b.q.threads = SELFCOL_MAX_THREADS + 1; },
          SELFCOL_EINVAL},
-        {"threads 1000", [](selfcol_bullet_options &b) { b.query.threads = 1000; }, SELFCOL_EINVAL},
-        {"distance 1e300", [](selfcol_bullet_options &b) { b.query.distance = 1e300; },
-         SELFCOL_EINVAL},
-        {"distance inf", [](selfcol_bullet_options &b) { b.query.distance = INFINITY; },
-         SELFCOL_EINVAL},
-        {"factor 0", [](selfcol_bullet_options &b) { b.distance_factor = 0; }, SELFCOL_EINVAL},
-        {"no kinds", [](selfcol_bullet_options &b) { b.query.kinds = 0; }, SELFCOL_EINVAL},
-        {"unknown kind", [](selfcol_bullet_options &b) { b.query.kinds |= 1u << 20; },
-         SELFCOL_EINVAL},
-        {"method", [](selfcol_bullet_options &b) { b.query.method = 99; }, SELFCOL_EINVAL},
-        {"narrow", [](selfcol_bullet_options &b) { b.query.narrow = 99; }, SELFCOL_EINVAL},
-        {"query version", [](selfcol_bullet_options &b) { b.query.version = 0; }, SELFCOL_EVERSION},
-        {"consistency 2", [](selfcol_bullet_options &b) { b.store.consistency = 2; },
-         SELFCOL_EINVAL},
-        {"orientation", [](selfcol_bullet_options &b) { b.store.first_orientation = 1; },
-         SELFCOL_EINVAL},
+        {"threads 1000", [](full_options &b) { b.q.threads = 1000; }, SELFCOL_EINVAL},
+        {"distance 1e300", [](full_options &b) { b.q.distance = 1e300; }, SELFCOL_EINVAL},
+        {"distance inf", [](full_options &b) { b.q.distance = INFINITY; }, SELFCOL_EINVAL},
+        {"factor 0", [](full_options &b) { b.o.distance_factor = 0; }, SELFCOL_EINVAL},
+        {"no kinds", [](full_options &b) { b.q.kinds = 0; }, SELFCOL_EINVAL},
+        {"unknown kind", [](full_options &b) { b.q.kinds |= 1u << 20; }, SELFCOL_EINVAL},
+        {"method", [](full_options &b) { b.q.method = 99; }, SELFCOL_EINVAL},
+        {"narrow", [](full_options &b) { b.q.narrow = 99; }, SELFCOL_EINVAL},
+        {"query version", [](full_options &b) { b.q.version = 0; }, SELFCOL_EVERSION},
+        {"consistency 2", [](full_options &b) { b.s.consistency = 2; }, SELFCOL_EINVAL},
+        {"orientation", [](full_options &b) { b.s.first_orientation = 1; }, SELFCOL_EINVAL},
         {"store allocator",
-         [](selfcol_bullet_options &b) {
-             b.store.allocator.alloc = [](void *, size_t, size_t) -> void * { return nullptr; };
-             b.store.allocator.free = [](void *, void *, size_t) {};
+         [](full_options &b) {
+             b.s.allocator.alloc = [](void *, size_t, size_t) -> void * { return nullptr; };
+             b.s.allocator.free = [](void *, void *, size_t) {};
          },
          SELFCOL_EINVAL},
-        {"store version", [](selfcol_bullet_options &b) { b.store.version = 99; },
-         SELFCOL_EVERSION},
-        {"automatic 2", [](selfcol_bullet_options &b) { b.automatic = 2; }, SELFCOL_EINVAL},
-        {"untangle 7", [](selfcol_bullet_options &b) { b.untangle = 7; }, SELFCOL_EINVAL},
+        {"store version", [](full_options &b) { b.s.version = 99; }, SELFCOL_EVERSION},
+        {"automatic 2", [](full_options &b) { b.o.automatic = 2; }, SELFCOL_EINVAL},
+        {"untangle 7", [](full_options &b) { b.o.untangle = 7; }, SELFCOL_EINVAL},
     };
     for (const bad_case &c : cases) {
-        selfcol_bullet_options bad = opts;
+        full_options bad = opts;
         c.spoil(bad);
         selfcol_bullet *a = reinterpret_cast<selfcol_bullet *>(&bad);
-        int status = selfcol_bullet_create(&a, w.dynamics, &bad);
+        int status = selfcol_bullet_create(&a, w.dynamics, &bad.o);
         if (status != c.expect || a != nullptr)
             std::fprintf(stderr, "create with %s: %s\n", c.what, selfcol_status_string(status));
         CHECK(status == c.expect && a == nullptr);
@@ -238,10 +265,10 @@ static void create_validates_nested_options() {
     // the bounds themselves are accepted, and the first step then works
     btSoftBody *sheet =
         w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
-    selfcol_bullet_options edge = opts;
-    edge.query.threads = SELFCOL_MAX_THREADS;
+    full_options edge = opts;
+    edge.q.threads = SELFCOL_MAX_THREADS;
     selfcol_bullet *a = nullptr;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &edge) == SELFCOL_OK);
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &edge.o) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, sheet, nullptr) == SELFCOL_OK);
     CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
     selfcol_bullet_destroy(a);
@@ -368,12 +395,11 @@ static crossing_memory push_through(int change) { // 0 none, 1 attach between, 2
                                     btVector3(0, 0, 0.3f), 16, 16, 0.1, false);
     btSoftBody *other = w.add_sheet(btVector3(5, 0, 0), btVector3(0.3f, 0, 0),
                                     btVector3(0, 0, 0.3f), 8, 8, 0.1, false);
-    selfcol_bullet_options opts;
-    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
-    opts.automatic = 0;
-    opts.query.distance = 0.01;
+    full_options opts;
+    opts.o.automatic = 0;
+    opts.q.distance = 0.01;
     selfcol_bullet *a = nullptr;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts.o) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, lower, nullptr) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, upper, nullptr) == SELFCOL_OK);
     if (change == 2)
@@ -534,12 +560,11 @@ static void nonfinite_velocity_refused() {
                                    btVector3(0, 0, 0.5f), 8, 8, 0.1, false);
     btSoftBody *third = w.add_sheet(btVector3(3, 0, 0), btVector3(0.5f, 0, 0),
                                     btVector3(0, 0, 0.5f), 8, 8, 0.1, false);
-    selfcol_bullet_options opts;
-    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
-    opts.automatic = 0;
-    opts.query.distance = 0.05;
+    full_options opts;
+    opts.o.automatic = 0;
+    opts.q.distance = 0.05;
     selfcol_bullet *a = nullptr;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts.o) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, high, nullptr) == SELFCOL_OK);
     for (int i = 0; i < high->m_nodes.size(); ++i)
@@ -1008,14 +1033,13 @@ crumple_steps(int scheduler,
                                    btVector3(0, 0, 0.3f), 14, 14, 0.1, false);
     for (int i = 0; i < high->m_nodes.size(); ++i)
         high->m_nodes[i].m_v = btVector3(0, -0.5f, 0.1f * btScalar(i % 7) - 0.3f);
-    selfcol_bullet_options opts;
-    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
-    opts.automatic = 0;
-    opts.query.distance = 0.005;
-    opts.continuous = 1; // its continuous queries go through the scheduler too
-    opts.query.threads = threads;
+    full_options opts;
+    opts.o.automatic = 0;
+    opts.q.distance = 0.005;
+    opts.o.continuous = 1; // its continuous queries go through the scheduler too
+    opts.q.threads = threads;
     selfcol_bullet *a = nullptr;
-    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts.o) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, high, nullptr) == SELFCOL_OK);
     if (scheduler == 1)
@@ -1069,7 +1093,7 @@ static void task_scheduler_and_threads_give_the_same_steps() {
 int main() {
     api_rejects_bad_input();
     response_rules();
-    options_composed_and_versions();
+    options_by_pointer_and_versions();
     create_validates_nested_options();
     removed_body_is_dropped();
     detach_restores_and_keeps_other_stores();

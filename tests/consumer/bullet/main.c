@@ -24,9 +24,8 @@ int main(void) {
     }
     printf("consumer_bullet_c: selfcol %s, options: iterations %u, repulsion %g, automatic %d\n",
            selfcol_version_string(), opts.iterations, opts.repulsion, opts.automatic);
-    if (opts.version != SELFCOL_BULLET_OPTIONS_VERSION || opts.query.distance != 0.0 ||
-        opts.query.threads != 1 || opts.store.consistency != 1 ||
-        opts.iterations != SELFCOL_BULLET_DEFAULT_ITERATIONS ||
+    if (opts.version != SELFCOL_BULLET_OPTIONS_VERSION || opts.query != NULL ||
+        opts.store != NULL || opts.iterations != SELFCOL_BULLET_DEFAULT_ITERATIONS ||
         opts.repulsion != SELFCOL_BULLET_DEFAULT_REPULSION || opts.automatic != 1)
         return 1;
     // A version from the future is refused.

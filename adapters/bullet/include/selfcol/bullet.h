@@ -113,17 +113,20 @@ typedef struct selfcol_bullet selfcol_bullet;
 /**
  * Options for selfcol_bullet_create(). Initialise with selfcol_bullet_options_init().
  * The queries and the contact stores are configured by the core's own
- * option structs, composed here (a field added to either is reachable
- * without a new adapter field) and checked at creation by the core's rules.
+ * option structs, passed by pointer (docs/architecture.md, "Threads and
+ * options": a field added to either changes neither this layout nor its
+ * version), read as their own versions say and checked at creation by the
+ * core's rules. selfcol_bullet_create() keeps copies: the pointed-to
+ * structs need not outlive the call.
  */
 typedef struct selfcol_bullet_options {
     unsigned int version; /**< SELFCOL_BULLET_OPTIONS_VERSION */
     selfcol_allocator
         allocator; /**< of the adapter and its selfcol handles; all-zero: malloc/free */
     /**
-     * The queries (selfcol_query_options_init() defaults: kinds VF|EE|EF,
-     * method EXACT, closed-form narrow phase, threads 1; the bodies'
-     * refits use the same threads). `distance` is the
+     * The queries; NULL for selfcol_query_options_init()'s defaults (kinds
+     * VF|EE|EF, method EXACT, closed-form narrow phase, threads 1, distance
+     * 0); the bodies' refits use the same threads. `distance` is the
      * detection distance and cloth thickness d, in world units, at most
      * SELFCOL_MESH_MAX_COORDINATE; 0 (the default here): distance_factor x
      * the mean edge length of the bodies attached at the first step, so that
@@ -134,16 +137,17 @@ typedef struct selfcol_bullet_options {
      * Responses need VF and EE contacts, the untangling EF interferences:
      * leaving a kind out leaves out what it drives.
      */
-    selfcol_query_options query;
+    const selfcol_query_options *query;
     /**
      * The contact stores: remnance_frames (default
      * SELFCOL_STORE_DEFAULT_REMNANCE), consistency (the region vote,
-     * default 1) and threads (default 1). Its allocator and orientations must stay zero: the
-     * adapter's allocator serves the stores, and cloth has no orientation.
+     * default 1) and threads (default 1); NULL for those defaults. Its
+     * allocator and orientations must stay zero: the adapter's allocator
+     * serves the stores, and cloth has no orientation.
      */
-    selfcol_store_options store;
+    const selfcol_store_options *store;
     double distance_factor; /**< default SELFCOL_BULLET_DEFAULT_DISTANCE_FACTOR; used when
-                               query.distance is 0 */
+                               the query's distance is 0 (or query is NULL) */
     /**
      * Repulsion strength, in (0, 1]: the fraction of the gap between a
      * contact's signed distance and d that one step closes (at most d per
@@ -182,7 +186,7 @@ typedef struct selfcol_bullet_options {
      * mass) are never held: a pair of kinematic nodes only is left alone.
      * The first step after an attach or detach has no last positions and
      * is not checked. Costs a continuous query per pass (stats), on
-     * query.threads (or Bullet's scheduler: selfcol_bullet_use_task_scheduler);
+     * query->threads (or Bullet's scheduler: selfcol_bullet_use_task_scheduler);
      * the held positions do not depend on the threads.
      */
     int continuous;
@@ -196,8 +200,9 @@ typedef struct selfcol_bullet_options {
     int coherent;
 } selfcol_bullet_options;
 
-/** 3 since 0.3 (query and store options composed); 0.2's versions 1 and 2 are refused. */
-#define SELFCOL_BULLET_OPTIONS_VERSION 3
+/** 4 since 0.4 (the query and store options by pointer); 0.2's versions 1
+ *  and 2 and 0.3's version 3 (those options embedded) are refused. */
+#define SELFCOL_BULLET_OPTIONS_VERSION 4
 /** Relative displacement per step of each EF interference's nodes when untangling, in units of d.
  */
 #define SELFCOL_BULLET_UNTANGLE_STEP 0.25
@@ -234,17 +239,17 @@ typedef struct selfcol_bullet_step_stats {
 #define SELFCOL_BULLET_STEP_STATS_VERSION 3
 
 /**
- * Writes the defaults into opts, the nested query and store options by
- * their own _init.
+ * Writes the defaults into opts (query and store NULL: the core's defaults).
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL); SELFCOL_EVERSION (any version
- *         but SELFCOL_BULLET_OPTIONS_VERSION: 0.2's layouts are refused).
+ *         but SELFCOL_BULLET_OPTIONS_VERSION: 0.2's and 0.3's layouts are
+ *         refused).
  */
 SELFCOL_BULLET_API int selfcol_bullet_options_init(selfcol_bullet_options *opts,
                                                    unsigned int version);
 
 /**
  * Names what selfcol_bullet_create() refuses in opts, if anything: the
- * field ("repulsion", "query.threads", "store.consistency", ...), its value
+ * field ("repulsion", "query->threads", "store->consistency", ...), its value
  * and what is accepted (selfcol/common.h, selfcol_options_problem).
  * @return what selfcol_bullet_create() returns for these options, short of
  *         its world and of memory (SELFCOL_OK, SELFCOL_EINVAL,
@@ -260,9 +265,9 @@ SELFCOL_BULLET_API int selfcol_bullet_options_check(const selfcol_bullet_options
  * @param[out] out the adapter; NULL on failure
  * @param[in] world the world; it must outlive the adapter
  * @param[in] opts options, or NULL for defaults
- * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, query.distance < 0, not finite
+ * @return SELFCOL_OK; SELFCOL_EINVAL (NULL, query->distance < 0, not finite
  *         or above SELFCOL_MESH_MAX_COORDINATE, distance_factor not positive
- *         and finite when query.distance is 0, any query or store option
+ *         and finite when the distance is 0, any query or store option
  *         that selfcol_scene_create() refuses (kinds, method, narrow phase,
  *         threads outside 1..SELFCOL_MAX_THREADS, consistency, a store
  *         allocator or orientation), repulsion outside (0, 1], iterations
@@ -348,7 +353,7 @@ SELFCOL_BULLET_API int selfcol_bullet_stats(const selfcol_bullet *adapter,
  * (getNumThreads(), at most SELFCOL_MAX_THREADS; 1 when no scheduler is
  * installed): the engine's own threads,
  * none started by selfcol. on = 0 (the default): selfcol's own threads
- * (query.threads). The contacts are the same either way. Call it again
+ * (query->threads). The contacts are the same either way. Call it again
  * after changing Bullet's scheduler or its thread count.
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL adapter, on not 0 or 1);
  *         SELFCOL_ENOMEM (nothing changed).
