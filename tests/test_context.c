@@ -256,8 +256,6 @@ static void test_every_scheduler_gives_the_records_of_one_thread(void **state) {
                                      SELFCOL_OK);
                 records += selfcol_contacts_count(reference);
                 for (size_t c = 0; c < context_count; ++c) {
-                    // The options' threads are not read with a context.
-                    o.threads = 13;
                     if (two)
                         assert_int_equal(
                             selfcol_context_collide(contexts[c], a.hierarchy, b.hierarchy, got, &o),
@@ -537,7 +535,6 @@ static void test_sweeps_through_a_context(void **state) {
             assert_int_equal(selfcol_sweep_hits(reference, &h, &n), SELFCOL_OK);
             hits += n;
             for (size_t c = 0; c < sizeof contexts / sizeof *contexts; ++c) {
-                o.threads = 17; // not read with a context
                 if (two)
                     assert_int_equal(selfcol_context_sweep(contexts[c], a.hierarchy, from.positions,
                                                            b.hierarchy, b_start, got, &o),

@@ -124,9 +124,10 @@ static void test_query_options_name_the_field(void **state) {
             value = "nan";
             break;
         case 4:
-            o.threads = 65;
-            field = "threads";
-            value = "= 65";
+            o.version = 2; // 0.3's layout, with threads (the context's since 0.4)
+            field = "version";
+            value = "older layout";
+            want = SELFCOL_EVERSION;
             break;
         default:
             o.version = 0;
@@ -160,9 +161,10 @@ static void test_hierarchy_options_name_the_field(void **state) {
         int want = SELFCOL_EINVAL;
         switch (k) {
         case 0:
-            o.threads = 0;
-            field = "threads";
-            value = "= 0";
+            o.version = 2; // 0.3's layout, with threads (the context's since 0.4)
+            field = "version";
+            value = "older layout";
+            want = SELFCOL_EVERSION;
             break;
         case 1:
             o.allocator.alloc = dummy_alloc;
@@ -209,9 +211,10 @@ static void test_store_options_name_the_field(void **state) {
             value = "= 3";
             break;
         case 3:
-            o.threads = 1000;
-            field = "threads";
-            value = "= 1000";
+            o.version = 2; // 0.3's layout, with threads (the context's since 0.4)
+            field = "version";
+            value = "older layout";
+            want = SELFCOL_EVERSION;
             break;
         case 4:
             o.allocator.alloc = dummy_alloc;
@@ -288,8 +291,10 @@ static void test_sweep_options_name_the_field(void **state) {
             value = "inf";
             break;
         case 4:
-            o.threads = 0;
-            field = "threads";
+            o.version = 2; // 0.3's layout, with threads (the context's since 0.4)
+            field = "version";
+            value = "older layout";
+            want = SELFCOL_EVERSION;
             break;
         default: field = ""; want = SELFCOL_OK;
         }
@@ -327,9 +332,10 @@ static void test_scene_options_name_nested_fields(void **state) {
             value = "distance > 0";
             break;
         case 1:
-            q.threads = 99;
-            field = "query->threads";
-            value = "= 99";
+            q.version = 2; // 0.3's layout, with threads
+            field = "query->version";
+            value = "older layout";
+            want = SELFCOL_EVERSION;
             break;
         case 2:
             st.first_orientation = 1;

@@ -79,25 +79,23 @@ static void test_options_init_checks_version_and_writes_only_its_version(void **
     assert_int_equal(selfcol_query_options_init(&q, 0), SELFCOL_EVERSION);
     assert_int_equal(selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION + 1),
                      SELFCOL_EVERSION);
-    // Every version writes the defaults of its fields, and a version-1
-    // caller's struct ends where `threads` begins: nothing from there on
-    // (the field and the padding after it) is written.
-    for (unsigned version = 1; version <= SELFCOL_QUERY_OPTIONS_VERSION; ++version) {
+    // 0.3's layouts (version 2 had `threads`, which 0.4 moved to the
+    // context) are refused and left unwritten; the current version writes
+    // the defaults of every field.
+    for (unsigned version = 1; version < SELFCOL_QUERY_OPTIONS_VERSION; ++version) {
         memset(&q, 0xA5, sizeof q);
-        assert_int_equal(selfcol_query_options_init(&q, version), SELFCOL_OK);
-        assert_int_equal(q.version, version);
-        assert_int_equal(q.method, SELFCOL_METHOD_EXACT);
-        assert_int_equal(q.narrow, SELFCOL_NARROW_CLOSED_FORM);
-        assert_int_equal(q.kinds, SELFCOL_KIND_ALL);
-        assert_true(q.distance == 0.0);
+        assert_int_equal(selfcol_query_options_init(&q, version), SELFCOL_EVERSION);
         const unsigned char *bytes = (const unsigned char *)&q;
-        if (version == 1) {
-            for (size_t i = offsetof(selfcol_query_options, threads); i < sizeof q; ++i)
-                assert_int_equal(bytes[i], 0xA5);
-        } else {
-            assert_int_equal(q.threads, 1);
-        }
+        for (size_t i = 0; i < sizeof q; ++i)
+            assert_int_equal(bytes[i], 0xA5);
     }
+    memset(&q, 0xA5, sizeof q);
+    assert_int_equal(selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION), SELFCOL_OK);
+    assert_int_equal(q.version, SELFCOL_QUERY_OPTIONS_VERSION);
+    assert_int_equal(q.method, SELFCOL_METHOD_EXACT);
+    assert_int_equal(q.narrow, SELFCOL_NARROW_CLOSED_FORM);
+    assert_int_equal(q.kinds, SELFCOL_KIND_ALL);
+    assert_true(q.distance == 0.0);
 }
 
 // One invalid field at a time, from valid options.
@@ -143,11 +141,8 @@ static void distance_above_bound(selfcol_query_options *q) {
 static void distance_max(selfcol_query_options *q) {
     q->distance = DBL_MAX;
 }
-static void threads_zero(selfcol_query_options *q) {
-    q->threads = 0;
-}
-static void threads_too_many(selfcol_query_options *q) {
-    q->threads = SELFCOL_MAX_THREADS + 1;
+static void version_of_0_3(selfcol_query_options *q) {
+    q->version = 2; // 0.3's layout, with threads
 }
 static void version_zero(selfcol_query_options *q) {
     q->version = 0;
@@ -171,8 +166,7 @@ static void test_every_invalid_field_is_refused_by_every_method(void **state) {
         {"distance +inf", distance_infinity, SELFCOL_EINVAL},
         {"distance just above SELFCOL_MESH_MAX_COORDINATE", distance_above_bound, SELFCOL_EINVAL},
         {"distance DBL_MAX", distance_max, SELFCOL_EINVAL},
-        {"threads 0", threads_zero, SELFCOL_EINVAL},
-        {"threads SELFCOL_MAX_THREADS + 1", threads_too_many, SELFCOL_EINVAL},
+        {"version 2 (0.3's, with threads)", version_of_0_3, SELFCOL_EVERSION},
         {"version 0", version_zero, SELFCOL_EVERSION},
         {"version too new", version_too_new, SELFCOL_EVERSION},
     };

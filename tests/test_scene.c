@@ -823,9 +823,9 @@ static void test_errors(void **state) {
     q.kinds = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
     q.kinds = SELFCOL_KIND_ALL;
-    q.threads = 0;
-    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EINVAL);
-    q.threads = 1;
+    q.version = 2; // 0.3's query options, with threads
+    assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
+    q.version = SELFCOL_QUERY_OPTIONS_VERSION;
     o.version = 99;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
     // 0.4: versions 1 (0.2's copied fields) and 2 (0.3's embedded options)

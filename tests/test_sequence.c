@@ -62,9 +62,11 @@ static void assert_same_records(const selfcol_contacts *got, const selfcol_conta
 typedef struct rig {
     selfcol_mesh *mesh;
     selfcol_hierarchy *fresh, *coherent;
+    selfcol_context *context; // the queries' threads (rig_threads); NULL: the calling thread
 } rig;
 
 static void rig_make(rig *r, const fixture *f) {
+    r->context = NULL;
     assert_int_equal(selfcol_mesh_create(&r->mesh, f->vertex_count, f->positions, f->triangle_count,
                                          f->triangles, NULL),
                      SELFCOL_OK);
@@ -73,6 +75,7 @@ static void rig_make(rig *r, const fixture *f) {
 }
 
 static void rig_free(rig *r) {
+    selfcol_context_destroy(r->context);
     selfcol_hierarchy_destroy(r->fresh);
     selfcol_hierarchy_destroy(r->coherent);
     selfcol_mesh_destroy(r->mesh);
@@ -83,15 +86,23 @@ static void rig_move(rig *r, const double *positions, size_t n) {
     assert_int_equal(selfcol_hierarchy_refit(r->fresh), SELFCOL_OK);
 }
 
-static selfcol_query_options query_options(uint32_t method, double distance, uint32_t kinds,
-                                           unsigned threads) {
+static selfcol_query_options query_options(uint32_t method, double distance, uint32_t kinds) {
     selfcol_query_options o;
     selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
     o.method = method;
     o.distance = distance;
     o.kinds = kinds;
-    o.threads = threads;
     return o;
+}
+
+// The rig's sequence and fresh queries on a context of `threads` (1: none).
+static void rig_threads(rig *r, unsigned threads) {
+    if (threads == 1)
+        return;
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = threads;
+    assert_int_equal(selfcol_context_create(&r->context, &co), SELFCOL_OK);
 }
 
 // One frame of a self sequence against the fresh query (and, when asked,
@@ -99,13 +110,19 @@ static selfcol_query_options query_options(uint32_t method, double distance, uin
 static void check_self_frame(rig *r, selfcol_sequence *seq, selfcol_contacts *got,
                              selfcol_contacts *want, const selfcol_query_options *o, int exhaustive,
                              const char *where, int frame) {
-    assert_int_equal(selfcol_sequence_self_collide(seq, r->coherent, got, o), SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_self_collide(r->fresh, want, o), SELFCOL_OK);
+    if (r->context != NULL) {
+        assert_int_equal(
+            selfcol_context_sequence_self_collide(r->context, seq, r->coherent, got, o),
+            SELFCOL_OK);
+        assert_int_equal(selfcol_context_self_collide(r->context, r->fresh, want, o), SELFCOL_OK);
+    } else {
+        assert_int_equal(selfcol_sequence_self_collide(seq, r->coherent, got, o), SELFCOL_OK);
+        assert_int_equal(selfcol_hierarchy_self_collide(r->fresh, want, o), SELFCOL_OK);
+    }
     assert_same_records(got, want, where, frame);
     if (exhaustive) {
         selfcol_query_options e = *o;
         e.method = SELFCOL_METHOD_EXHAUSTIVE;
-        e.threads = 1;
         assert_int_equal(selfcol_hierarchy_self_collide(r->fresh, want, &e), SELFCOL_OK);
         assert_same_records(got, want, where, frame);
     }
@@ -178,7 +195,8 @@ static void blend_run_close(blend_run *b) {
 static void run_crumpling(uint32_t method, uint32_t kinds, unsigned threads, double skin) {
     blend_run b;
     blend_run_open(&b, 24, 7, 3.0, skin);
-    const selfcol_query_options o = query_options(method, 0.1, kinds, threads);
+    rig_threads(&b.r, threads);
+    const selfcol_query_options o = query_options(method, 0.1, kinds);
     const int frames = 80;
     uint64_t contacts_seen = 0;
     for (int k = 0; k <= frames; ++k)
@@ -225,7 +243,7 @@ static void test_fast_deformation_answers_fresh(void **state) {
     (void)state;
     blend_run b;
     blend_run_open(&b, 20, 9, 3.0, 0.0);
-    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL);
     for (int k = 0; k <= 12; ++k)
         blend_run_frame(&b, k / 12.0, &o, k % 6 == 0, "fast", k);
     selfcol_sequence_run_stats st = run_stats(b.seq);
@@ -239,7 +257,7 @@ static void test_zero_distance_equals_fresh(void **state) {
     (void)state;
     blend_run b;
     blend_run_open(&b, 20, 3, 3.0, 0.0);
-    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.0, SELFCOL_KIND_ALL, 1);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.0, SELFCOL_KIND_ALL);
     uint64_t crossings = 0;
     for (int k = 0; k <= 60; ++k)
         crossings += blend_run_frame(&b, k / 60.0, &o, k % 30 == 0, "zero distance", k);
@@ -277,7 +295,7 @@ static void test_jumps_rebuild_or_reuse_as_proven(void **state) {
     selfcol_contacts *got, *want;
     assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
-    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL);
 
     memcpy(x, base.positions, 3 * V * sizeof *x);
     rig_move(&r, x, V);
@@ -336,7 +354,7 @@ static void test_jumps_rebuild_or_reuse_as_proven(void **state) {
 
     // Other options start afresh (reason 1), and still equal the fresh query.
     const selfcol_query_options o2 =
-        query_options(SELFCOL_METHOD_BVH, 0.05, SELFCOL_KIND_VF | SELFCOL_KIND_EF, 1);
+        query_options(SELFCOL_METHOD_BVH, 0.05, SELFCOL_KIND_VF | SELFCOL_KIND_EF);
     check_self_frame(&r, seq, got, want, &o2, 1, "options", 8);
     st = run_stats(seq);
     assert_int_equal(st.last_answer, SELFCOL_SEQUENCE_FRESH);
@@ -393,7 +411,7 @@ static selfcol_sequence_run_stats run_two_surfaces(unsigned n, double lift, doub
     selfcol_contacts *got, *want;
     assert_int_equal(selfcol_contacts_create(&got, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
-    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL);
     uint64_t seen = 0;
     for (int k = 0; k <= 100; ++k) {
         memcpy(x, b.positions, 3 * V * sizeof *x);
@@ -459,7 +477,8 @@ static void local_frame(double *x, const fixture *flat, const fixture *crumpled,
 static void run_local_crumpling(uint32_t method, unsigned threads) {
     blend_run b;
     blend_run_open(&b, 40, 3, 3.0, 0.0);
-    const selfcol_query_options o = query_options(method, 0.1, SELFCOL_KIND_ALL, threads);
+    rig_threads(&b.r, threads);
+    const selfcol_query_options o = query_options(method, 0.1, SELFCOL_KIND_ALL);
     const size_t V = b.flat.vertex_count;
     double width = 0.0;
     for (size_t v = 0; v < V; ++v)
@@ -514,7 +533,7 @@ static void test_approximate_methods_answer_fresh(void **state) {
                                  SELFCOL_METHOD_EXACT, SELFCOL_METHOD_EXACT};
     size_t total = 0;
     for (int frame = 0; frame < 8; ++frame) {
-        const selfcol_query_options o = query_options(methods[frame], 0.1, SELFCOL_KIND_ALL, 1);
+        const selfcol_query_options o = query_options(methods[frame], 0.1, SELFCOL_KIND_ALL);
         total += blend_run_frame(&b, 1.0 + 0.0005 * frame, &o, 0, "approximate", frame);
         const selfcol_sequence_run_stats st = run_stats(b.seq);
         assert_int_equal(st.frames, (uint64_t)frame + 1);
@@ -565,7 +584,7 @@ static void test_refuses_bad_input(void **state) {
     selfcol_contacts *c;
     assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_sequence_create(&seq, &so), SELFCOL_OK);
-    selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL);
     o.method = 99;
     assert_int_equal(selfcol_sequence_self_collide(seq, r.coherent, c, &o), SELFCOL_EINVAL);
     o.method = SELFCOL_METHOD_EXACT;
@@ -624,7 +643,7 @@ static void test_allocation_failure_is_clean(void **state) {
     assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_create(&want, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_hierarchy_refit(r.fresh), SELFCOL_OK);
-    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL);
     assert_int_equal(selfcol_hierarchy_self_collide(r.fresh, want, &o), SELFCOL_OK);
     assert_true(selfcol_contacts_count(want) > 0);
     int failures = 0;
@@ -673,7 +692,7 @@ static void test_allocation_failure_in_a_partial_rebuild_is_clean(void **state) 
     double width = 0.0;
     for (size_t v = 0; v < V; ++v)
         width = fmax(width, b.flat.positions[3 * v]);
-    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL, 1);
+    const selfcol_query_options o = query_options(SELFCOL_METHOD_EXACT, 0.1, SELFCOL_KIND_ALL);
     // The first frame answered by a partial rebuild.
     int partial_frame = -1;
     for (int k = 0; k <= 90 && partial_frame < 0; ++k) {

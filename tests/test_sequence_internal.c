@@ -111,7 +111,13 @@ static void run_self(uint32_t method, unsigned threads, int trim) {
     selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
     o.method = method;
     o.distance = 0.1;
-    o.threads = threads;
+    selfcol_context *context = NULL; // the sequence's threads (one: none)
+    if (threads > 1) {
+        selfcol_context_options co;
+        selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        co.threads = threads;
+        assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_OK);
+    }
     uint64_t partials = 0;
     int checked = 0;
     for (int k = 0; k <= 90; ++k) {
@@ -121,7 +127,10 @@ static void run_self(uint32_t method, unsigned threads, int trim) {
                 x[i] = flat.positions[i] + a * (crumpled.positions[i] - flat.positions[i]);
         }
         assert_int_equal(selfcol_mesh_set_positions(mesh, x, V), SELFCOL_OK);
-        assert_int_equal(selfcol_sequence_self_collide(seq, h, got, &o), SELFCOL_OK);
+        assert_int_equal(context != NULL
+                             ? selfcol_context_sequence_self_collide(context, seq, h, got, &o)
+                             : selfcol_sequence_self_collide(seq, h, got, &o),
+                         SELFCOL_OK);
         checked += check_after(seq, &partials, h, h, scratch, k);
         if (trim) {
             assert_as_fresh(fresh, got, scratch, &o, k);
@@ -129,6 +138,7 @@ static void run_self(uint32_t method, unsigned threads, int trim) {
         }
     }
     assert_true(checked >= 3);
+    selfcol_context_destroy(context);
     selfcol_contacts_destroy(got);
     selfcol_contacts_destroy(scratch);
     selfcol_sequence_destroy(seq);

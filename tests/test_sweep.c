@@ -705,11 +705,20 @@ static void test_sweep_progress_and_cancel(void **state) {
         selfcol_sweep_options o;
         selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
         o.separation = 0.3;
-        o.threads = threads[t];
         o.progress = log_progress;
         o.progress_payload = &log;
-        assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, watched, &o),
-                         SELFCOL_OK);
+        selfcol_context *context = NULL;
+        if (threads[t] > 1) {
+            selfcol_context_options co;
+            selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+            co.threads = threads[t];
+            assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_OK);
+        }
+        assert_int_equal(
+            context != NULL ? selfcol_context_self_sweep(context, s.hierarchy, s.start, watched, &o)
+                            : selfcol_hierarchy_self_sweep(s.hierarchy, s.start, watched, &o),
+            SELFCOL_OK);
+        selfcol_context_destroy(context);
         const selfcol_sweep_hit *got = NULL;
         size_t m = 0;
         assert_int_equal(selfcol_sweep_hits(watched, &got, &m), SELFCOL_OK);
@@ -725,17 +734,17 @@ static void test_sweep_progress_and_cancel(void **state) {
         assert_int_equal(selfcol_sweep_hits(watched, &got, &m), SELFCOL_OK);
         assert_int_equal(m, 0);
     }
-    // A version 1 caller's struct ends before the callback: never read.
-    selfcol_sweep_options v1;
-    memset(&v1, 0xab, sizeof v1);
-    assert_int_equal(selfcol_sweep_options_init(&v1, 1), SELFCOL_OK);
-    assert_true(*(const unsigned char *)&v1.progress == 0xab); // not written either
-    v1.separation = 0.3;
-    assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, watched, &v1), SELFCOL_OK);
-    const selfcol_sweep_hit *got = NULL;
-    size_t m = 0;
-    assert_int_equal(selfcol_sweep_hits(watched, &got, &m), SELFCOL_OK);
-    assert_true(hits_equal(ref, n, got, m));
+    // 0.3's layouts (versions 1 and 2, with threads) are refused, unwritten.
+    for (unsigned version = 1; version < SELFCOL_SWEEP_OPTIONS_VERSION; ++version) {
+        selfcol_sweep_options old;
+        memset(&old, 0xab, sizeof old);
+        assert_int_equal(selfcol_sweep_options_init(&old, version), SELFCOL_EVERSION);
+        assert_true(*(const unsigned char *)&old.progress == 0xab);
+        selfcol_sweep_options_init(&old, SELFCOL_SWEEP_OPTIONS_VERSION);
+        old.version = version;
+        assert_int_equal(selfcol_hierarchy_self_sweep(s.hierarchy, s.start, watched, &old),
+                         SELFCOL_EVERSION);
+    }
     selfcol_sweep_destroy(plain);
     selfcol_sweep_destroy(watched);
     step_free(&s);

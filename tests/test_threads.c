@@ -1,16 +1,18 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// Queries on several threads (selfcol_query_options.threads): the records
-// and the statistics apart from times must be those of one thread, byte for
-// byte, for every hierarchy method, self and two-mesh, at d = 0 and at the
-// standard d; an allocation failure inside a worker must give SELFCOL_ENOMEM,
-// an empty set and no leak; old option structs keep working; and queries on
-// one hierarchy from several threads at once hold to the README's contract.
-// Store updates on several threads (selfcol_store_options.threads) hold
-// the records, regions and counters of one thread. Hierarchy options with
-// refit threads are checked for bounds and old structs here (their nodes:
-// test_threads_internal).
+// Calls on a context of several threads (context.h: since 0.4 the one
+// place where threads are said) against the same calls without one (the
+// calling thread). Queries: the records and the statistics apart from
+// times must be those of one thread, byte for byte, for every hierarchy
+// method, self and two-mesh, at d = 0 and at the standard d; an allocation
+// failure inside a worker must give SELFCOL_ENOMEM, an empty set and no
+// leak; context thread counts are bounded, and 0.3's option layouts (with
+// threads) are refused by name; queries on one hierarchy from several
+// threads at once hold to the README's contract. Continuous queries give
+// the hits of one thread; store updates hold the records, regions and
+// counters of one thread; refits on a context give the queries of one
+// (their nodes: test_threads_internal).
 #define _POSIX_C_SOURCE 200112L // posix_memalign
 #include <setjmp.h>
 #include <stdarg.h>
@@ -58,15 +60,48 @@ static selfcol_query_stats stats_of(const selfcol_contacts *c) {
     return st;
 }
 
-static int query(const built *a, const built *b, selfcol_contacts *c, uint32_t method, double d,
-                 unsigned threads) {
+// A context of `threads` threads whose memory comes from `al` (NULL: malloc);
+// NULL for one thread (the calls without a context). NULL and *status set
+// when creation fails.
+static selfcol_context *context_of(unsigned threads, const selfcol_allocator *al, int *status) {
+    *status = SELFCOL_OK;
+    if (threads == 1)
+        return NULL;
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = threads;
+    if (al != NULL)
+        co.allocator = *al;
+    selfcol_context *context = NULL;
+    *status = selfcol_context_create(&context, &co);
+    return context;
+}
+
+// A query on a context of `threads` threads (one: the call without one),
+// made for it with `al`'s memory (NULL: malloc).
+static int query_with(const built *a, const built *b, selfcol_contacts *c, uint32_t method,
+                      double d, unsigned threads, const selfcol_allocator *al) {
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
     q.method = method;
     q.distance = d;
-    q.threads = threads;
-    return b == NULL ? selfcol_hierarchy_self_collide(a->hierarchy, c, &q)
-                     : selfcol_hierarchy_collide(a->hierarchy, b->hierarchy, c, &q);
+    int status;
+    selfcol_context *context = context_of(threads, al, &status);
+    if (status != SELFCOL_OK)
+        return status;
+    if (context == NULL)
+        status = b == NULL ? selfcol_hierarchy_self_collide(a->hierarchy, c, &q)
+                           : selfcol_hierarchy_collide(a->hierarchy, b->hierarchy, c, &q);
+    else
+        status = b == NULL ? selfcol_context_self_collide(context, a->hierarchy, c, &q)
+                           : selfcol_context_collide(context, a->hierarchy, b->hierarchy, c, &q);
+    selfcol_context_destroy(context);
+    return status;
+}
+
+static int query(const built *a, const built *b, selfcol_contacts *c, uint32_t method, double d,
+                 unsigned threads) {
+    return query_with(a, b, c, method, d, threads, NULL);
 }
 
 // Every method and thread count against one thread of the same method, and
@@ -223,8 +258,9 @@ static void test_threads_allocation_failure_in_a_worker(void **state) {
         co.allocator.user = &a;
         selfcol_contacts *c = NULL;
         int status = selfcol_contacts_create(&c, &co);
+        // The context's workers' buffers and the records both come from a.
         if (status == SELFCOL_OK)
-            status = query(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 4);
+            status = query_with(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 4, &co.allocator);
         if (status == SELFCOL_OK) {
             assert_int_equal(selfcol_contacts_count(c), expected);
             selfcol_contacts_destroy(c);
@@ -240,7 +276,8 @@ static void test_threads_allocation_failure_in_a_worker(void **state) {
             assert_int_equal(selfcol_contacts_count(c), 0);
             // The same handle works once memory is back.
             a.fail_at = 0;
-            assert_int_equal(query(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 4), SELFCOL_OK);
+            assert_int_equal(query_with(&b, NULL, c, SELFCOL_METHOD_EXACT, d, 4, &co.allocator),
+                             SELFCOL_OK);
             assert_int_equal(selfcol_contacts_count(c), expected);
             selfcol_contacts_destroy(c);
         }
@@ -259,30 +296,42 @@ static void test_threads_option_bounds_and_old_structs(void **state) {
     built b = build(&s);
     selfcol_contacts *c = NULL;
     assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
+    selfcol_context_options co;
+    assert_int_equal(selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION),
+                     SELFCOL_OK);
+    assert_int_equal(co.threads, 1); // the documented default
+    selfcol_context *context = (selfcol_context *)&co;
+    co.threads = 0;
+    assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_EINVAL);
+    assert_null(context);
+    co.threads = SELFCOL_MAX_THREADS + 1;
+    assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_EINVAL);
+    assert_null(context);
+    co.threads = SELFCOL_MAX_THREADS; // more threads than work: still right
+    assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_OK);
     selfcol_query_options q;
     assert_int_equal(selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION), SELFCOL_OK);
-    assert_int_equal(q.threads, 1); // the documented default
     q.distance = 0.02;
-    q.threads = 0;
-    assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &q), SELFCOL_EINVAL);
-    q.threads = SELFCOL_MAX_THREADS + 1;
-    assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &q), SELFCOL_EINVAL);
-    q.threads = SELFCOL_MAX_THREADS; // more threads than work: still right
     assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &q), SELFCOL_OK);
-    size_t n = selfcol_contacts_count(c);
+    const size_t n = selfcol_contacts_count(c);
     assert_true(n > 0);
-    // A version-1 caller's struct ends before `threads`: whatever follows it
-    // in memory is not read.
-    struct {
-        selfcol_query_options v1;
-    } old;
-    memset(&old, 0, sizeof old);
-    old.v1.threads = 77; // past a version-1 struct: init of version 1 must not write it
-    assert_int_equal(selfcol_query_options_init(&old.v1, 1), SELFCOL_OK);
-    assert_int_equal(old.v1.threads, 77);
-    old.v1.distance = 0.02;
-    assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &old.v1), SELFCOL_OK);
+    assert_int_equal(selfcol_context_self_collide(context, b.hierarchy, c, &q), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_count(c), n);
+    selfcol_context_destroy(context);
+    // 0.3's layouts, which had `threads` (query options version 2) or ended
+    // where it began (version 1), are refused by name, by init and by the
+    // calls: since 0.4 a thread count is the context's.
+    for (unsigned version = 1; version < SELFCOL_QUERY_OPTIONS_VERSION; ++version) {
+        assert_int_equal(selfcol_query_options_init(&q, version), SELFCOL_EVERSION);
+        q.version = version;
+        assert_int_equal(selfcol_hierarchy_self_collide(b.hierarchy, c, &q), SELFCOL_EVERSION);
+        selfcol_options_problem p;
+        memset(&p, 0, sizeof p);
+        p.version = SELFCOL_OPTIONS_PROBLEM_VERSION;
+        assert_int_equal(selfcol_query_options_check(&q, &p), SELFCOL_EVERSION);
+        assert_string_equal(p.field, "version");
+        assert_non_null(strstr(p.message, "older layout"));
+    }
     selfcol_contacts_destroy(c);
     release(&b);
     fixture_free(&s);
@@ -344,8 +393,9 @@ static void test_threads_concurrent_queries_on_one_hierarchy(void **state) {
     fixture_free(&s);
 }
 
-// Continuous queries (sweep.h): the root searches of ALL shared among 2,
-// 3 and 8 threads give the hits and counters of one thread, on a crumple
+// Continuous queries (sweep.h) on a context: the broad phase and the root
+// searches of ALL shared among 2, 3 and 8 threads give the hits and
+// counters of one thread, on a crumple
 // whose folds deepen fast (thousands of candidates, hundreds of hits).
 static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
     (void)state;
@@ -373,8 +423,12 @@ static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
     selfcol_sweep_stats(one, &s1);
     const unsigned counts[3] = {2, 3, 8};
     for (int k = 0; k < 3; ++k) {
-        o.threads = counts[k];
-        assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, many, &o), SELFCOL_OK);
+        int status;
+        selfcol_context *context = context_of(counts[k], NULL, &status);
+        assert_int_equal(status, SELFCOL_OK);
+        assert_int_equal(selfcol_context_self_sweep(context, h, from.positions, many, &o),
+                         SELFCOL_OK);
+        selfcol_context_destroy(context);
         assert_int_equal(selfcol_sweep_hits(many, &hn, &nn), SELFCOL_OK);
         assert_int_equal(nn, n1);
         for (size_t i = 0; i < n1; ++i) {
@@ -390,10 +444,10 @@ static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
         assert_int_equal(sn.narrow_boxes, s1.narrow_boxes);
         assert_int_equal(sn.hits, s1.hits);
     }
-    o.threads = 0;
-    assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, many, &o), SELFCOL_EINVAL);
-    o.threads = SELFCOL_MAX_THREADS + 1;
-    assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, many, &o), SELFCOL_EINVAL);
+    // 0.3's layouts (with threads) are refused: the threads are the context's.
+    assert_int_equal(selfcol_sweep_options_init(&o, 2), SELFCOL_EVERSION);
+    o.version = 2;
+    assert_int_equal(selfcol_hierarchy_self_sweep(h, from.positions, many, &o), SELFCOL_EVERSION);
     selfcol_sweep_destroy(one);
     selfcol_sweep_destroy(many);
     selfcol_hierarchy_destroy(h);
@@ -402,8 +456,8 @@ static void test_threads_sweep_gives_the_hits_of_one_thread(void **state) {
     fixture_free(&to);
 }
 
-// Store updates (selfcol_store_options.threads): every record, region and
-// counter (times aside) of a store updated on 2, 3 or 8 threads is that of
+// Store updates on a context (selfcol_context_store_update): every record,
+// region and counter (times aside) of a store updated on 2, 3 or 8 threads is that of
 // one thread, byte for byte, over a sequence that adds, keeps, drops and
 // remembers contacts (the sheet crumples, then eases back: remnants), on
 // one mesh and on two. The sheets hold more than 4 chunks' worth of
@@ -438,12 +492,13 @@ static void check_store_threads(const built *a, const built *b, const fixture *c
     const unsigned threads[] = {1, 2, 3, 8};
     enum { RUNS = sizeof threads / sizeof threads[0] };
     store_run run[RUNS];
+    selfcol_context *context[RUNS]; // NULL for one thread: the calls without one
     for (int k = 0; k < RUNS; ++k) {
-        selfcol_store_options o;
-        assert_int_equal(selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION), SELFCOL_OK);
-        o.threads = threads[k];
         run[k].records = NULL;
-        assert_int_equal(selfcol_store_create(&run[k].store, &o), SELFCOL_OK);
+        assert_int_equal(selfcol_store_create(&run[k].store, NULL), SELFCOL_OK);
+        int status;
+        context[k] = context_of(threads[k], NULL, &status);
+        assert_int_equal(status, SELFCOL_OK);
     }
     selfcol_contacts *c = NULL;
     assert_int_equal(selfcol_contacts_create(&c, NULL), SELFCOL_OK);
@@ -471,8 +526,11 @@ static void check_store_threads(const built *a, const built *b, const fixture *c
         size_t regions1 = 0;
         selfcol_store_update_stats st1;
         for (int k = 0; k < RUNS; ++k) {
+            const selfcol_mesh *second = b != NULL ? b->mesh : NULL;
             assert_int_equal(
-                selfcol_store_update(run[k].store, a->mesh, b != NULL ? b->mesh : NULL, c),
+                context[k] != NULL
+                    ? selfcol_context_store_update(context[k], run[k].store, a->mesh, second, c)
+                    : selfcol_store_update(run[k].store, a->mesh, second, c),
                 SELFCOL_OK);
             selfcol_store_region *reg;
             size_t regions;
@@ -508,6 +566,7 @@ static void check_store_threads(const built *a, const built *b, const fixture *c
     for (int k = 0; k < RUNS; ++k) {
         free(run[k].records);
         selfcol_store_destroy(run[k].store);
+        selfcol_context_destroy(context[k]);
     }
     free(positions);
     selfcol_contacts_destroy(c);
@@ -527,64 +586,48 @@ static void test_threads_store_updates_give_the_store_of_one_thread(void **state
     fixture_free(&flat);
 }
 
-static void test_threads_store_option_bounds_and_old_structs(void **state) {
+// 0.3's store and hierarchy option layouts (with threads) are refused by
+// name; a store and a refit on a context of more threads than the work
+// shares (one per 4,096 triangles) are right all the same: a refit on 64
+// threads gives the queries of one thread's.
+static void test_threads_store_and_refit_bounds_and_old_structs(void **state) {
     (void)state;
-    selfcol_store_options o;
-    assert_int_equal(selfcol_store_options_init(&o, SELFCOL_STORE_OPTIONS_VERSION), SELFCOL_OK);
-    assert_int_equal(o.threads, 1); // the documented default
-    selfcol_store *s = NULL;
-    o.threads = 0;
-    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_EINVAL);
-    assert_null(s);
-    o.threads = SELFCOL_MAX_THREADS + 1;
-    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_EINVAL);
-    o.threads = SELFCOL_MAX_THREADS;
-    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_OK);
-    selfcol_store_destroy(s);
-    // A version-1 caller's struct ends before `threads`: init of version 1
-    // does not write it, and create does not read it (one thread).
-    o.threads = 77;
-    assert_int_equal(selfcol_store_options_init(&o, 1), SELFCOL_OK);
-    assert_int_equal(o.threads, 77);
-    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_OK);
-    selfcol_store_destroy(s);
-    o.version = SELFCOL_STORE_OPTIONS_VERSION + 1;
-    assert_int_equal(selfcol_store_create(&s, &o), SELFCOL_EVERSION);
-}
-
-// selfcol_hierarchy_options.threads (the refit's threads; that their refits
-// give the nodes of one thread is test_threads_internal's): defaults, bounds,
-// and version 1 structs, through the public API.
-static void test_threads_hierarchy_option_bounds_and_old_structs(void **state) {
-    (void)state;
+    selfcol_store_options so;
+    selfcol_store *st = NULL;
+    for (unsigned version = 1; version < SELFCOL_STORE_OPTIONS_VERSION; ++version) {
+        assert_int_equal(selfcol_store_options_init(&so, version), SELFCOL_EVERSION);
+        selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
+        so.version = version;
+        assert_int_equal(selfcol_store_create(&st, &so), SELFCOL_EVERSION);
+        assert_null(st);
+    }
+    selfcol_hierarchy_options ho;
+    for (unsigned version = 1; version < SELFCOL_HIERARCHY_OPTIONS_VERSION; ++version)
+        assert_int_equal(selfcol_hierarchy_options_init(&ho, version), SELFCOL_EVERSION);
     fixture s;
     assert_int_equal(fixture_crumpled(&s, 64, 64, 2, 3.0), 0); // 8,192 triangles: 2 workers
     selfcol_mesh *m = NULL;
     assert_int_equal(
         selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
         SELFCOL_OK);
-    selfcol_hierarchy_options o;
-    assert_int_equal(selfcol_hierarchy_options_init(&o, SELFCOL_HIERARCHY_OPTIONS_VERSION),
-                     SELFCOL_OK);
-    assert_int_equal(o.threads, 1); // the documented default
+    selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+    ho.version = 2;
     selfcol_hierarchy *h = NULL;
-    o.threads = 0;
-    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_hierarchy_create(&h, m, &ho), SELFCOL_EVERSION);
     assert_null(h);
-    o.threads = SELFCOL_MAX_THREADS + 1;
-    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_EINVAL);
-    assert_null(h);
-    // Threads beyond the mesh's share (one per 4,096 triangles): accepted,
-    // and the queries after its refits find what those of one thread do.
-    o.threads = SELFCOL_MAX_THREADS;
-    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
     selfcol_hierarchy *one = NULL;
     assert_int_equal(selfcol_hierarchy_create(&one, m, NULL), SELFCOL_OK);
+    int status;
+    selfcol_context *context = context_of(SELFCOL_MAX_THREADS, NULL, &status);
+    assert_int_equal(status, SELFCOL_OK);
     fixture next;
     assert_int_equal(fixture_crumpled(&next, 64, 64, 2, 3.5), 0);
     assert_int_equal(selfcol_mesh_set_positions(m, next.positions, next.vertex_count), SELFCOL_OK);
-    assert_int_equal(selfcol_hierarchy_refit(h), SELFCOL_OK);
+    assert_int_equal(selfcol_context_refit(context, h), SELFCOL_OK);
     assert_int_equal(selfcol_hierarchy_refit(one), SELFCOL_OK);
+    assert_int_equal(selfcol_context_refit(NULL, h), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_context_refit(context, NULL), SELFCOL_EINVAL);
     selfcol_contacts *a = NULL, *b = NULL;
     assert_int_equal(selfcol_contacts_create(&a, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_create(&b, NULL), SELFCOL_OK);
@@ -600,24 +643,23 @@ static void test_threads_hierarchy_option_bounds_and_old_structs(void **state) {
     assert_true(na > 0);
     assert_int_equal(na, nb);
     assert_memory_equal(xa, xb, na * sizeof *xa);
+    // A store updated on that context (more threads than chunks) holds what
+    // one updated on the calling thread does.
+    selfcol_store *s1 = NULL, *s64 = NULL;
+    assert_int_equal(selfcol_store_create(&s1, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_store_create(&s64, NULL), SELFCOL_OK);
+    assert_int_equal(selfcol_store_update(s1, m, NULL, b), SELFCOL_OK);
+    assert_int_equal(selfcol_context_store_update(context, s64, m, NULL, b), SELFCOL_OK);
+    assert_int_equal(selfcol_context_store_update(NULL, s64, m, NULL, b), SELFCOL_EINVAL);
+    assert_int_equal(selfcol_store_contact_count(s1), selfcol_store_contact_count(s64));
+    assert_true(selfcol_store_contact_count(s1) > 0);
+    selfcol_store_destroy(s1);
+    selfcol_store_destroy(s64);
     selfcol_contacts_destroy(a);
     selfcol_contacts_destroy(b);
+    selfcol_context_destroy(context);
     selfcol_hierarchy_destroy(one);
     selfcol_hierarchy_destroy(h);
-    // A version-1 caller's struct ends before `threads`: init of version 1
-    // does not write it, and create does not read it (one thread).
-    struct {
-        selfcol_hierarchy_options v1;
-    } old;
-    memset(&old, 0, sizeof old);
-    old.v1.threads = 77;
-    assert_int_equal(selfcol_hierarchy_options_init(&old.v1, 1), SELFCOL_OK);
-    assert_int_equal(old.v1.threads, 77);
-    h = NULL;
-    assert_int_equal(selfcol_hierarchy_create(&h, m, &old.v1), SELFCOL_OK);
-    selfcol_hierarchy_destroy(h);
-    old.v1.version = SELFCOL_HIERARCHY_OPTIONS_VERSION + 1;
-    assert_int_equal(selfcol_hierarchy_create(&h, m, &old.v1), SELFCOL_EVERSION);
     selfcol_mesh_destroy(m);
     fixture_free(&next);
     fixture_free(&s);
@@ -631,8 +673,7 @@ int main(void) {
         cmocka_unit_test(test_threads_concurrent_queries_on_one_hierarchy),
         cmocka_unit_test(test_threads_sweep_gives_the_hits_of_one_thread),
         cmocka_unit_test(test_threads_store_updates_give_the_store_of_one_thread),
-        cmocka_unit_test(test_threads_store_option_bounds_and_old_structs),
-        cmocka_unit_test(test_threads_hierarchy_option_bounds_and_old_structs),
+        cmocka_unit_test(test_threads_store_and_refit_bounds_and_old_structs),
     };
     return cmocka_run_group_tests_name("threads", tests, NULL, NULL);
 }

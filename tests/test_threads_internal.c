@@ -38,13 +38,28 @@
 #include "query/records.h"
 #include "test_alloc.h"
 
-static selfcol_hierarchy *create(const selfcol_mesh *m, unsigned threads) {
-    selfcol_hierarchy_options o;
-    assert_int_equal(selfcol_hierarchy_options_init(&o, SELFCOL_HIERARCHY_OPTIONS_VERSION),
-                     SELFCOL_OK);
+// A context of `threads` threads; NULL for one (the calls without one).
+static selfcol_context *context_of(unsigned threads) {
+    if (threads == 1)
+        return NULL;
+    selfcol_context_options o;
+    selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
     o.threads = threads;
+    selfcol_context *c = NULL;
+    assert_int_equal(selfcol_context_create(&c, &o), SELFCOL_OK);
+    return c;
+}
+
+// A refit on `context` (NULL: the calling thread).
+static int refit_on(selfcol_context *context, selfcol_hierarchy *h) {
+    return context != NULL ? selfcol_context_refit(context, h) : selfcol_hierarchy_refit(h);
+}
+
+// A hierarchy, refit once on `context` (which plans the split for its threads).
+static selfcol_hierarchy *create(const selfcol_mesh *m, selfcol_context *context) {
     selfcol_hierarchy *h = NULL;
-    assert_int_equal(selfcol_hierarchy_create(&h, m, &o), SELFCOL_OK);
+    assert_int_equal(selfcol_hierarchy_create(&h, m, NULL), SELFCOL_OK);
+    assert_int_equal(refit_on(context, h), SELFCOL_OK);
     return h;
 }
 
@@ -81,8 +96,11 @@ static void test_refit_threads_give_the_nodes_of_one_thread(void **state) {
     enum { COUNTS = 4 };
     const unsigned threads[COUNTS] = {1, 2, 3, 8};
     selfcol_hierarchy *h[COUNTS];
-    for (int i = 0; i < COUNTS; ++i)
-        h[i] = create(m, threads[i]);
+    selfcol_context *context[COUNTS];
+    for (int i = 0; i < COUNTS; ++i) {
+        context[i] = context_of(threads[i]);
+        h[i] = create(m, context[i]);
+    }
     // The plan shares the tree: one task list, several workers, most nodes
     // below the cap.
     assert_int_equal(h[0]->refit_workers, 1);
@@ -100,7 +118,7 @@ static void test_refit_threads_give_the_nodes_of_one_thread(void **state) {
         assert_int_equal(covered + h[i]->cap, h[i]->node_count);
     }
     for (int i = 1; i < COUNTS; ++i)
-        assert_same_nodes(h[0], h[i]); // the refit that ends creation
+        assert_same_nodes(h[0], h[i]); // the first refit (the plan's)
     // Frames: the crumple deepens, then a large jump (the sheet flattened).
     const double amplitudes[5] = {3.2, 3.6, 4.4, 5.0, 0.5};
     for (int f = 0; f < 5; ++f) {
@@ -110,15 +128,24 @@ static void test_refit_threads_give_the_nodes_of_one_thread(void **state) {
         assert_int_equal(selfcol_mesh_set_positions(m, next.positions, next.vertex_count),
                          SELFCOL_OK);
         for (int i = 0; i < COUNTS; ++i) {
-            assert_int_equal(selfcol_hierarchy_refit(h[i]), SELFCOL_OK);
+            assert_int_equal(refit_on(context[i], h[i]), SELFCOL_OK);
             assert_int_equal(selfcol_hierarchy__validate(h[i], 1), 1);
         }
         for (int i = 1; i < COUNTS; ++i)
             assert_same_nodes(h[0], h[i]);
         fixture_free(&next);
     }
-    for (int i = 0; i < COUNTS; ++i)
+    // One hierarchy refit on contexts of other counts in turn: re-planned
+    // each time, the same nodes.
+    for (int i = COUNTS; i-- > 0;) {
+        assert_int_equal(refit_on(context[i], h[1]), SELFCOL_OK);
+        assert_int_equal(h[1]->refit_workers, threads[i] > 1 ? threads[i] : 2);
+        assert_same_nodes(h[0], h[1]);
+    }
+    for (int i = 0; i < COUNTS; ++i) {
         selfcol_hierarchy_destroy(h[i]);
+        selfcol_context_destroy(context[i]);
+    }
     selfcol_mesh_destroy(m);
     fixture_free(&s);
 }
@@ -132,7 +159,8 @@ static void test_refit_plan_bounds_and_allocation_failure(void **state) {
     assert_int_equal(selfcol_mesh_create(&m, small.vertex_count, small.positions,
                                          small.triangle_count, small.triangles, NULL),
                      SELFCOL_OK);
-    selfcol_hierarchy *h = create(m, SELFCOL_MAX_THREADS);
+    selfcol_context *most = context_of(SELFCOL_MAX_THREADS);
+    selfcol_hierarchy *h = create(m, most);
     assert_int_equal(h->refit_workers, 1);
     assert_null(h->subtree_root);
     selfcol_hierarchy_destroy(h);
@@ -146,15 +174,18 @@ static void test_refit_plan_bounds_and_allocation_failure(void **state) {
     assert_int_equal(
         selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
         SELFCOL_OK);
-    h = create(m, SELFCOL_MAX_THREADS);
+    h = create(m, most);
     assert_int_equal(h->refit_workers, 2);
-    selfcol_hierarchy *one = create(m, 1);
+    selfcol_hierarchy *one = create(m, NULL);
     assert_same_nodes(one, h);
     selfcol_hierarchy_destroy(one);
     selfcol_hierarchy_destroy(h);
 
-    // Every allocation of a planned creation may fail: SELFCOL_ENOMEM and
-    // nothing left allocated, until one succeeds with the plan made.
+    // Every allocation of a creation and of its first refit on two threads
+    // (the plan's) may fail: SELFCOL_ENOMEM and nothing left allocated; a
+    // failed plan still leaves the hierarchy refit (on the calling thread)
+    // and the next refit plans again; until one succeeds with the plan made.
+    selfcol_context *two = context_of(2);
     int succeeded = 0;
     for (long fail_at = 1; fail_at < 200 && !succeeded; ++fail_at) {
         test_allocator_state st = {0};
@@ -162,13 +193,22 @@ static void test_refit_plan_bounds_and_allocation_failure(void **state) {
         selfcol_hierarchy_options o;
         selfcol_hierarchy_options_init(&o, SELFCOL_HIERARCHY_OPTIONS_VERSION);
         o.allocator = test_allocator(&st);
-        o.threads = 2;
         h = NULL;
         int status = selfcol_hierarchy_create(&h, m, &o);
         if (status == SELFCOL_OK) {
-            succeeded = 1;
-            assert_int_equal(h->refit_workers, 2);
-            assert_true(st.calls < fail_at); // no failed allocation was skipped
+            status = selfcol_context_refit(two, h);
+            assert_int_equal(h->refit_version, m->positions_version); // refit either way
+            if (status == SELFCOL_OK) {
+                succeeded = 1;
+                assert_int_equal(h->refit_workers, 2);
+                assert_true(st.calls < fail_at); // no failed allocation was skipped
+            } else {
+                assert_int_equal(status, SELFCOL_ENOMEM);
+                assert_int_equal(h->refit_workers, 1);
+                st.fail_at = 0; // memory back: the next refit plans
+                assert_int_equal(selfcol_context_refit(two, h), SELFCOL_OK);
+                assert_int_equal(h->refit_workers, 2);
+            }
             selfcol_hierarchy_destroy(h);
         } else {
             assert_int_equal(status, SELFCOL_ENOMEM);
@@ -178,6 +218,8 @@ static void test_refit_plan_bounds_and_allocation_failure(void **state) {
         assert_int_equal(st.misaligned, 0);
     }
     assert_true(succeeded);
+    selfcol_context_destroy(two);
+    selfcol_context_destroy(most);
     selfcol_mesh_destroy(m);
     fixture_free(&s);
 }
@@ -376,9 +418,9 @@ static void test_pool_allocation_failure(void **state) {
 }
 
 // Which handles keep threads: a query context does, between its queries;
-// the context a contact set makes for the calls without one does not (a
-// caller may hold many contact sets), and such queries start theirs per
-// stage. Both give one thread's records.
+// the context a contact set makes for the calls without one has one thread
+// and no pool (a caller may hold many contact sets). Both give one
+// thread's records.
 static void test_only_query_contexts_keep_their_threads(void **state) {
     (void)state;
     fixture s;
@@ -387,17 +429,17 @@ static void test_only_query_contexts_keep_their_threads(void **state) {
     assert_int_equal(
         selfcol_mesh_create(&m, s.vertex_count, s.positions, s.triangle_count, s.triangles, NULL),
         SELFCOL_OK);
-    selfcol_hierarchy *h = create(m, 1);
+    selfcol_hierarchy *h = create(m, NULL);
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
     q.distance = 0.1 * selfcol_mesh_mean_edge_length(m);
-    q.threads = 4;
     selfcol_contacts *implicit = NULL, *through = NULL;
     assert_int_equal(selfcol_contacts_create(&implicit, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_contacts_create(&through, NULL), SELFCOL_OK);
     assert_int_equal(selfcol_hierarchy_self_collide(h, implicit, &q), SELFCOL_OK);
     assert_non_null(implicit->implicit_context);
     assert_null(implicit->implicit_context->executor.pool);
+    assert_int_equal(implicit->implicit_context->threads, 1);
     selfcol_context_options co;
     selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
     co.threads = 4;

@@ -40,12 +40,16 @@
 #define SELFCOL_DEPRECATED(msg)
 #endif
 
-/** Largest thread count of every options struct that has one (query,
- *  hierarchy, store, sweep): defined here, so that each header that names it
- *  compiles alone. */
+/** Largest thread count of a context (selfcol_context_options.threads, the
+ *  Bullet adapter's threads): defined here, so that each header that names
+ *  it compiles alone. */
 #define SELFCOL_MAX_THREADS 64
 
 SELFCOL_BEGIN_DECLS
+
+/** Opaque query context (context.h): the one place where threads are said.
+ *  Declared here so that the headers of the handles it serves can name it. */
+typedef struct selfcol_context selfcol_context;
 
 /**
  * Status codes returned by every fallible function: 0 on success, negative on

@@ -9,6 +9,13 @@
  * frame to frame (zstd's compression context is the model). A contact set
  * (contacts.h) is then only the result.
  *
+ * The one place where threads are said (since 0.4): every call that can run
+ * on threads has a form taking a context (the discrete queries, the
+ * continuous ones, refits, store updates, coherent sequences), and runs on
+ * the context's threads or scheduler; the forms without one run on the
+ * calling thread. A scene and the Bullet adapter run on a context set on
+ * them (selfcol_scene_set_context(), selfcol_bullet_options.threads).
+ *
  * One context serves any number of hierarchies and contact sets, one query
  * at a time: two threads that query at once need a context each. After the
  * first queries of a scene have grown its buffers, a query allocates
@@ -19,20 +26,24 @@
  * threads that the context starts at its first parallel stage and keeps
  * asleep between stages and queries (a continuous query runs about a
  * hundred stages, each of which would otherwise start and join its
- * threads); selfcol_context_destroy() joins them. The calls without a
- * context start and join theirs within the call.
+ * threads); selfcol_context_destroy() joins them.
  * A caller with its own scheduler (a game engine's job system, Bullet's
  * btITaskScheduler, TBB) gives enqueue_task and finish_task instead, and
  * the items run wherever that scheduler puts them; Box2D v3's task
  * callbacks are the model. The records are the same, in the same order,
  * for every thread count and every scheduler.
  *
- * The functions without a context (selfcol_hierarchy_self_collide() and
- * the others taking selfcol_query_options.threads) keep one inside the
- * contact set they fill, made at their first call: they allocate nothing
- * more in steady state either. Continuous queries (sweep.h) keep their
- * working memory in their selfcol_sweep; through a context they take its
- * workers and scheduler.
+ * The discrete queries without a context (selfcol_hierarchy_self_collide()
+ * and the others) keep a one-thread context inside the contact set they
+ * fill, made at their first call: they allocate nothing more in steady
+ * state either. Continuous queries (sweep.h) keep their working memory in
+ * their selfcol_sweep, and stores and sequences in themselves; through a
+ * context they take its workers and scheduler.
+ *
+ * The contacts' allocator may be called from a discrete query's workers
+ * (each pushes records on its own thread): with more than one thread it
+ * must be thread-safe. The allocators of sweeps, stores, sequences and
+ * hierarchies are only called from the calling thread.
  * @{
  */
 #ifndef SELFCOL_CONTEXT_H
@@ -41,12 +52,13 @@
 #include "common.h"
 #include "contacts.h"
 #include "hierarchy.h"
+#include "sequence.h"
+#include "store.h"
 #include "sweep.h"
 
 SELFCOL_BEGIN_DECLS
 
-/** Opaque query context. */
-typedef struct selfcol_context selfcol_context;
+/* selfcol_context, the opaque query context, is declared in common.h. */
 
 /**
  * A unit of parallel work: runs items begin .. end - 1 of a task.
@@ -129,8 +141,8 @@ SELFCOL_API size_t selfcol_context_byte_count(const selfcol_context *context);
 
 /**
  * selfcol_hierarchy_self_collide() on the context's threads and working
- * memory: the same records in contacts. The options' threads field is not
- * read (the context's applies).
+ * memory: the same records in contacts, and the same statistics apart from
+ * times, for every thread count and scheduler.
  * @return as selfcol_hierarchy_self_collide(); SELFCOL_EINVAL also for a NULL context.
  */
 SELFCOL_API int selfcol_context_self_collide(selfcol_context *context,
@@ -140,7 +152,6 @@ SELFCOL_API int selfcol_context_self_collide(selfcol_context *context,
 
 /**
  * selfcol_hierarchy_collide() on the context's threads and working memory.
- * The options' threads field is not read.
  * @return as selfcol_hierarchy_collide(); SELFCOL_EINVAL also for a NULL context.
  */
 SELFCOL_API int selfcol_context_collide(selfcol_context *context, const selfcol_hierarchy *first,
@@ -148,10 +159,15 @@ SELFCOL_API int selfcol_context_collide(selfcol_context *context, const selfcol_
                                         const selfcol_query_options *opts);
 
 /**
- * selfcol_hierarchy_self_sweep() with SELFCOL_SWEEP_ALL's root searches on
- * the context's workers and scheduler (the broad phase and
- * SELFCOL_SWEEP_EARLIEST on the calling thread, as without). The options'
- * threads field is not read; the hits are the same.
+ * selfcol_hierarchy_self_sweep() on the context's workers and scheduler:
+ * the broad phase of SELFCOL_METHOD_BVH (its traversal's tasks, in both
+ * modes) and the root searches (ALL's, and EARLIEST's in batches of the BVH
+ * method). The hits, the fraction and the counters (apart from times) are
+ * the same for every thread count. SELFCOL_METHOD_EXACT's culling keeps its
+ * broad phase on the calling thread, and EXHAUSTIVE runs there entirely.
+ * The sweep's allocator is only called from the calling thread (the workers
+ * write into arrays the calling thread grew; a worker that finds one full
+ * leaves its task to be run again after the calling thread grows it).
  * @return as selfcol_hierarchy_self_sweep(); SELFCOL_EINVAL also for a NULL context.
  */
 SELFCOL_API int selfcol_context_self_sweep(selfcol_context *context,
@@ -168,6 +184,64 @@ SELFCOL_API int selfcol_context_sweep(selfcol_context *context, const selfcol_hi
                                       const double *first_start, const selfcol_hierarchy *second,
                                       const double *second_start, selfcol_sweep *result,
                                       const selfcol_sweep_options *opts);
+
+/**
+ * selfcol_hierarchy_refit() on the context's threads: subtrees below a cap
+ * near the root are refit side by side (never more than one worker per 4096
+ * triangles), the cap after them. The boxes, masks and cones are identical
+ * for every thread count. The first refit at a new thread count plans the
+ * split (an allocation kept by the hierarchy); later ones allocate nothing.
+ * @return as selfcol_hierarchy_refit(); SELFCOL_EINVAL also for a NULL
+ *         context; SELFCOL_ENOMEM (planning; the hierarchy is then refit on
+ *         the calling thread, and the call still fails).
+ */
+SELFCOL_API int selfcol_context_refit(selfcol_context *context, selfcol_hierarchy *hierarchy);
+
+/**
+ * selfcol_store_update() on the context's threads: the merge (in chunks of
+ * keys, with each contact's exact side, a remnant's geometry and what its
+ * links compare), the sort of the contacts' vertex pairs and the regions'
+ * union-find are shared among them (only above 4096 records per thread);
+ * the links the vote follows and the vote stay on the calling thread, in
+ * the same order, so the store is the same for every thread count.
+ * @return as selfcol_store_update(); SELFCOL_EINVAL also for a NULL context.
+ */
+SELFCOL_API int selfcol_context_store_update(selfcol_context *context, selfcol_store *store,
+                                             const selfcol_mesh *first, const selfcol_mesh *second,
+                                             const selfcol_contacts *detected);
+
+/**
+ * selfcol_store_update_swept() on the context's threads, as
+ * selfcol_context_store_update().
+ * @return as selfcol_store_update_swept(); SELFCOL_EINVAL also for a NULL context.
+ */
+SELFCOL_API int selfcol_context_store_update_swept(selfcol_context *context, selfcol_store *store,
+                                                   const selfcol_mesh *first,
+                                                   const selfcol_mesh *second,
+                                                   const selfcol_contacts *detected,
+                                                   const double *first_start,
+                                                   const double *second_start);
+
+/**
+ * selfcol_sequence_self_collide() on the context's threads and working
+ * memory: its fresh queries and rebuilds, and the evaluation of its near
+ * list. The same records as without, for every thread count.
+ * @return as selfcol_sequence_self_collide(); SELFCOL_EINVAL also for a NULL context.
+ */
+SELFCOL_API int selfcol_context_sequence_self_collide(selfcol_context *context,
+                                                      selfcol_sequence *sequence,
+                                                      selfcol_hierarchy *hierarchy,
+                                                      selfcol_contacts *contacts,
+                                                      const selfcol_query_options *opts);
+
+/**
+ * selfcol_sequence_collide() on the context's threads and working memory.
+ * @return as selfcol_sequence_collide(); SELFCOL_EINVAL also for a NULL context.
+ */
+SELFCOL_API int
+selfcol_context_sequence_collide(selfcol_context *context, selfcol_sequence *sequence,
+                                 selfcol_hierarchy *first, selfcol_hierarchy *second,
+                                 selfcol_contacts *contacts, const selfcol_query_options *opts);
 
 SELFCOL_END_DECLS
 /** @} */

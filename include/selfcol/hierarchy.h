@@ -24,18 +24,11 @@ typedef struct selfcol_hierarchy selfcol_hierarchy;
 typedef struct selfcol_hierarchy_options {
     unsigned int version;        /**< SELFCOL_HIERARCHY_OPTIONS_VERSION */
     selfcol_allocator allocator; /**< all-zero: malloc/free */
-    /* Version 2 */
-    /** Threads a refit may use (selfcol_hierarchy_refit(), and the refit
-     *  that ends selfcol_hierarchy_create()), 1 to SELFCOL_MAX_THREADS;
-     *  default 1. The boxes, masks and cones are identical for every count.
-     *  With more than one, the refit starts and joins its threads itself
-     *  (never more than one per 4096 triangles); the build stays on the
-     *  calling thread. A version 1 struct is read as 1. Queries take their
-     *  own count (selfcol_query_options.threads). */
-    unsigned int threads;
 } selfcol_hierarchy_options;
 
-#define SELFCOL_HIERARCHY_OPTIONS_VERSION 2
+/** 3 since 0.4 (threads moved to the context: selfcol_context_refit());
+ *  0.3's versions 1 and 2 are refused. */
+#define SELFCOL_HIERARCHY_OPTIONS_VERSION 3
 
 /**
  * Writes the defaults into opts.
@@ -76,7 +69,7 @@ SELFCOL_API int selfcol_hierarchy_options_check(const selfcol_hierarchy_options 
  *            reading out of its arrays or answering from stale boxes.
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out or mesh, a half-set
- *         allocator, threads outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION;
+ *         allocator); SELFCOL_EVERSION;
  *         SELFCOL_ENOMEM; SELFCOL_ERANGE (more than (2^32 - 2) / 6 = 715827882
  *         triangles: the build's adjacency offsets are 32-bit).
  */
@@ -96,8 +89,8 @@ SELFCOL_API const selfcol_mesh *selfcol_hierarchy_mesh(const selfcol_hierarchy *
 /**
  * Recomputes the bounding boxes, direction masks and normal cones from the
  * mesh's current positions (after selfcol_mesh_set_positions()). O(n), no
- * allocation. On the threads of selfcol_hierarchy_options.threads, with
- * the same result for every count. Queries with a hierarchy method (BVH,
+ * allocation, on the calling thread (selfcol_context_refit() shares it
+ * among a context's threads, with the same result). Queries with a hierarchy method (BVH,
  * SEED, CONE, EXACT) on a hierarchy whose mesh moved since the last refit
  * return SELFCOL_ESTALE.
  * @param[in,out] hierarchy the hierarchy
@@ -175,22 +168,12 @@ typedef struct selfcol_query_options {
     /** Detection distance d >= 0 in mesh units; default 0 (interferences
      *  only). The standard setting is 0.1 x selfcol_mesh_mean_edge_length(). */
     double distance;
-    /* Version 2 */
-    /** Threads the query may use, 1 to SELFCOL_MAX_THREADS; default 1.
-     *  The contacts and the statistics (apart from times) are identical for
-     *  every count. With more than one, the query starts and joins its
-     *  threads itself, and the contacts' allocator may be called from them
-     *  (it must then be thread-safe). The default is one thread because an
-     *  engine usually runs queries of several meshes or scenes side by side
-     *  already, and one thread is the reference of every measurement. The
-     *  exhaustive method always uses one. */
-    unsigned int threads;
 } selfcol_query_options;
 
-#define SELFCOL_QUERY_OPTIONS_VERSION 2
-
-/* SELFCOL_MAX_THREADS, the largest thread count of every options struct,
- * is defined in common.h. */
+/** 3 since 0.4: what a query computes, not where it runs (its threads are
+ *  the context's: context.h, selfcol_context_self_collide()); 0.3's
+ *  versions 1 and 2 are refused. */
+#define SELFCOL_QUERY_OPTIONS_VERSION 3
 
 /**
  * Writes the defaults into opts.
@@ -215,14 +198,15 @@ SELFCOL_API int selfcol_query_options_check(const selfcol_query_options *opts,
 
 /**
  * Finds the self-contacts of the hierarchy's mesh at its current positions,
- * replacing the content of contacts (see contacts.h for the exact sets).
+ * replacing the content of contacts (see contacts.h for the exact sets), on
+ * the calling thread (selfcol_context_self_collide(): on a context's threads).
  * @param[in] hierarchy the hierarchy (read only: concurrent queries on one
  *            hierarchy with different contact sets are allowed)
  * @param[out] contacts receives the contacts and the statistics
  * @param[in] opts query options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL handle, unknown method, narrow or
  *         kinds bits, negative or non-finite distance or one above
- *         SELFCOL_MESH_MAX_COORDINATE, threads outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION;
+ *         SELFCOL_MESH_MAX_COORDINATE); SELFCOL_EVERSION;
  *         SELFCOL_ESTALE (a hierarchy method on a hierarchy not refit since
  *         its mesh moved); SELFCOL_EMISMATCH (a mesh that is not the one the
  *         hierarchy was built on); SELFCOL_ENOMEM (contacts is then left empty).

@@ -146,15 +146,15 @@ typedef struct selfcol_scene_options {
         allocator; /**< of the scene, its hierarchies and stores; all-zero: malloc/free */
     /**
      * The surface queries (required: a scene has no default distance):
-     * distance (> 0: the thickness, in mesh units), kinds (non-zero), method,
-     * narrow phase, and threads (those of the queries and of the surfaces'
-     * refits).
+     * distance (> 0: the thickness, in mesh units), kinds (non-zero), method
+     * and narrow phase. The scene's threads are those of the context set on
+     * it (selfcol_scene_set_context()); without one it runs on the calling
+     * thread.
      */
     const selfcol_query_options *query;
     /**
-     * Every store's remnance_frames, consistency and threads; NULL for
-     * selfcol_store_options_init()'s defaults (one thread, whatever
-     * query->threads says). Its allocator must be all-zero and its
+     * Every store's remnance_frames and consistency; NULL for
+     * selfcol_store_options_init()'s defaults. Its allocator must be all-zero and its
      * orientations 0: the scene's allocator serves every store, and a
      * surface's orientation comes from its kind (selfcol_scene_surface_options).
      */
@@ -238,7 +238,7 @@ SELFCOL_API int selfcol_scene_options_init(selfcol_scene_options *opts, unsigned
 
 /**
  * Names what selfcol_scene_create() refuses in opts, if anything: the field
- * (nested ones as "query->distance", "store->threads", "sequence->skin"), its
+ * (nested ones as "query->distance", "store->consistency", "sequence->skin"), its
  * value and what is accepted (common.h, selfcol_options_problem).
  * @return SELFCOL_OK, SELFCOL_EINVAL or SELFCOL_EVERSION, as
  *         selfcol_scene_create() for these options (NULL opts: SELFCOL_EINVAL);
@@ -266,8 +266,8 @@ SELFCOL_API int selfcol_scene_collider_desc_init(selfcol_scene_collider_desc *de
 /**
  * Creates an empty scene.
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, NULL query, query->distance not in
- *         (0, 2^200], no kinds or unknown kinds, method, narrow phase or
- *         threads as selfcol_hierarchy_self_collide() refuses them,
+ *         (0, 2^200], no kinds or unknown kinds, method or narrow phase
+ *         as selfcol_hierarchy_self_collide() refuses them,
  *         consistency not 0 or 1, a store allocator or orientation set,
  *         negative or non-finite tolerance, half-set allocator);
  *         SELFCOL_EVERSION (the scene's, the query's, the store's or the
@@ -347,13 +347,13 @@ SELFCOL_API int selfcol_scene_set_collider_pose(selfcol_scene *scene, uint32_t c
                                                 const double position[3], const double rotation[9]);
 
 /**
- * Runs the scene's surface queries and coherent sequences on `context`
- * (context.h: its threads, its scheduler, its working memory) from the next
- * update on, instead of the scene's own (POSIX threads, query->threads).
- * The context is borrowed: it must outlive the scene or be replaced first,
- * and must not serve another query while the scene updates. The surfaces'
- * refits keep query->threads. The records are the same either way.
- * @param[in] context the context, or NULL to go back to the scene's own
+ * Runs the scene's refits, surface queries, coherent sequences and store
+ * updates on `context` (context.h: its threads, its scheduler, its working
+ * memory) from the next update on; without one (the default) they run on
+ * the calling thread. The context is borrowed: it must outlive the scene or
+ * be replaced first, and must not serve another call while the scene
+ * updates. The stores are the same either way.
+ * @param[in] context the context, or NULL to go back to the calling thread
  * @return SELFCOL_OK; SELFCOL_EINVAL for a NULL scene.
  */
 SELFCOL_API int selfcol_scene_set_context(selfcol_scene *scene, selfcol_context *context);

@@ -15,15 +15,12 @@
  * that mesh (refits and queries of its hierarchies included), a refit with a
  * query on that hierarchy, two queries into one selfcol_contacts or through
  * one selfcol_context, or any call
- * with the destruction of a handle it uses. The library starts threads only
- * inside a query with selfcol_query_options.threads > 1 (or a continuous
- * one, selfcol_sweep_options.threads), inside a store update with
- * selfcol_store_options.threads > 1, and inside a refit (and the refit
- * ending creation) of a hierarchy with selfcol_hierarchy_options.threads
- * > 1, and joins them before the call returns, except a query through a
- * context: a context keeps its threads asleep between its queries and
- * selfcol_context_destroy() joins them, or, with a scheduler, runs on the
- * scheduler's threads instead (context.h).
+ * with the destruction of a handle it uses. The library runs on threads only
+ * through a context (context.h: the calls named selfcol_context_*, and a
+ * scene or Bullet adapter given one): the context keeps its threads asleep
+ * between calls and selfcol_context_destroy() joins them, or, with a
+ * scheduler, runs on the scheduler's threads instead. Every other call runs
+ * on the calling thread.
  * The contacts' and the context's allocators may be called from a query's
  * threads at once (a store allocates before its threads start). Every
  * other callback runs on the calling thread.

@@ -88,22 +88,11 @@ typedef struct selfcol_store_options {
     int first_orientation;
     /** Orientation of the second mesh of a two-mesh query, as first_orientation. */
     int second_orientation;
-    /* Version 2 */
-    /**
-     * Threads an update may use, 1 (default) to SELFCOL_MAX_THREADS. The
-     * merge (in chunks of keys, with each contact's exact side, a remnant's
-     * geometry and what its links compare), the sort of the contacts'
-     * vertex pairs and the regions' union-find are shared among them; the
-     * links the vote follows and the vote stay in one thread, in the same
-     * order, so the result is the same for every count. Threads are
-     * started and joined inside each update, only above a few thousand
-     * contacts (4096 per thread).
-     */
-    unsigned int threads;
 } selfcol_store_options;
 
-/** 2 since 0.3 (threads). A version 1 struct is read as 1 thread. */
-#define SELFCOL_STORE_OPTIONS_VERSION 2
+/** 3 since 0.4 (threads moved to the context: selfcol_context_store_update());
+ *  0.3's versions 1 and 2 are refused. */
+#define SELFCOL_STORE_OPTIONS_VERSION 3
 
 /** Bits of selfcol_store_contact.flags, about the last update (VOTED excepted). */
 typedef enum selfcol_store_contact_flag {
@@ -222,8 +211,8 @@ SELFCOL_API int selfcol_store_options_check(const selfcol_store_options *opts,
  * @param[out] out the new handle; NULL on failure. Free it with selfcol_store_destroy().
  * @param[in] opts options, or NULL for defaults
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL out, half-set allocator,
- *         consistency not 0 or 1, an orientation not -1, 0 or +1, threads
- *         outside 1..SELFCOL_MAX_THREADS); SELFCOL_EVERSION; SELFCOL_ENOMEM.
+ *         consistency not 0 or 1, an orientation not -1, 0 or +1);
+ *         SELFCOL_EVERSION; SELFCOL_ENOMEM.
  */
 SELFCOL_API int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts);
 

@@ -111,34 +111,18 @@ typedef struct selfcol_sweep_options {
     uint32_t mode;
     /** Separation delta >= 0 in mesh units; default 0. */
     double separation;
-    /** Threads the query may use, 1 to SELFCOL_MAX_THREADS; default 1:
-     *  the broad phase of SELFCOL_METHOD_BVH (its traversal's tasks, in
-     *  both modes) and the root searches (ALL's, and EARLIEST's in batches
-     *  of the BVH method). The hits, the fraction and the counters (apart
-     *  from times) are the same for every count. SELFCOL_METHOD_EXACT's
-     *  culling keeps its broad phase on the calling thread, and EXHAUSTIVE
-     *  runs there entirely. Unlike a discrete query's contacts, whose
-     *  workers push records on their own threads, the sweep's allocator is
-     *  only called from the calling thread (the workers write into arrays
-     *  the calling thread grew; a worker that finds one full leaves its
-     *  task to be run again after the calling thread grows it). Without a
-     *  context the query starts and joins its threads itself; through a
-     *  context it runs on the context's (context.h). */
-    unsigned int threads;
-    /* Version 2: progress and cancel (libgit2's model). */
-    /** Called on the calling thread between rounds of SELFCOL_SWEEP_ALL's
-     *  root searches (about 64 times, every 1024 candidates at least, the
-     *  last time with 1) with the fraction of the candidates done, in
-     *  [0, 1]; a non-zero return
-     *  cancels the query, which then returns SELFCOL_EUSER with the result
-     *  empty. NULL (the default): none. SELFCOL_SWEEP_EARLIEST does not call
-     *  it (its passes take about a query each). */
+    /** Progress and cancel (libgit2's model): called on the calling thread between rounds of
+     * SELFCOL_SWEEP_ALL's root searches (about 64 times, every 1024 candidates at least, the last
+     * time with 1) with the fraction of the candidates done, in [0, 1]; a non-zero return cancels
+     * the query, which then returns SELFCOL_EUSER with the result empty. NULL (the default): none.
+     * SELFCOL_SWEEP_EARLIEST does not call it (its passes take about a query each). */
     int (*progress)(void *payload, double done);
     void *progress_payload; /**< passed to progress */
 } selfcol_sweep_options;
 
-/** 2 since 0.3 (progress); a version 1 struct is read without them. */
-#define SELFCOL_SWEEP_OPTIONS_VERSION 2
+/** 3 since 0.4 (threads moved to the context: selfcol_context_self_sweep());
+ *  0.3's versions 1 and 2 are refused. */
+#define SELFCOL_SWEEP_OPTIONS_VERSION 3
 
 /** Bits of selfcol_sweep_hit.flags. */
 typedef enum selfcol_sweep_hit_flag {

@@ -48,6 +48,16 @@ int selfcol_problem__version(const selfcol_problem_at *at, unsigned int version,
     return SELFCOL_OK;
 }
 
+int selfcol_problem__version_since(const selfcol_problem_at *at, unsigned int version,
+                                   unsigned int first, unsigned int latest) {
+    if (version != 0 && version < first)
+        return selfcol_problem__field(at, SELFCOL_EVERSION, "version",
+                                      "= %u is an older layout (0.3's, with threads: since "
+                                      "0.4 they are the context's); this library reads %u",
+                                      version, latest);
+    return selfcol_problem__version(at, version, latest);
+}
+
 selfcol_problem_at selfcol_problem__nested(const selfcol_problem_at *at, const char *field,
                                            char into[64]) {
     selfcol_problem_at nested = {NULL, "", ""};

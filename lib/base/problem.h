@@ -42,6 +42,12 @@ int selfcol_problem__field(const selfcol_problem_at *at, int status, const char 
 int selfcol_problem__version(const selfcol_problem_at *at, unsigned int version,
                              unsigned int latest);
 
+// As selfcol_problem__version, also refusing versions below `first`: the
+// layouts an ABI break left behind (0.4 moved every `threads` field to the
+// context), named as such.
+int selfcol_problem__version_since(const selfcol_problem_at *at, unsigned int version,
+                                   unsigned int first, unsigned int latest);
+
 // A pointed-to struct's place: the same problem and type, prefix extended
 // by `field->` (into holds the text; 64 bytes are plenty for our names).
 selfcol_problem_at selfcol_problem__nested(const selfcol_problem_at *at, const char *field,

@@ -21,16 +21,15 @@
 
 int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
-    if (version == 0 || version > SELFCOL_SWEEP_OPTIONS_VERSION)
+    // Versions 1 and 2 were 0.3's layouts (with threads).
+    if (version < SELFCOL_SWEEP_OPTIONS_VERSION || version > SELFCOL_SWEEP_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    // A version 1 caller's struct ends before `progress`: write no further.
-    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_sweep_options, progress));
+    memset(opts, 0, sizeof *opts);
     opts->version = version;
     opts->method = SELFCOL_METHOD_BVH;
     opts->kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE;
     opts->mode = SELFCOL_SWEEP_ALL;
     opts->separation = 0.0;
-    opts->threads = 1;
     return SELFCOL_OK;
 }
 
@@ -602,12 +601,11 @@ static int sweep_options(selfcol_sweep_options *o, const selfcol_sweep_options *
                          const selfcol_problem_at *at) {
     selfcol_sweep_options_init(o, SELFCOL_SWEEP_OPTIONS_VERSION);
     if (opts != NULL) {
-        const int version =
-            selfcol_problem__version(at, opts->version, SELFCOL_SWEEP_OPTIONS_VERSION);
+        const int version = selfcol_problem__version_since(
+            at, opts->version, SELFCOL_SWEEP_OPTIONS_VERSION, SELFCOL_SWEEP_OPTIONS_VERSION);
         if (version != SELFCOL_OK)
             return version;
-        // A version 1 struct ends before `progress`.
-        memcpy(o, opts, opts->version >= 2 ? sizeof *o : offsetof(selfcol_sweep_options, progress));
+        *o = *opts;
     }
     o->version = SELFCOL_SWEEP_OPTIONS_VERSION;
     SELFCOL_CHECK_FIELD(at,
@@ -628,8 +626,6 @@ static int sweep_options(selfcol_sweep_options *o, const selfcol_sweep_options *
                             o->separation <= SELFCOL_MESH_MAX_COORDINATE,
                         "separation", "= %g is not a distance in 0 .. %g", o->separation,
                         SELFCOL_MESH_MAX_COORDINATE);
-    SELFCOL_CHECK_FIELD(at, o->threads >= 1 && o->threads <= SELFCOL_MAX_THREADS, "threads",
-                        "= %u is not in 1 .. %d", o->threads, SELFCOL_MAX_THREADS);
     return SELFCOL_OK;
 }
 
@@ -643,8 +639,8 @@ int selfcol_sweep_options_check(const selfcol_sweep_options *opts,
     return sweep_options(&checked, opts, &at);
 }
 
-// A continuous query; with a context (NULL: none), ALL's root searches run
-// on its workers and scheduler, and the options' threads are not read.
+// A continuous query; with a context (NULL: the calling thread), its
+// parallel stages run on the context's workers and scheduler.
 static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *first,
                      const double *first_start, const selfcol_hierarchy *second,
                      const double *second_start, selfcol_sweep *result,
@@ -694,7 +690,7 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
     double narrow_start = start_time;
     // Who runs the broad phase's tasks and ALL's root searches.
     const selfcol_executor *executor = context != NULL ? &context->executor : NULL;
-    const unsigned threads = context != NULL ? context->threads : o.threads;
+    const unsigned threads = context != NULL ? context->threads : 1;
     if (status == SELFCOL_OK && o.mode == SELFCOL_SWEEP_EARLIEST) {
         status = run_earliest(&q, o.method, executor, threads);
     } else if (status == SELFCOL_OK) {

@@ -53,6 +53,7 @@
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
 #include "query/contacts.h"
+#include "query/context.h"
 #include "query/query.h"
 
 #include <math.h>
@@ -308,26 +309,39 @@ void selfcol_sequence__tag_clusters(const selfcol_sequence *s, const selfcol_mes
     }
 }
 
-// The working memory of the context that filled `scratch` (made by its
-// first query, query.h): its sort slot serves the list's builds.
-selfcol_workspace *selfcol_sequence__scratch_work(selfcol_contacts *scratch) {
-    return &scratch->implicit_context->work;
+selfcol_context *selfcol_sequence__context(const selfcol_sequence *s, selfcol_contacts *scratch) {
+    return s->context != NULL ? s->context : selfcol_query__implicit_context(scratch);
 }
 
-// The ordinary query of the hierarchies (a self query when they are one).
-int selfcol_sequence__query(selfcol_hierarchy *const h[2], selfcol_contacts *out,
-                            const selfcol_query_options *o) {
+// The working memory of the context that filled `scratch` (the run's, or
+// the set's own, made by its first query: query.h): its sort slot serves
+// the list's builds.
+selfcol_workspace *selfcol_sequence__scratch_work(const selfcol_sequence *s,
+                                                  selfcol_contacts *scratch) {
+    return s->context != NULL ? &s->context->work : &scratch->implicit_context->work;
+}
+
+// The ordinary query of the hierarchies (a self query when they are one),
+// on the run's context if it has one.
+int selfcol_sequence__query(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                            selfcol_contacts *out, const selfcol_query_options *o) {
+    if (s->context != NULL)
+        return h[0] == h[1] ? selfcol_context_self_collide(s->context, h[0], out, o)
+                            : selfcol_context_collide(s->context, h[0], h[1], out, o);
     return h[0] == h[1] ? selfcol_hierarchy_self_collide(h[0], out, o)
                         : selfcol_hierarchy_collide(h[0], h[1], out, o);
 }
 
-// Refits the hierarchies that are stale (none for EXHAUSTIVE).
-int selfcol_sequence__refit_stale(selfcol_hierarchy *const h[2], uint32_t method) {
+// Refits the hierarchies that are stale (none for EXHAUSTIVE), on the run's
+// context if it has one.
+int selfcol_sequence__refit_stale(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                                  uint32_t method) {
     const int meshes = h[0] == h[1] ? 1 : 2;
     for (int m = 0; m < meshes; ++m) {
         if (method != SELFCOL_METHOD_EXHAUSTIVE &&
             h[m]->refit_version != h[m]->mesh->positions_version) {
-            int status = selfcol_hierarchy_refit(h[m]);
+            int status = s->context != NULL ? selfcol_context_refit(s->context, h[m])
+                                            : selfcol_hierarchy_refit(h[m]);
             if (status != SELFCOL_OK)
                 return status;
         }
@@ -343,7 +357,7 @@ int selfcol_sequence__rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2]
     const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
     // The reach set: the caller's exact method at distance R, closed forms
     // (libccd's distances are approximate), every kind the list needs.
-    int status = selfcol_sequence__refit_stale(h, o->method);
+    int status = selfcol_sequence__refit_stale(s, h, o->method);
     choose_skin(s, h);
     selfcol_query_options r = *o;
     r.distance = s->reach;
@@ -351,11 +365,11 @@ int selfcol_sequence__rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2]
     if (o->kinds & SELFCOL_KIND_EF)
         r.kinds = SELFCOL_KIND_ALL;
     if (status == SELFCOL_OK)
-        status = selfcol_sequence__query(h, scratch, &r);
+        status = selfcol_sequence__query(s, h, scratch, &r);
     if (status == SELFCOL_OK)
         status = selfcol_sequence__build_list(s, &s->pairs, 0, &s->pair_count, mesh,
                                               scratch->records.items, scratch->records.count,
-                                              selfcol_sequence__scratch_work(scratch));
+                                              selfcol_sequence__scratch_work(s, scratch));
     selfcol_contacts_clear(scratch);
     if (status == SELFCOL_OK)
         status = take_reference(s, h);
@@ -374,9 +388,9 @@ static int approximate(selfcol_sequence *s, selfcol_hierarchy *const h[2],
                        selfcol_contacts *contacts, const selfcol_query_options *o) {
     s->state = STATE_NONE;
     selfcol_contacts_clear(contacts);
-    int status = selfcol_sequence__refit_stale(h, o->method);
+    int status = selfcol_sequence__refit_stale(s, h, o->method);
     if (status == SELFCOL_OK)
-        status = selfcol_sequence__query(h, contacts, o);
+        status = selfcol_sequence__query(s, h, contacts, o);
     if (status != SELFCOL_OK)
         return status;
     s->stats.frames++;
@@ -460,9 +474,9 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
         status = selfcol_sequence__evaluate(s, mesh, &o, contacts);
     if (status == SELFCOL_OK && answer == ANSWER_FRESH) {
         s->state = STATE_NONE;
-        status = selfcol_sequence__refit_stale(h, o.method);
+        status = selfcol_sequence__refit_stale(s, h, o.method);
         if (status == SELFCOL_OK)
-            status = selfcol_sequence__query(h, contacts, &o);
+            status = selfcol_sequence__query(s, h, contacts, &o);
         // The contacts' statistics are the fresh query's own.
         const selfcol_query_stats kept = contacts->records.stats;
         choose_skin(s, h);
@@ -501,14 +515,42 @@ static int run(selfcol_sequence *s, selfcol_hierarchy *first, selfcol_hierarchy 
     return SELFCOL_OK;
 }
 
+// run() on `context` (NULL: the calling thread), which the sequence holds
+// for the call only.
+static int run_on(selfcol_context *context, selfcol_sequence *s, selfcol_hierarchy *first,
+                  selfcol_hierarchy *second, selfcol_contacts *contacts,
+                  const selfcol_query_options *opts) {
+    SELFCOL_CHECK(s != NULL);
+    s->context = context;
+    const int status = run(s, first, second, contacts, opts);
+    s->context = NULL;
+    return status;
+}
+
 int selfcol_sequence_self_collide(selfcol_sequence *sequence, selfcol_hierarchy *hierarchy,
                                   selfcol_contacts *contacts, const selfcol_query_options *opts) {
-    return run(sequence, hierarchy, hierarchy, contacts, opts);
+    return run_on(NULL, sequence, hierarchy, hierarchy, contacts, opts);
 }
 
 int selfcol_sequence_collide(selfcol_sequence *sequence, selfcol_hierarchy *first,
                              selfcol_hierarchy *second, selfcol_contacts *contacts,
                              const selfcol_query_options *opts) {
     SELFCOL_CHECK(first != NULL && second != NULL && first->mesh != second->mesh);
-    return run(sequence, first, second, contacts, opts);
+    return run_on(NULL, sequence, first, second, contacts, opts);
+}
+
+int selfcol_context_sequence_self_collide(selfcol_context *context, selfcol_sequence *sequence,
+                                          selfcol_hierarchy *hierarchy, selfcol_contacts *contacts,
+                                          const selfcol_query_options *opts) {
+    SELFCOL_CHECK(context != NULL);
+    return run_on(context, sequence, hierarchy, hierarchy, contacts, opts);
+}
+
+int selfcol_context_sequence_collide(selfcol_context *context, selfcol_sequence *sequence,
+                                     selfcol_hierarchy *first, selfcol_hierarchy *second,
+                                     selfcol_contacts *contacts,
+                                     const selfcol_query_options *opts) {
+    SELFCOL_CHECK(context != NULL);
+    SELFCOL_CHECK(first != NULL && second != NULL && first->mesh != second->mesh);
+    return run_on(context, sequence, first, second, contacts, opts);
 }

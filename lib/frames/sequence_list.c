@@ -338,10 +338,10 @@ static int evaluate_worker(void *context, unsigned w) {
 }
 
 // The near list's records at the current positions, in order, into out,
-// on the threads of the context of the calls given none (query.h).
+// on the threads of the running call's context (one thread without one).
 int selfcol_sequence__evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
                                const selfcol_query_options *o, selfcol_contacts *contacts) {
-    selfcol_context *context = selfcol_query__implicit_context(contacts, o->threads);
+    selfcol_context *context = selfcol_sequence__context(s, contacts);
     if (context == NULL)
         return SELFCOL_ENOMEM;
     selfcol_records *out = &contacts->records;
@@ -358,7 +358,7 @@ int selfcol_sequence__evaluate(const selfcol_sequence *s, const selfcol_mesh *co
     e.base.work = &context->work;
     e.base.filter = NULL;
     // At most a worker per chunk.
-    unsigned workers = o->threads;
+    unsigned workers = context->threads;
     e.chunks = (s->pair_count + EVALUATION_CHUNK - 1) / EVALUATION_CHUNK;
     if (e.chunks < workers)
         workers = e.chunks > 0 ? (unsigned)e.chunks : 1u;

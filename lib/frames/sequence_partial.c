@@ -210,7 +210,7 @@ int selfcol_sequence__partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *co
 
     // The reach query, restricted; its records that belong to re-queried
     // pairs make their new near pairs.
-    status = selfcol_sequence__refit_stale(h, o->method);
+    status = selfcol_sequence__refit_stale(s, h, o->method);
     for (int m = 0; m < meshes; ++m)
         node_masks(s, m, h[m], m == 0 ? mask0 : mask0 + MASK_WORDS * nodes0);
     selfcol_query_options r = *o;
@@ -220,7 +220,7 @@ int selfcol_sequence__partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *co
         r.kinds = SELFCOL_KIND_ALL;
     const selfcol_node_filter filter = {keep_node_pair, &f};
     size_t added = 0;
-    selfcol_context *context = selfcol_query__implicit_context(scratch, r.threads);
+    selfcol_context *context = selfcol_sequence__context(s, scratch);
     if (status == SELFCOL_OK && context == NULL)
         status = SELFCOL_ENOMEM;
     if (status == SELFCOL_OK)
@@ -233,7 +233,7 @@ int selfcol_sequence__partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *co
     if (status == SELFCOL_OK)
         status = selfcol_sequence__build_list(s, &s->pairs, kept, &added, mesh,
                                               scratch->records.items, scratch->records.count,
-                                              selfcol_sequence__scratch_work(scratch));
+                                              selfcol_sequence__scratch_work(s, scratch));
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK)
         return status;
@@ -246,7 +246,7 @@ int selfcol_sequence__partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *co
     // into the list: a write at i + j - 1 never reaches a kept pair not yet
     // read (below i) while new pairs remain (j >= 1).
     near_pair *fresh =
-        selfcol_workspace__buffer(selfcol_sequence__scratch_work(scratch), SELFCOL_SCRATCH_SORT,
+        selfcol_workspace__buffer(selfcol_sequence__scratch_work(s, scratch), SELFCOL_SCRATCH_SORT,
                                   added * sizeof(near_pair), 0);
     if (added > 0 && fresh == NULL)
         return SELFCOL_ENOMEM;
@@ -286,11 +286,11 @@ int selfcol_sequence__check_partial(selfcol_sequence *s, selfcol_hierarchy *firs
     r.kinds = s->kinds & SELFCOL_KIND_EF ? SELFCOL_KIND_ALL : s->kinds;
     buffer full = {NULL, 0};
     size_t n = 0;
-    int status = selfcol_sequence__query(h, scratch, &r);
+    int status = selfcol_sequence__query(s, h, scratch, &r);
     if (status == SELFCOL_OK)
         status = selfcol_sequence__build_list(s, &full, 0, &n, mesh, scratch->records.items,
                                               scratch->records.count,
-                                              selfcol_sequence__scratch_work(scratch));
+                                              selfcol_sequence__scratch_work(s, scratch));
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK) {
         selfcol_sequence__release(&s->allocator, &full);

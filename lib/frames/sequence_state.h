@@ -89,6 +89,9 @@ typedef struct cluster_set {
 struct selfcol_sequence {
     selfcol_allocator allocator;
     double skin_option; // 0: automatic
+    // The context of the running call (selfcol_context_sequence_*), NULL
+    // between calls and for the calls without one.
+    selfcol_context *context;
 
     // What the reference and near list were taken for (valid unless state
     // is STATE_NONE).
@@ -135,10 +138,15 @@ void selfcol_sequence__release(const selfcol_allocator *a, buffer *b);
 float selfcol_sequence__float_allowance(const selfcol_sequence *s, unsigned i, unsigned j);
 void selfcol_sequence__tag_clusters(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
                                     near_pair *list, size_t count);
-selfcol_workspace *selfcol_sequence__scratch_work(selfcol_contacts *scratch);
-int selfcol_sequence__query(selfcol_hierarchy *const h[2], selfcol_contacts *out,
-                            const selfcol_query_options *o);
-int selfcol_sequence__refit_stale(selfcol_hierarchy *const h[2], uint32_t method);
+// The context of the running call: the caller's (selfcol_context_sequence_*)
+// or, without one, scratch's own (one thread). NULL without memory.
+selfcol_context *selfcol_sequence__context(const selfcol_sequence *s, selfcol_contacts *scratch);
+selfcol_workspace *selfcol_sequence__scratch_work(const selfcol_sequence *s,
+                                                  selfcol_contacts *scratch);
+int selfcol_sequence__query(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                            selfcol_contacts *out, const selfcol_query_options *o);
+int selfcol_sequence__refit_stale(const selfcol_sequence *s, selfcol_hierarchy *const h[2],
+                                  uint32_t method);
 int selfcol_sequence__rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2],
                               const selfcol_query_options *o, selfcol_contacts *scratch);
 

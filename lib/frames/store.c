@@ -21,7 +21,7 @@
 // the links compare is read from each entry's direction once, into 16 bits
 // (link_code), and the vote's tallies reuse the neighbour search's arrays.
 // Every array is kept and grown: a steady state allocates nothing.
-// With threads (selfcol_store_options.threads), step 1 runs in chunks of
+// On a context's threads (selfcol_context_store_update), step 1 runs in chunks of
 // keys (each merging its ranges of held entries and records into a place
 // counted beforehand by a dry run), the vertex pairs are sorted in chunks
 // of entries with per-chunk bucket counts (both stable), and the grouping
@@ -47,6 +47,7 @@
 #include "narrow/narrow.h"
 #include "narrow/narrow_sweep.h"
 #include "query/contacts.h"
+#include "query/context.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -58,32 +59,27 @@
 
 int selfcol_store_options_init(selfcol_store_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
-    if (version == 0 || version > SELFCOL_STORE_OPTIONS_VERSION)
+    // Versions 1 and 2 were 0.3's layouts (2 with threads).
+    if (version < SELFCOL_STORE_OPTIONS_VERSION || version > SELFCOL_STORE_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    // A version 1 caller's struct ends before `threads`: write no further.
-    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_store_options, threads));
+    memset(opts, 0, sizeof *opts);
     opts->version = version;
     opts->remnance_frames = SELFCOL_STORE_DEFAULT_REMNANCE;
     opts->consistency = 1;
-    if (version >= 2)
-        opts->threads = 1;
     return SELFCOL_OK;
 }
 
 int selfcol_store__options(selfcol_store_options *out, const selfcol_store_options *opts,
                            const selfcol_problem_at *at) {
     if (opts != NULL) {
-        const int version =
-            selfcol_problem__version(at, opts->version, SELFCOL_STORE_OPTIONS_VERSION);
+        const int version = selfcol_problem__version_since(
+            at, opts->version, SELFCOL_STORE_OPTIONS_VERSION, SELFCOL_STORE_OPTIONS_VERSION);
         if (version != SELFCOL_OK)
             return version;
     }
     selfcol_store_options_init(out, SELFCOL_STORE_OPTIONS_VERSION);
-    if (opts != NULL) {
-        // Version 1 callers' structs end before `threads` (read as 1).
-        memcpy(out, opts,
-               opts->version >= 2 ? sizeof *out : offsetof(selfcol_store_options, threads));
-    }
+    if (opts != NULL)
+        *out = *opts;
     out->version = SELFCOL_STORE_OPTIONS_VERSION;
     SELFCOL_CHECK_ALLOCATOR(at, out->allocator);
     SELFCOL_CHECK_FIELD(at, out->consistency == 0 || out->consistency == 1, "consistency",
@@ -92,8 +88,6 @@ int selfcol_store__options(selfcol_store_options *out, const selfcol_store_optio
                         "first_orientation", "= %d is not -1, 0 or +1", out->first_orientation);
     SELFCOL_CHECK_FIELD(at, out->second_orientation >= -1 && out->second_orientation <= 1,
                         "second_orientation", "= %d is not -1, 0 or +1", out->second_orientation);
-    SELFCOL_CHECK_FIELD(at, out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS, "threads",
-                        "= %u is not in 1 .. %d", out->threads, SELFCOL_MAX_THREADS);
     return SELFCOL_OK;
 }
 
@@ -123,7 +117,7 @@ int selfcol_store_create(selfcol_store **out, const selfcol_store_options *opts)
     s->consistency = o.consistency;
     s->orientation[0] = o.first_orientation;
     s->orientation[1] = o.second_orientation;
-    s->threads = o.threads;
+    s->threads = 1;
     s->stats.version = SELFCOL_STORE_UPDATE_STATS_VERSION;
     *out = s;
     return SELFCOL_OK;
@@ -158,7 +152,7 @@ static void free_mesh_arrays(selfcol_store *s) {
         selfcol_alloc__free_array(al, s->hi_stamp[k], s->hi_count[k], sizeof *s->hi_stamp[k]);
         selfcol_alloc__free_array(al, s->hi_first[k], s->hi_count[k], sizeof *s->hi_first[k]);
     }
-    selfcol_alloc__free_array(al, s->bucket_offset, s->threads * s->bucket_count,
+    selfcol_alloc__free_array(al, s->bucket_offset, s->bucket_threads * s->bucket_count,
                               sizeof *s->bucket_offset);
 }
 
@@ -283,15 +277,20 @@ static int reserve_mesh_arrays(selfcol_store *s, const selfcol_mesh *const meshe
         s->hi_first[k] = hi_first;
         s->hi_count[k] = n;
     }
-    const size_t buckets = buckets_of(meshes);
-    if (buckets > s->bucket_count || s->bucket_offset == NULL) {
-        uint32_t *offset = selfcol_alloc__array(al, s->threads * buckets, sizeof *offset);
+    // Per chunk (at most the update's threads) and bucket: grown only, in
+    // both directions, so that a steady state allocates nothing.
+    const size_t need = buckets_of(meshes);
+    const size_t buckets = need > s->bucket_count ? need : s->bucket_count;
+    const unsigned threads = s->threads > s->bucket_threads ? s->threads : s->bucket_threads;
+    if (s->bucket_offset == NULL || buckets > s->bucket_count || threads > s->bucket_threads) {
+        uint32_t *offset = selfcol_alloc__array(al, (size_t)threads * buckets, sizeof *offset);
         if (offset == NULL)
             return SELFCOL_ENOMEM;
-        selfcol_alloc__free_array(al, s->bucket_offset, s->threads * s->bucket_count,
+        selfcol_alloc__free_array(al, s->bucket_offset, s->bucket_threads * s->bucket_count,
                                   sizeof *s->bucket_offset);
         s->bucket_offset = offset;
         s->bucket_count = buckets;
+        s->bucket_threads = threads;
     }
     return SELFCOL_OK;
 }
@@ -680,7 +679,7 @@ static int update_worker(void *context, unsigned worker) {
 }
 
 // Runs one stage over the job's chunks, on at most store->threads workers
-// (the calling thread alone for one chunk).
+// of the update's executor (the calling thread alone for one chunk).
 static void run_stage(update_job *job, enum update_stage stage) {
     job->stage = stage;
     job->next_chunk = 0;
@@ -689,12 +688,16 @@ static void run_stage(update_job *job, enum update_stage stage) {
     if (workers <= 1)
         update_worker(job, 0);
     else
-        selfcol_parallel__run(NULL, workers, update_worker, job);
+        selfcol_parallel__run(job->s->executor, workers, update_worker, job);
 }
 
-int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
-                               const selfcol_mesh *second, const selfcol_contacts *detected,
-                               const double *first_start, const double *second_start) {
+static int update(selfcol_store *store, const selfcol_mesh *first, const selfcol_mesh *second,
+                  const selfcol_contacts *detected);
+
+// selfcol_store_update_swept's checks, then the update with the step's start.
+static int update_swept(selfcol_store *store, const selfcol_mesh *first, const selfcol_mesh *second,
+                        const selfcol_contacts *detected, const double *first_start,
+                        const double *second_start) {
     SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL && first_start != NULL);
     SELFCOL_CHECK((second == NULL) == (second_start == NULL));
     SELFCOL_CHECK(selfcol_mesh__positions_in_contract(first_start, first->vertex_count));
@@ -702,28 +705,70 @@ int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
                   selfcol_mesh__positions_in_contract(second_start, second->vertex_count));
     store->step_start[0] = first_start;
     store->step_start[1] = second_start;
-    const int status = selfcol_store_update(store, first, second, detected);
+    const int status = update(store, first, second, detected);
     store->step_start[0] = store->step_start[1] = NULL;
     return status;
 }
 
-int selfcol_store__update_path(selfcol_store *store, const selfcol_mesh *first,
+// An update (swept when first_start is given) on `context`'s threads, or on
+// the calling thread for NULL: the store holds them for the call only.
+static int update_on(selfcol_context *context, selfcol_store *store, const selfcol_mesh *first,
+                     const selfcol_mesh *second, const selfcol_contacts *detected, int swept,
+                     const double *first_start, const double *second_start) {
+    SELFCOL_CHECK(store != NULL);
+    store->threads = context != NULL ? context->threads : 1;
+    store->executor = context != NULL ? &context->executor : NULL;
+    const int status = swept
+                           ? update_swept(store, first, second, detected, first_start, second_start)
+                           : update(store, first, second, detected);
+    store->threads = 1;
+    store->executor = NULL;
+    return status;
+}
+
+int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
+                         const selfcol_mesh *second, const selfcol_contacts *detected) {
+    return update_on(NULL, store, first, second, detected, 0, NULL, NULL);
+}
+
+int selfcol_store_update_swept(selfcol_store *store, const selfcol_mesh *first,
                                const selfcol_mesh *second, const selfcol_contacts *detected,
-                               const double *const first_path[2],
+                               const double *first_start, const double *second_start) {
+    return update_on(NULL, store, first, second, detected, 1, first_start, second_start);
+}
+
+int selfcol_context_store_update(selfcol_context *context, selfcol_store *store,
+                                 const selfcol_mesh *first, const selfcol_mesh *second,
+                                 const selfcol_contacts *detected) {
+    SELFCOL_CHECK(context != NULL);
+    return update_on(context, store, first, second, detected, 0, NULL, NULL);
+}
+
+int selfcol_context_store_update_swept(selfcol_context *context, selfcol_store *store,
+                                       const selfcol_mesh *first, const selfcol_mesh *second,
+                                       const selfcol_contacts *detected, const double *first_start,
+                                       const double *second_start) {
+    SELFCOL_CHECK(context != NULL);
+    return update_on(context, store, first, second, detected, 1, first_start, second_start);
+}
+
+int selfcol_store__update_path(selfcol_context *context, selfcol_store *store,
+                               const selfcol_mesh *first, const selfcol_mesh *second,
+                               const selfcol_contacts *detected, const double *const first_path[2],
                                const double *const second_path[2]) {
     SELFCOL_CHECK(store != NULL && first_path != NULL && first_path[0] != NULL);
     SELFCOL_CHECK((second == NULL) == (second_path == NULL));
     SELFCOL_CHECK(second_path == NULL || second_path[0] != NULL);
     store->step_before[0] = first_path[0];
     store->step_before[1] = second_path != NULL ? second_path[0] : NULL;
-    const int status = selfcol_store_update_swept(store, first, second, detected, first_path[1],
-                                                  second_path != NULL ? second_path[1] : NULL);
+    const int status = update_on(context, store, first, second, detected, 1, first_path[1],
+                                 second_path != NULL ? second_path[1] : NULL);
     store->step_before[0] = store->step_before[1] = NULL;
     return status;
 }
 
-int selfcol_store_update(selfcol_store *store, const selfcol_mesh *first,
-                         const selfcol_mesh *second, const selfcol_contacts *detected) {
+static int update(selfcol_store *store, const selfcol_mesh *first, const selfcol_mesh *second,
+                  const selfcol_contacts *detected) {
     SELFCOL_CHECK(store != NULL && first != NULL && detected != NULL);
     const double start = selfcol_core__seconds();
     // Its meshes by address and identity: an address alone is reused by the
@@ -931,7 +976,7 @@ size_t selfcol_store_byte_count(const selfcol_store *store) {
                    store->pair_capacity * 2 * sizeof(uint32_t) +
                    store->region_capacity * sizeof(selfcol_store_region);
     if (store->bucket_offset != NULL)
-        bytes += store->threads * store->bucket_count * sizeof(uint32_t);
+        bytes += store->bucket_threads * store->bucket_count * sizeof(uint32_t);
     for (int k = 0; k < 2; ++k)
         bytes += store->normal_count[k] * (3 * sizeof(float) + sizeof(uint32_t)) +
                  store->hi_count[k] * 2 * sizeof(uint32_t);

@@ -20,10 +20,11 @@ int selfcol_store__options(selfcol_store_options *out, const selfcol_store_optio
 // step's start (after the caller moved the meshes, e.g. a collision
 // response), then the current ones. A sign change is a crossing when the
 // elements may have touched on either segment. second_path NULL for a self
-// store. The scene's swept updates (selfcol_scene_set_surface_start()).
-int selfcol_store__update_path(selfcol_store *store, const selfcol_mesh *first,
-                               const selfcol_mesh *second, const selfcol_contacts *detected,
-                               const double *const first_path[2],
+// store. On `context`'s threads (NULL: the calling thread). The scene's
+// swept updates (selfcol_scene_set_surface_start()).
+int selfcol_store__update_path(selfcol_context *context, selfcol_store *store,
+                               const selfcol_mesh *first, const selfcol_mesh *second,
+                               const selfcol_contacts *detected, const double *const first_path[2],
                                const double *const second_path[2]);
 
 #endif // SELFCOL_STORE_INTERNAL_H

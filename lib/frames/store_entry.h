@@ -36,7 +36,11 @@ typedef struct store_entry {
 
 struct selfcol_store {
     selfcol_allocator allocator;
-    unsigned threads; // of an update (selfcol_store_options)
+    // The running update's threads and who runs them: its context's
+    // (selfcol_context_store_update), or 1 and NULL without one.
+    unsigned threads;
+    const selfcol_executor *executor;
+    unsigned bucket_threads; // the thread count bucket_offset is sized for
     uint32_t remnance;
     int consistency;
     int orientation[2];            // per mesh slot: 0 none, +1 / -1 (store.h)

@@ -12,35 +12,29 @@
 
 int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
-    if (version == 0 || version > SELFCOL_HIERARCHY_OPTIONS_VERSION)
+    // Versions 1 and 2 were 0.3's layouts (2 with threads).
+    if (version < SELFCOL_HIERARCHY_OPTIONS_VERSION || version > SELFCOL_HIERARCHY_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    // A version 1 caller's struct ends before `threads`: write no further.
-    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_hierarchy_options, threads));
+    memset(opts, 0, sizeof *opts);
     opts->version = version;
-    if (version >= 2)
-        opts->threads = 1;
     return SELFCOL_OK;
 }
 
 // The options read as their version says (NULL: the defaults) and checked;
 // `at` names a refused field (problem.h; NULL: the status only).
 static int hierarchy_options(const selfcol_hierarchy_options *opts, selfcol_allocator *allocator,
-                             unsigned *threads, const selfcol_problem_at *at) {
+                             const selfcol_problem_at *at) {
     const selfcol_allocator none = {NULL, NULL, NULL};
     *allocator = none;
-    *threads = 1; // also for a version 1 struct, which ends before `threads`
     if (opts != NULL) {
         const int version =
-            selfcol_problem__version(at, opts->version, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+            selfcol_problem__version_since(at, opts->version, SELFCOL_HIERARCHY_OPTIONS_VERSION,
+                                           SELFCOL_HIERARCHY_OPTIONS_VERSION);
         if (version != SELFCOL_OK)
             return version;
         *allocator = opts->allocator;
-        if (opts->version >= 2)
-            *threads = opts->threads;
     }
     SELFCOL_CHECK_ALLOCATOR(at, *allocator);
-    SELFCOL_CHECK_FIELD(at, *threads >= 1 && *threads <= SELFCOL_MAX_THREADS, "threads",
-                        "= %u is not in 1 .. %d", *threads, SELFCOL_MAX_THREADS);
     return SELFCOL_OK;
 }
 
@@ -51,8 +45,7 @@ int selfcol_hierarchy_options_check(const selfcol_hierarchy_options *opts,
         return begun;
     const selfcol_problem_at at = {problem, "selfcol_hierarchy_options", ""};
     selfcol_allocator allocator;
-    unsigned threads;
-    return hierarchy_options(opts, &allocator, &threads, &at);
+    return hierarchy_options(opts, &allocator, &at);
 }
 
 int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
@@ -61,8 +54,7 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
     *out = NULL;
     SELFCOL_CHECK(mesh != NULL);
     selfcol_allocator allocator;
-    unsigned threads;
-    const int checked = hierarchy_options(opts, &allocator, &threads, NULL);
+    const int checked = hierarchy_options(opts, &allocator, NULL);
     if (checked != SELFCOL_OK)
         return checked;
     selfcol_hierarchy *h = selfcol_alloc__raw(&allocator, sizeof *h);
@@ -74,14 +66,12 @@ int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
     h->mesh_identity = mesh->identity;
     h->triangle_count = mesh->triangle_count;
     h->refit_workers = 1;
-    int status = selfcol_hierarchy__build(h);
-    if (status == SELFCOL_OK)
-        status = selfcol_hierarchy__plan_refit(h, threads);
+    const int status = selfcol_hierarchy__build(h);
     if (status != SELFCOL_OK) {
         selfcol_hierarchy_destroy(h);
         return status;
     }
-    selfcol_hierarchy__refit(h);
+    (void)selfcol_hierarchy__refit(h, NULL, 1); // one thread: nothing to plan
     SELFCOL_ASSERT(selfcol_hierarchy__validate(h, 1) != 0);
     *out = h;
     return SELFCOL_OK;
@@ -112,7 +102,7 @@ int selfcol_hierarchy_refit(selfcol_hierarchy *hierarchy) {
     SELFCOL_CHECK(hierarchy != NULL);
     if (!selfcol_mesh__is(hierarchy->mesh, &hierarchy->mesh_identity))
         return SELFCOL_EMISMATCH;
-    selfcol_hierarchy__refit(hierarchy);
+    (void)selfcol_hierarchy__refit(hierarchy, NULL, 1); // one thread: nothing to plan
     SELFCOL_ASSERT(selfcol_hierarchy__validate(hierarchy, 1) != 0);
     return SELFCOL_OK;
 }

@@ -10,6 +10,7 @@
 
 #include <selfcol/hierarchy.h>
 
+#include "base/parallel.h"
 #include "mesh/mesh.h"
 
 // The patch of the node is edge-connected (every node built by matching; the
@@ -89,8 +90,9 @@ struct selfcol_hierarchy {
     size_t bedge_total;     // entries allocated
     float *min_altitude;    // node_count: lower bound of the patch's triangle altitudes
     uint64_t refit_version; // the mesh's positions_version at the last refit
-    // Parallel refit (hierarchy_refit.c), planned at creation when the
-    // options ask for more than one thread and the mesh is large enough:
+    // Parallel refit (hierarchy_refit.c), planned at the first refit on a
+    // context of more than one thread (selfcol_context_refit), again when
+    // the thread count changes, and only when the mesh is large enough:
     // nodes [0, cap) are refit on the calling thread after the subtrees
     // rooted at [cap, cap + subtree_count) are refit on the workers. A
     // subtree's nodes at each depth are one contiguous range (breadth-first
@@ -98,6 +100,7 @@ struct selfcol_hierarchy {
     // deepest level up, subtree_level_offset[t] .. [t + 1] for task t, and
     // subtree_root[t] is task t's root (largest subtrees first).
     unsigned refit_workers;         // 1: no plan, refit on the calling thread
+    unsigned planned_threads;       // the thread count of the plan (0: none yet)
     uint32_t cap;                   // nodes above the subtrees
     uint32_t subtree_count;         // tasks
     uint32_t *subtree_root;         // subtree_count
@@ -118,9 +121,14 @@ int selfcol_hierarchy__plan_refit(selfcol_hierarchy *hierarchy, unsigned threads
 // Frees the plan's arrays.
 void selfcol_hierarchy__free_plan(selfcol_hierarchy *hierarchy);
 
-// Recomputes boxes, masks and cones (hierarchy_refit.c), on the planned
-// workers. The result does not depend on their number.
-void selfcol_hierarchy__refit(selfcol_hierarchy *hierarchy);
+// Recomputes boxes, masks and cones (hierarchy_refit.c): on the calling
+// thread (threads 1, executor NULL), or on the executor's `threads`
+// workers, planning first when the plan was made for another count. The
+// result does not depend on the workers. SELFCOL_OK, or SELFCOL_ENOMEM
+// when the plan could not be made (the refit then ran on the calling
+// thread: the hierarchy is refit either way).
+int selfcol_hierarchy__refit(selfcol_hierarchy *hierarchy, const selfcol_executor *executor,
+                             unsigned threads);
 
 // Checks the invariants (hierarchy_validate.c): the triangle order is a
 // permutation, child ranges tile their parent's, node flags are coherent,

@@ -18,7 +18,7 @@
 // (the axis turns in the plane of the two axes; cone.c). A half-angle of
 // pi/2 or more means no half-space contains the normals.
 //
-// With threads (selfcol_hierarchy_options.threads), subtrees are refit side
+// On a context's threads (selfcol_context_refit), subtrees are refit side
 // by side; see "Refit on threads" below.
 #include "hierarchy/hierarchy.h"
 
@@ -319,6 +319,7 @@ void selfcol_hierarchy__free_plan(selfcol_hierarchy *h) {
     h->subtree_count = 0;
     h->cap = 0;
     h->refit_workers = 1;
+    h->planned_threads = 0;
 }
 
 // The range of the nodes one level below [begin, end) (children of its
@@ -350,6 +351,7 @@ int selfcol_hierarchy__plan_refit(selfcol_hierarchy *h, unsigned threads) {
     selfcol_hierarchy__free_plan(h);
     const size_t most = h->triangle_count / REFIT_MIN_TRIANGLES_PER_WORKER;
     const unsigned workers = threads < most ? threads : (unsigned)most;
+    h->planned_threads = threads;
     if (workers < 2)
         return SELFCOL_OK;
     // The cap: the fewest first nodes whose children outside the cap (the
@@ -424,16 +426,23 @@ static int refit_worker(void *context, unsigned worker) {
     }
 }
 
-void selfcol_hierarchy__refit(selfcol_hierarchy *h) {
+int selfcol_hierarchy__refit(selfcol_hierarchy *h, const selfcol_executor *executor,
+                             unsigned threads) {
+    int status = SELFCOL_OK;
+    if (threads > 1 && h->planned_threads != threads)
+        status = selfcol_hierarchy__plan_refit(h, threads);
+    if (status != SELFCOL_OK)
+        h->planned_threads = 0; // no plan: the next refit on threads tries again
     size_t above = h->node_count;
-    if (h->refit_workers > 1) {
+    if (threads > 1 && h->refit_workers > 1) {
         refit_job job = {h, 0};
         // Workers that cannot be started leave their tasks to the others
         // (worker 0 runs here), so every subtree is refit before the join.
-        (void)selfcol_parallel__run(NULL, h->refit_workers, refit_worker, &job);
+        (void)selfcol_parallel__run(executor, h->refit_workers, refit_worker, &job);
         above = h->cap;
     }
     for (size_t id = above; id-- > 0;)
         refit_node(h, id);
     h->refit_version = h->mesh->positions_version;
+    return status;
 }

@@ -40,8 +40,7 @@ void selfcol_contacts_destroy(selfcol_contacts *contacts) {
     if (contacts == NULL)
         return;
     selfcol_allocator allocator = contacts->records.allocator;
-    if (!contacts->context_borrowed)
-        selfcol_context_destroy(contacts->implicit_context);
+    selfcol_context_destroy(contacts->implicit_context);
     selfcol_alloc__free_array(&allocator, contacts->pairs, 2 * contacts->pair_capacity,
                               sizeof(uint32_t));
     selfcol_alloc__free_array(&allocator, contacts->pair_keys, 2 * contacts->pair_capacity,
@@ -88,16 +87,7 @@ size_t selfcol_contacts_byte_count(const selfcol_contacts *contacts) {
         return 0;
     size_t bytes = sizeof *contacts + selfcol_records__byte_count(&contacts->records) +
                    contacts->pair_capacity * 2 * (sizeof(uint32_t) + sizeof(uint64_t));
-    if (!contacts->context_borrowed)
-        bytes += selfcol_context_byte_count(contacts->implicit_context);
-    return bytes;
-}
-
-void selfcol_contacts__lend_context(selfcol_contacts *contacts, selfcol_context *context) {
-    if (!contacts->context_borrowed)
-        selfcol_context_destroy(contacts->implicit_context);
-    contacts->implicit_context = context;
-    contacts->context_borrowed = context != NULL;
+    return bytes + selfcol_context_byte_count(contacts->implicit_context);
 }
 
 // ---------------------------------------------------------------------------

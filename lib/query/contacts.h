@@ -15,12 +15,10 @@
 
 struct selfcol_contacts {
     selfcol_records records;
-    // The context of the calls given none (selfcol_hierarchy_self_collide,
-    // sequences, scenes): NULL until the first, which makes one (owned), or
-    // one a scene lent (selfcol_scene_set_context: borrowed, its threads and
-    // scheduler used as they are).
+    // The one-thread context of the calls given none
+    // (selfcol_hierarchy_self_collide, sequences, scenes without one): NULL
+    // until the first, which makes it.
     selfcol_context *implicit_context;
-    int context_borrowed;
     // The intersecting triangle pairs derived from the records
     // (selfcol_contacts_intersecting_triangles), valid while the records'
     // generation is pair_generation + 1 (0: never derived): 2 per pair;
@@ -30,9 +28,5 @@ struct selfcol_contacts {
     size_t pair_count, pair_capacity;
     uint64_t pair_generation;
 };
-
-// Lends `context` (NULL: none) to the calls filling `contacts` without one;
-// a context the set made itself is freed first.
-void selfcol_contacts__lend_context(selfcol_contacts *contacts, selfcol_context *context);
 
 #endif // SELFCOL_CONTACTS_INTERNAL_H

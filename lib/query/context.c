@@ -6,6 +6,7 @@
 #include "base/alloc.h"
 #include "base/core.h"
 #include "base/problem.h"
+#include "hierarchy/hierarchy.h"
 
 #include <string.h>
 
@@ -136,4 +137,13 @@ int selfcol_context__sort(selfcol_context *context, selfcol_records *out) {
         pending[w] = &context->workers[w + 1]->records;
     return selfcol_records__sort(out, pending, count, &context->work, &context->executor,
                                  context->threads);
+}
+
+int selfcol_context_refit(selfcol_context *context, selfcol_hierarchy *hierarchy) {
+    SELFCOL_CHECK(context != NULL && hierarchy != NULL);
+    if (!selfcol_mesh__is(hierarchy->mesh, &hierarchy->mesh_identity))
+        return SELFCOL_EMISMATCH;
+    const int status = selfcol_hierarchy__refit(hierarchy, &context->executor, context->threads);
+    SELFCOL_ASSERT(selfcol_hierarchy__validate(hierarchy, 1) != 0);
+    return status;
 }

@@ -18,25 +18,23 @@
 
 int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version) {
     SELFCOL_CHECK(opts != NULL);
-    if (version == 0 || version > SELFCOL_QUERY_OPTIONS_VERSION)
+    // Versions 1 and 2 were 0.3's layouts (2 with threads).
+    if (version < SELFCOL_QUERY_OPTIONS_VERSION || version > SELFCOL_QUERY_OPTIONS_VERSION)
         return SELFCOL_EVERSION;
-    // A version 1 caller's struct ends before `threads`: write no further.
-    memset(opts, 0, version >= 2 ? sizeof *opts : offsetof(selfcol_query_options, threads));
+    memset(opts, 0, sizeof *opts);
     opts->version = version;
     opts->method = SELFCOL_METHOD_EXACT;
     opts->narrow = SELFCOL_NARROW_CLOSED_FORM;
     opts->kinds = SELFCOL_KIND_ALL;
     opts->distance = 0.0;
-    if (version >= 2)
-        opts->threads = 1;
     return SELFCOL_OK;
 }
 
 int selfcol_query__options(selfcol_query_options *out, const selfcol_query_options *opts,
                            const selfcol_problem_at *at) {
     if (opts != NULL) {
-        const int version =
-            selfcol_problem__version(at, opts->version, SELFCOL_QUERY_OPTIONS_VERSION);
+        const int version = selfcol_problem__version_since(
+            at, opts->version, SELFCOL_QUERY_OPTIONS_VERSION, SELFCOL_QUERY_OPTIONS_VERSION);
         if (version != SELFCOL_OK)
             return version;
     }
@@ -46,9 +44,6 @@ int selfcol_query__options(selfcol_query_options *out, const selfcol_query_optio
         out->narrow = opts->narrow;
         out->kinds = opts->kinds;
         out->distance = opts->distance;
-        // Version 1 callers' structs end before `threads`.
-        if (opts->version >= 2)
-            out->threads = opts->threads;
     }
     SELFCOL_CHECK_FIELD(at, out->method <= SELFCOL_METHOD_EXACT, "method",
                         "= %u is not a selfcol_method (0 .. %d)", out->method,
@@ -67,8 +62,6 @@ int selfcol_query__options(selfcol_query_options *out, const selfcol_query_optio
                             out->distance <= SELFCOL_MESH_MAX_COORDINATE,
                         "distance", "= %g is not a distance in 0 .. %g", out->distance,
                         SELFCOL_MESH_MAX_COORDINATE);
-    SELFCOL_CHECK_FIELD(at, out->threads >= 1 && out->threads <= SELFCOL_MAX_THREADS, "threads",
-                        "= %u is not in 1 .. %d", out->threads, SELFCOL_MAX_THREADS);
     return SELFCOL_OK;
 }
 
@@ -82,21 +75,17 @@ int selfcol_query_options_check(const selfcol_query_options *opts,
     return selfcol_query__options(&checked, opts, &at);
 }
 
-selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, unsigned threads) {
-    if (contacts->context_borrowed)
-        return contacts->implicit_context; // lent by a scene: its own threads
+selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts) {
     if (contacts->implicit_context == NULL) {
         selfcol_context_options o;
         selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
         o.allocator = contacts->records.allocator;
-        // Without the pool a context keeps (pool.h): a caller may hold many
-        // contact sets (a Python list of results, a scene's pairs), and
-        // each would keep its threads. These queries start and join their
-        // threads per stage, as the calls without a context always did.
+        // One thread (the calls without a context run on the calling
+        // thread), and no pool either way: a caller may hold many contact
+        // sets (a Python list of results, a scene's pairs).
         if (selfcol_context__create(&contacts->implicit_context, &o, 0) != SELFCOL_OK)
             return NULL;
     }
-    contacts->implicit_context->threads = threads;
     return contacts->implicit_context;
 }
 
@@ -117,7 +106,7 @@ static int run_query(selfcol_context *context, const selfcol_hierarchy *first,
          second->refit_version != second->mesh->positions_version))
         return SELFCOL_ESTALE;
     if (context == NULL) {
-        context = selfcol_query__implicit_context(contacts, checked.threads);
+        context = selfcol_query__implicit_context(contacts);
         if (context == NULL) {
             selfcol_contacts_clear(contacts);
             return SELFCOL_ENOMEM;

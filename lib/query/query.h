@@ -51,18 +51,17 @@ int selfcol_query__options(selfcol_query_options *out, const selfcol_query_optio
                            const selfcol_problem_at *at);
 
 // A query with options already checked by selfcol_query__options, restricted
-// by `filter` (NULL: none), on the context's threads and working memory (the
-// options' threads are not read): what selfcol_hierarchy_self_collide (first
+// by `filter` (NULL: none), on the context's threads and working memory:
+// what selfcol_hierarchy_self_collide (first
 // == second) and selfcol_hierarchy_collide do after their checks. The sorted
 // records go to `out` (cleared first); on failure it is left empty.
 int selfcol_query__run(selfcol_context *context, const selfcol_hierarchy *first,
                        const selfcol_hierarchy *second, selfcol_records *out,
                        const selfcol_query_options *checked, const selfcol_node_filter *filter);
 
-// The context that calls given none use for `contacts` (contacts.h): one
-// lent to it as it is, else its own, made at the first call with the
-// contact set's allocator, its threads set to `threads`
-// (1..SELFCOL_MAX_THREADS, the POSIX threads). NULL without memory.
-selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts, unsigned threads);
+// The context that calls given none use for `contacts` (contacts.h): its
+// own, made at the first call with the contact set's allocator, on one
+// thread. NULL without memory.
+selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts);
 
 #endif // SELFCOL_QUERY_H

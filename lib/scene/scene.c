@@ -75,6 +75,7 @@ struct selfcol_scene {
     selfcol_collider *colliders;
     size_t collider_count, collider_capacity;
 
+    selfcol_context *context;   // borrowed (selfcol_scene_set_context); NULL: the calling thread
     selfcol_contacts *detected; // the query scratch, shared by every pair
     uint32_t *stack;            // collider broad phase: the largest node count
     size_t stack_capacity;
@@ -245,7 +246,7 @@ static void free_start(const selfcol_scene *scene, scene_surface *s) {
 
 int selfcol_scene_set_context(selfcol_scene *scene, selfcol_context *context) {
     SELFCOL_CHECK(scene != NULL);
-    selfcol_contacts__lend_context(scene->detected, context);
+    scene->context = context;
     return SELFCOL_OK;
 }
 
@@ -371,7 +372,6 @@ int selfcol_scene_add_surface(selfcol_scene *scene, const selfcol_mesh *mesh,
     selfcol_hierarchy_options hopts;
     selfcol_hierarchy_options_init(&hopts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
     hopts.allocator = scene->allocator;
-    hopts.threads = scene->query.threads; // a refit is part of the query's work
     if (status == SELFCOL_OK)
         status = selfcol_hierarchy_create(&add.hierarchy, mesh, &hopts);
     if (status == SELFCOL_OK)
@@ -443,7 +443,6 @@ int selfcol_scene_rebuild_surface(selfcol_scene *scene, uint32_t id) {
     selfcol_hierarchy_options hopts;
     selfcol_hierarchy_options_init(&hopts, SELFCOL_HIERARCHY_OPTIONS_VERSION);
     hopts.allocator = scene->allocator;
-    hopts.threads = scene->query.threads; // a refit is part of the query's work
     selfcol_hierarchy *rebuilt = NULL;
     int status = selfcol_hierarchy_create(&rebuilt, s->mesh, &hopts);
     if (status == SELFCOL_OK)
@@ -577,15 +576,44 @@ static int path_of(const scene_surface *s, const double *path[2]) {
     return s->has_start && s->has_last;
 }
 
-// The pair's store update: on the surfaces' paths when both know theirs.
-static int update_store(const scene_pair *pair, const scene_surface *a, const scene_surface *b,
-                        const selfcol_contacts *detected) {
+// The pair's store update: on the surfaces' paths when both know theirs;
+// on the scene's context, if it has one.
+static int update_store(const selfcol_scene *scene, const scene_pair *pair, const scene_surface *a,
+                        const scene_surface *b, const selfcol_contacts *detected) {
     const int self = pair->first == pair->second;
     const double *first_path[2], *second_path[2];
     if (path_of(a, first_path) && (self || path_of(b, second_path)))
-        return selfcol_store__update_path(pair->store, a->mesh, self ? NULL : b->mesh, detected,
-                                          first_path, self ? NULL : second_path);
-    return selfcol_store_update(pair->store, a->mesh, self ? NULL : b->mesh, detected);
+        return selfcol_store__update_path(scene->context, pair->store, a->mesh,
+                                          self ? NULL : b->mesh, detected, first_path,
+                                          self ? NULL : second_path);
+    return scene->context != NULL
+               ? selfcol_context_store_update(scene->context, pair->store, a->mesh,
+                                              self ? NULL : b->mesh, detected)
+               : selfcol_store_update(pair->store, a->mesh, self ? NULL : b->mesh, detected);
+}
+
+// The pair's query into scene->detected: from its sequence when it keeps
+// one, on the scene's context if it has one.
+static int query_pair(selfcol_scene *scene, const scene_pair *pair, const scene_surface *a,
+                      const scene_surface *b) {
+    selfcol_context *c = scene->context;
+    const selfcol_query_options *o = &scene->query;
+    if (pair->first == pair->second) {
+        if (pair->sequence != NULL)
+            return c != NULL ? selfcol_context_sequence_self_collide(
+                                   c, pair->sequence, a->hierarchy, scene->detected, o)
+                             : selfcol_sequence_self_collide(pair->sequence, a->hierarchy,
+                                                             scene->detected, o);
+        return c != NULL ? selfcol_context_self_collide(c, a->hierarchy, scene->detected, o)
+                         : selfcol_hierarchy_self_collide(a->hierarchy, scene->detected, o);
+    }
+    if (pair->sequence != NULL)
+        return c != NULL ? selfcol_context_sequence_collide(c, pair->sequence, a->hierarchy,
+                                                            b->hierarchy, scene->detected, o)
+                         : selfcol_sequence_collide(pair->sequence, a->hierarchy, b->hierarchy,
+                                                    scene->detected, o);
+    return c != NULL ? selfcol_context_collide(c, a->hierarchy, b->hierarchy, scene->detected, o)
+                     : selfcol_hierarchy_collide(a->hierarchy, b->hierarchy, scene->detected, o);
 }
 
 int selfcol_scene_update(selfcol_scene *scene) {
@@ -609,32 +637,23 @@ int selfcol_scene_update(selfcol_scene *scene) {
         scene_surface *s = &scene->surfaces[i];
         if (s->mesh == NULL || s->kind == SELFCOL_SURFACE_STATIC)
             continue; // removed; or built once, never refit
-        status = selfcol_hierarchy_refit(s->hierarchy);
+        status = scene->context != NULL ? selfcol_context_refit(scene->context, s->hierarchy)
+                                        : selfcol_hierarchy_refit(s->hierarchy);
         st.refits++;
     }
     for (size_t p = 0; p < scene->pair_count && status == SELFCOL_OK; ++p) {
         const scene_pair *pair = &scene->pairs[p];
         const scene_surface *a = &scene->surfaces[pair->first], *b = &scene->surfaces[pair->second];
-        if (pair->first == pair->second) {
-            status =
-                pair->sequence != NULL
-                    ? selfcol_sequence_self_collide(pair->sequence, a->hierarchy, scene->detected,
-                                                    &scene->query)
-                    : selfcol_hierarchy_self_collide(a->hierarchy, scene->detected, &scene->query);
-            st.pairs_queried++;
-        } else if (roots_apart(a->hierarchy, b->hierarchy, scene->distance)) {
+        if (pair->first != pair->second &&
+            roots_apart(a->hierarchy, b->hierarchy, scene->distance)) {
             selfcol_contacts_clear(scene->detected);
             st.pairs_apart++;
         } else {
-            status = pair->sequence != NULL
-                         ? selfcol_sequence_collide(pair->sequence, a->hierarchy, b->hierarchy,
-                                                    scene->detected, &scene->query)
-                         : selfcol_hierarchy_collide(a->hierarchy, b->hierarchy, scene->detected,
-                                                     &scene->query);
+            status = query_pair(scene, pair, a, b);
             st.pairs_queried++;
         }
         if (status == SELFCOL_OK)
-            status = update_store(pair, a, b, scene->detected);
+            status = update_store(scene, pair, a, b, scene->detected);
         if (status == SELFCOL_OK) {
             selfcol_store_update_stats ss;
             ss.version = SELFCOL_STORE_UPDATE_STATS_VERSION;

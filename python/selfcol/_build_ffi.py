@@ -42,6 +42,7 @@ const char *selfcol_version_string(void);
 #define SELFCOL_KIND_EF ...
 #define SELFCOL_KIND_ALL ...
 #define SELFCOL_QUERY_OPTIONS_VERSION ...
+#define SELFCOL_CONTEXT_OPTIONS_VERSION ...
 #define SELFCOL_HIERARCHY_OPTIONS_VERSION ...
 #define SELFCOL_QUERY_STATS_VERSION ...
 #define SELFCOL_STORE_OPTIONS_VERSION ...
@@ -128,11 +129,11 @@ int selfcol_contacts_intersecting_triangles(selfcol_contacts *contacts, const se
 typedef struct selfcol_hierarchy selfcol_hierarchy;
 typedef struct selfcol_query_options {
     unsigned int version; uint32_t method; uint32_t narrow; uint32_t kinds;
-    double distance; unsigned int threads;
+    double distance;
 } selfcol_query_options;
 int selfcol_query_options_init(selfcol_query_options *opts, unsigned int version);
 typedef struct selfcol_hierarchy_options {
-    unsigned int version; selfcol_allocator allocator; unsigned int threads;
+    unsigned int version; selfcol_allocator allocator;
 } selfcol_hierarchy_options;
 int selfcol_hierarchy_options_init(selfcol_hierarchy_options *opts, unsigned int version);
 int selfcol_hierarchy_create(selfcol_hierarchy **out, const selfcol_mesh *mesh,
@@ -150,7 +151,7 @@ int selfcol_hierarchy_collide(const selfcol_hierarchy *first, const selfcol_hier
 typedef struct selfcol_store selfcol_store;
 typedef struct selfcol_store_options {
     unsigned int version; selfcol_allocator allocator; uint32_t remnance_frames;
-    int consistency; int first_orientation; int second_orientation; unsigned int threads;
+    int consistency; int first_orientation; int second_orientation;
 } selfcol_store_options;
 typedef struct selfcol_store_contact {
     uint32_t kind; uint32_t first; uint32_t second; uint32_t first_mesh; uint32_t second_mesh;
@@ -191,7 +192,7 @@ size_t selfcol_store_byte_count(const selfcol_store *store);
 typedef struct selfcol_sweep selfcol_sweep;
 typedef struct selfcol_sweep_options {
     unsigned int version; uint32_t method; uint32_t kinds; uint32_t mode;
-    double separation; unsigned int threads;
+    double separation;
     int (*progress)(void *payload, double done); void *progress_payload;
 } selfcol_sweep_options;
 extern "Python" int _selfcol_sweep_progress(void *payload, double done);
@@ -295,6 +296,50 @@ int selfcol_scene_collider_contacts(const selfcol_scene *scene,
 int selfcol_scene_stats(const selfcol_scene *scene, selfcol_scene_update_stats *stats);
 size_t selfcol_scene_byte_count(const selfcol_scene *scene);
 
+/* context.h: the one place where threads are said (the threads= arguments). */
+typedef struct selfcol_context selfcol_context;
+typedef void selfcol_task_fn(uint32_t begin, uint32_t end, uint32_t worker, void *task_context);
+typedef void *selfcol_enqueue_task_fn(selfcol_task_fn *task, uint32_t item_count,
+                                      uint32_t min_range, void *task_context, void *user_context);
+typedef void selfcol_finish_task_fn(void *user_task, void *user_context);
+typedef struct selfcol_context_options {
+    unsigned int version; selfcol_allocator allocator; unsigned int threads;
+    selfcol_enqueue_task_fn *enqueue_task; selfcol_finish_task_fn *finish_task;
+    void *user_context;
+} selfcol_context_options;
+int selfcol_context_options_init(selfcol_context_options *opts, unsigned int version);
+int selfcol_context_create(selfcol_context **out, const selfcol_context_options *opts);
+void selfcol_context_destroy(selfcol_context *context);
+int selfcol_context_self_collide(selfcol_context *context, const selfcol_hierarchy *hierarchy,
+                                 selfcol_contacts *contacts, const selfcol_query_options *opts);
+int selfcol_context_collide(selfcol_context *context, const selfcol_hierarchy *first,
+                            const selfcol_hierarchy *second, selfcol_contacts *contacts,
+                            const selfcol_query_options *opts);
+int selfcol_context_self_sweep(selfcol_context *context, const selfcol_hierarchy *hierarchy,
+                               const double *start_positions, selfcol_sweep *result,
+                               const selfcol_sweep_options *opts);
+int selfcol_context_sweep(selfcol_context *context, const selfcol_hierarchy *first,
+                          const double *first_start, const selfcol_hierarchy *second,
+                          const double *second_start, selfcol_sweep *result,
+                          const selfcol_sweep_options *opts);
+int selfcol_context_refit(selfcol_context *context, selfcol_hierarchy *hierarchy);
+int selfcol_context_store_update(selfcol_context *context, selfcol_store *store,
+                                 const selfcol_mesh *first, const selfcol_mesh *second,
+                                 const selfcol_contacts *detected);
+int selfcol_context_store_update_swept(selfcol_context *context, selfcol_store *store,
+                                       const selfcol_mesh *first, const selfcol_mesh *second,
+                                       const selfcol_contacts *detected,
+                                       const double *first_start, const double *second_start);
+int selfcol_context_sequence_self_collide(selfcol_context *context, selfcol_sequence *sequence,
+                                          selfcol_hierarchy *hierarchy,
+                                          selfcol_contacts *contacts,
+                                          const selfcol_query_options *opts);
+int selfcol_context_sequence_collide(selfcol_context *context, selfcol_sequence *sequence,
+                                     selfcol_hierarchy *first, selfcol_hierarchy *second,
+                                     selfcol_contacts *contacts,
+                                     const selfcol_query_options *opts);
+int selfcol_scene_set_context(selfcol_scene *scene, selfcol_context *context);
+
 /* Options that name what they refuse (common.h). */
 typedef struct selfcol_options_problem {
     unsigned int version;
@@ -311,6 +356,8 @@ int selfcol_store_options_check(const selfcol_store_options *opts,
                                 selfcol_options_problem *problem);
 int selfcol_sequence_options_check(const selfcol_sequence_options *opts,
                                    selfcol_options_problem *problem);
+int selfcol_context_options_check(const selfcol_context_options *opts,
+                                  selfcol_options_problem *problem);
 int selfcol_sweep_options_check(const selfcol_sweep_options *opts,
                                 selfcol_options_problem *problem);
 int selfcol_scene_options_check(const selfcol_scene_options *opts,

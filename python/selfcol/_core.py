@@ -307,7 +307,27 @@ def _lookup(table: Dict[str, int], value: Union[str, int], what: str) -> int:
     return table[key]
 
 
-def _query_options(distance: float, method: Union[str, int], kinds: KindsArg, threads: int,
+def _context(threads: Any) -> Any:
+    """The context a call with ``threads`` runs on (context.h: the library's
+    one place for threads), or None for one thread (the calling thread).
+    Made for the call and destroyed with it: its threads are started and
+    joined within the call. A refused count is named by the library
+    (selfcol_context_options_check)."""
+    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
+        raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
+    if threads == 1:
+        return None
+    opts = ffi.new("selfcol_context_options *")
+    _check(lib.selfcol_context_options_init(opts, lib.SELFCOL_CONTEXT_OPTIONS_VERSION),
+           "selfcol_context_options_init")
+    opts.threads = min(int(threads), 1 << 31)
+    _check_options(lib.selfcol_context_options_check, opts, "threads")
+    out = ffi.new("selfcol_context **")
+    _check(lib.selfcol_context_create(out, opts), "selfcol_context_create")
+    return ffi.gc(out[0], lib.selfcol_context_destroy)
+
+
+def _query_options(distance: float, method: Union[str, int], kinds: KindsArg,
                    narrow: Union[str, int]) -> Any:
     opts = ffi.new("selfcol_query_options *")
     _check(lib.selfcol_query_options_init(opts, lib.SELFCOL_QUERY_OPTIONS_VERSION),
@@ -319,9 +339,6 @@ def _query_options(distance: float, method: Union[str, int], kinds: KindsArg, th
         opts.distance = float(distance)
     except (TypeError, ValueError):
         raise _invalid("distance must be a number, got %r" % (distance,)) from None
-    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
-        raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
-    opts.threads = min(int(threads), 1 << 31)
     _check_options(lib.selfcol_query_options_check, opts, "query options")
     return opts
 
@@ -788,27 +805,26 @@ def _new_contacts() -> Any:
 class Hierarchy:
     """A collision hierarchy over a mesh (selfcol_hierarchy_create). Keeps its
     mesh alive. Call refit() after the mesh's positions change; a refit runs
-    on up to ``threads`` threads (selfcol_hierarchy_options.threads; one per
-    4096 triangles at most) with the same result for every count."""
+    on up to ``threads`` threads (selfcol_context_refit; one per 4096
+    triangles at most) with the same result for every count."""
 
     def __init__(self, mesh: Mesh, threads: int = 1) -> None:
         if not isinstance(mesh, Mesh):
             raise _invalid("Hierarchy needs a selfcol.Mesh, got %s" % type(mesh).__name__)
-        if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
-            raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
-        opts = ffi.new("selfcol_hierarchy_options *")
-        _check(lib.selfcol_hierarchy_options_init(opts, lib.SELFCOL_HIERARCHY_OPTIONS_VERSION),
-               "selfcol_hierarchy_options_init")
-        opts.threads = min(int(threads), 1 << 31)
-        _check_options(lib.selfcol_hierarchy_options_check, opts, "Hierarchy")
+        _context(threads)  # refused here, not at the first refit
         out = ffi.new("selfcol_hierarchy **")
-        _check(lib.selfcol_hierarchy_create(out, mesh._h, opts), "selfcol_hierarchy_create")
+        _check(lib.selfcol_hierarchy_create(out, mesh._h, ffi.NULL), "selfcol_hierarchy_create")
         self._h = ffi.gc(out[0], lib.selfcol_hierarchy_destroy)
         self.mesh = mesh
+        self._threads = int(threads)
 
     def refit(self) -> None:
         """Boxes, masks and cones from the mesh's current positions (GIL released)."""
-        _check(lib.selfcol_hierarchy_refit(self._h), "selfcol_hierarchy_refit")
+        context = _context(self._threads)
+        if context is None:
+            _check(lib.selfcol_hierarchy_refit(self._h), "selfcol_hierarchy_refit")
+        else:
+            _check(lib.selfcol_context_refit(context, self._h), "selfcol_context_refit")
 
     def _distance(self, distance: Optional[float], distance_rel: float,
                   *meshes: Mesh) -> float:
@@ -826,10 +842,15 @@ class Hierarchy:
         (selfcol_hierarchy_self_collide). ``distance=None``: distance_rel x the
         mean edge length."""
         d = self._distance(distance, distance_rel, self.mesh)
-        opts = _query_options(d, method, kinds, threads, narrow)
+        opts = _query_options(d, method, kinds, narrow)
+        context = _context(threads)
         c = _new_contacts()
-        _check(lib.selfcol_hierarchy_self_collide(self._h, c, opts),
-               "selfcol_hierarchy_self_collide")
+        if context is None:
+            _check(lib.selfcol_hierarchy_self_collide(self._h, c, opts),
+                   "selfcol_hierarchy_self_collide")
+        else:
+            _check(lib.selfcol_context_self_collide(context, self._h, c, opts),
+                   "selfcol_context_self_collide")
         return Contacts(c, (self.mesh,), d)
 
     def collide(self, other: "Hierarchy", distance: Optional[float] = None,
@@ -841,10 +862,15 @@ class Hierarchy:
         if not isinstance(other, Hierarchy):
             raise _invalid("collide needs another selfcol.Hierarchy")
         d = self._distance(distance, distance_rel, self.mesh, other.mesh)
-        opts = _query_options(d, method, kinds, threads, narrow)
+        opts = _query_options(d, method, kinds, narrow)
+        context = _context(threads)
         c = _new_contacts()
-        _check(lib.selfcol_hierarchy_collide(self._h, other._h, c, opts),
-               "selfcol_hierarchy_collide")
+        if context is None:
+            _check(lib.selfcol_hierarchy_collide(self._h, other._h, c, opts),
+                   "selfcol_hierarchy_collide")
+        else:
+            _check(lib.selfcol_context_collide(context, self._h, other._h, c, opts),
+                   "selfcol_context_collide")
         return Contacts(c, (self.mesh, other.mesh), d)
 
     def self_sweep(self, start: Any, separation: float = 0.0, method: Union[str, int] = "bvh",
@@ -861,11 +887,19 @@ class Hierarchy:
         given the fraction done that returns True to cancel (then
         selfcol.Cancelled); Ctrl-C stops the query in every case."""
         S = _as_double_positions(start, self.mesh.vertex_count, "start")
-        opts = _sweep_options(separation, method, kinds, mode, threads)
+        opts = _sweep_options(separation, method, kinds, mode)
+        context = _context(threads)
         sw = _new_sweep()
-        _run_sweep(opts, progress,
-                   lambda: lib.selfcol_hierarchy_self_sweep(self._h, _ptr("double *", S), sw, opts),
-                   "selfcol_hierarchy_self_sweep")
+        if context is None:
+            _run_sweep(opts, progress,
+                       lambda: lib.selfcol_hierarchy_self_sweep(self._h, _ptr("double *", S), sw,
+                                                                opts),
+                       "selfcol_hierarchy_self_sweep")
+        else:
+            _run_sweep(opts, progress,
+                       lambda: lib.selfcol_context_self_sweep(context, self._h,
+                                                              _ptr("double *", S), sw, opts),
+                       "selfcol_context_self_sweep")
         return Sweep(sw)
 
     def sweep(self, start: Any, other: "Hierarchy", other_start: Any, separation: float = 0.0,
@@ -877,12 +911,19 @@ class Hierarchy:
             raise _invalid("sweep needs another selfcol.Hierarchy")
         S0 = _as_double_positions(start, self.mesh.vertex_count, "start")
         S1 = _as_double_positions(other_start, other.mesh.vertex_count, "other_start")
-        opts = _sweep_options(separation, method, kinds, mode, threads)
+        opts = _sweep_options(separation, method, kinds, mode)
+        context = _context(threads)
         sw = _new_sweep()
-        _run_sweep(opts, progress,
-                   lambda: lib.selfcol_hierarchy_sweep(self._h, _ptr("double *", S0), other._h,
-                                                       _ptr("double *", S1), sw, opts),
-                   "selfcol_hierarchy_sweep")
+        if context is None:
+            _run_sweep(opts, progress,
+                       lambda: lib.selfcol_hierarchy_sweep(self._h, _ptr("double *", S0), other._h,
+                                                           _ptr("double *", S1), sw, opts),
+                       "selfcol_hierarchy_sweep")
+        else:
+            _run_sweep(opts, progress,
+                       lambda: lib.selfcol_context_sweep(context, self._h, _ptr("double *", S0),
+                                                         other._h, _ptr("double *", S1), sw, opts),
+                       "selfcol_context_sweep")
         return Sweep(sw)
 
     def count(self, quantity: str) -> int:
@@ -969,10 +1010,16 @@ class Sequence:
         if not isinstance(hierarchy, Hierarchy):
             raise _invalid("self_collide needs a selfcol.Hierarchy")
         d = self._fixed_distance(distance, distance_rel, hierarchy)
-        opts = _query_options(d, method, kinds, threads, narrow)
+        opts = _query_options(d, method, kinds, narrow)
+        context = _context(threads)
         c = _new_contacts()
-        _check(lib.selfcol_sequence_self_collide(self._h, hierarchy._h, c, opts),
-               "selfcol_sequence_self_collide")
+        if context is None:
+            _check(lib.selfcol_sequence_self_collide(self._h, hierarchy._h, c, opts),
+                   "selfcol_sequence_self_collide")
+        else:
+            _check(lib.selfcol_context_sequence_self_collide(context, self._h, hierarchy._h, c,
+                                                             opts),
+                   "selfcol_context_sequence_self_collide")
         self._keep = (hierarchy,)
         return Contacts(c, (hierarchy.mesh,), d)
 
@@ -985,10 +1032,16 @@ class Sequence:
         if not isinstance(first, Hierarchy) or not isinstance(second, Hierarchy):
             raise _invalid("collide needs two selfcol.Hierarchy")
         d = self._fixed_distance(distance, distance_rel, first, second)
-        opts = _query_options(d, method, kinds, threads, narrow)
+        opts = _query_options(d, method, kinds, narrow)
+        context = _context(threads)
         c = _new_contacts()
-        _check(lib.selfcol_sequence_collide(self._h, first._h, second._h, c, opts),
-               "selfcol_sequence_collide")
+        if context is None:
+            _check(lib.selfcol_sequence_collide(self._h, first._h, second._h, c, opts),
+                   "selfcol_sequence_collide")
+        else:
+            _check(lib.selfcol_context_sequence_collide(context, self._h, first._h, second._h, c,
+                                                        opts),
+                   "selfcol_context_sequence_collide")
         self._keep = (first, second)
         return Contacts(c, (first.mesh, second.mesh), d)
 
@@ -1024,8 +1077,8 @@ _SWEEP_METHODS = {"exhaustive": 0, "bvh": 1, "exact": 4}
 _SWEEP_MODES = {"all": 0, "earliest": 1}
 
 
-def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg, mode: str,
-                   threads: int) -> Any:
+def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg,
+                   mode: str) -> Any:
     opts = ffi.new("selfcol_sweep_options *")
     _check(lib.selfcol_sweep_options_init(opts, lib.SELFCOL_SWEEP_OPTIONS_VERSION),
            "selfcol_sweep_options_init")
@@ -1036,9 +1089,6 @@ def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg, 
         opts.separation = float(separation)
     except (TypeError, ValueError):
         raise _invalid("separation must be a number, got %r" % (separation,)) from None
-    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
-        raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
-    opts.threads = min(int(threads), 1 << 31)
     _check_options(lib.selfcol_sweep_options_check, opts, "sweep options")
     return opts
 
@@ -1218,7 +1268,7 @@ def _orientation(value: int, what: str) -> int:
 
 
 def _store_options(remnance: int, consistency: bool, first_orientation: int,
-                   second_orientation: int, threads: int = 1, into: Any = None) -> Any:
+                   second_orientation: int, into: Any = None) -> Any:
     opts = into if into is not None else ffi.new("selfcol_store_options *")
     _check(lib.selfcol_store_options_init(opts, lib.SELFCOL_STORE_OPTIONS_VERSION),
            "selfcol_store_options_init")
@@ -1228,9 +1278,6 @@ def _store_options(remnance: int, consistency: bool, first_orientation: int,
     opts.consistency = 1 if consistency else 0
     opts.first_orientation = _orientation(first_orientation, "first_orientation")
     opts.second_orientation = _orientation(second_orientation, "second_orientation")
-    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 1:
-        raise _invalid("threads must be an integer >= 1, got %r" % (threads,))
-    opts.threads = min(int(threads), 1 << 31)
     if into is None:  # a scene's: checked with the scene's options
         _check_options(lib.selfcol_store_options_check, opts, "store options")
     return opts
@@ -1245,12 +1292,13 @@ class Store:
 
     def __init__(self, remnance: int = 4, consistency: bool = True, first_orientation: int = 0,
                  second_orientation: int = 0, threads: int = 1) -> None:
-        opts = _store_options(remnance, consistency, first_orientation, second_orientation,
-                              threads)
+        opts = _store_options(remnance, consistency, first_orientation, second_orientation)
+        _context(threads)  # refused here, not at the first update
         out = ffi.new("selfcol_store **")
         _check(lib.selfcol_store_create(out, opts), "selfcol_store_create")
         self._h = ffi.gc(out[0], lib.selfcol_store_destroy)
         self._meshes: Tuple[Mesh, ...] = ()
+        self._threads = int(threads)
 
     def _meshes_of(self, detected: Contacts) -> Tuple[Any, Any]:
         if not isinstance(detected, Contacts):
@@ -1262,8 +1310,13 @@ class Store:
         """Merges one frame's query result (selfcol_store_update); returns the
         update's counters."""
         first, second = self._meshes_of(detected)
-        _check(lib.selfcol_store_update(self._h, first, second, detected._h),
-               "selfcol_store_update")
+        context = _context(self._threads)
+        if context is None:
+            _check(lib.selfcol_store_update(self._h, first, second, detected._h),
+                   "selfcol_store_update")
+        else:
+            _check(lib.selfcol_context_store_update(context, self._h, first, second, detected._h),
+                   "selfcol_context_store_update")
         self._meshes = detected._meshes  # the store reads them: keep them alive
         return self.stats()
 
@@ -1284,9 +1337,15 @@ class Store:
             S1 = _ptr("double *", keep)
         elif second_start is not None:
             raise _invalid("update_swept: second_start given for a self query")
-        _check(lib.selfcol_store_update_swept(self._h, first, second, detected._h,
-                                              _ptr("double *", S0), S1),
-               "selfcol_store_update_swept")
+        context = _context(self._threads)
+        if context is None:
+            _check(lib.selfcol_store_update_swept(self._h, first, second, detected._h,
+                                                  _ptr("double *", S0), S1),
+                   "selfcol_store_update_swept")
+        else:
+            _check(lib.selfcol_context_store_update_swept(context, self._h, first, second,
+                                                          detected._h, _ptr("double *", S0), S1),
+                   "selfcol_context_store_update_swept")
         self._meshes = detected._meshes
         del keep
         return self.stats()
@@ -1359,9 +1418,9 @@ class Scene:
                "selfcol_scene_options_init")
         # The scene reads (and copies) the structs its options point to when it
         # is created: q and store need only outlive selfcol_scene_create.
-        q = _query_options(distance, method, kinds, threads, "closed")
-        store = _store_options(remnance, consistency, 0, 0, threads,
-                               into=ffi.new("selfcol_store_options *"))
+        q = _query_options(distance, method, kinds, "closed")
+        store = _store_options(remnance, consistency, 0, 0, into=ffi.new("selfcol_store_options *"))
+        context = _context(threads)
         opts.query = q
         opts.store = store
         if collider_tolerance is not None:
@@ -1371,6 +1430,11 @@ class Scene:
         out = ffi.new("selfcol_scene **")
         _check(lib.selfcol_scene_create(out, opts), "selfcol_scene_create")
         self._h = ffi.gc(out[0], lib.selfcol_scene_destroy)
+        # threads > 1: the scene's refits, queries and stores run on a context
+        # it borrows, kept as long as the scene (its destroy never reads it).
+        self._context = context
+        if context is not None:
+            _check(lib.selfcol_scene_set_context(self._h, context), "selfcol_scene_set_context")
         self._surfaces: Dict[int, Mesh] = {}
         self._retired: List[Mesh] = []
 

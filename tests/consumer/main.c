@@ -38,6 +38,7 @@ int main(void) {
     selfcol_mesh *mesh = NULL;
     selfcol_hierarchy *hierarchy = NULL;
     selfcol_contacts *contacts = NULL;
+    selfcol_context *context = NULL;
     int rc = selfcol_mesh_create(&mesh, 9, xyz, 3, triangles, NULL);
     if (rc == SELFCOL_OK)
         rc = selfcol_hierarchy_create(&hierarchy, mesh, NULL);
@@ -46,10 +47,16 @@ int main(void) {
     selfcol_query_options opts;
     if (rc == SELFCOL_OK)
         rc = selfcol_query_options_init(&opts, SELFCOL_QUERY_OPTIONS_VERSION);
+    selfcol_context_options co;
+    if (rc == SELFCOL_OK)
+        rc = selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    if (rc == SELFCOL_OK) {
+        co.threads = 2; // the static library's pthread dependency, used
+        rc = selfcol_context_create(&context, &co);
+    }
     if (rc == SELFCOL_OK) {
         opts.distance = 0.25;
-        opts.threads = 2; // the static library's pthread dependency, used
-        rc = selfcol_hierarchy_self_collide(hierarchy, contacts, &opts);
+        rc = selfcol_context_self_collide(context, hierarchy, contacts, &opts);
     }
     size_t found[3] = {0, 0, 0};
     if (rc == SELFCOL_OK) {
@@ -60,6 +67,7 @@ int main(void) {
             if (c[i].kind <= SELFCOL_CONTACT_EF)
                 found[c[i].kind]++;
     }
+    selfcol_context_destroy(context);
     selfcol_contacts_destroy(contacts);
     selfcol_hierarchy_destroy(hierarchy);
     selfcol_mesh_destroy(mesh);

@@ -53,9 +53,22 @@ static void query(const selfcol_hierarchy *a, const selfcol_hierarchy *b, selfco
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
     q.method = method;
     q.distance = d;
-    q.threads = threads;
-    int rc = b == NULL ? selfcol_hierarchy_self_collide(a, c, &q)
+    selfcol_context *context = NULL; // threads > 1: a context's (context.h)
+    if (threads > 1) {
+        selfcol_context_options co;
+        selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        co.threads = threads;
+        if (selfcol_context_create(&context, &co) != SELFCOL_OK)
+            abort();
+    }
+    int rc;
+    if (context != NULL)
+        rc = b == NULL ? selfcol_context_self_collide(context, a, c, &q)
+                       : selfcol_context_collide(context, a, b, c, &q);
+    else
+        rc = b == NULL ? selfcol_hierarchy_self_collide(a, c, &q)
                        : selfcol_hierarchy_collide(a, b, c, &q);
+    selfcol_context_destroy(context);
     if (rc != SELFCOL_OK) {
         fprintf(stderr, "query failed: %s\n", selfcol_status_string(rc));
         abort();

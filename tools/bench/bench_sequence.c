@@ -286,7 +286,14 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
     selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
     o.method = SELFCOL_METHOD_EXACT;
     o.distance = d;
-    o.threads = threads;
+    // --threads T > 1: both sides on a context of T threads (NULL: one).
+    selfcol_context *ctx = NULL;
+    if (rc == SELFCOL_OK && threads > 1) {
+        selfcol_context_options co;
+        selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        co.threads = threads;
+        rc = check(selfcol_context_create(&ctx, &co), "context");
+    }
     measure_motion(f, mean_edge);
 
     double *fresh_t = calloc(f->count * reps, sizeof(double));
@@ -304,14 +311,22 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
                 const int coherent_first = (int)((k + rep) % 2);
                 if (turn == (coherent_first ? 0 : 1)) {
                     const double t0 = now();
-                    rc = check(selfcol_sequence_self_collide(seq, coherent_h, coherent_c, &o),
+                    rc = check(ctx != NULL
+                                   ? selfcol_context_sequence_self_collide(ctx, seq, coherent_h,
+                                                                           coherent_c, &o)
+                                   : selfcol_sequence_self_collide(seq, coherent_h, coherent_c, &o),
                                "sequence query");
                     coherent_t[k * reps + rep] = now() - t0;
                 } else {
                     const double t0 = now();
-                    rc = check(selfcol_hierarchy_refit(fresh_h), "refit");
+                    rc = check(ctx != NULL ? selfcol_context_refit(ctx, fresh_h)
+                                           : selfcol_hierarchy_refit(fresh_h),
+                               "refit");
                     if (rc == SELFCOL_OK)
-                        rc = check(selfcol_hierarchy_self_collide(fresh_h, fresh_c, &o), "query");
+                        rc = check(ctx != NULL
+                                       ? selfcol_context_self_collide(ctx, fresh_h, fresh_c, &o)
+                                       : selfcol_hierarchy_self_collide(fresh_h, fresh_c, &o),
+                                   "query");
                     fresh_t[k * reps + rep] = now() - t0;
                 }
             }
@@ -343,6 +358,7 @@ static int run_case(frames *f, unsigned reps, unsigned threads, double skin_fact
     free(coherent_t);
     free(per_frame);
     selfcol_sequence_destroy(seq);
+    selfcol_context_destroy(ctx);
     selfcol_contacts_destroy(fresh_c);
     selfcol_contacts_destroy(coherent_c);
     selfcol_hierarchy_destroy(fresh_h);

@@ -123,14 +123,27 @@ static void run(const bench_step *b, int reps, int earliest_only, unsigned many)
     double total[ROWS][MAX_REPS], broad[ROWS][MAX_REPS], narrow[ROWS][MAX_REPS];
     selfcol_sweep_query_stats last[ROWS];
     const int first_row = earliest_only ? 3 : 0;
+    // The `many`-thread rows run on a context of that many threads (its
+    // threads kept between reps); the others on the calling thread.
+    selfcol_context *many_context = NULL;
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = many;
+    if (selfcol_context_create(&many_context, &co) != SELFCOL_OK) {
+        fprintf(stderr, "bench-sweep: no context of %u threads\n", many);
+        exit(1);
+    }
     for (int rep = 0; rep < reps; ++rep)
         for (int mode = first_row; mode < ROWS; ++mode) {
             selfcol_sweep_options o;
             selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
             o.method = row_method[mode];
             o.mode = mode >= 3 ? SELFCOL_SWEEP_EARLIEST : SELFCOL_SWEEP_ALL;
-            o.threads = mode == 2 || mode == 5 ? many : 1;
-            if (selfcol_hierarchy_self_sweep(h, b->start.positions, r, &o) != SELFCOL_OK) {
+            const int status =
+                mode == 2 || mode == 5
+                    ? selfcol_context_self_sweep(many_context, h, b->start.positions, r, &o)
+                    : selfcol_hierarchy_self_sweep(h, b->start.positions, r, &o);
+            if (status != SELFCOL_OK) {
                 fprintf(stderr, "bench-sweep: %s: query failed\n", b->name);
                 exit(1);
             }
@@ -155,6 +168,7 @@ static void run(const bench_step *b, int reps, int earliest_only, unsigned many)
                (unsigned long long)s->narrow_boxes, (unsigned long long)s->hits, s->free_fraction);
     }
     fflush(stdout);
+    selfcol_context_destroy(many_context);
     selfcol_sweep_destroy(r);
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(m);

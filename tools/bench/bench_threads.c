@@ -112,12 +112,15 @@ int main(int argc, char **argv) {
         fail("mesh", status);
     selfcol_hierarchy *h[MAX_COUNTS];
     selfcol_contacts *c[MAX_COUNTS];
+    selfcol_context *ctx[MAX_COUNTS]; // each count's context (its threads kept between reps)
     for (int k = 0; k < n; ++k) {
-        selfcol_hierarchy_options ho;
-        selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
-        ho.threads = counts[k];
-        if ((status = selfcol_hierarchy_create(&h[k], mesh, &ho)) != SELFCOL_OK)
+        if ((status = selfcol_hierarchy_create(&h[k], mesh, NULL)) != SELFCOL_OK)
             fail("hierarchy", status);
+        selfcol_context_options co;
+        selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        co.threads = counts[k];
+        if ((status = selfcol_context_create(&ctx[k], &co)) != SELFCOL_OK)
+            fail("context", status);
         if ((status = selfcol_contacts_create(&c[k], NULL)) != SELFCOL_OK)
             fail("contact set", status);
     }
@@ -131,15 +134,14 @@ int main(int argc, char **argv) {
             selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION);
             o.distance = d;
             o.method = SELFCOL_METHOD_EXACT;
-            o.threads = counts[k];
             if ((status = selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count)) !=
                 SELFCOL_OK)
                 fail("set_positions", status);
             const double before = seconds();
-            if ((status = selfcol_hierarchy_refit(h[k])) != SELFCOL_OK)
+            if ((status = selfcol_context_refit(ctx[k], h[k])) != SELFCOL_OK)
                 fail("refit", status);
             const double refit_s = seconds() - before;
-            if ((status = selfcol_hierarchy_self_collide(h[k], c[k], &o)) != SELFCOL_OK)
+            if ((status = selfcol_context_self_collide(ctx[k], h[k], c[k], &o)) != SELFCOL_OK)
                 fail("query", status);
             selfcol_query_stats st;
             st.version = SELFCOL_QUERY_STATS_VERSION;
@@ -180,6 +182,7 @@ int main(int argc, char **argv) {
     }
     for (int k = 0; k < n; ++k) {
         selfcol_contacts_destroy(c[k]);
+        selfcol_context_destroy(ctx[k]);
         selfcol_hierarchy_destroy(h[k]);
     }
     selfcol_mesh_destroy(mesh);

@@ -338,7 +338,7 @@ typedef struct row {
     uint64_t found[3], ref[3], miss[3], extra[3];
     uint64_t raw_contacts;
     size_t struct_bytes;
-    unsigned threads; // selfcol_query_options.threads (Bullet: 1)
+    unsigned threads; // of the context the row ran on (one: none; Bullet: 1)
     // Contact-store rows (method STORE, STORE-FIRST; 0 on the other rows):
     // selfcol_store_update's wall time, per held VF/EE contact, and the
     // update's counters (means over the updates of the row).
@@ -420,6 +420,23 @@ static long peak_rss_kb(void) {
 // ---------------------------------------------------------------------------
 // One method on the hierarchy: warm-up, reps timed queries, contacts, stats.
 
+// A context of `threads` threads (the library's one place for threads),
+// NULL for one: the rows' queries, refits and store updates on more than
+// one thread go through it, its threads kept between reps.
+static selfcol_context *bench_context(unsigned threads) {
+    if (threads <= 1)
+        return NULL;
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = threads;
+    selfcol_context *c = NULL;
+    if (selfcol_context_create(&c, &co) != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: no context of %u threads\n", threads);
+        exit(1);
+    }
+    return c;
+}
+
 static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method, uint32_t narrow,
                       uint32_t kinds, double d, unsigned threads, unsigned reps, row *r,
                       keyset *keys) {
@@ -432,16 +449,19 @@ static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method
     o.narrow = narrow;
     o.kinds = kinds;
     o.distance = d;
-    o.threads = threads;
     r->threads = threads;
+    selfcol_context *threads_ctx = bench_context(threads);
+#define RUN_QUERY()                                                                                \
+    (threads_ctx != NULL ? selfcol_context_self_collide(threads_ctx, h, c, &o)                     \
+                         : selfcol_hierarchy_self_collide(h, c, &o))
     double t0 = now();
-    int rc = selfcol_hierarchy_self_collide(h, c, &o);
+    int rc = RUN_QUERY();
     double warm = now() - t0;
     double times[MAX_REPS];
     unsigned n = reps_after_warmup(warm, reps);
     for (unsigned i = 0; rc == SELFCOL_OK && i < n; ++i) {
         t0 = now();
-        rc = selfcol_hierarchy_self_collide(h, c, &o);
+        rc = RUN_QUERY();
         times[i] = now() - t0;
         st->version = SELFCOL_QUERY_STATS_VERSION;
         selfcol_contacts_stats(c, st);
@@ -449,6 +469,8 @@ static int run_method(selfcol_hierarchy *h, selfcol_contacts *c, uint32_t method
         stage[1][i] = st->narrow_seconds;
         stage[2][i] = st->sort_seconds;
     }
+#undef RUN_QUERY
+    selfcol_context_destroy(threads_ctx);
     if (rc != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: query: %s\n", selfcol_status_string(rc));
         return rc;
@@ -666,15 +688,21 @@ static selfcol_mesh *make_mesh(const bench_case *bc, fixture *s, fixture *prev, 
     return mesh;
 }
 
-// Refit: positions unchanged, the cost of a frame's refit all the same.
-static timing time_refit(selfcol_hierarchy *h, unsigned reps) {
+// Refit: positions unchanged, the cost of a frame's refit all the same; on
+// `threads` threads (a context's, planned by the untimed first refit).
+static timing time_refit(selfcol_hierarchy *h, unsigned threads, unsigned reps) {
     double refit_t[MAX_REPS];
-    selfcol_hierarchy_refit(h);
+    selfcol_context *threads_ctx = bench_context(threads);
+#define REFIT()                                                                                    \
+    (threads_ctx != NULL ? selfcol_context_refit(threads_ctx, h) : selfcol_hierarchy_refit(h))
+    REFIT();
     for (unsigned i = 0; i < reps; ++i) {
         double t0 = now();
-        selfcol_hierarchy_refit(h);
+        REFIT();
         refit_t[i] = now() - t0;
     }
+#undef REFIT
+    selfcol_context_destroy(threads_ctx);
     return summarize(refit_t, reps);
 }
 
@@ -692,7 +720,7 @@ typedef struct case_run {
     double build_s;
     size_t hier_bytes;
     timing refit;
-    timing refit_two_threads; /* of a hierarchy with threads = 2 (two-thread rows) */
+    timing refit_two_threads; /* on a context of 2 threads (two-thread rows) */
     bench_bullet *bb;         /* NULL: no Bullet rows */
     double bullet_build_s;
     size_t bullet_bytes;
@@ -856,28 +884,16 @@ static int run_case(const bench_case *bc, unsigned subset, const char *subset_na
     }
     run.hier_bytes = selfcol_hierarchy_byte_count(run.h);
     int status = 0;
-    // The two-thread rows' refit: the same tree (built at the same
-    // positions) refit on two threads.
-    selfcol_hierarchy *two = NULL;
-    if (run.cx.triangles >= TWO_THREAD_ROWS_MIN_TRIANGLES) {
-        selfcol_hierarchy_options ho;
-        selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
-        ho.threads = 2;
-        if (selfcol_hierarchy_create(&two, mesh, &ho) != SELFCOL_OK) {
-            fprintf(stderr, "selfcol-bench: %s: hierarchy on two threads failed\n", bc->name);
-            status = 1;
-        }
-    }
     if (refit_case && selfcol_mesh_set_positions(mesh, s.positions, s.vertex_count) != SELFCOL_OK) {
         fprintf(stderr, "selfcol-bench: %s: set_positions failed\n", bc->name);
         status = 1;
     }
     fixture_free(&prev);
-    run.refit = time_refit(run.h, run.lim.reps);
-    if (two != NULL) {
-        run.refit_two_threads = time_refit(two, run.lim.reps);
-        selfcol_hierarchy_destroy(two);
-    }
+    run.refit = time_refit(run.h, 1, run.lim.reps);
+    // The two-thread rows' refit: the same tree refit on a context of two
+    // threads (the same boxes: the one-thread refits ignore its plan).
+    if (run.cx.triangles >= TWO_THREAD_ROWS_MIN_TRIANGLES)
+        run.refit_two_threads = time_refit(run.h, 2, run.lim.reps);
 #ifdef SELFCOL_BENCH_BULLET
     make_bullet_body(&run, &s, mesh);
 #endif
@@ -1028,13 +1044,21 @@ typedef struct store_sample {
     int grew;          // the byte count grew in this update
 } store_sample;
 
-// One timed update (selfcol_store_update_swept from `start` when not NULL);
-// the sample's refit and query are the caller's.
-static int store_measure(selfcol_store *store, const selfcol_mesh *mesh,
-                         const selfcol_contacts *detected, const double *start, store_sample *sm) {
+// One timed update (selfcol_store_update_swept from `start` when not NULL),
+// on `context`'s threads (NULL: one); the sample's refit and query are the
+// caller's.
+static int store_measure(selfcol_context *threads_ctx, selfcol_store *store,
+                         const selfcol_mesh *mesh, const selfcol_contacts *detected,
+                         const double *start, store_sample *sm) {
     const size_t before = selfcol_store_byte_count(store);
     double t0 = now();
-    int rc = start != NULL ? selfcol_store_update_swept(store, mesh, NULL, detected, start, NULL)
+    int rc;
+    if (threads_ctx != NULL)
+        rc = start != NULL ? selfcol_context_store_update_swept(threads_ctx, store, mesh, NULL,
+                                                                detected, start, NULL)
+                           : selfcol_context_store_update(threads_ctx, store, mesh, NULL, detected);
+    else
+        rc = start != NULL ? selfcol_store_update_swept(store, mesh, NULL, detected, start, NULL)
                            : selfcol_store_update(store, mesh, NULL, detected);
     sm->update = now() - t0;
     if (rc != SELFCOL_OK) {
@@ -1157,15 +1181,11 @@ static void store_options(selfcol_query_options *o, double d) {
     o->narrow = SELFCOL_NARROW_CLOSED_FORM;
     o->kinds = SELFCOL_KIND_ALL;
     o->distance = d;
-    o->threads = 1;
 }
 
-// A store with default options on `threads` threads.
-static int store_create(selfcol_store **store, unsigned threads) {
-    selfcol_store_options so;
-    selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
-    so.threads = threads;
-    return selfcol_store_create(store, &so);
+// A store with default options (its threads are the update's context's).
+static int store_create(selfcol_store **store) {
+    return selfcol_store_create(store, NULL);
 }
 
 static void store_context(context *cx, const store_case *sc, const char *subset_name,
@@ -1202,6 +1222,7 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     selfcol_hierarchy *h = NULL;
     selfcol_contacts *c = NULL;
     selfcol_store *store = NULL, *store2 = NULL;
+    selfcol_context *two = bench_context(2); // store2's updates
     store_sample *first = calloc(runs, sizeof *first);
     store_sample *steady = calloc((size_t)runs * (frames - 2), sizeof *steady);
     store_sample *steady2 = calloc((size_t)runs * (frames - 2), sizeof *steady2);
@@ -1230,9 +1251,9 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
     }
     size_t ns = 0;
     for (unsigned run = 0; rc == SELFCOL_OK && run < runs; ++run) {
-        rc = store_create(&store, 1);
+        rc = store_create(&store);
         if (rc == SELFCOL_OK)
-            rc = store_create(&store2, 2);
+            rc = store_create(&store2);
         for (unsigned f = 0; rc == SELFCOL_OK && f < frames; ++f) {
             const double k = 1.0 + step * f;
             for (size_t i = 0; i < 3 * s.vertex_count; ++i)
@@ -1250,9 +1271,9 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
             sm.query = now() - t1;
             store_sample sm2 = sm;
             if (rc == SELFCOL_OK)
-                rc = store_measure(store, mesh, c, NULL, &sm);
+                rc = store_measure(NULL, store, mesh, c, NULL, &sm);
             if (rc == SELFCOL_OK) // the same update on two threads, right after
-                rc = store_measure(store2, mesh, c, NULL, &sm2);
+                rc = store_measure(two, store2, mesh, c, NULL, &sm2);
             if (rc != SELFCOL_OK)
                 break;
             if (run == 0) {
@@ -1271,6 +1292,7 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
         selfcol_store_destroy(store2);
         store = store2 = NULL;
     }
+    selfcol_context_destroy(two);
     int status = rc == SELFCOL_OK ? 0 : 1;
     if (rc != SELFCOL_OK)
         fprintf(stderr, "selfcol-bench: %s: %s\n", sc->name, selfcol_status_string(rc));
@@ -1384,15 +1406,15 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
     }
     // a then b on a fresh store, reps times: STORE-FIRST, and b's growth.
     for (unsigned i = 0; rc == SELFCOL_OK && i < reps; ++i) {
-        rc = store_create(&store, 1);
+        rc = store_create(&store);
         if (rc == SELFCOL_OK)
             rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
         if (rc == SELFCOL_OK)
-            rc = store_measure(store, mesh, ca, NULL, &first[i]);
+            rc = store_measure(NULL, store, mesh, ca, NULL, &first[i]);
         if (rc == SELFCOL_OK)
             rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
         if (rc == SELFCOL_OK)
-            rc = store_measure(store, mesh, cb, NULL, &fresh[i]);
+            rc = store_measure(NULL, store, mesh, cb, NULL, &fresh[i]);
         first[i].query = qa[i], first[i].refit = refit[i];
         fresh[i].query = qb[i], fresh[i].refit = refit[i];
         selfcol_store_destroy(store);
@@ -1403,27 +1425,30 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
     // the step's start (selfcol_store_update_swept from a's positions, one
     // thread), in turn (one store each).
     selfcol_store *stores[3] = {NULL, NULL, NULL};
+    selfcol_context *two = bench_context(2); // stores[1]'s updates
     store_sample *samples[3] = {steady, steady2, swept};
     for (int t = 0; t < 3 && rc == SELFCOL_OK; ++t)
-        rc = store_create(&stores[t], t == 1 ? 2 : 1);
+        rc = store_create(&stores[t]);
     for (unsigned i = 0; rc == SELFCOL_OK && i <= reps; ++i) {
         for (int t = 0; t < 3 && rc == SELFCOL_OK; ++t) {
             store_sample warm;
             selfcol_store_clear(stores[t]);
             rc = selfcol_mesh_set_positions(mesh, a.positions, a.vertex_count);
             if (rc == SELFCOL_OK)
-                rc = selfcol_store_update(stores[t], mesh, NULL, ca);
+                rc = t == 1 ? selfcol_context_store_update(two, stores[t], mesh, NULL, ca)
+                            : selfcol_store_update(stores[t], mesh, NULL, ca);
             if (rc == SELFCOL_OK)
                 rc = selfcol_mesh_set_positions(mesh, b.positions, b.vertex_count);
             if (rc == SELFCOL_OK)
-                rc = store_measure(stores[t], mesh, cb, t == 2 ? a.positions : NULL,
-                                   i > 0 ? &samples[t][i - 1] : &warm);
+                rc = store_measure(t == 1 ? two : NULL, stores[t], mesh, cb,
+                                   t == 2 ? a.positions : NULL, i > 0 ? &samples[t][i - 1] : &warm);
             if (i > 0)
                 samples[t][i - 1].query = qb[i - 1], samples[t][i - 1].refit = refit[i - 1];
         }
     }
     for (int t = 0; t < 3; ++t)
         selfcol_store_destroy(stores[t]);
+    selfcol_context_destroy(two);
     int status = rc == SELFCOL_OK ? 0 : 1;
     if (rc != SELFCOL_OK)
         fprintf(stderr, "selfcol-bench: %s: %s\n", sc->name, selfcol_status_string(rc));

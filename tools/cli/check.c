@@ -91,7 +91,8 @@ typedef struct check_state {
     int found;                        /* exit status 1 */
     /* --continuous */
     selfcol_sweep *sweep;
-    double *previous; /* the positions of the frame before the current one */
+    selfcol_context *context; /* --threads N > 1 (the parts borrow it); NULL: one thread */
+    double *previous;         /* the positions of the frame before the current one */
     long steps_checked, steps_colliding;
     double earliest; /* least collision-free fraction over the steps */
 } check_state;
@@ -143,8 +144,11 @@ static int check_frame(check_state *st, cli_part *const *parts, int count, long 
         } else {
             pair[0] = parts[0];
             pair[1] = parts[1];
-            rc = selfcol_hierarchy_collide(parts[0]->hierarchy, parts[1]->hierarchy, st->contacts,
-                                           &st->query);
+            rc = st->context != NULL
+                     ? selfcol_context_collide(st->context, parts[0]->hierarchy,
+                                               parts[1]->hierarchy, st->contacts, &st->query)
+                     : selfcol_hierarchy_collide(parts[0]->hierarchy, parts[1]->hierarchy,
+                                                 st->contacts, &st->query);
         }
         if (rc != SELFCOL_OK)
             return cli_fail(err, "query failed: %s", selfcol_status_string(rc));
@@ -207,8 +211,10 @@ static int check_step(check_state *st, cli_part *part, long from, long to, const
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
     so.method = continuous_method(o);
     so.separation = o->distance_given ? o->distance : 0.0;
-    so.threads = o->threads;
-    const int rc = selfcol_hierarchy_self_sweep(part->hierarchy, st->previous, st->sweep, &so);
+    const int rc =
+        st->context != NULL
+            ? selfcol_context_self_sweep(st->context, part->hierarchy, st->previous, st->sweep, &so)
+            : selfcol_hierarchy_self_sweep(part->hierarchy, st->previous, st->sweep, &so);
     if (rc != SELFCOL_OK)
         return cli_fail(err, "continuous query failed: %s", selfcol_status_string(rc));
     const selfcol_sweep_hit *hits;
@@ -462,8 +468,10 @@ static int load_parts(check_state *st, check_inputs *in, cli_error *err) {
             return -1;
     }
     st->info.seconds_load = cli_now() - t0;
+    if (cli_context_create(o->threads, &st->context, err) != 0)
+        return -1;
     for (int i = 0; i < in->count; ++i)
-        if (cli_part_create(parts[i], o->no_weld, 1, o->threads, &st->info.seconds_topology,
+        if (cli_part_create(parts[i], o->no_weld, 1, st->context, &st->info.seconds_topology,
                             &st->info.seconds_hierarchy, err) != 0)
             return -1;
     parts[1]->vertex_offset = (uint32_t)parts[0]->file.vertex_count;
@@ -484,7 +492,6 @@ static int prepare_queries(check_state *st, check_inputs *in, cli_error *err) {
     selfcol_query_options_init(&st->query, SELFCOL_QUERY_OPTIONS_VERSION);
     st->query.method = o->method;
     st->query.narrow = o->narrow;
-    st->query.threads = o->threads;
     st->info.mean_edge = combined_mean_edge(in->parts, in->count);
     st->info.distance_rel = o->distance_given ? -1.0 : o->distance_rel;
     if (cli_detection_distance(o, st->info.mean_edge, &st->info.distance, err) != 0)
@@ -537,7 +544,7 @@ static int advance_frame(check_state *st, check_inputs *in, long f, cli_error *e
         return -1;
     st->info.seconds_load = cli_now() - start;
     start = cli_now();
-    int rc = selfcol_hierarchy_refit(part->hierarchy);
+    int rc = cli_part_refit(part);
     st->info.seconds_refit = cli_now() - start;
     st->info.seconds_topology = st->info.seconds_hierarchy = 0.0;
     if (rc != SELFCOL_OK)
@@ -617,6 +624,7 @@ static void free_check(check_state *st, check_inputs *in) {
     free(st->classes);
     cli_part_free(in->parts[0]);
     cli_part_free(in->parts[1]);
+    selfcol_context_destroy(st->context); // after the parts that borrow it
     for (long i = 0; in->frame_names && i < in->frame_count; ++i)
         free(in->frame_names[i]);
     free(in->frame_names);

@@ -69,6 +69,7 @@ typedef struct cli_part {
     selfcol_hierarchy *hierarchy;
     selfcol_sequence *sequence;              /* frames: its self query kept across them, or NULL */
     uint32_t vertex_offset, triangle_offset; /* where its indices start in the output */
+    selfcol_context *context; /* --threads N > 1: the command's (borrowed); NULL: one thread */
 } cli_part;
 
 /**
@@ -79,6 +80,16 @@ typedef struct cli_part {
  */
 int cli_part_self_collide(cli_part *part, int coherent, selfcol_contacts *contacts,
                           const selfcol_query_options *query);
+
+/** The part's hierarchy refit to its mesh, on its context. Returns a selfcol_status. */
+int cli_part_refit(cli_part *part);
+
+/**
+ * --threads N: a selfcol_context of N threads into *out, which the
+ * command's parts borrow (the library's one place for threads); NULL for
+ * one thread. Returns 0, or -1 with err set.
+ */
+int cli_context_create(unsigned threads, selfcol_context **out, cli_error *err);
 
 void cli_sets_init(cli_sets *sets);
 void cli_sets_clear(cli_sets *sets);

@@ -20,7 +20,7 @@ typedef struct cli_options {
     int distance_given, distance_rel_given;
     uint32_t method, narrow;
     int method_given;     /* --method was given (check --continuous defaults to bvh) */
-    unsigned int threads; /* --threads: selfcol_query_options.threads, default 1 */
+    unsigned int threads; /* --threads: the command's selfcol_context's threads, default 1 */
     const char *json, *csv, *mark, *png;
     int quiet, fail_on_proximity, no_weld, frames;
     int continuous;    /* check --continuous: continuous queries between consecutive frames */
@@ -100,10 +100,11 @@ void cli_part_free(cli_part *part);
 
 /**
  * Welds part->file (unless no_weld) and creates its library mesh and, when
- * build_hierarchy, its hierarchy (refit on `threads`); adds the time taken
- * to the two counters. Returns 0, or -1 with err set.
+ * build_hierarchy, its hierarchy; the part borrows `context` (NULL: one
+ * thread) for its refits and queries. Adds the time taken to the two
+ * counters. Returns 0, or -1 with err set.
  */
-int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, unsigned threads,
+int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, selfcol_context *context,
                     double *seconds_topology, double *seconds_hierarchy, cli_error *err);
 
 /**

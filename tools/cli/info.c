@@ -62,7 +62,7 @@ int cli_command_info(const cli_options *o) {
         double topology = 0.0, hierarchy = 0.0;
         mesh_facts facts;
         if (cli_read_mesh(part.path, &part.file, &err, &progress) != 0 ||
-            cli_part_create(&part, o->no_weld, 0, 1, &topology, &hierarchy, &err) != 0) {
+            cli_part_create(&part, o->no_weld, 0, NULL, &topology, &hierarchy, &err) != 0) {
             fprintf(stderr, "selfcol-cli: %s\n", err.message);
             exit_code = CLI_EXIT_ERROR;
         } else {

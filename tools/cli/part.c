@@ -47,7 +47,7 @@ void cli_part_free(cli_part *part) {
 // Welds (unless no_weld) and creates the library mesh: its vertices are the
 // file's vertices (duplicates stay, unreferenced), so library indices are
 // file indices and each welded group is named by its lowest file index.
-int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, unsigned threads,
+int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, selfcol_context *context,
                     double *seconds_topology, double *seconds_hierarchy, cli_error *err) {
     size_t nv = part->file.vertex_count, nt = part->file.triangle_count;
     part->welded_triangles = malloc(3 * nt * sizeof(uint32_t) + 1);
@@ -75,12 +75,9 @@ int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, unsigned t
                                  NULL);
     double mid = cli_now();
     *seconds_topology += mid - start;
-    if (rc == SELFCOL_OK && build_hierarchy) {
-        selfcol_hierarchy_options ho;
-        selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
-        ho.threads = threads;
-        rc = selfcol_hierarchy_create(&part->hierarchy, part->mesh, &ho);
-    }
+    part->context = context;
+    if (rc == SELFCOL_OK && build_hierarchy)
+        rc = selfcol_hierarchy_create(&part->hierarchy, part->mesh, NULL);
     *seconds_hierarchy += cli_now() - mid;
     if (rc != SELFCOL_OK && part->mesh == NULL)
         return cli_fail_mesh(err, part->path, rc, part->file.positions, nv, part->file.triangles,
@@ -92,12 +89,33 @@ int cli_part_create(cli_part *part, int no_weld, int build_hierarchy, unsigned t
 
 int cli_part_self_collide(cli_part *part, int coherent, selfcol_contacts *contacts,
                           const selfcol_query_options *query) {
+    selfcol_context *c = part->context;
     if (!coherent)
-        return selfcol_hierarchy_self_collide(part->hierarchy, contacts, query);
+        return c != NULL ? selfcol_context_self_collide(c, part->hierarchy, contacts, query)
+                         : selfcol_hierarchy_self_collide(part->hierarchy, contacts, query);
     if (part->sequence == NULL) {
         int rc = selfcol_sequence_create(&part->sequence, NULL);
         if (rc != SELFCOL_OK)
             return rc;
     }
-    return selfcol_sequence_self_collide(part->sequence, part->hierarchy, contacts, query);
+    return c != NULL
+               ? selfcol_context_sequence_self_collide(c, part->sequence, part->hierarchy, contacts,
+                                                       query)
+               : selfcol_sequence_self_collide(part->sequence, part->hierarchy, contacts, query);
+}
+
+int cli_part_refit(cli_part *part) {
+    return part->context != NULL ? selfcol_context_refit(part->context, part->hierarchy)
+                                 : selfcol_hierarchy_refit(part->hierarchy);
+}
+
+int cli_context_create(unsigned threads, selfcol_context **out, cli_error *err) {
+    *out = NULL;
+    if (threads <= 1)
+        return 0;
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = threads; // 2..SELFCOL_MAX_THREADS: parse_threads checked it
+    const int rc = selfcol_context_create(out, &co);
+    return rc == SELFCOL_OK ? 0 : cli_fail(err, "%s", selfcol_status_string(rc));
 }

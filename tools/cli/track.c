@@ -20,6 +20,7 @@ typedef struct track_state {
     cli_part *part;
     selfcol_contacts *contacts;
     selfcol_store *store;
+    selfcol_context *context; /* --threads N > 1 (the part borrows it); NULL: one thread */
     selfcol_query_options query;
     double distance, distance_rel, mean_edge; /* distance_rel < 0: --distance given */
     cli_sets sets;                            /* only to colour pictures as check does */
@@ -95,7 +96,9 @@ static int track_frame(track_state *st, long index, long frame, const char *name
     for (size_t i = 0; i < n; ++i)
         if (c[i].kind <= SELFCOL_CONTACT_EF)
             detected[c[i].kind]++;
-    rc = selfcol_store_update(st->store, st->part->mesh, NULL, st->contacts);
+    rc = st->context != NULL ? selfcol_context_store_update(st->context, st->store, st->part->mesh,
+                                                            NULL, st->contacts)
+                             : selfcol_store_update(st->store, st->part->mesh, NULL, st->contacts);
     if (rc != SELFCOL_OK)
         return cli_fail(err, "%s: store update failed: %s", name, selfcol_status_string(rc));
     selfcol_store_update_stats s;
@@ -184,7 +187,6 @@ static int track_setup(track_state *st, cli_error *err) {
         selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
         so.remnance_frames = o->remnance;
         so.consistency = o->no_consistency ? 0 : 1;
-        so.threads = o->threads;
         rc = selfcol_store_create(&st->store, &so);
     }
     if (rc != SELFCOL_OK) {
@@ -195,7 +197,6 @@ static int track_setup(track_state *st, cli_error *err) {
     st->query.method = o->method;
     st->query.narrow = o->narrow;
     st->query.kinds = SELFCOL_KIND_ALL;
-    st->query.threads = o->threads;
     st->mean_edge = selfcol_mesh_mean_edge_length(st->part->mesh);
     st->distance_rel = o->distance_given ? -1.0 : o->distance_rel;
     if (cli_detection_distance(o, st->mean_edge, &st->distance, err) != 0)
@@ -281,7 +282,8 @@ int cli_command_track(const cli_options *o) {
     if (cli_read_mesh(part.path, &part.file, &err, &progress) != 0)
         goto done;
     double seconds_topology = 0.0, seconds_hierarchy = 0.0;
-    if (cli_part_create(&part, o->no_weld, 1, o->threads, &seconds_topology, &seconds_hierarchy,
+    if (cli_context_create(o->threads, &st.context, &err) != 0 ||
+        cli_part_create(&part, o->no_weld, 1, st.context, &seconds_topology, &seconds_hierarchy,
                         &err) != 0)
         goto done;
 
@@ -294,7 +296,7 @@ int cli_command_track(const cli_options *o) {
         if (f > 0) {
             if (cli_load_next_frame(&part, frame_names[f], &progress, &split_frames, &err) != 0)
                 goto done;
-            rc = selfcol_hierarchy_refit(part.hierarchy);
+            rc = cli_part_refit(&part);
             if (rc != SELFCOL_OK) {
                 cli_fail(&err, "%s: %s", frame_names[f], selfcol_status_string(rc));
                 goto done;
@@ -330,6 +332,7 @@ done:
     free(st.worst_positions);
     free(st.worst_classes);
     cli_part_free(&part);
+    selfcol_context_destroy(st.context); // after the part that borrows it
     for (long i = 0; frame_names && i < frame_count; ++i)
         free(frame_names[i]);
     free(frame_names);

@@ -201,7 +201,6 @@ void final_frame(const btSoftBody *body, double distance, run_result &r) {
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
     q.method = SELFCOL_METHOD_EXACT;
-    q.threads = 1;
     if (selfcol_mesh_create(&mesh, size_t(body->m_nodes.size()), x.data(),
                             size_t(body->m_faces.size()), t.data(), nullptr) == SELFCOL_OK &&
         selfcol_hierarchy_create(&tree, mesh, nullptr) == SELFCOL_OK &&
@@ -529,7 +528,7 @@ int usage(const char *name) {
         "  --max-contacts F  stop a selfcol run (row 'diverged') when its contacts "
         "pass F per face (default 10)\n"
         "  --memory-limit GB  address-space limit of each run (default 8, 0: none)\n"
-        "  --threads N     selfcol query threads (default 1)\n"
+        "  --threads N     selfcol threads (refits, queries, stores; default 1)\n"
         "  --out DIR       write each run's last frame as DIR/ribbon-SIZE-MODE-rK.ply\n"
         "  --trace FILE    one CSV row per step of every run (times, selfcol's counters)\n",
         name);

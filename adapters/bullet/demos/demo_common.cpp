@@ -36,7 +36,7 @@ static void usage(const char *name, const char *about) {
                  "deformable path, or none\n"
                  "  --distance D    selfcol's thickness, 0 (default: 0.25 x the mean edge) up "
                  "to the mean edge\n"
-                 "  --threads N     selfcol's query threads, 1..%d\n"
+                 "  --threads N     selfcol's threads (refits, queries, stores), 1..%d\n"
                  "  --continuous    selfcol keeps each step free of new pass-throughs (holds "
                  "back the nodes\n"
                  "                  of pairs that would touch during the step)\n",
@@ -287,10 +287,10 @@ int world::start(const options &o) {
     selfcol_query_options query;
     selfcol_query_options_init(&query, SELFCOL_QUERY_OPTIONS_VERSION);
     query.distance = o.distance;
-    query.threads = o.threads;
     selfcol_bullet_options so;
     selfcol_bullet_options_init(&so, SELFCOL_BULLET_OPTIONS_VERSION);
     so.query = &query; // copied by selfcol_bullet_create()
+    so.threads = o.threads;
     so.continuous = o.continuous ? 1 : 0;
     so.coherent = collision == mode::selfcol_fresh ? 0 : 1;
     int status = selfcol_bullet_create(&adapter, dynamics, &so);

@@ -145,6 +145,9 @@ struct selfcol_bullet {
     // selfcol_bullet_use_task_scheduler: the context whose parallel stages
     // run on Bullet's task scheduler, lent to the scene; NULL when off.
     selfcol_context *task_context;
+    // The adapter's own context of opts.threads POSIX threads (NULL for one
+    // thread), used while task_context is NULL.
+    selfcol_context *own_context;
     double distance;
     uint32_t node_total;
     uint32_t next_surface; // the id the next attach gets
@@ -175,7 +178,7 @@ struct selfcol_bullet {
 
     explicit selfcol_bullet(const selfcol_allocator &h)
         : hooks(h), opts(), world(nullptr), action(nullptr), scene(nullptr), task_context(nullptr),
-          distance(0), node_total(0), next_surface(0),
+          own_context(nullptr), distance(0), node_total(0), next_surface(0),
           bodies(hook_allocator<attached_body>(&hooks)),
           slot_of_node(hook_allocator<int32_t>(&hooks)),
           node_of_slot(hook_allocator<btSoftBody::Node *>(&hooks)),
@@ -231,6 +234,13 @@ int add_surface(selfcol_scene *scene, const selfcol_mesh *mesh, uint32_t *id) {
     selfcol_scene_surface_options_init(&surface, SELFCOL_SURFACE_CLOTH,
                                        SELFCOL_SCENE_SURFACE_OPTIONS_VERSION);
     return selfcol_scene_add_surface(scene, mesh, &surface, id);
+}
+
+// Where the adapter's parallel stages run: Bullet's scheduler when it is
+// on (selfcol_bullet_use_task_scheduler), else the adapter's own threads
+// (NULL for one: the calling thread).
+selfcol_context *context_of(const selfcol_bullet *a) {
+    return a->task_context != nullptr ? a->task_context : a->own_context;
 }
 
 // The scene options of the adapter's options at a distance; they point to
@@ -546,7 +556,6 @@ int hold_back(selfcol_bullet *a, double dt) {
     a->keep.assign(a->node_total, 1.0);
     selfcol_sweep_options so;
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
-    so.threads = a->query.threads;
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
         for (const attached_body &b : a->bodies) {
             int status = selfcol_mesh_set_positions_float(
@@ -562,8 +571,8 @@ int hold_back(selfcol_bullet *a, double dt) {
                 const double *si = a->previous.data() + 3 * size_t(bi.first_node);
                 const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
                 // On Bullet's scheduler when the adapter uses it, else on
-                // the queries' threads (so): the hits are the same.
-                selfcol_context *c = a->task_context;
+                // the adapter's threads: the hits are the same.
+                selfcol_context *c = context_of(a);
                 int status;
                 if (i == j && c != nullptr)
                     status = selfcol_context_self_sweep(c, bi.sweep_tree, si, a->sweep, &so);
@@ -667,8 +676,8 @@ int step_impl(selfcol_bullet *a, double dt) {
     }
     if (a->scene == nullptr) {
         status = build_scene(a);
-        if (status == SELFCOL_OK && a->task_context != nullptr)
-            status = selfcol_scene_set_context(a->scene, a->task_context);
+        if (status == SELFCOL_OK && context_of(a) != nullptr)
+            status = selfcol_scene_set_context(a->scene, context_of(a));
         if (status != SELFCOL_OK)
             return status;
     }
@@ -759,6 +768,7 @@ extern "C" int selfcol_bullet_options_init(selfcol_bullet_options *opts, unsigne
     opts->untangle = 1;
     opts->continuous = 0;
     opts->coherent = 1;
+    opts->threads = 1;
     return SELFCOL_OK;
 }
 
@@ -784,15 +794,6 @@ struct settings {
     selfcol_query_options query;
     selfcol_store_options store;
 };
-
-// Reads the caller's options struct as its version says into `into`, which
-// holds the defaults (a version-1 query options struct has no threads, so
-// it keeps the default one). A version this adapter does not know is
-// copied as the newest and left to the core's check, which names it.
-template <class T> void read_versioned(const T *from, T &into, size_t version1_size) {
-    if (from != nullptr)
-        std::memcpy(&into, from, from->version == 1 ? version1_size : sizeof into);
-}
 
 // The adapter's own fields; the query and store options by the core's
 // rules, which a scene made and destroyed here applies (at the given
@@ -823,6 +824,8 @@ int check_options(const settings &s, selfcol_options_problem *problem) {
     if (o.iterations == 0 || o.iterations > 64)
         return refuse(problem, SELFCOL_EINVAL, "iterations", "is not in 1 .. 64",
                       double(o.iterations));
+    if (o.threads == 0 || o.threads > SELFCOL_MAX_THREADS)
+        return refuse(problem, SELFCOL_EINVAL, "threads", "is not in 1 .. 64", double(o.threads));
     const struct {
         const char *field;
         int value;
@@ -867,8 +870,12 @@ int read_options(const selfcol_bullet_options *opts, settings &s,
                           "layout)",
                           double(opts->version));
         s.o = *opts;
-        read_versioned(opts->query, s.query, offsetof(selfcol_query_options, threads));
-        read_versioned(opts->store, s.store, offsetof(selfcol_store_options, threads));
+        // Copied whole: each has one layout in 0.4 (version 3), and the
+        // core's check below names any other version.
+        if (opts->query != nullptr)
+            s.query = *opts->query;
+        if (opts->store != nullptr)
+            s.store = *opts->store;
         s.o.query = nullptr;
         s.o.store = nullptr;
     }
@@ -910,10 +917,23 @@ extern "C" int selfcol_bullet_create(selfcol_bullet **out,
     a->query = s.query;
     a->store = s.store;
     a->world = world;
+    if (o.threads > 1) {
+        selfcol_context_options co;
+        selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+        co.allocator = o.allocator;
+        co.threads = o.threads;
+        status = selfcol_context_create(&a->own_context, &co);
+        if (status != SELFCOL_OK) {
+            a->~selfcol_bullet();
+            hook_free(o.allocator, memory, sizeof(selfcol_bullet));
+            return status;
+        }
+    }
     a->stats.version = SELFCOL_BULLET_STEP_STATS_VERSION;
     if (o.automatic) {
         void *am = hook_alloc(o.allocator, sizeof(step_action), alignof(step_action));
         if (am == nullptr) {
+            selfcol_context_destroy(a->own_context);
             a->~selfcol_bullet();
             hook_free(o.allocator, memory, sizeof(selfcol_bullet));
             return SELFCOL_ENOMEM;
@@ -950,6 +970,7 @@ void destroy_adapter(selfcol_bullet *a, bool world_alive) {
     }
     selfcol_scene_destroy(a->scene);
     selfcol_context_destroy(a->task_context);
+    selfcol_context_destroy(a->own_context);
     for (attached_body &b : a->bodies) {
         if (world_alive && in_world(a, b.body)) // one that left the world may be deleted
             restore_body(b);
@@ -1008,10 +1029,10 @@ extern "C" int selfcol_bullet_use_task_scheduler(selfcol_bullet *a, int on) {
         if (status != SELFCOL_OK)
             return status;
     }
-    if (a->scene != nullptr)
-        selfcol_scene_set_context(a->scene, context); // NULL: the scene's own again
     selfcol_context_destroy(a->task_context);
     a->task_context = context;
+    if (a->scene != nullptr) // off: the adapter's own threads again
+        selfcol_scene_set_context(a->scene, context_of(a));
     return SELFCOL_OK;
 }
 

@@ -92,8 +92,10 @@ static void api_rejects_bad_input() {
          "selfcol_bullet_options.repulsion = 1.5 is not in (0, 1]"},
         {[](full_options &b) { b.o.continuous = 3; }, SELFCOL_EINVAL, "continuous",
          "= 3 is not 0 or 1"},
-        {[](full_options &b) { b.q.threads = 0; }, SELFCOL_EINVAL, "query->threads",
-         "selfcol_bullet_options.query->threads = 0 is not in 1 .. 64"},
+        {[](full_options &b) { b.o.threads = 0; }, SELFCOL_EINVAL, "threads",
+         "selfcol_bullet_options.threads = 0 is not in 1 .. 64"},
+        {[](full_options &b) { b.q.version = 2; }, SELFCOL_EVERSION, "query->version",
+         "selfcol_bullet_options.query->version = 2 is an older layout"},
         {[](full_options &b) { b.s.consistency = 4; }, SELFCOL_EINVAL, "store->consistency",
          "selfcol_bullet_options.store->consistency = 4"},
         {[](full_options &b) { b.s.first_orientation = 1; }, SELFCOL_EINVAL,
@@ -185,12 +187,9 @@ static void options_by_pointer_and_versions() {
         CHECK(selfcol_bullet_create(&a, w.dynamics, &old) == SELFCOL_EVERSION && a == nullptr);
     }
     // the options pointed to reach the scene (the explicit distance); they are copied, so spoiling
-    // them after creation changes nothing. The query options are a version 1 struct (0.1's: no
-    // threads), whose threads field is garbage and must not be read.
+    // them after creation changes nothing.
     selfcol_query_options q;
     selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
-    q.version = 1;
-    q.threads = 0; // not part of a version 1 struct
     q.distance = 0.03;
     selfcol_store_options so;
     selfcol_store_options_init(&so, SELFCOL_STORE_OPTIONS_VERSION);
@@ -228,10 +227,10 @@ static void create_validates_nested_options() {
         int expect;
     };
     const bad_case cases[] = {
-        {"threads 0", [](full_options &b) { b.q.threads = 0; }, SELFCOL_EINVAL},
-        {"threads 65", [](full_options &b) { b.q.threads = SELFCOL_MAX_THREADS + 1; },
+        {"threads 0", [](full_options &b) { b.o.threads = 0; }, SELFCOL_EINVAL},
+        {"threads 65", [](full_options &b) { b.o.threads = SELFCOL_MAX_THREADS + 1; },
          SELFCOL_EINVAL},
-        {"threads 1000", [](full_options &b) { b.q.threads = 1000; }, SELFCOL_EINVAL},
+        {"threads 1000", [](full_options &b) { b.o.threads = 1000; }, SELFCOL_EINVAL},
         {"distance 1e300", [](full_options &b) { b.q.distance = 1e300; }, SELFCOL_EINVAL},
         {"distance inf", [](full_options &b) { b.q.distance = INFINITY; }, SELFCOL_EINVAL},
         {"factor 0", [](full_options &b) { b.o.distance_factor = 0; }, SELFCOL_EINVAL},
@@ -266,7 +265,7 @@ static void create_validates_nested_options() {
     btSoftBody *sheet =
         w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 6, 6, 0.1, false);
     full_options edge = opts;
-    edge.q.threads = SELFCOL_MAX_THREADS;
+    edge.o.threads = SELFCOL_MAX_THREADS;
     selfcol_bullet *a = nullptr;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &edge.o) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, sheet, nullptr) == SELFCOL_OK);
@@ -1037,7 +1036,7 @@ crumple_steps(int scheduler,
     opts.o.automatic = 0;
     opts.q.distance = 0.005;
     opts.o.continuous = 1; // its continuous queries go through the scheduler too
-    opts.q.threads = threads;
+    opts.o.threads = threads;
     selfcol_bullet *a = nullptr;
     CHECK(selfcol_bullet_create(&a, w.dynamics, &opts.o) == SELFCOL_OK);
     CHECK(selfcol_bullet_attach(a, low, nullptr) == SELFCOL_OK);

@@ -401,25 +401,28 @@ void test_bad_input_throws() {
     o.distance = 0.1;
     o.threads = 0;
     CHECK_THROWS(selfcol::self_collide(hierarchy, o), SELFCOL_EINVAL);
-    // The refused field is named by the library's check (selfcol_query_options_check).
+    // The refused field is named by the library's check (threads are the
+    // context's since 0.4: selfcol_context_options_check).
     try {
         (void)selfcol::self_collide(hierarchy, o);
         CHECK(false && "no exception");
     } catch (const selfcol::error &e) {
-        CHECK(std::string(e.what()).find("selfcol_hierarchy_self_collide: "
-                                         "selfcol_query_options.threads = 0 is not in 1 .. 64") !=
+        CHECK(std::string(e.what()).find("selfcol_context_create: "
+                                         "selfcol_context_options.threads = 0 is not in 1 .. 64") !=
               std::string::npos);
     }
+    o.threads = 65;
+    CHECK_THROWS(selfcol::self_collide(hierarchy, o), SELFCOL_EINVAL);
     selfcol_hierarchy_options ho;
     selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
-    ho.threads = 65;
+    ho.version = 2; // 0.3's layout, with threads
     try {
         selfcol::hierarchy named(mesh, &ho);
         CHECK(false && "no exception");
     } catch (const selfcol::error &e) {
-        CHECK(e.status() == SELFCOL_EINVAL);
-        CHECK(std::string(e.what()).find("selfcol_hierarchy_options.threads = 65") !=
-              std::string::npos);
+        CHECK(e.status() == SELFCOL_EVERSION);
+        CHECK(std::string(e.what()).find("selfcol_hierarchy_options.version = 2 is an older "
+                                         "layout") != std::string::npos);
     }
     o.threads = 1;
     CHECK_THROWS(selfcol::collide(hierarchy, hierarchy, o), SELFCOL_EINVAL); // one mesh twice

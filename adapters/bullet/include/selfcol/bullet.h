@@ -125,8 +125,8 @@ typedef struct selfcol_bullet_options {
         allocator; /**< of the adapter and its selfcol handles; all-zero: malloc/free */
     /**
      * The queries; NULL for selfcol_query_options_init()'s defaults (kinds
-     * VF|EE|EF, method EXACT, closed-form narrow phase, threads 1, distance
-     * 0); the bodies' refits use the same threads. `distance` is the
+     * VF|EE|EF, method EXACT, closed-form narrow phase, distance 0).
+     * `distance` is the
      * detection distance and cloth thickness d, in world units, at most
      * SELFCOL_MESH_MAX_COORDINATE; 0 (the default here): distance_factor x
      * the mean edge length of the bodies attached at the first step, so that
@@ -140,8 +140,8 @@ typedef struct selfcol_bullet_options {
     const selfcol_query_options *query;
     /**
      * The contact stores: remnance_frames (default
-     * SELFCOL_STORE_DEFAULT_REMNANCE), consistency (the region vote,
-     * default 1) and threads (default 1); NULL for those defaults. Its
+     * SELFCOL_STORE_DEFAULT_REMNANCE) and consistency (the region vote,
+     * default 1); NULL for those defaults. Its
      * allocator and orientations must stay zero: the adapter's allocator
      * serves the stores, and cloth has no orientation.
      */
@@ -186,7 +186,7 @@ typedef struct selfcol_bullet_options {
      * mass) are never held: a pair of kinematic nodes only is left alone.
      * The first step after an attach or detach has no last positions and
      * is not checked. Costs a continuous query per pass (stats), on
-     * query->threads (or Bullet's scheduler: selfcol_bullet_use_task_scheduler);
+     * the adapter's threads (or Bullet's scheduler: selfcol_bullet_use_task_scheduler);
      * the held positions do not depend on the threads.
      */
     int continuous;
@@ -198,6 +198,16 @@ typedef struct selfcol_bullet_options {
      * step. 0: a fresh query every step (the scene option `coherent`).
      */
     int coherent;
+    /**
+     * Threads of the adapter's refits, queries, store updates and continuous
+     * passes, 1 (default: Bullet's calling thread) to SELFCOL_MAX_THREADS.
+     * With more, the adapter keeps a context of that many POSIX threads
+     * (selfcol/context.h), asleep between steps and joined by
+     * selfcol_bullet_destroy(); selfcol_bullet_use_task_scheduler() runs the
+     * same stages on Bullet's scheduler instead. The contacts and the held
+     * positions do not depend on the threads.
+     */
+    unsigned int threads;
 } selfcol_bullet_options;
 
 /** 4 since 0.4 (the query and store options by pointer); 0.2's versions 1
@@ -249,7 +259,7 @@ SELFCOL_BULLET_API int selfcol_bullet_options_init(selfcol_bullet_options *opts,
 
 /**
  * Names what selfcol_bullet_create() refuses in opts, if anything: the
- * field ("repulsion", "query->threads", "store->consistency", ...), its value
+ * field ("repulsion", "threads", "query->kinds", "store->consistency", ...), its value
  * and what is accepted (selfcol/common.h, selfcol_options_problem).
  * @return what selfcol_bullet_create() returns for these options, short of
  *         its world and of memory (SELFCOL_OK, SELFCOL_EINVAL,
@@ -269,8 +279,8 @@ SELFCOL_BULLET_API int selfcol_bullet_options_check(const selfcol_bullet_options
  *         or above SELFCOL_MESH_MAX_COORDINATE, distance_factor not positive
  *         and finite when the distance is 0, any query or store option
  *         that selfcol_scene_create() refuses (kinds, method, narrow phase,
- *         threads outside 1..SELFCOL_MAX_THREADS, consistency, a store
- *         allocator or orientation), repulsion outside (0, 1], iterations
+ *         consistency, a store allocator or orientation), threads outside
+ *         1..SELFCOL_MAX_THREADS, repulsion outside (0, 1], iterations
  *         0 or > 64, automatic or untangle not 0 or 1, half-set allocator);
  *         SELFCOL_EVERSION (the options', the query's or the store's
  *         version); SELFCOL_ENOMEM.
@@ -347,13 +357,14 @@ SELFCOL_BULLET_API int selfcol_bullet_stats(const selfcol_bullet *adapter,
                                             selfcol_bullet_step_stats *stats);
 
 /**
- * on = 1: the adapter's queries, coherent sequences and continuous queries
- * (the continuous option) run their parallel stages on Bullet's task scheduler
+ * on = 1: the adapter's refits, queries, coherent sequences, store updates
+ * and continuous queries (the continuous option) run their parallel stages
+ * on Bullet's task scheduler
  * (btGetTaskScheduler(), through btParallelFor), as many work items as it has threads now
  * (getNumThreads(), at most SELFCOL_MAX_THREADS; 1 when no scheduler is
  * installed): the engine's own threads,
- * none started by selfcol. on = 0 (the default): selfcol's own threads
- * (query->threads). The contacts are the same either way. Call it again
+ * none started by selfcol. on = 0 (the default): the adapter's own threads
+ * (selfcol_bullet_options.threads). The contacts are the same either way. Call it again
  * after changing Bullet's scheduler or its thread count.
  * @return SELFCOL_OK; SELFCOL_EINVAL (NULL adapter, on not 0 or 1);
  *         SELFCOL_ENOMEM (nothing changed).

@@ -145,6 +145,29 @@ struct contacts_deleter {
         selfcol_contacts_destroy(c);
     }
 };
+struct context_deleter {
+    void operator()(selfcol_context *c) const noexcept {
+        selfcol_context_destroy(c);
+    }
+};
+typedef std::unique_ptr<selfcol_context, context_deleter> context_ptr;
+
+/** A context of `threads` threads for one query (context.h: the library's
+ *  one place for threads), or none for one thread (the calling thread). A
+ *  refused count is named by selfcol_context_options_check: "selfcol_context_create:
+ *  selfcol_context_options.threads = 0 is not in 1 .. 64". */
+inline context_ptr query_context(unsigned threads) {
+    if (threads == 1)
+        return context_ptr();
+    selfcol_context_options o;
+    check(selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION),
+          "selfcol_context_options_init");
+    o.threads = threads;
+    selfcol_context *c = nullptr;
+    check_options(selfcol_context_create(&c, &o), "selfcol_context_create", &o,
+                  selfcol_context_options_check);
+    return context_ptr(c);
+}
 
 /** The layouts the C API reads: #V x 3 doubles and #F x 3 uint32_t, row-major. */
 typedef Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> positions_matrix;
@@ -420,7 +443,9 @@ struct query_options {
     selfcol_narrow narrow = SELFCOL_NARROW_CLOSED_FORM;
     /** SELFCOL_KIND_VF | SELFCOL_KIND_EE | SELFCOL_KIND_EF (all by default). */
     std::uint32_t kinds = SELFCOL_KIND_ALL;
-    /** Threads the query may use (1..SELFCOL_MAX_THREADS); same result for any count. */
+    /** Threads the query may use (1..SELFCOL_MAX_THREADS): with more than one,
+     *  the query runs on a selfcol_context of its own (started and joined
+     *  within the call); same result for any count. */
     unsigned threads = 1;
 };
 
@@ -487,7 +512,6 @@ inline selfcol_query_options c_options(const query_options &o, double mean_edge_
     c.method = static_cast<std::uint32_t>(o.method);
     c.narrow = static_cast<std::uint32_t>(o.narrow);
     c.kinds = o.kinds;
-    c.threads = o.threads;
     // NaN is not negative: it reaches the library, which refuses it.
     c.distance = o.distance < 0 ? o.distance_rel * mean_edge_length : o.distance;
     return c;
@@ -562,8 +586,11 @@ inline contact_result to_result(const contacts &c) {
 inline contact_result self_collide(const hierarchy &h, contacts &buffer,
                                    const query_options &options = query_options()) {
     const selfcol_query_options o = detail::c_options(options, detail::mean_edge(h.get()));
-    detail::check_options(selfcol_hierarchy_self_collide(h.get(), buffer.get(), &o),
-                          "selfcol_hierarchy_self_collide", &o, selfcol_query_options_check);
+    const detail::context_ptr context = detail::query_context(options.threads);
+    detail::check_options(
+        context ? selfcol_context_self_collide(context.get(), h.get(), buffer.get(), &o)
+                : selfcol_hierarchy_self_collide(h.get(), buffer.get(), &o),
+        "selfcol_hierarchy_self_collide", &o, selfcol_query_options_check);
     return to_result(buffer);
 }
 
@@ -584,8 +611,12 @@ inline contact_result collide(const hierarchy &first, const hierarchy &second, c
                               const query_options &options = query_options()) {
     const selfcol_query_options o =
         detail::c_options(options, detail::mean_edge(first.get(), second.get()));
-    detail::check_options(selfcol_hierarchy_collide(first.get(), second.get(), buffer.get(), &o),
-                          "selfcol_hierarchy_collide", &o, selfcol_query_options_check);
+    const detail::context_ptr context = detail::query_context(options.threads);
+    detail::check_options(
+        context
+            ? selfcol_context_collide(context.get(), first.get(), second.get(), buffer.get(), &o)
+            : selfcol_hierarchy_collide(first.get(), second.get(), buffer.get(), &o),
+        "selfcol_hierarchy_collide", &o, selfcol_query_options_check);
     return to_result(buffer);
 }
 
