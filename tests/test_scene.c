@@ -54,6 +54,18 @@ static selfcol_query_options query_at(double d) {
     return q;
 }
 
+// Scene options pointing to q and to store and sequence options of their
+// own (written with their defaults).
+static void point_to(selfcol_scene_options *o, const selfcol_query_options *q,
+                     selfcol_store_options *st, selfcol_sequence_options *sq) {
+    assert_int_equal(selfcol_store_options_init(st, SELFCOL_STORE_OPTIONS_VERSION), SELFCOL_OK);
+    assert_int_equal(selfcol_sequence_options_init(sq, SELFCOL_SEQUENCE_OPTIONS_VERSION),
+                     SELFCOL_OK);
+    o->query = q;
+    o->store = st;
+    o->sequence = sq;
+}
+
 static selfcol_scene *make_scene(double d, const selfcol_allocator *al) {
     selfcol_scene_options o;
     assert_int_equal(selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION), SELFCOL_OK);
@@ -767,12 +779,8 @@ static void test_options_are_copied(void **state) {
     selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
     selfcol_query_options q = query_at(0.02);
     selfcol_store_options st;
-    selfcol_store_options_init(&st, SELFCOL_STORE_OPTIONS_VERSION);
     selfcol_sequence_options sq;
-    selfcol_sequence_options_init(&sq, SELFCOL_SEQUENCE_OPTIONS_VERSION);
-    o.query = &q;
-    o.store = &st;
-    o.sequence = &sq;
+    point_to(&o, &q, &st, &sq);
     selfcol_scene *copied = NULL;
     assert_int_equal(selfcol_scene_create(&copied, &o), SELFCOL_OK);
     memset(&q, 0xff, sizeof q);
@@ -839,12 +847,8 @@ static void test_errors(void **state) {
     assert_int_equal(selfcol_scene_options_init(&o, 2), SELFCOL_EVERSION);
     selfcol_scene_options_init(&o, SELFCOL_SCENE_OPTIONS_VERSION);
     selfcol_store_options sto;
-    selfcol_store_options_init(&sto, SELFCOL_STORE_OPTIONS_VERSION);
     selfcol_sequence_options sq;
-    selfcol_sequence_options_init(&sq, SELFCOL_SEQUENCE_OPTIONS_VERSION);
-    o.query = &q;
-    o.store = &sto;
-    o.sequence = &sq;
+    point_to(&o, &q, &sto, &sq);
     q.version = 0;
     assert_int_equal(selfcol_scene_create(&sc, &o), SELFCOL_EVERSION);
     q.version = SELFCOL_QUERY_OPTIONS_VERSION;

@@ -190,7 +190,8 @@ SELFCOL_API int selfcol_context_sweep(selfcol_context *context, const selfcol_hi
  * near the root are refit side by side (never more than one worker per 4096
  * triangles), the cap after them. The boxes, masks and cones are identical
  * for every thread count. The first refit at a new thread count plans the
- * split (an allocation kept by the hierarchy); later ones allocate nothing.
+ * split (an allocation kept by the hierarchy); later ones at that count
+ * allocate nothing (refits alternating between two counts plan each time).
  * @return as selfcol_hierarchy_refit(); SELFCOL_EINVAL also for a NULL
  *         context; SELFCOL_ENOMEM (planning; the hierarchy is then refit on
  *         the calling thread, and the call still fails).
