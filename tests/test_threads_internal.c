@@ -417,10 +417,10 @@ static void test_pool_allocation_failure(void **state) {
     assert_int_equal(counter.misaligned, 0);
 }
 
-// Which handles keep threads: a query context does, between its queries;
-// the context a contact set makes for the calls without one has one thread
-// and no pool (a caller may hold many contact sets). Both give one
-// thread's records.
+// Which handles keep threads: a query context of more than one thread
+// does, between its queries; one of one thread, like the one a contact set
+// makes for the calls without a context, keeps none (a caller may hold
+// many contact sets). Both give one thread's records.
 static void test_only_query_contexts_keep_their_threads(void **state) {
     (void)state;
     fixture s;
@@ -442,6 +442,10 @@ static void test_only_query_contexts_keep_their_threads(void **state) {
     assert_int_equal(implicit->implicit_context->threads, 1);
     selfcol_context_options co;
     selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    selfcol_context *single = NULL; // one thread: nothing to keep
+    assert_int_equal(selfcol_context_create(&single, &co), SELFCOL_OK);
+    assert_null(single->executor.pool);
+    selfcol_context_destroy(single);
     co.threads = 4;
     selfcol_context *context = NULL;
     assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_OK);

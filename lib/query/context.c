@@ -52,11 +52,6 @@ int selfcol_context_options_check(const selfcol_context_options *opts,
 }
 
 int selfcol_context_create(selfcol_context **out, const selfcol_context_options *opts) {
-    return selfcol_context__create(out, opts, 1);
-}
-
-int selfcol_context__create(selfcol_context **out, const selfcol_context_options *opts,
-                            int keep_threads) {
     SELFCOL_CHECK(out != NULL);
     *out = NULL;
     selfcol_context_options o;
@@ -72,8 +67,9 @@ int selfcol_context__create(selfcol_context **out, const selfcol_context_options
     c->executor.enqueue_task = o.enqueue_task;
     c->executor.finish_task = o.finish_task;
     c->executor.user_context = o.user_context;
-    // Without a scheduler, the context's own threads run its stages.
-    if (keep_threads && o.enqueue_task == NULL) {
+    // Without a scheduler, the context's own threads run its stages (a
+    // one-thread context has none: everything runs on the calling thread).
+    if (o.threads > 1 && o.enqueue_task == NULL) {
         c->executor.pool = selfcol_pool__create(&c->allocator);
         if (c->executor.pool == NULL) {
             selfcol_alloc__free(&o.allocator, c, sizeof *c);

@@ -36,12 +36,6 @@ struct selfcol_context {
     unsigned pending_workers;
 };
 
-// selfcol_context_create, with keep_threads 0 for a context that keeps no
-// pool (a contact set's implicit context: its queries start and join their
-// threads per stage, since a caller may hold many contact sets).
-int selfcol_context__create(selfcol_context **out, const selfcol_context_options *opts,
-                            int keep_threads);
-
 // Worker w >= 1's records (cleared) and working memory, made at first use
 // with the context's allocator. NULL on allocation failure.
 selfcol_worker *selfcol_context__worker(selfcol_context *context, unsigned w);

@@ -81,9 +81,9 @@ selfcol_context *selfcol_query__implicit_context(selfcol_contacts *contacts) {
         selfcol_context_options_init(&o, SELFCOL_CONTEXT_OPTIONS_VERSION);
         o.allocator = contacts->records.allocator;
         // One thread (the calls without a context run on the calling
-        // thread), and no pool either way: a caller may hold many contact
-        // sets (a Python list of results, a scene's pairs).
-        if (selfcol_context__create(&contacts->implicit_context, &o, 0) != SELFCOL_OK)
+        // thread), hence no pool: a caller may hold many contact sets (a
+        // Python list of results, a scene's pairs).
+        if (selfcol_context_create(&contacts->implicit_context, &o) != SELFCOL_OK)
             return NULL;
     }
     return contacts->implicit_context;
