@@ -110,10 +110,11 @@ struct run_result {
 };
 
 const char *mode_name(demo::mode m) {
-    return m == demo::mode::selfcol         ? "selfcol"
-           : m == demo::mode::selfcol_fresh ? "selfcol-fresh"
-           : m == demo::mode::bullet        ? "bullet"
-                                            : "off";
+    return m == demo::mode::selfcol              ? "selfcol"
+           : m == demo::mode::selfcol_fresh      ? "selfcol-fresh"
+           : m == demo::mode::selfcol_continuous ? "selfcol-continuous"
+           : m == demo::mode::bullet             ? "bullet"
+                                                 : "off";
 }
 
 long long faces_of(int along) {
@@ -247,17 +248,21 @@ double store_seconds(selfcol_bullet *adapter) {
     return 0;
 }
 
-// One --trace row: step i's times (step, detect, response, store, in ms) and
-// the adapter's counters.
+// One --trace row: step i's times (step, detect, response, store, in ms),
+// the adapter's counters and its continuous option's (0 without it).
 void trace_step(FILE *trace, const config &cfg, const size_spec &size, demo::mode m, int rep, int i,
                 const double times_ms[4], const selfcol_bullet_step_stats &s, size_t bullet_now) {
     std::fprintf(trace,
-                 "%s,%s,%g,%d,%d,%.4f,%.4f,%.4f,%.4f,%llu,%llu,%llu,%llu,%llu,%llu,%.4g,%zu\n",
+                 "%s,%s,%g,%d,%d,%.4f,%.4f,%.4f,%.4f,%llu,%llu,%llu,%llu,%llu,%llu,%.4g,%zu,"
+                 "%.4f,%llu,%llu,%llu,%llu\n",
                  size.label.c_str(), mode_name(m), cfg.scale, rep + 1, i, times_ms[0], times_ms[1],
                  times_ms[2], times_ms[3], (unsigned long long)s.contacts,
                  (unsigned long long)s.interferences, (unsigned long long)s.crossed,
                  (unsigned long long)s.flipped, (unsigned long long)s.corrected,
-                 (unsigned long long)s.responses, s.max_push, bullet_now);
+                 (unsigned long long)s.responses, s.max_push, bullet_now,
+                 1e3 * s.seconds_continuous, (unsigned long long)s.continuous_passes,
+                 (unsigned long long)s.zone_nodes, (unsigned long long)s.continuous_remaining,
+                 (unsigned long long)s.passed_around);
 }
 
 // The window's figures (steps a..b) from the per-step series (seconds, and
@@ -515,7 +520,8 @@ int usage(const char *name) {
         "thousand faces,\n"
         "                  a plain N = N nodes along the strip (default 2k,20k)\n"
         "  --modes LIST    of off, bullet, selfcol, selfcol-fresh (a fresh query every\n"
-        "                  step: adapter option coherent = 0); default off,bullet,selfcol\n"
+        "                  step: adapter option coherent = 0), selfcol-continuous (the\n"
+        "                  continuous option); default off,bullet,selfcol\n"
         "  --steps W       steps per run; the ends are driven together over all of "
         "them\n"
         "                  (default auto: 3.75 x the nodes along, rounded to 12)\n"
@@ -563,6 +569,8 @@ int parse_options(int argc, char **argv, config &cfg) {
                     cfg.modes.push_back(demo::mode::selfcol);
                 else if (m == "selfcol-fresh")
                     cfg.modes.push_back(demo::mode::selfcol_fresh);
+                else if (m == "selfcol-continuous")
+                    cfg.modes.push_back(demo::mode::selfcol_continuous);
                 else
                     bad = true;
             }
@@ -643,7 +651,8 @@ int print_plan(const config &cfg) {
         }
         std::fprintf(f, "size,mode,scale,run,step,step_ms,detect_ms,response_ms,store_ms,contacts,"
                         "interferences,crossed,flipped,corrected,responses,max_push,"
-                        "bullet_contacts\n");
+                        "bullet_contacts,continuous_ms,continuous_passes,zone_nodes,"
+                        "continuous_remaining,passed_around\n");
         std::fclose(f);
     }
     return 0;
@@ -722,7 +731,8 @@ std::string csv_line(const config &cfg, const std::vector<row> &rows, const row 
         step_min = std::isnan(step_min) ? r.min_ms : std::min(step_min, r.min_ms);
         step_max = std::isnan(step_max) ? r.max_ms : std::max(step_max, r.max_ms);
     }
-    bool sc = w.m == demo::mode::selfcol || w.m == demo::mode::selfcol_fresh;
+    bool sc = w.m == demo::mode::selfcol || w.m == demo::mode::selfcol_fresh ||
+              w.m == demo::mode::selfcol_continuous;
     char b[2048];
     std::snprintf(
         b, sizeof b,
@@ -810,7 +820,8 @@ void print_table(const std::vector<row> &rows) {
         std::string ef = ef_min == ef_max ? std::to_string(ef_min)
                                           : std::to_string(ef_min) + "-" + std::to_string(ef_max);
         std::string split_ms, contacts;
-        if (w.m == demo::mode::selfcol || w.m == demo::mode::selfcol_fresh) {
+        if (w.m == demo::mode::selfcol || w.m == demo::mode::selfcol_fresh ||
+            w.m == demo::mode::selfcol_continuous) {
             split_ms =
                 fmt(med_of(w, [](const run_result &r) { return r.detect_median_ms; }), "%.2f") +
                 " + " +

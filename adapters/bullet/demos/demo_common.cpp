@@ -291,7 +291,7 @@ int world::start(const options &o) {
     selfcol_bullet_options_init(&so, SELFCOL_BULLET_OPTIONS_VERSION);
     so.query = &query; // copied by selfcol_bullet_create()
     so.threads = o.threads;
-    so.continuous = o.continuous ? 1 : 0;
+    so.continuous = o.continuous || collision == mode::selfcol_continuous ? 1 : 0;
     so.coherent = collision == mode::selfcol_fresh ? 0 : 1;
     int status = selfcol_bullet_create(&adapter, dynamics, &so);
     for (size_t i = 0; status == SELFCOL_OK && i < cloths.size(); ++i)
@@ -399,6 +399,7 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
         r.continuous_hits += s.continuous_hits;
         r.continuous_held += s.continuous_held;
         r.continuous_remaining += s.continuous_remaining;
+        r.passed_around += s.passed_around;
     } else {
         contacts = bullet_contacts(w);
     }
@@ -449,12 +450,13 @@ int finish(const world &w, const options &o, const report &r, int steps) {
     if (status != SELFCOL_OK)
         std::fprintf(stderr, "selfcol adapter: %s\n", selfcol_status_string(status));
     if (w.adapter != nullptr)
-        std::printf("interferences: last step %llu, peak %llu; continuous: %llu pairs touching "
-                    "within steps, %llu nodes held, %llu pairs left after the last pass\n",
-                    (unsigned long long)r.last_interferences,
-                    (unsigned long long)r.peak_interferences, (unsigned long long)r.continuous_hits,
-                    (unsigned long long)r.continuous_held,
-                    (unsigned long long)r.continuous_remaining);
+        std::printf(
+            "interferences: last step %llu, peak %llu; continuous: %llu pairs touching "
+            "within steps, %llu nodes held, %llu pairs left after the last pass, "
+            "%llu sign changes passed around\n",
+            (unsigned long long)r.last_interferences, (unsigned long long)r.peak_interferences,
+            (unsigned long long)r.continuous_hits, (unsigned long long)r.continuous_held,
+            (unsigned long long)r.continuous_remaining, (unsigned long long)r.passed_around);
     bool ok = !r.ever_nonfinite && status == SELFCOL_OK;
     if (o.check) {
         double mass = 0;

@@ -16,6 +16,7 @@
 // before the solve.
 #include <selfcol/bullet.h>
 
+#include "impact_zones.hpp"
 #include "response.hpp"
 #include "untangle.hpp"
 
@@ -172,6 +173,12 @@ struct selfcol_bullet {
     // have_previous; the factor each node keeps of its motion in a pass.
     hvector<double> previous;
     hvector<double> keep;
+    // The impact zones (impact_zones.hpp): per node its zone, the zones'
+    // sums, its end position and inverse mass.
+    hvector<uint32_t> zone_parent;
+    hvector<zone_sums> zone_total;
+    hvector<double> zone_end;
+    hvector<double> zone_inverse_mass;
     bool have_previous;
     selfcol_sweep *sweep;
     selfcol_bullet_step_stats stats;
@@ -189,7 +196,10 @@ struct selfcol_bullet {
           contour_points(hook_allocator<contour_point>(&hooks)),
           contour_keys(hook_allocator<contour_key>(&hooks)),
           contour_delta(hook_allocator<double>(&hooks)), previous(hook_allocator<double>(&hooks)),
-          keep(hook_allocator<double>(&hooks)), have_previous(false), sweep(nullptr), stats() {}
+          keep(hook_allocator<double>(&hooks)), zone_parent(hook_allocator<uint32_t>(&hooks)),
+          zone_total(hook_allocator<zone_sums>(&hooks)), zone_end(hook_allocator<double>(&hooks)),
+          zone_inverse_mass(hook_allocator<double>(&hooks)), have_previous(false), sweep(nullptr),
+          stats() {}
 };
 
 namespace {
@@ -534,12 +544,126 @@ size_t untangle(selfcol_bullet *a) {
                         SELFCOL_BULLET_UNTANGLE_STEP * a->distance);
 }
 
+// One continuous pass: every attached node's motion from where the last
+// step left it to where it is now, through the continuous query of every
+// body pair; on_hit(nodes, toi) for each pair that touches on the way, its
+// nodes in the adapter's numbering (a VF pair's vertex repeated in the
+// fifth). Returns the status; *hits counts the pairs.
+template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_hit) {
+    *hits = 0;
+    for (const attached_body &b : a->bodies) {
+        int status = selfcol_mesh_set_positions_float(
+            b.mesh, node_positions(b.body), sizeof(btSoftBody::Node), size_t(b.node_count));
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    selfcol_sweep_options so;
+    selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
+    for (size_t i = 0; i < a->bodies.size(); ++i)
+        for (size_t j = i; j < a->bodies.size(); ++j) {
+            const attached_body &bi = a->bodies[i], &bj = a->bodies[j];
+            const double *si = a->previous.data() + 3 * size_t(bi.first_node);
+            const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
+            // On Bullet's scheduler when the adapter uses it, else on the
+            // adapter's threads: the hits are the same.
+            selfcol_context *c = context_of(a);
+            int status;
+            if (i == j && c != nullptr)
+                status = selfcol_context_self_sweep(c, bi.sweep_tree, si, a->sweep, &so);
+            else if (i == j)
+                status = selfcol_hierarchy_self_sweep(bi.sweep_tree, si, a->sweep, &so);
+            else if (c != nullptr)
+                status =
+                    selfcol_context_sweep(c, bi.sweep_tree, si, bj.sweep_tree, sj, a->sweep, &so);
+            else
+                status =
+                    selfcol_hierarchy_sweep(bi.sweep_tree, si, bj.sweep_tree, sj, a->sweep, &so);
+            if (status != SELFCOL_OK)
+                return status;
+            const selfcol_sweep_hit *h = nullptr;
+            size_t n = 0;
+            selfcol_sweep_hits(a->sweep, &h, &n);
+            *hits += n;
+            for (size_t k = 0; k < n; ++k) {
+                const attached_body &first = h[k].first_mesh == 0 ? bi : bj;
+                const attached_body &second = h[k].second_mesh == 0 ? bi : bj;
+                const uint32_t nodes[5] = {
+                    first.first_node + h[k].a[0], first.first_node + h[k].a[1],
+                    second.first_node + h[k].b[0], second.first_node + h[k].b[1],
+                    h[k].b[2] == SELFCOL_INVALID_INDEX ? first.first_node + h[k].a[0]
+                                                       : second.first_node + h[k].b[2]};
+                on_hit(nodes, h[k].toi);
+            }
+        }
+    return SELFCOL_OK;
+}
+
+// The rigid impact zones (impact_zones.hpp), the continuous option's
+// fail-safe: the pairs that still touch after the held-back passes join
+// zones, every zone moves as one body from the step's start, and the
+// continuous query runs again on those motions, merging zones, until no
+// pair touches or SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES have run.
+// *remaining: the pairs of the last pass.
+int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
+    selfcol_bullet_step_stats &st = a->stats;
+    const size_t n = a->node_total;
+    a->zone_parent.resize(n);
+    a->zone_total.resize(n);
+    a->zone_end.resize(3 * n);
+    a->zone_inverse_mass.resize(n);
+    zones_reset(a->zone_parent.data(), n);
+    for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES; ++pass) {
+        uint64_t hits = 0;
+        int status = continuous_pass(a, &hits, [a](const uint32_t nodes[5], double) {
+            for (int k = 1; k < 5; ++k)
+                zones_unite(a->zone_parent.data(), nodes[0], nodes[k]);
+        });
+        if (status != SELFCOL_OK)
+            return status;
+        st.continuous_passes++;
+        *remaining = hits;
+        if (hits == 0 || pass + 1 == SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES)
+            break;
+        for (const attached_body &b : a->bodies)
+            for (int v = 0; v < b.node_count; ++v) {
+                const size_t node = size_t(b.first_node) + size_t(v);
+                const btSoftBody::Node &nd = b.body->m_nodes[v];
+                for (int k = 0; k < 3; ++k)
+                    a->zone_end[3 * node + size_t(k)] = double(nd.m_x[k]);
+                a->zone_inverse_mass[node] = double(nd.m_im);
+            }
+        zones_move(a->zone_parent.data(), n, a->previous.data(), a->zone_end.data(),
+                   a->zone_inverse_mass.data(), a->zone_total.data());
+        uint64_t moved = 0;
+        for (const attached_body &b : a->bodies)
+            for (int v = 0; v < b.node_count; ++v) {
+                const size_t node = size_t(b.first_node) + size_t(v);
+                btSoftBody::Node &nd = b.body->m_nodes[v];
+                if (nd.m_im <= 0 || a->zone_total[a->zone_parent[node]].size < 2)
+                    continue; // kinematic, or in no zone
+                const double *e = a->zone_end.data() + 3 * node;
+                const double *p = a->previous.data() + 3 * node;
+                const btVector3 x{btScalar(e[0]), btScalar(e[1]), btScalar(e[2])};
+                nd.m_x = x;
+                nd.m_q = x;
+                // The zone's velocity: its displacement over the step.
+                nd.m_v = btVector3(btScalar((e[0] - p[0]) / dt), btScalar((e[1] - p[1]) / dt),
+                                   btScalar((e[2] - p[2]) / dt));
+                nd.m_vn = nd.m_v;
+                moved++;
+            }
+        st.zone_nodes = moved;
+    }
+    return SELFCOL_OK;
+}
+
 // The continuous option (bullet.h, `continuous`): hold back the nodes of
 // every pair that would touch during the step, as Bridson, Fedkiw and
 // Anderson (2002) stop colliding nodes at their time of impact, here
 // without impulses: each such node keeps SELFCOL_BULLET_CONTINUOUS_HOLD of
 // the pair's earliest time of impact of its motion, its velocity scaled
-// alike, and the query runs again on the held motion.
+// alike, and the query runs again on the held motion; the pairs left after
+// SELFCOL_BULLET_CONTINUOUS_PASSES go to the impact zones.
 int hold_back(selfcol_bullet *a, double dt) {
     selfcol_bullet_step_stats &st = a->stats;
     if (a->sweep == nullptr) {
@@ -554,60 +678,23 @@ int hold_back(selfcol_bullet *a, double dt) {
                 return status;
         }
     a->keep.assign(a->node_total, 1.0);
-    selfcol_sweep_options so;
-    selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
-        for (const attached_body &b : a->bodies) {
-            int status = selfcol_mesh_set_positions_float(
-                b.mesh, node_positions(b.body), sizeof(btSoftBody::Node), size_t(b.node_count));
-            if (status != SELFCOL_OK)
-                return status;
-        }
-        uint64_t hits = 0, held = 0;
         std::fill(a->keep.begin(), a->keep.end(), 1.0);
-        for (size_t i = 0; i < a->bodies.size(); ++i)
-            for (size_t j = i; j < a->bodies.size(); ++j) {
-                const attached_body &bi = a->bodies[i], &bj = a->bodies[j];
-                const double *si = a->previous.data() + 3 * size_t(bi.first_node);
-                const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
-                // On Bullet's scheduler when the adapter uses it, else on
-                // the adapter's threads: the hits are the same.
-                selfcol_context *c = context_of(a);
-                int status;
-                if (i == j && c != nullptr)
-                    status = selfcol_context_self_sweep(c, bi.sweep_tree, si, a->sweep, &so);
-                else if (i == j)
-                    status = selfcol_hierarchy_self_sweep(bi.sweep_tree, si, a->sweep, &so);
-                else if (c != nullptr)
-                    status = selfcol_context_sweep(c, bi.sweep_tree, si, bj.sweep_tree, sj,
-                                                   a->sweep, &so);
-                else
-                    status = selfcol_hierarchy_sweep(bi.sweep_tree, si, bj.sweep_tree, sj, a->sweep,
-                                                     &so);
-                if (status != SELFCOL_OK)
-                    return status;
-                const selfcol_sweep_hit *h = nullptr;
-                size_t n = 0;
-                selfcol_sweep_hits(a->sweep, &h, &n);
-                hits += n;
-                for (size_t k = 0; k < n; ++k) {
-                    const double factor = SELFCOL_BULLET_CONTINUOUS_HOLD * h[k].toi;
-                    const attached_body &first = h[k].first_mesh == 0 ? bi : bj;
-                    const attached_body &second = h[k].second_mesh == 0 ? bi : bj;
-                    const uint32_t nodes[5] = {
-                        first.first_node + h[k].a[0], first.first_node + h[k].a[1],
-                        second.first_node + h[k].b[0], second.first_node + h[k].b[1],
-                        h[k].b[2] == SELFCOL_INVALID_INDEX ? first.first_node + h[k].a[0]
-                                                           : second.first_node + h[k].b[2]};
-                    for (uint32_t node : nodes)
-                        a->keep[node] = std::min(a->keep[node], factor);
-                }
-            }
+        uint64_t hits = 0, held = 0;
+        int status = continuous_pass(a, &hits, [a](const uint32_t nodes[5], double toi) {
+            const double factor = SELFCOL_BULLET_CONTINUOUS_HOLD * toi;
+            for (int k = 0; k < 5; ++k)
+                a->keep[nodes[k]] = std::min(a->keep[nodes[k]], factor);
+        });
+        if (status != SELFCOL_OK)
+            return status;
         if (pass == 0)
             st.continuous_hits = hits;
         st.continuous_passes++;
         st.continuous_remaining = hits;
-        if (hits == 0 || pass + 1 == SELFCOL_BULLET_CONTINUOUS_PASSES)
+        if (hits == 0)
+            return SELFCOL_OK;
+        if (pass + 1 == SELFCOL_BULLET_CONTINUOUS_PASSES)
             break;
         for (const attached_body &b : a->bodies)
             for (int v = 0; v < b.node_count; ++v) {
@@ -630,8 +717,8 @@ int hold_back(selfcol_bullet *a, double dt) {
         if (held == 0)
             break; // only kinematic nodes are involved
     }
-    (void)dt;
-    return SELFCOL_OK;
+    // The last ordinary pass's pairs are the zones' first.
+    return impact_zones(a, dt, &st.continuous_remaining);
 }
 
 // Where this step leaves every attached node: the next step's start.
@@ -681,6 +768,13 @@ int step_impl(selfcol_bullet *a, double dt) {
         if (status != SELFCOL_OK)
             return status;
     }
+    if (a->opts.continuous && a->have_previous)
+        for (const attached_body &b : a->bodies) {
+            status = selfcol_scene_set_surface_start(a->scene, b.surface,
+                                                     a->previous.data() + 3 * size_t(b.first_node));
+            if (status != SELFCOL_OK)
+                return status;
+        }
     status = selfcol_scene_update(a->scene);
     if (status != SELFCOL_OK)
         return status;
@@ -721,6 +815,7 @@ int step_impl(selfcol_bullet *a, double dt) {
     double t2 = now_seconds();
     a->stats.continuous_hits = a->stats.continuous_held = 0;
     a->stats.continuous_passes = a->stats.continuous_remaining = 0;
+    a->stats.zone_nodes = 0;
     a->stats.seconds_continuous = 0;
     if (a->opts.continuous) {
         if (a->have_previous) {
@@ -741,6 +836,7 @@ int step_impl(selfcol_bullet *a, double dt) {
     st.interferences = ss.interferences;
     st.crossed = crossed;
     st.flipped = ss.flipped;
+    st.passed_around = ss.passed_around;
     st.corrected = ss.corrected;
     st.responses = r.responses;
     st.untangled = untangled;
@@ -1175,7 +1271,8 @@ extern "C" int selfcol_bullet_stats(const selfcol_bullet *a, selfcol_bullet_step
     unsigned int version = stats->version;
     // Only the fields of the caller's version.
     std::memcpy(stats, &a->stats,
-                version >= 3   ? sizeof *stats
+                version >= 4   ? sizeof *stats
+                : version == 3 ? offsetof(selfcol_bullet_step_stats, passed_around)
                 : version == 2 ? offsetof(selfcol_bullet_step_stats, continuous_hits)
                                : offsetof(selfcol_bullet_step_stats, untangled));
     stats->version = version;

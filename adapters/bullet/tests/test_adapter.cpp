@@ -5,11 +5,13 @@
 // the response rules on hand-made rows (no timing, plain asserts).
 #include <selfcol/bullet.h>
 
+#include "../src/impact_zones.hpp"
 #include "../src/response.hpp"
 #include "../src/untangle.hpp"
 #include "demo_common.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -637,6 +639,91 @@ static double loop_length(const response_node n[7]) {
     return length;
 }
 
+// The impact zones' rules (impact_zones.hpp), on plain arrays.
+static double signed_volume(const double *p, const double *a, const double *b, const double *c) {
+    const double u[3] = {a[0] - p[0], a[1] - p[1], a[2] - p[2]};
+    const double v[3] = {b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+    const double w[3] = {c[0] - p[0], c[1] - p[1], c[2] - p[2]};
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+           u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+static void impact_zone_rules() {
+    // Nodes 0..3: a vertex 0.1 above a triangle, moving down through it (and
+    // the triangle turning); node 4 alone; nodes 5 and 6 a zone with node 6
+    // kinematic.
+    const double start[21] = {0.2, 0.1, 0.2, 0, 0, 0, 1, 0, 0, 0, 0, 1, 5, 5, 5, 8, 0, 0, 9, 0, 0};
+    double end[21] = {0.2, -0.3, 0.2, 0, 0.05, 0, 1, -0.05, 0,    0, 0.02,
+                      1,   5.5,  5,   5, 8,    0, 0, 9.5,   0.25, 0};
+    const double inverse_mass[7] = {1, 0.5, 2, 1, 1, 1, 0};
+    double before[21];
+    std::memcpy(before, end, sizeof end);
+    uint32_t parent[7];
+    zones_reset(parent, 7);
+    for (uint32_t k = 1; k < 4; ++k)
+        zones_unite(parent, 0, k);
+    zones_unite(parent, 6, 5);
+    CHECK(zone_root(parent, 3) == 0 && zone_root(parent, 5) == 5 && zone_root(parent, 4) == 4);
+    zone_sums sums[7];
+    CHECK(zones_move(parent, 7, start, end, inverse_mass, sums) == 5);
+    // The lone node keeps its motion; the kinematic node its own.
+    CHECK(end[12] == 5.5 && end[18] == 9.5 && end[19] == 0.25);
+    // The free node of the kinematic zone moves as the kinematic node does.
+    CHECK(std::fabs(end[15] - 8.5) < 1e-12 && std::fabs(end[16] - 0.25) < 1e-12 && end[17] == 0);
+    // The free zone keeps its linear momentum (sum m u, m = 1 / inverse mass).
+    for (int k = 0; k < 3; ++k) {
+        double was = 0, now = 0;
+        for (int i = 0; i < 4; ++i) {
+            was += (before[3 * i + k] - start[3 * i + k]) / inverse_mass[i];
+            now += (end[3 * i + k] - start[3 * i + k]) / inverse_mass[i];
+        }
+        CHECK(std::fabs(was - now) < 1e-12);
+    }
+    // ... and on its straight-line motion the vertex never meets the
+    // triangle's plane: it stays on the side it started on.
+    for (int t = 0; t <= 8; ++t) {
+        double at[12];
+        for (int i = 0; i < 12; ++i)
+            at[i] = start[i] + (end[i] - start[i]) * t / 8.0;
+        CHECK(signed_volume(at, at + 3, at + 6, at + 9) *
+                  signed_volume(start, start + 3, start + 6, start + 9) >
+              0);
+    }
+    // Given its own rigid motion (a turn about its centre), a zone keeps it.
+    const double turn_start[9] = {1, 0, 0, -1, 0, 0, 0, 0, 2};
+    double turn_end[9];
+    const double w[3] = {0, 0.01, 0.02};
+    for (int i = 0; i < 3; ++i) {
+        const double *p = turn_start + 3 * i;
+        const double r[3] = {p[0], p[1], p[2] - 2.0 / 3.0};
+        const double cross[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2],
+                                 w[0] * r[1] - w[1] * r[0]};
+        for (int k = 0; k < 3; ++k)
+            turn_end[3 * i + k] = p[k] + 0.1 + cross[k];
+    }
+    double kept[9];
+    std::memcpy(kept, turn_end, sizeof kept);
+    const double unit[3] = {1, 1, 1};
+    uint32_t three[3];
+    zones_reset(three, 3);
+    zones_unite(three, 0, 1);
+    zones_unite(three, 2, 1);
+    CHECK(zones_move(three, 3, turn_start, turn_end, unit, sums) == 3);
+    for (int i = 0; i < 9; ++i)
+        CHECK(std::fabs(turn_end[i] - kept[i]) < 1e-6);
+    // Nodes on one line (no inertia about it): finite, and they keep their
+    // mean displacement.
+    const double line_start[6] = {0, 0, 0, 1, 0, 0};
+    double line_end[6] = {0.5, 0, 0, 0.5, 0, 0};
+    uint32_t two[2];
+    zones_reset(two, 2);
+    zones_unite(two, 0, 1);
+    CHECK(zones_move(two, 2, line_start, line_end, unit, sums) == 2);
+    CHECK(std::fabs(line_end[0]) < 1e-12 && std::fabs(line_end[3] - 1) < 1e-12);
+    for (double x : line_end)
+        CHECK(std::isfinite(x));
+}
+
 static void untangle_rules() {
     const double start[7][3] = {
         {0, 0, 0.1}, {0.3, 0, -0.1}, {-0.15, 0.26, -0.1}, {-0.15, -0.26, -0.1},
@@ -990,6 +1077,162 @@ static void continuous_option_stops_a_pass_through() {
     CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_EINVAL && a == nullptr);
 }
 
+// The continuous option gives the scene each step's start. A strip lies
+// beside a sheet's border edge, 0.3 d beyond it and 0.5 d above the sheet's
+// plane, and moves down by d in one step: its contacts with the border
+// change sign, but on the way it passes the edge at 0.3 d without touching.
+// Judged on the step's path (with the option) they went around the edge and
+// keep their sides; from the sign change alone (without it) they crossed.
+static selfcol_bullet_step_stats pass_around(int continuous) {
+    const double d = 0.01;
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *sheet =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 8, 8, 0.1, false);
+    btSoftBody *strip = w.add_sheet(btVector3(btScalar(1 + 0.3 * d), btScalar(0.5 * d), 0),
+                                    btVector3(0.3f, 0, 0), btVector3(0, 0, 1), 3, 8, 0.1, false);
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.distance = d;
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.query = &q;
+    opts.continuous = continuous;
+    opts.untangle = 0;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, sheet, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, strip, nullptr) == SELFCOL_OK);
+    // The border's contacts are found and pushed apart. With the option, the
+    // first step's end is the second's start, and the scene, which keeps
+    // the positions of each update from then on, knows the third step's path.
+    for (int step = 0; step < 2; ++step) {
+        w.step(1.0 / 240);
+        selfcol_bullet_step_stats at_rest;
+        at_rest.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+        CHECK(selfcol_bullet_stats(a, &at_rest) == SELFCOL_OK && at_rest.contacts > 0);
+        CHECK(at_rest.flipped == 0 && at_rest.passed_around == 0);
+    }
+    for (int i = 0; i < strip->m_nodes.size(); ++i)
+        strip->m_nodes[i].m_v = btVector3(0, btScalar(-240 * d), 0);
+    w.step(1.0 / 240);
+    selfcol_bullet_step_stats r;
+    r.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &r) == SELFCOL_OK && r.status == SELFCOL_OK);
+    double highest = -1e9;
+    for (int i = 0; i < strip->m_nodes.size(); ++i)
+        highest = std::fmax(highest, double(strip->m_nodes[i].m_x.y()));
+    CHECK(highest < 0); // the whole strip went below the sheet's plane
+    selfcol_bullet_destroy(a);
+    return r;
+}
+
+static void continuous_option_keeps_a_pass_around() {
+    const selfcol_bullet_step_stats off = pass_around(0), on = pass_around(1);
+    std::printf("strip past a border: without the continuous option %llu contacts, %llu crossed, "
+                "%llu flipped, %llu passed around; with it %llu contacts, %llu crossed, %llu "
+                "flipped, %llu passed around (%llu pairs touching within the step)\n",
+                (unsigned long long)off.contacts, (unsigned long long)off.crossed,
+                (unsigned long long)off.flipped, (unsigned long long)off.passed_around,
+                (unsigned long long)on.contacts, (unsigned long long)on.crossed,
+                (unsigned long long)on.flipped, (unsigned long long)on.passed_around,
+                (unsigned long long)on.continuous_hits);
+    CHECK(off.contacts > 0 && on.contacts > 0);
+    CHECK(off.flipped > 0 && off.passed_around == 0);
+    CHECK(on.continuous_hits == 0); // nothing touched on the way
+    CHECK(on.passed_around > 0 && on.flipped == 0 && on.crossed == 0);
+}
+
+// The impact zones in the adapter: a kinematic sheet (zero inverse mass,
+// which no hold-back stops) driven down through a free one at 30 m/s. The
+// held-back passes cannot keep the free sheet's nodes clear of it; the
+// zones carry the nodes it meets along with it, so the free sheet ends the
+// step below it with no pair touching on the way. Each allocation of the
+// second step fails once in turn (alloc_fail_at counts from 1; LONG_MAX
+// counts them and fails none): the step returns OK or
+// ENOMEM, leaves finite nodes, and destroy frees everything.
+struct push_result {
+    selfcol_bullet_step_stats stats;
+    double highest_below; // highest free node under the kinematic sheet's footprint
+    double pusher_y;      // the kinematic sheet's height
+    int status;
+    long allocations, live;
+};
+
+static push_result kinematic_push(int continuous, long alloc_fail_at) {
+    demo::options o;
+    demo::world w(o, 0.0);
+    btSoftBody *free_sheet =
+        w.add_sheet(btVector3(0, 0, 0), btVector3(1, 0, 0), btVector3(0, 0, 1), 8, 8, 0.1, false);
+    btSoftBody *pusher = w.add_sheet(btVector3(0.2f, 0.05f, 0.2f), btVector3(0.6f, 0, 0),
+                                     btVector3(0, 0, 0.6f), 6, 6, 0.1, false);
+    for (int i = 0; i < pusher->m_nodes.size(); ++i)
+        pusher->setMass(i, 0);
+    failing_allocator f;
+    selfcol_bullet_options opts;
+    selfcol_bullet_options_init(&opts, SELFCOL_BULLET_OPTIONS_VERSION);
+    opts.continuous = continuous;
+    opts.untangle = 0;
+    opts.automatic = 0;
+    opts.allocator.alloc = failing_alloc;
+    opts.allocator.free = failing_free;
+    opts.allocator.user = &f;
+    selfcol_bullet *a = nullptr;
+    CHECK(selfcol_bullet_create(&a, w.dynamics, &opts) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, free_sheet, nullptr) == SELFCOL_OK);
+    CHECK(selfcol_bullet_attach(a, pusher, nullptr) == SELFCOL_OK);
+    w.step(1.0 / 240); // at rest: the continuous option's first positions
+    CHECK(selfcol_bullet_step(a, 1.0 / 240) == SELFCOL_OK);
+    for (int i = 0; i < pusher->m_nodes.size(); ++i)
+        pusher->m_nodes[i].m_v = btVector3(0, -30, 0);
+    f.calls = 0;
+    f.fail_at = alloc_fail_at;
+    w.step(1.0 / 240);
+    push_result r;
+    r.status = selfcol_bullet_step(a, 1.0 / 240);
+    r.allocations = f.calls;
+    f.fail_at = 0;
+    r.stats.version = SELFCOL_BULLET_STEP_STATS_VERSION;
+    CHECK(selfcol_bullet_stats(a, &r.stats) == SELFCOL_OK);
+    r.pusher_y = double(pusher->m_nodes[0].m_x.y());
+    r.highest_below = -1e9;
+    for (int i = 0; i < free_sheet->m_nodes.size(); ++i) {
+        const btVector3 &x = free_sheet->m_nodes[i].m_x;
+        CHECK(std::isfinite(x.x()) && std::isfinite(x.y()) && std::isfinite(x.z()));
+        if (x.x() > 0.2f && x.x() < 0.8f && x.z() > 0.2f && x.z() < 0.8f)
+            r.highest_below = std::fmax(r.highest_below, double(x.y()));
+    }
+    selfcol_bullet_destroy(a);
+    r.live = f.live;
+    return r;
+}
+
+static void continuous_option_zones_carry_a_kinematic_push() {
+    // (on: its step's allocations counted, none failing)
+    const push_result off = kinematic_push(0, 0), on = kinematic_push(1, LONG_MAX);
+    std::printf("kinematic sheet pushed through a free one to y = %.4f: free nodes under it up to "
+                "y = %.4f without the continuous option, %.4f with it (%llu pairs touching, %llu "
+                "passes, %llu nodes in impact zones, %llu pairs left)\n",
+                on.pusher_y, off.highest_below, on.highest_below,
+                (unsigned long long)on.stats.continuous_hits,
+                (unsigned long long)on.stats.continuous_passes,
+                (unsigned long long)on.stats.zone_nodes,
+                (unsigned long long)on.stats.continuous_remaining);
+    CHECK(off.status == SELFCOL_OK && on.status == SELFCOL_OK);
+    CHECK(off.highest_below > off.pusher_y); // left above it: passed through
+    CHECK(on.highest_below < on.pusher_y);   // carried below it
+    CHECK(on.stats.zone_nodes > 0 && on.stats.continuous_remaining == 0);
+    CHECK(on.stats.continuous_passes > SELFCOL_BULLET_CONTINUOUS_PASSES);
+    // Every allocation of the step fails once in turn.
+    long n = 1;
+    for (; n <= on.allocations; ++n) {
+        const push_result r = kinematic_push(1, n);
+        CHECK(r.status == SELFCOL_OK || r.status == SELFCOL_ENOMEM);
+        CHECK(r.live == 0);
+    }
+    std::printf("the pushed step's %ld allocations failed in turn\n", n - 1);
+}
+
 // A Bullet scheduler as an engine might install one: it reports 4 threads
 // and runs each parallel-for's range in chunks of the grain, last first (so
 // any reliance on item order would show), counting the calls.
@@ -1103,7 +1346,10 @@ int main() {
     nonfinite_velocity_refused();
     demo_run_stops_at_failed_step();
     untangle_rules();
+    impact_zone_rules();
     continuous_option_stops_a_pass_through();
+    continuous_option_keeps_a_pass_around();
+    continuous_option_zones_carry_a_kinematic_push();
     allocation_failure_at_every_call();
     destroy_after_the_world();
     task_scheduler_and_threads_give_the_same_steps();

@@ -182,12 +182,26 @@ typedef struct selfcol_bullet_options {
      * touch during the step is held back to SELFCOL_BULLET_CONTINUOUS_HOLD
      * of the pair's time of impact (its velocity scaled alike), and the
      * query runs again on the held motion, up to
-     * SELFCOL_BULLET_CONTINUOUS_PASSES times. Kinematic nodes (zero inverse
-     * mass) are never held: a pair of kinematic nodes only is left alone.
-     * The first step after an attach or detach has no last positions and
-     * is not checked. Costs a continuous query per pass (stats), on
+     * SELFCOL_BULLET_CONTINUOUS_PASSES times. The pairs still touching then
+     * go to rigid impact zones (Provot 1997; Bridson, Fedkiw and Anderson
+     * 2002): their nodes join zones, each zone moves as one body from where
+     * the step started (keeping its linear and angular momentum, or
+     * following its kinematic nodes), and the query runs again, merging
+     * zones, up to SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES times: a step
+     * that starts with no crossing ends with none unless pairs are left
+     * after the last pass (stats: continuous_remaining; only where
+     * kinematic nodes that do not move as one body meet). Kinematic nodes
+     * (zero inverse mass) are never held or moved: a pair of kinematic
+     * nodes only is left alone. The first step after an attach or detach
+     * has no last positions and is not checked. Costs a continuous query per pass (stats), on
      * the adapter's threads (or Bullet's scheduler: selfcol_bullet_use_task_scheduler);
      * the held positions do not depend on the threads.
+     * The option also gives the scene where each step starts (where the
+     * last step left the nodes: selfcol_scene_set_surface_start), so a
+     * contact whose side changes sign counts as crossed only if its
+     * elements may have touched on the way; a pair that went around each
+     * other keeps its side (stats: passed_around) instead of being pushed
+     * back through. 48 bytes per node more in the scene.
      */
     int continuous;
     /**
@@ -218,8 +232,10 @@ typedef struct selfcol_bullet_options {
 #define SELFCOL_BULLET_UNTANGLE_STEP 0.25
 /** Continuous option: the fraction of a pair's time of impact its nodes keep of their motion. */
 #define SELFCOL_BULLET_CONTINUOUS_HOLD 0.8
-/** Continuous option: continuous queries per step at most (the last one's hits are counted). */
+/** Continuous option: held-back passes per step at most, before the impact zones. */
 #define SELFCOL_BULLET_CONTINUOUS_PASSES 4
+/** Continuous option: impact-zone passes per step at most (the last one's hits are counted). */
+#define SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES 16
 
 /** Counters of the last step. The caller sets version. */
 typedef struct selfcol_bullet_step_stats {
@@ -244,9 +260,15 @@ typedef struct selfcol_bullet_step_stats {
     uint64_t continuous_passes;    /**< continuous queries run */
     uint64_t continuous_remaining; /**< pairs still touching after the last pass */
     double seconds_continuous;     /**< time of the continuous passes */
+    /* Version 4 (continuous option; 0 when it is off). */
+    /** sign changes of contacts that the step's path proved were no crossing
+     *  (selfcol_scene_update_stats.passed_around) */
+    uint64_t passed_around;
+    /** nodes the impact zones moved in their last pass (continuous option) */
+    uint64_t zone_nodes;
 } selfcol_bullet_step_stats;
 
-#define SELFCOL_BULLET_STEP_STATS_VERSION 3
+#define SELFCOL_BULLET_STEP_STATS_VERSION 4
 
 /**
  * Writes the defaults into opts (query and store NULL: the core's defaults).

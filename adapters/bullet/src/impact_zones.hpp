@@ -1,0 +1,65 @@
+// SPDX-FileCopyrightText: 2026 selfcol authors
+// SPDX-License-Identifier: MIT
+
+// Rigid impact zones, the continuous option's fail-safe (Provot 1997;
+// Bridson, Fedkiw and Anderson 2002, section 7.4), on plain arrays (no
+// Bullet type), so that their rules are tested without a world.
+//
+// When the held-back passes leave pairs that still touch during the step,
+// the nodes of every such pair join one zone (a union-find over the nodes,
+// zones only merging within a step), and each zone of two nodes or more
+// moves as one body from where the step started:
+//   - a zone without kinematic nodes keeps its linear and angular momentum:
+//     displacement u_i = u_c + w x (p_i - p_c), with p the start positions,
+//     p_c and u_c the mass-weighted centre and mean displacement, and
+//     w = I^-1 L from the zone's inertia and angular momentum about p_c
+//     (both from displacements over the step: w is the rotation vector);
+//   - a zone with kinematic nodes (zero inverse mass, which no impulse
+//     moves) takes their motion, fitted alike with unit weights, and its
+//     kinematic nodes keep their own.
+// The motion is the step's straight line from p_i to p_i + u_i, an affine
+// map p -> p + t (u_c + w x (p - p_c)) at each time t in [0, 1] whose matrix
+// I + t [w]x has determinant 1 + t^2 |w|^2 > 0: an invertible affine map
+// keeps apart what is apart, so no two elements of one zone of free nodes
+// touch during the step unless they touched at its start. Where the
+// kinematic nodes do not move as one body, or a zone meets another, the
+// caller's next continuous pass finds the pairs and the zones grow.
+#ifndef SELFCOL_BULLET_IMPACT_ZONES_HPP
+#define SELFCOL_BULLET_IMPACT_ZONES_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+namespace selfcol_bullet_detail {
+
+// Per zone root, one step's sums (zone_move's scratch, one per node).
+struct zone_sums {
+    uint32_t size;      // nodes in the zone
+    uint32_t kinematic; // of which kinematic
+    double weight;      // sum of the weights of the nodes that fit the motion
+    double centre[3];   // their weighted start positions, then p_c
+    double shift[3];    // their weighted displacements, then u_c
+    double momentum[3]; // sum weight r x (u - u_c), r = p - p_c
+    double inertia[6];  // sum weight (|r|^2 Id - r r^T): xx, yy, zz, xy, xz, yz
+    double rotation[3]; // w
+};
+
+// Every node its own zone.
+void zones_reset(uint32_t *parent, size_t count);
+
+// The zone of node x (with path halving).
+uint32_t zone_root(uint32_t *parent, uint32_t x);
+
+// One zone for x's and y's.
+void zones_unite(uint32_t *parent, uint32_t x, uint32_t y);
+
+// Moves every node of each zone of two nodes or more on its zone's motion
+// (above): end[3 i ..] becomes start + u_i for free nodes (inverse_mass > 0);
+// kinematic nodes keep their end. sums: `count` entries of scratch.
+// Returns the nodes moved.
+size_t zones_move(uint32_t *parent, size_t count, const double *start, double *end,
+                  const double *inverse_mass, zone_sums *sums);
+
+} // namespace selfcol_bullet_detail
+
+#endif
