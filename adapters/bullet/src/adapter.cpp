@@ -583,8 +583,8 @@ template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_h
             const selfcol_sweep_hit *h = nullptr;
             size_t n = 0;
             selfcol_sweep_hits(a->sweep, &h, &n);
-            *hits += n;
             for (size_t k = 0; k < n; ++k) {
+                ++*hits;
                 const attached_body &first = h[k].first_mesh == 0 ? bi : bj;
                 const attached_body &second = h[k].second_mesh == 0 ? bi : bj;
                 const uint32_t nodes[5] = {
@@ -602,8 +602,11 @@ template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_h
 // fail-safe: the pairs that still touch after the held-back passes join
 // zones, every zone moves as one body from the step's start, and the
 // continuous query runs again on those motions, merging zones, until no
-// pair touches or SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES have run.
-// *remaining: the pairs of the last pass.
+// pair touches or SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES have run; after
+// the first rigid_zone_passes, the zones without kinematic nodes stay where
+// the step started. *remaining: the pairs of the last pass.
+const int rigid_zone_passes = 8;
+
 int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
     selfcol_bullet_step_stats &st = a->stats;
     const size_t n = a->node_total;
@@ -632,8 +635,10 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
                     a->zone_end[3 * node + size_t(k)] = double(nd.m_x[k]);
                 a->zone_inverse_mass[node] = double(nd.m_im);
             }
+        // After the rigid passes, zones stay where the step started.
+        const bool freeze = pass + 1 >= rigid_zone_passes;
         zones_move(a->zone_parent.data(), n, a->previous.data(), a->zone_end.data(),
-                   a->zone_inverse_mass.data(), a->zone_total.data());
+                   a->zone_inverse_mass.data(), a->zone_total.data(), freeze);
         uint64_t moved = 0;
         for (const attached_body &b : a->bodies)
             for (int v = 0; v < b.node_count; ++v) {

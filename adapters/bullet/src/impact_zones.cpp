@@ -65,7 +65,7 @@ void solve_rotation(zone_sums &z) {
 } // namespace
 
 size_t zones_move(uint32_t *parent, size_t count, const double *start, double *end,
-                  const double *inverse_mass, zone_sums *sums) {
+                  const double *inverse_mass, zone_sums *sums, bool freeze) {
     std::memset(sums, 0, count * sizeof *sums);
     for (size_t i = 0; i < count; ++i) {
         parent[i] = zone_root(parent, uint32_t(i)); // flattened: parent[i] is the root below
@@ -118,9 +118,17 @@ size_t zones_move(uint32_t *parent, size_t count, const double *start, double *e
         z.inertia[4] -= w * r[0] * r[2];
         z.inertia[5] -= w * r[1] * r[2];
     }
-    for (size_t i = 0; i < count; ++i)
-        if (sums[i].size >= 2 && sums[i].weight > 0)
-            solve_rotation(sums[i]);
+    for (size_t i = 0; i < count; ++i) {
+        zone_sums &z = sums[i];
+        if (z.size < 2 || !(z.weight > 0))
+            continue;
+        if (freeze && z.kinematic == 0) {
+            z.shift[0] = z.shift[1] = z.shift[2] = 0;
+            z.rotation[0] = z.rotation[1] = z.rotation[2] = 0;
+        } else {
+            solve_rotation(z);
+        }
+    }
     size_t moved = 0;
     for (size_t i = 0; i < count; ++i) {
         const zone_sums &z = sums[parent[i]];

@@ -665,7 +665,7 @@ static void impact_zone_rules() {
     zones_unite(parent, 6, 5);
     CHECK(zone_root(parent, 3) == 0 && zone_root(parent, 5) == 5 && zone_root(parent, 4) == 4);
     zone_sums sums[7];
-    CHECK(zones_move(parent, 7, start, end, inverse_mass, sums) == 5);
+    CHECK(zones_move(parent, 7, start, end, inverse_mass, sums, false) == 5);
     // The lone node keeps its motion; the kinematic node its own.
     CHECK(end[12] == 5.5 && end[18] == 9.5 && end[19] == 0.25);
     // The free node of the kinematic zone moves as the kinematic node does.
@@ -708,7 +708,7 @@ static void impact_zone_rules() {
     zones_reset(three, 3);
     zones_unite(three, 0, 1);
     zones_unite(three, 2, 1);
-    CHECK(zones_move(three, 3, turn_start, turn_end, unit, sums) == 3);
+    CHECK(zones_move(three, 3, turn_start, turn_end, unit, sums, false) == 3);
     for (int i = 0; i < 9; ++i)
         CHECK(std::fabs(turn_end[i] - kept[i]) < 1e-6);
     // Nodes on one line (no inertia about it): finite, and they keep their
@@ -718,10 +718,20 @@ static void impact_zone_rules() {
     uint32_t two[2];
     zones_reset(two, 2);
     zones_unite(two, 0, 1);
-    CHECK(zones_move(two, 2, line_start, line_end, unit, sums) == 2);
+    CHECK(zones_move(two, 2, line_start, line_end, unit, sums, false) == 2);
     CHECK(std::fabs(line_end[0]) < 1e-12 && std::fabs(line_end[3] - 1) < 1e-12);
     for (double x : line_end)
         CHECK(std::isfinite(x));
+    // Frozen: a zone of free nodes stays where it started, bit for bit; a
+    // zone with a kinematic node still follows it.
+    std::memcpy(end, before, sizeof end);
+    zones_reset(parent, 7);
+    for (uint32_t k = 1; k < 4; ++k)
+        zones_unite(parent, 0, k);
+    zones_unite(parent, 6, 5);
+    CHECK(zones_move(parent, 7, start, end, inverse_mass, sums, true) == 5);
+    CHECK(std::memcmp(end, start, 12 * sizeof *end) == 0);
+    CHECK(end[12] == 5.5 && std::fabs(end[15] - 8.5) < 1e-12 && end[18] == 9.5);
 }
 
 static void untangle_rules() {

@@ -187,10 +187,12 @@ typedef struct selfcol_bullet_options {
      * 2002): their nodes join zones, each zone moves as one body from where
      * the step started (keeping its linear and angular momentum, or
      * following its kinematic nodes), and the query runs again, merging
-     * zones, up to SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES times: a step
+     * zones, up to SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES times (after 8,
+     * zones without kinematic nodes stay where the step started): a step
      * that starts with no crossing ends with none unless pairs are left
-     * after the last pass (stats: continuous_remaining; only where
-     * kinematic nodes that do not move as one body meet). Kinematic nodes
+     * after the last pass (stats: continuous_remaining: zones that did not
+     * settle within the passes, or kinematic nodes that do not move as one
+     * body). Kinematic nodes
      * (zero inverse mass) are never held or moved: a pair of kinematic
      * nodes only is left alone. The first step after an attach or detach
      * has no last positions and is not checked. Costs a continuous query per pass (stats), on
@@ -234,8 +236,9 @@ typedef struct selfcol_bullet_options {
 #define SELFCOL_BULLET_CONTINUOUS_HOLD 0.8
 /** Continuous option: held-back passes per step at most, before the impact zones. */
 #define SELFCOL_BULLET_CONTINUOUS_PASSES 4
-/** Continuous option: impact-zone passes per step at most (the last one's hits are counted). */
-#define SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES 16
+/** Continuous option: impact-zone passes per step at most (the last one's hits are counted);
+ *  after the first 8, zones without kinematic nodes stay where the step started. */
+#define SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES 32
 
 /** Counters of the last step. The caller sets version. */
 typedef struct selfcol_bullet_step_stats {
