@@ -192,12 +192,12 @@ typedef struct selfcol_bullet_options {
      * that starts with no crossing ends with none unless pairs are left
      * after the last pass (stats: continuous_remaining: zones that did not
      * settle within the passes, or kinematic nodes that do not move as one
-     * body). Kinematic nodes
-     * (zero inverse mass) are never held or moved: a pair of kinematic
-     * nodes only is left alone. The first step after an attach or detach
-     * has no last positions and is not checked. Costs a continuous query per pass (stats), on
-     * the adapter's threads (or Bullet's scheduler: selfcol_bullet_use_task_scheduler);
-     * the held positions do not depend on the threads.
+     * body). Kinematic nodes (zero inverse mass) are never held or moved: a
+     * pair of kinematic nodes only is left alone. The first step after an
+     * attach or detach has no last positions and is not checked. Costs a
+     * continuous query per pass (stats), on the adapter's threads (or
+     * Bullet's scheduler: selfcol_bullet_use_task_scheduler); the held
+     * positions do not depend on the threads.
      * The option also gives the scene where each step starts (where the
      * last step left the nodes: selfcol_scene_set_surface_start), so a
      * contact whose side changes sign counts as crossed only if its
@@ -247,7 +247,9 @@ typedef struct selfcol_bullet_step_stats {
     uint64_t steps;       /**< steps run since creation */
     double distance;      /**< the thickness in use (0 before the first step) */
     uint64_t contacts;    /**< VF and EE contacts held (self and soft-soft) */
-    uint64_t interferences; /**< EF interferences (edges crossing triangles) held */
+    /** EF interferences (edges crossing triangles) held, as the step's
+     *  detection found them (before its response and continuous passes) */
+    uint64_t interferences;
     uint64_t crossed; /**< of the contacts, those on their wrong side (negative signed distance) */
     uint64_t flipped; /**< contacts that crossed during the step (store counter) */
     uint64_t corrected;    /**< contacts whose right side the region vote changed */
