@@ -11,6 +11,9 @@
 #                    fresh against coherent queries frame after frame
 #   OUT/threads.md   (default, with the real frames) cloth-ball 92's query on
 #                    1 and 2 threads, interleaved (selfcol-bench-threads)
+#   OUT/bullet_step_fast.csv, OUT/bullet_step_fast_trace.csv (default, with
+#                    the Bullet adapter) the continuous option on the
+#                    fast-compression ribbon and the ordinary 20k ribbon
 # OUT defaults to tools/bench/results (with --only, to BUILD/bench-results:
 # a partial run never replaces the committed results). --only REGEX keeps the
 # cases whose name matches, e.g. --only '^store-' for the contact-store rows
@@ -173,6 +176,30 @@ if [ "$subset" = default ] && [ -z "$only" ] && [ -x "$thrrunner" ] &&
     echo "bench: threads FAILED (see $log)" >&2
     failed=1
   fi
+fi
+# The Bullet adapter's continuous option on the fast-compression ribbon (284
+# x 35 nodes, 400 steps) beside the ordinary 20k ribbon's discrete step, in
+# one run (selfcol-bullet-bench; docs/benchmarks.md, "the continuous option on
+# the fast-compression ribbon"): OUT/bullet_step_fast.csv and its per-step
+# trace OUT/bullet_step_fast_trace.csv. About 5 minutes (the continuous
+# run stops at 20, its row then 'partial').
+bulrunner="$build/adapters/bullet/bench/selfcol-bullet-bench"
+if [ "$subset" = default ] && [ -z "$only" ] && [ -x "$bulrunner" ]; then
+  t0=$(date +%s)
+  fast="$out/bullet_step_fast"
+  if $timeout_cmd "$bulrunner" --sizes 20k --modes off,selfcol --repeat 1 \
+       --csv "$fast.ordinary.tmp" > /dev/null 2>> "$log" &&
+     "$bulrunner" --sizes 284 --steps 400 --modes selfcol-continuous --repeat 1 \
+       --time-limit 1200 --csv "$fast.continuous.tmp" --trace "$fast.trace.tmp" \
+       > /dev/null 2>> "$log"; then
+    { cat "$fast.ordinary.tmp"; tail -n +2 "$fast.continuous.tmp"; } > "$fast.csv"
+    mv "$fast.trace.tmp" "${fast}_trace.csv"
+    echo "bench: bullet fast-compression ribbon ($(( $(date +%s) - t0 )) s)"
+  else
+    echo "bench: bullet fast-compression ribbon FAILED (see $log)" >&2
+    failed=1
+  fi
+  rm -f "$fast.ordinary.tmp" "$fast.continuous.tmp" "$fast.trace.tmp"
 fi
 elapsed=$(( $(date +%s) - start ))
 

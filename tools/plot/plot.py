@@ -644,6 +644,59 @@ def chart_step_trace(trace, path, size, window):
     return True
 
 
+def chart_fast_trace(results, path):
+    """The fast-compression ribbon with the continuous option
+    (bullet_step_fast_trace.csv): each step's time stacked (Bullet's own
+    part, selfcol's detection, response, continuous passes), 8-step bins,
+    against the ordinary 20k ribbon's discrete step median and 3x it (issue
+    39's target), both from bullet_step_fast.csv."""
+    trace = os.path.join(results, "bullet_step_fast_trace.csv")
+    rows_path = os.path.join(results, "bullet_step_fast.csv")
+    if not os.path.exists(trace) or not os.path.exists(rows_path):
+        return False
+    with open(rows_path) as f:
+        ordinary = [r for r in csv.DictReader(f) if r["mode"] == "selfcol"]
+    with open(trace) as f:
+        steps = [r for r in csv.DictReader(f) if r["mode"] == "selfcol-continuous"]
+    if not ordinary or not steps:
+        return False
+    reference = float(ordinary[0]["step_median_ms"])
+    med = lambda vals: sorted(vals)[len(vals) // 2]  # noqa: E731
+    binned = []
+    for i in range(0, len(steps), 8):
+        chunk = steps[i:i + 8]
+        col = lambda c: med([float(r[c]) for r in chunk])  # noqa: E731,B023
+        step, detect, response, cont = (col(c) for c in ("step_ms", "detect_ms", "response_ms",
+                                                           "continuous_ms"))
+        binned.append((int(chunk[0]["step"]), max(step - detect - response - cont, 0.0), detect,
+                       response, cont, col("continuous_passes")))
+    x = [b[0] for b in binned]
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    ax.stackplot(x, [b[1] for b in binned], [b[2] for b in binned], [b[3] for b in binned],
+                 [b[4] for b in binned],
+                 labels=["Bullet's own step", "selfcol: positions, refit, query, store",
+                         "selfcol: response", "selfcol: continuous passes"],
+                 colors=["#bbbbbb", "#1f77b4", "#2ca02c", "#9467bd"], alpha=0.85)
+    ax.axhline(reference, color="black", lw=1.2,
+               label="ordinary 20k ribbon, discrete selfcol step (median %.1f ms)" % reference)
+    ax.axhline(3 * reference, color="#d62728", lw=1.0, ls="--", label="3x that (the target)")
+    ax2 = ax.twinx()
+    ax2.plot(x, [b[5] for b in binned], color="#8c564b", lw=0.9, label="continuous passes")
+    ax2.set_ylabel("continuous passes per step", fontsize=8)
+    ax.set_xlabel("step (1/240 s each; the ends are driven together over the first 300)",
+                  fontsize=8)
+    ax.set_ylabel("ms per step (8-step bins, medians)", fontsize=8)
+    ax.set_title("Fast-compression ribbon (19k faces), continuous option, one thread", fontsize=9)
+    lines, labels = ax.get_legend_handles_labels()
+    lines2, labels2 = ax2.get_legend_handles_labels()
+    ax.legend(lines + lines2, labels + labels2, fontsize=7, loc="upper left")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return True
+
+
 def replace_block(text, name, content):
     pat = re.compile(r"(<!-- generated:%s -->\n).*?(<!-- /generated:%s -->)" % (name, name), re.S)
     if not pat.search(text):
@@ -700,6 +753,9 @@ def main():
         p = os.path.join(docs, "bench-bullet-step.png")
         if chart_step_trace(trace, p, "20k", 360):
             written.append(p)
+    p = os.path.join(docs, "bench-bullet-fast.png")
+    if chart_fast_trace(results, p):
+        written.append(p)
     md = os.path.join(docs, "benchmarks.md")
     text = open(md).read() if os.path.exists(md) else "# Benchmarks\n"
     text = generated_tables(text, a, results, rows, meta, store)

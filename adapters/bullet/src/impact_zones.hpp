@@ -37,7 +37,7 @@
 
 namespace selfcol_bullet_detail {
 
-// Per zone root, one step's sums (zone_move's scratch, one per node).
+// Per zone root, one step's sums (zones_move's scratch, one per node).
 struct zone_sums {
     uint32_t size;      // nodes in the zone
     uint32_t kinematic; // of which kinematic

@@ -1029,6 +1029,16 @@ struct throw_result {
     selfcol_bullet_step_stats stats;
 };
 
+// The lowest (sign -1) or highest (+1) y of a body's nodes.
+static double extreme_y(const btSoftBody *body, int sign) {
+    double y = -sign * 1e9;
+    for (int i = 0; i < body->m_nodes.size(); ++i) {
+        const double at = double(body->m_nodes[i].m_x.y());
+        y = sign > 0 ? std::fmax(y, at) : std::fmin(y, at);
+    }
+    return y;
+}
+
 static throw_result throw_through(int continuous) {
     demo::options o;
     demo::world w(o, 0.0);
@@ -1051,9 +1061,7 @@ static throw_result throw_through(int continuous) {
     throw_result r;
     r.stats.version = SELFCOL_BULLET_STEP_STATS_VERSION;
     CHECK(selfcol_bullet_stats(a, &r.stats) == SELFCOL_OK && r.stats.status == SELFCOL_OK);
-    r.lowest_y = 1e9;
-    for (int i = 0; i < high->m_nodes.size(); ++i)
-        r.lowest_y = std::fmin(r.lowest_y, double(high->m_nodes[i].m_x.y()));
+    r.lowest_y = extreme_y(high, -1);
     selfcol_bullet_destroy(a);
     return r;
 }
@@ -1129,10 +1137,7 @@ static selfcol_bullet_step_stats pass_around(int continuous) {
     selfcol_bullet_step_stats r;
     r.version = SELFCOL_BULLET_STEP_STATS_VERSION;
     CHECK(selfcol_bullet_stats(a, &r) == SELFCOL_OK && r.status == SELFCOL_OK);
-    double highest = -1e9;
-    for (int i = 0; i < strip->m_nodes.size(); ++i)
-        highest = std::fmax(highest, double(strip->m_nodes[i].m_x.y()));
-    CHECK(highest < 0); // the whole strip went below the sheet's plane
+    CHECK(extreme_y(strip, +1) < 0); // the whole strip went below the sheet's plane
     selfcol_bullet_destroy(a);
     return r;
 }
