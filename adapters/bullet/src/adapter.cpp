@@ -179,6 +179,7 @@ struct selfcol_bullet {
     hvector<zone_sums> zone_total;
     hvector<double> zone_end;
     hvector<double> zone_inverse_mass;
+    hvector<uint32_t> last_hits; // a held-back pass's pairs, 5 nodes each
     bool have_previous;
     selfcol_sweep *sweep;
     selfcol_bullet_step_stats stats;
@@ -198,7 +199,8 @@ struct selfcol_bullet {
           contour_delta(hook_allocator<double>(&hooks)), previous(hook_allocator<double>(&hooks)),
           keep(hook_allocator<double>(&hooks)), zone_parent(hook_allocator<uint32_t>(&hooks)),
           zone_total(hook_allocator<zone_sums>(&hooks)), zone_end(hook_allocator<double>(&hooks)),
-          zone_inverse_mass(hook_allocator<double>(&hooks)), have_previous(false), sweep(nullptr),
+          zone_inverse_mass(hook_allocator<double>(&hooks)),
+          last_hits(hook_allocator<uint32_t>(&hooks)), have_previous(false), sweep(nullptr),
           stats() {}
 };
 
@@ -615,18 +617,12 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
     a->zone_end.resize(3 * n);
     a->zone_inverse_mass.resize(n);
     zones_reset(a->zone_parent.data(), n);
+    // The last held-back pass's pairs (its positions are still the nodes'):
+    // its sweep is not run again.
+    for (size_t i = 0; i + 5 <= a->last_hits.size(); i += 5)
+        for (int k = 1; k < 5; ++k)
+            zones_unite(a->zone_parent.data(), a->last_hits[i], a->last_hits[i + size_t(k)]);
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES; ++pass) {
-        uint64_t hits = 0;
-        int status = continuous_pass(a, &hits, [a](const uint32_t nodes[5], double) {
-            for (int k = 1; k < 5; ++k)
-                zones_unite(a->zone_parent.data(), nodes[0], nodes[k]);
-        });
-        if (status != SELFCOL_OK)
-            return status;
-        st.continuous_passes++;
-        *remaining = hits;
-        if (hits == 0 || pass + 1 == SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES)
-            break;
         for (const attached_body &b : a->bodies)
             for (int v = 0; v < b.node_count; ++v) {
                 const size_t node = size_t(b.first_node) + size_t(v);
@@ -658,6 +654,17 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
                 moved++;
             }
         st.zone_nodes = moved;
+        uint64_t hits = 0;
+        int status = continuous_pass(a, &hits, [a](const uint32_t nodes[5], double) {
+            for (int k = 1; k < 5; ++k)
+                zones_unite(a->zone_parent.data(), nodes[0], nodes[k]);
+        });
+        if (status != SELFCOL_OK)
+            return status;
+        st.continuous_passes++;
+        *remaining = hits;
+        if (hits == 0)
+            break;
     }
     return SELFCOL_OK;
 }
@@ -685,11 +692,14 @@ int hold_back(selfcol_bullet *a, double dt) {
     a->keep.assign(a->node_total, 1.0);
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
         std::fill(a->keep.begin(), a->keep.end(), 1.0);
+        a->last_hits.clear();
         uint64_t hits = 0, held = 0;
         int status = continuous_pass(a, &hits, [a](const uint32_t nodes[5], double toi) {
             const double factor = SELFCOL_BULLET_CONTINUOUS_HOLD * toi;
-            for (int k = 0; k < 5; ++k)
+            for (int k = 0; k < 5; ++k) {
                 a->keep[nodes[k]] = std::min(a->keep[nodes[k]], factor);
+                a->last_hits.push_back(nodes[k]);
+            }
         });
         if (status != SELFCOL_OK)
             return status;
@@ -722,7 +732,7 @@ int hold_back(selfcol_bullet *a, double dt) {
         if (held == 0)
             break; // only kinematic nodes are involved
     }
-    // The last ordinary pass's pairs are the zones' first.
+    // The last held-back pass's pairs (a->last_hits) are the zones' first.
     return impact_zones(a, dt, &st.continuous_remaining);
 }
 
