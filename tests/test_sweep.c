@@ -355,6 +355,180 @@ static void test_sweep_bvh_equals_exhaustive_on_random_steps(void **state) {
     selfcol_sweep_destroy(result);
 }
 
+// Whether a hit has a vertex active in the masks (mesh 0's, mesh 1's; NULL:
+// none active there).
+static int hit_is_active(const selfcol_sweep_hit *h, const uint8_t *const active[2]) {
+    const uint32_t count_a = h->kind == SELFCOL_CONTACT_VF ? 1 : 2;
+    const uint32_t count_b = h->kind == SELFCOL_CONTACT_VF ? 3 : 2;
+    for (uint32_t k = 0; k < count_a; ++k)
+        if (active[h->first_mesh] != NULL && active[h->first_mesh][h->a[k]])
+            return 1;
+    for (uint32_t k = 0; k < count_b; ++k)
+        if (active[h->second_mesh] != NULL && active[h->second_mesh][h->b[k]])
+            return 1;
+    return 0;
+}
+
+// The hits of the reference (unrestricted) that have an active vertex, in
+// order, into out (room for n); returns their count.
+static size_t active_hits(const selfcol_sweep_hit *ref, size_t n, const uint8_t *const active[2],
+                          selfcol_sweep_hit *out) {
+    size_t kept = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (hit_is_active(&ref[i], active))
+            out[kept++] = ref[i];
+    return kept;
+}
+
+// One restricted query (self when b is NULL) with every method, in ALL
+// mode (on the calling thread and on a context of 2 threads) and EARLIEST:
+// ALL's hits are exactly the unrestricted reference's hits with an active
+// vertex; EARLIEST finds one of those, within 1e-3 of their least toi. Returns how
+// many hits the restriction kept.
+static size_t check_restricted(const step *a, const step *b, selfcol_sweep *result,
+                               const uint8_t *const active[2], double separation,
+                               selfcol_context *context) {
+    selfcol_sweep_options o;
+    selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
+    o.method = SELFCOL_METHOD_EXHAUSTIVE;
+    o.separation = separation;
+    const selfcol_sweep_hit *h;
+    size_t n;
+    assert_int_equal(b == NULL ? selfcol_hierarchy_self_sweep(a->hierarchy, a->start, result, &o)
+                               : selfcol_hierarchy_sweep(a->hierarchy, a->start, b->hierarchy,
+                                                         b->start, result, &o),
+                     SELFCOL_OK);
+    assert_int_equal(selfcol_sweep_hits(result, &h, &n), SELFCOL_OK);
+    selfcol_sweep_hit *expected = malloc((n + 1) * sizeof *expected);
+    assert_non_null(expected);
+    const size_t ne = active_hits(h, n, active, expected);
+    double least = 1.0;
+    for (size_t i = 0; i < ne; ++i)
+        least = expected[i].toi < least ? expected[i].toi : least;
+    o.active_vertices[0] = active[0];
+    o.active_vertices[1] = active[1];
+    const uint32_t methods[3] = {SELFCOL_METHOD_EXHAUSTIVE, SELFCOL_METHOD_BVH,
+                                 SELFCOL_METHOD_EXACT};
+    for (int mi = 0; mi < 3; ++mi)
+        for (int on_context = 0; on_context < 2; ++on_context)
+            for (uint32_t mode = 0; mode < 2; ++mode) {
+                o.method = methods[mi];
+                o.mode = mode;
+                selfcol_context *c = on_context ? context : NULL;
+                int status;
+                if (b == NULL)
+                    status = c != NULL
+                                 ? selfcol_context_self_sweep(c, a->hierarchy, a->start, result, &o)
+                                 : selfcol_hierarchy_self_sweep(a->hierarchy, a->start, result, &o);
+                else
+                    status = c != NULL
+                                 ? selfcol_context_sweep(c, a->hierarchy, a->start, b->hierarchy,
+                                                         b->start, result, &o)
+                                 : selfcol_hierarchy_sweep(a->hierarchy, a->start, b->hierarchy,
+                                                           b->start, result, &o);
+                assert_int_equal(status, SELFCOL_OK);
+                assert_int_equal(selfcol_sweep_hits(result, &h, &n), SELFCOL_OK);
+                const selfcol_sweep_query_stats st = stats_of(result);
+                if (mode == SELFCOL_SWEEP_ALL) {
+                    assert_true(hits_equal(expected, ne, h, n));
+                    assert_true(st.free_fraction == least);
+                } else {
+                    assert_int_equal(n, ne > 0 ? 1 : 0);
+                    if (n == 1)
+                        assert_true(hit_is_active(&h[0], active));
+                    // As EARLIEST's unrestricted fraction against ALL's
+                    // (test_sweep_bvh_equals_exhaustive_on_random_steps).
+                    assert_true(fabs(st.free_fraction - least) <= 1e-3);
+                }
+            }
+    free(expected);
+    return ne;
+}
+
+// Restricted queries (sweep.h, active_vertices), self and between two
+// meshes, with masks of a few scattered vertices, of a patch, of none and
+// of all: the hits with an active vertex, with their flags and times, and
+// nothing else.
+static void test_sweep_active_vertices_restrict_to_their_pairs(void **state) {
+    (void)state;
+    selfcol_sweep *result;
+    assert_int_equal(selfcol_sweep_create(&result, NULL), SELFCOL_OK);
+    selfcol_context *context;
+    selfcol_context_options co;
+    selfcol_context_options_init(&co, SELFCOL_CONTEXT_OPTIONS_VERSION);
+    co.threads = 2;
+    assert_int_equal(selfcol_context_create(&context, &co), SELFCOL_OK);
+    size_t kept_self = 0, kept_two = 0, all_self = 0;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        fixture from, to;
+        crumple_step(&from, &to, 12, seed, 1.5 + 0.5 * seed, 3.0 + seed, 0.4);
+        const size_t nv = to.vertex_count;
+        step s;
+        step_make(&s, nv, from.positions, to.positions, to.triangle_count, to.triangles);
+        uint8_t *scattered = calloc(nv, 1), *patch = calloc(nv, 1), *none = calloc(nv, 1),
+                *all = malloc(nv);
+        assert_true(scattered != NULL && patch != NULL && none != NULL && all != NULL);
+        memset(all, 1, nv);
+        srand(seed);
+        for (size_t v = 0; v < nv; ++v) {
+            scattered[v] = rand() % 10 == 0;
+            patch[v] = to.positions[3 * v] < to.positions[0] + 0.3 * (double)(seed);
+        }
+        const uint8_t *masks[4] = {scattered, patch, none, all};
+        const double d[2] = {0.0, 0.1};
+        for (int k = 0; k < 2; ++k)
+            for (int mi = 0; mi < 4; ++mi) {
+                const uint8_t *const active[2] = {masks[mi], NULL};
+                const size_t kept = check_restricted(&s, NULL, result, active, d[k], context);
+                if (mi == 2)
+                    assert_int_equal(kept, 0);
+                if (mi == 3)
+                    all_self += kept;
+                else
+                    kept_self += kept;
+            }
+        // Two meshes: the sheet and a copy moved by (0.05, 0.05, 0.3) at the
+        // start and (0.05, 0.05, -0.3) at the end, passing through it;
+        // restricted on either side or both.
+        double *b_start = malloc(3 * nv * sizeof *b_start), *b_end = malloc(3 * nv * sizeof *b_end);
+        assert_true(b_start != NULL && b_end != NULL);
+        for (size_t v = 0; v < nv; ++v)
+            for (int c = 0; c < 3; ++c) {
+                const double shift = c == 2 ? 0.3 : 0.05;
+                b_start[3 * v + (size_t)c] = from.positions[3 * v + (size_t)c] + shift;
+                b_end[3 * v + (size_t)c] =
+                    to.positions[3 * v + (size_t)c] + (c == 2 ? -shift : shift);
+            }
+        step t;
+        step_make(&t, nv, b_start, b_end, to.triangle_count, to.triangles);
+        const uint8_t *const pairs[4][2] = {
+            {scattered, NULL}, {NULL, patch}, {scattered, patch}, {none, none}};
+        for (int mi = 0; mi < 4; ++mi) {
+            const size_t kept = check_restricted(&s, &t, result, pairs[mi], 0.0, context);
+            if (mi == 3)
+                assert_int_equal(kept, 0);
+            kept_two += kept;
+        }
+        step_free(&t);
+        free(b_start);
+        free(b_end);
+        free(scattered);
+        free(patch);
+        free(none);
+        free(all);
+        step_free(&s);
+        fixture_free(&from);
+        fixture_free(&to);
+    }
+    // The masks kept some hits and left others: the checks compared.
+    assert_true(kept_self > 10 && kept_self < 3 * all_self);
+    assert_true(kept_two > 10);
+    print_message("restricted: %zu self hits kept (of %zu unrestricted per mask), %zu two-mesh\n",
+                  kept_self, all_self, kept_two);
+    selfcol_context_destroy(context);
+    selfcol_sweep_destroy(result);
+}
+
 // EXACT on surfaces whose patches stay smooth over the step: a wrinkled sheet
 // that moves and deepens its wrinkles (no contact at all), and a hairpin
 // whose top layer passes through the bottom one. Patches are proved free and
@@ -758,6 +932,7 @@ int main(void) {
         cmocka_unit_test(test_sweep_two_meshes_pass_through),
         cmocka_unit_test(test_sweep_separation_and_initial_contacts),
         cmocka_unit_test(test_sweep_bvh_equals_exhaustive_on_random_steps),
+        cmocka_unit_test(test_sweep_active_vertices_restrict_to_their_pairs),
         cmocka_unit_test(test_sweep_exact_skips_patches_free_over_the_step),
         cmocka_unit_test(test_sweep_contains_both_ends_and_finds_pass_throughs),
         cmocka_unit_test(test_sweep_rejects_bad_input),

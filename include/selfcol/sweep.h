@@ -118,6 +118,17 @@ typedef struct selfcol_sweep_options {
      * SELFCOL_SWEEP_EARLIEST does not call it (its passes take about a query each). */
     int (*progress)(void *payload, double done);
     void *progress_payload; /**< passed to progress */
+    /** Pairs restricted to active vertices: per mesh (first, second; a self query reads [0]
+     *  only), NULL or one byte per vertex of that mesh, non-zero for an active vertex. When
+     *  an array the query reads is set, only the pairs of the contact set with at least one
+     *  active vertex are tested (a NULL array then has no active vertex): the hits are exactly
+     *  the unrestricted query's hits that have one, with the same toi and flags (each pair's
+     *  answer depends on its own vertices' motion alone), and SELFCOL_SWEEP_EARLIEST's
+     *  fraction is theirs. Both NULL (the default): every pair. The use: a response that
+     *  changes some vertices' motion and queries the step again (held-back passes, impact
+     *  zones) marks those vertices, since no other pair's answer can have changed; the
+     *  traversal then skips node pairs with no active vertex below them. */
+    const uint8_t *active_vertices[2];
 } selfcol_sweep_options;
 
 /** 3 since 0.4 (threads moved to the context: selfcol_context_self_sweep());

@@ -76,6 +76,8 @@ void selfcol_sweep_destroy(selfcol_sweep *sweep) {
                               sizeof *sweep->cull_cones);
     selfcol_alloc__free_array(&al, sweep->cull_altitudes, sweep->cull_capacity,
                               sizeof *sweep->cull_altitudes);
+    selfcol_alloc__free_array(&al, sweep->node_active, sweep->node_active_capacity,
+                              sizeof *sweep->node_active);
     selfcol_workspace__free(&sweep->work);
     selfcol_alloc__free(&al, sweep, sizeof *sweep);
 }
@@ -116,6 +118,20 @@ static int reserve_hits(selfcol_sweep *s, int which, size_t n) {
     selfcol_alloc__free_array(&s->allocator, *array, *capacity, sizeof *grown);
     *array = grown;
     *capacity = cap;
+    return SELFCOL_OK;
+}
+
+// Room for n node flags of a restricted query (not kept: refilled).
+static int reserve_node_active(selfcol_sweep *s, size_t n) {
+    if (n <= s->node_active_capacity)
+        return SELFCOL_OK;
+    uint8_t *flags = selfcol_alloc__array(&s->allocator, n, sizeof *flags);
+    if (flags == NULL)
+        return SELFCOL_ENOMEM;
+    selfcol_alloc__free_array(&s->allocator, s->node_active, s->node_active_capacity,
+                              sizeof *s->node_active);
+    s->node_active = flags;
+    s->node_active_capacity = n;
     return SELFCOL_OK;
 }
 
@@ -680,13 +696,20 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
     q.end[0] = first->mesh->positions;
     q.end[1] = second->mesh->positions;
     q.cull = self && o.method == SELFCOL_METHOD_EXACT;
-    size_t doubles = 0;
+    q.active[0] = o.active_vertices[0];
+    q.active[1] = self ? o.active_vertices[0] : o.active_vertices[1];
+    q.restricted = q.active[0] != NULL || q.active[1] != NULL;
+    size_t doubles = 0, nodes = 0;
     for (int m = 0; m < (self ? 1 : 2); ++m) {
         doubles += 6 * q.mesh[m]->vertex_count;
-        if (o.method != SELFCOL_METHOD_EXHAUSTIVE)
+        if (o.method != SELFCOL_METHOD_EXHAUSTIVE) {
             doubles += 6 * (q.mesh[m]->triangle_count + q.hierarchy[m]->node_count);
+            nodes += q.hierarchy[m]->node_count;
+        }
     }
     int status = reserve_boxes(result, doubles);
+    if (status == SELFCOL_OK && q.restricted)
+        status = reserve_node_active(result, nodes);
     double narrow_start = start_time;
     // Who runs the broad phase's tasks and ALL's root searches.
     const selfcol_executor *executor = context != NULL ? &context->executor : NULL;
@@ -775,5 +798,6 @@ size_t selfcol_sweep_byte_count(const selfcol_sweep *sweep) {
            sweep->positions_capacity * sizeof *sweep->positions_at +
            sweep->outcome_capacity * (sizeof *sweep->outcome + sizeof *sweep->toi) +
            sweep->cull_capacity * (sizeof *sweep->cull_cones + sizeof *sweep->cull_altitudes) +
+           sweep->node_active_capacity * sizeof *sweep->node_active +
            selfcol_workspace__byte_count(&sweep->work);
 }

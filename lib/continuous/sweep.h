@@ -76,6 +76,10 @@ struct selfcol_sweep {
     selfcol_cone *cull_cones;
     double *cull_altitudes;
     size_t cull_capacity;
+    // Restricted queries (options.active_vertices), BVH and EXACT, per node
+    // of both trees: 1 when a triangle below it has an active vertex.
+    uint8_t *node_active;
+    size_t node_active_capacity;
     selfcol_workspace work;
     selfcol_sweep_query_stats stats;
 };
@@ -90,6 +94,12 @@ typedef struct selfcol_sweep_query {
     double separation;
     uint32_t kinds;
     selfcol_sweep *out;
+    // Restricted to pairs with an active vertex (options.active_vertices;
+    // self: [1] == [0]): `restricted`, per mesh its vertices' bytes (NULL:
+    // none active) and, for the BVH search, its nodes' (node_active).
+    int restricted;
+    const uint8_t *active[2];
+    uint8_t *node_active[2];
     // The broad phase covers the times [0, t_box]: end[m] holds mesh m's
     // positions at t_box (the mesh's own at t_box = 1), computed to within
     // eps of the exact x0 + t_box (x1 - x0) in every coordinate (0 at

@@ -74,9 +74,22 @@ static void primitive_box(const selfcol_sweep_query *q, int m, const uint32_t *v
     }
 }
 
+// Restricted queries (sweep.h, active_vertices): whether vertex v of mesh
+// m is active, and whether a triangle of mesh m (its three vertices) has an
+// active vertex.
+static int vertex_active(const selfcol_sweep_query *q, int m, uint32_t v) {
+    return q->active[m] != NULL && q->active[m][v] != 0;
+}
+
+static int corners_active(const selfcol_sweep_query *q, int m, const uint32_t *tri) {
+    return q->active[m] != NULL &&
+           (q->active[m][tri[0]] | q->active[m][tri[1]] | q->active[m][tri[2]]) != 0;
+}
+
 // The leaves among nodes begin .. end - 1 of hierarchy m: the swept boxes
 // of their triangles (6 doubles each, by triangle index; the leaves hold
-// every triangle once, hierarchy_validate.c) and their own boxes.
+// every triangle once, hierarchy_validate.c) and their own boxes; in a
+// restricted query, whether a triangle of the leaf has an active vertex.
 static void leaf_boxes(const selfcol_sweep_query *q, int m, double *tri_boxes, double *boxes,
                        size_t begin, size_t end) {
     const selfcol_hierarchy *h = q->hierarchy[m];
@@ -87,9 +100,12 @@ static void leaf_boxes(const selfcol_sweep_query *q, int m, double *tri_boxes, d
             continue;
         double *lo = boxes + 6 * i, *hi = lo + 3;
         const uint32_t *slot = h->tri_order + n->tri_begin;
+        int active = 0;
         for (uint32_t k = 0; k < n->tri_count; ++k) {
             double *b = tri_boxes + 6 * (size_t)slot[k];
-            primitive_box(q, m, triangles + 3 * (size_t)slot[k], 3, b, b + 3);
+            const uint32_t *tri = triangles + 3 * (size_t)slot[k];
+            primitive_box(q, m, tri, 3, b, b + 3);
+            active |= q->restricted && corners_active(q, m, tri);
             if (k == 0) {
                 memcpy(lo, b, 3 * sizeof *lo);
                 memcpy(hi, b + 3, 3 * sizeof *hi);
@@ -97,6 +113,8 @@ static void leaf_boxes(const selfcol_sweep_query *q, int m, double *tri_boxes, d
                 selfcol_box__merge(lo, hi, b, b + 3);
             }
         }
+        if (q->restricted)
+            q->node_active[m][i] = (uint8_t)active;
     }
 }
 
@@ -115,6 +133,12 @@ static void internal_boxes(const selfcol_sweep_query *q, int m, double *boxes) {
         memcpy(hi, c + 3, 3 * sizeof *hi);
         for (uint32_t k = 1; k < n->child_count; ++k)
             selfcol_box__merge(lo, hi, c + 6 * k, c + 6 * k + 3);
+        if (q->restricted) {
+            uint8_t active = 0;
+            for (uint32_t k = 0; k < n->child_count; ++k)
+                active |= q->node_active[m][n->first_child + k];
+            q->node_active[m][i] = active;
+        }
     }
 }
 
@@ -238,6 +262,8 @@ static int try_vf(selfcol_sweep_worker *w, int mv, uint32_t v, int mt, uint32_t 
     const uint32_t *tri = mesht->triangles + 3 * (size_t)t;
     if (q->self && is_corner(v, tri))
         return SELFCOL_OK;
+    if (q->restricted && !vertex_active(q, mv, v) && !corners_active(q, mt, tri))
+        return SELFCOL_OK;
     double tlo[3], thi[3];
     if (tbox == NULL) {
         primitive_box(q, mt, tri, 3, tlo, thi);
@@ -264,6 +290,9 @@ static int try_ee(selfcol_sweep_worker *w, uint32_t e, uint32_t f) {
     const uint32_t *ev = q->mesh[0]->edges + 2 * (size_t)e;
     const uint32_t *fv = q->mesh[1]->edges + 2 * (size_t)f;
     if (q->self && share_vertex(ev, fv))
+        return SELFCOL_OK;
+    if (q->restricted && !vertex_active(q, 0, ev[0]) && !vertex_active(q, 0, ev[1]) &&
+        !vertex_active(q, 1, fv[0]) && !vertex_active(q, 1, fv[1]))
         return SELFCOL_OK;
     double elo[3], ehi[3], flo[3], fhi[3];
     primitive_box(q, 0, ev, 2, elo, ehi);
@@ -372,15 +401,24 @@ static int leaf_pair(selfcol_sweep_worker *w, const double *const tri_boxes[2],
     const selfcol_hierarchy *ha = q->hierarchy[0], *hb = q->hierarchy[1];
     const selfcol_node *na = &ha->nodes[a], *nb = &hb->nodes[b];
     const int same = q->self && a == b;
+    // Restricted: pairs of two triangles without an active vertex are skipped
+    // (their primitive pairs have none), all of ta's when b has none.
+    const int b_active = !q->restricted || q->node_active[1][b];
+    const uint32_t *tris_a = q->mesh[0]->triangles, *tris_b = q->mesh[1]->triangles;
     int status = SELFCOL_OK;
     for (uint32_t i = 0; i < na->tri_count && status == SELFCOL_OK; ++i) {
         const uint32_t ta = ha->tri_order[na->tri_begin + i];
         const double *boxa = tri_boxes[0] + 6 * (size_t)ta;
+        const int ta_active = !q->restricted || corners_active(q, 0, tris_a + 3 * (size_t)ta);
+        if (!ta_active && !b_active)
+            continue;
         if (!same && !selfcol_box__near(boxa, boxa + 3, node_b, node_b + 3, q->separation))
             continue; // ta is apart from all of b (b's box holds its triangles')
         for (uint32_t j = same ? i + 1 : 0; j < nb->tri_count && status == SELFCOL_OK; ++j) {
             const uint32_t tb = hb->tri_order[nb->tri_begin + j];
             const double *boxb = tri_boxes[1] + 6 * (size_t)tb;
+            if (!ta_active && !corners_active(q, 1, tris_b + 3 * (size_t)tb))
+                continue;
             if (selfcol_box__near(boxa, boxa + 3, boxb, boxb + 3, q->separation))
                 status = triangle_pair(w, ta, tb, boxa, boxb);
         }
@@ -442,6 +480,8 @@ static int visit(selfcol_sweep_worker *w, const bvh_boxes *bx, uint32_t a, uint3
     if (q->self && a == b) {
         if (na->flags & SELFCOL_NODE_DUPLICATES)
             return SELFCOL_OK; // owns nothing, no contact's triangle (hierarchy.h)
+        if (q->restricted && !q->node_active[0][a])
+            return SELFCOL_OK; // no active vertex below (sweep.h)
         if (q->cull && selfcol_sweep__self_free(q, a))
             return SELFCOL_OK; // curvature and contour over the step (sweep_cull.c)
         if (na->child_count == 0)
@@ -452,6 +492,8 @@ static int visit(selfcol_sweep_worker *w, const bvh_boxes *bx, uint32_t a, uint3
                                    na->first_child + j);
         return status;
     }
+    if (q->restricted && !q->node_active[0][a] && !q->node_active[1][b])
+        return SELFCOL_OK; // no active vertex below either
     w->node_pairs++;
     const double *ba = bx->nodes[0] + 6 * (size_t)a, *bb = bx->nodes[1] + 6 * (size_t)b;
     if ((na->flags & SELFCOL_NODE_DUPLICATES) || (nb->flags & SELFCOL_NODE_DUPLICATES) ||
@@ -763,6 +805,10 @@ int selfcol_sweep__bvh(selfcol_sweep_query *q, const selfcol_executor *executor,
     for (int m = 0; m < meshes; ++m) {
         boxes.tri[m] = tri_boxes[m];
         boxes.node[m] = nodes[m];
+    }
+    if (q->restricted) { // sized by sweep.c
+        q->node_active[0] = s->node_active;
+        q->node_active[1] = q->self ? s->node_active : s->node_active + q->hierarchy[0]->node_count;
     }
     box_stage(&boxes, executor, threads, 0, meshes);
     box_stage(&boxes, executor, threads, 1, meshes);

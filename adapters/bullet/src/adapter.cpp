@@ -179,7 +179,13 @@ struct selfcol_bullet {
     hvector<zone_sums> zone_total;
     hvector<double> zone_end;
     hvector<double> zone_inverse_mass;
-    hvector<uint32_t> last_hits; // a held-back pass's pairs, 5 nodes each
+    // The continuous passes of a step: the last pass's pairs (5 nodes each,
+    // as continuous_pass gives them) and their tois, the next pass's being
+    // gathered, and per node whether its motion changed since the last pass
+    // (only pairs with such a node are queried again).
+    hvector<uint32_t> pass_hits, next_hits;
+    hvector<double> pass_toi, next_toi;
+    hvector<uint8_t> moved;
     bool have_previous;
     selfcol_sweep *sweep;
     selfcol_bullet_step_stats stats;
@@ -200,8 +206,9 @@ struct selfcol_bullet {
           keep(hook_allocator<double>(&hooks)), zone_parent(hook_allocator<uint32_t>(&hooks)),
           zone_total(hook_allocator<zone_sums>(&hooks)), zone_end(hook_allocator<double>(&hooks)),
           zone_inverse_mass(hook_allocator<double>(&hooks)),
-          last_hits(hook_allocator<uint32_t>(&hooks)), have_previous(false), sweep(nullptr),
-          stats() {}
+          pass_hits(hook_allocator<uint32_t>(&hooks)), next_hits(hook_allocator<uint32_t>(&hooks)),
+          pass_toi(hook_allocator<double>(&hooks)), next_toi(hook_allocator<double>(&hooks)),
+          moved(hook_allocator<uint8_t>(&hooks)), have_previous(false), sweep(nullptr), stats() {}
 };
 
 namespace {
@@ -550,8 +557,18 @@ size_t untangle(selfcol_bullet *a) {
 // step left it to where it is now, through the continuous query of every
 // body pair; on_hit(nodes, toi) for each pair that touches on the way, its
 // nodes in the adapter's numbering (a VF pair's vertex repeated in the
-// fifth). Returns the status; *hits counts the pairs.
-template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_hit) {
+// fifth). Returns the status; *hits counts the pairs, which become
+// a->pass_hits and a->pass_toi.
+//
+// `restricted`: only the pairs with a node whose motion changed since the
+// last pass (a->moved) are queried (selfcol_sweep_options.active_vertices);
+// every other pair moves as it did in the last pass, so it touches exactly
+// when it did then: the last pass's pairs without a moved node are carried
+// over. The pairs are those of a full pass (in another order, which
+// nothing downstream depends on: holds take minima, zones union-find roots
+// by lowest node), at the cost of the moved nodes' neighbourhoods.
+template <class F>
+int continuous_pass(selfcol_bullet *a, uint64_t *hits, bool restricted, F on_hit) {
     *hits = 0;
     for (const attached_body &b : a->bodies) {
         int status = selfcol_mesh_set_positions_float(
@@ -559,6 +576,8 @@ template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_h
         if (status != SELFCOL_OK)
             return status;
     }
+    a->next_hits.clear();
+    a->next_toi.clear();
     selfcol_sweep_options so;
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
     for (size_t i = 0; i < a->bodies.size(); ++i)
@@ -566,6 +585,10 @@ template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_h
             const attached_body &bi = a->bodies[i], &bj = a->bodies[j];
             const double *si = a->previous.data() + 3 * size_t(bi.first_node);
             const double *sj = a->previous.data() + 3 * size_t(bj.first_node);
+            if (restricted) {
+                so.active_vertices[0] = a->moved.data() + bi.first_node;
+                so.active_vertices[1] = a->moved.data() + bj.first_node;
+            }
             // On Bullet's scheduler when the adapter uses it, else on the
             // adapter's threads: the hits are the same.
             selfcol_context *c = context_of(a);
@@ -586,7 +609,6 @@ template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_h
             size_t n = 0;
             selfcol_sweep_hits(a->sweep, &h, &n);
             for (size_t k = 0; k < n; ++k) {
-                ++*hits;
                 const attached_body &first = h[k].first_mesh == 0 ? bi : bj;
                 const attached_body &second = h[k].second_mesh == 0 ? bi : bj;
                 const uint32_t nodes[5] = {
@@ -594,9 +616,26 @@ template <class F> int continuous_pass(selfcol_bullet *a, uint64_t *hits, F on_h
                     second.first_node + h[k].b[0], second.first_node + h[k].b[1],
                     h[k].b[2] == SELFCOL_INVALID_INDEX ? first.first_node + h[k].a[0]
                                                        : second.first_node + h[k].b[2]};
-                on_hit(nodes, h[k].toi);
+                a->next_hits.insert(a->next_hits.end(), nodes, nodes + 5);
+                a->next_toi.push_back(h[k].toi);
             }
         }
+    if (restricted) // the last pass's pairs of unmoved nodes, as they were
+        for (size_t p = 0; p < a->pass_toi.size(); ++p) {
+            const uint32_t *nodes = a->pass_hits.data() + 5 * p;
+            bool unmoved = true;
+            for (int k = 0; k < 5; ++k)
+                unmoved = unmoved && a->moved[nodes[k]] == 0;
+            if (unmoved) {
+                a->next_hits.insert(a->next_hits.end(), nodes, nodes + 5);
+                a->next_toi.push_back(a->pass_toi[p]);
+            }
+        }
+    a->pass_hits.swap(a->next_hits);
+    a->pass_toi.swap(a->next_toi);
+    *hits = a->pass_toi.size();
+    for (size_t p = 0; p < a->pass_toi.size(); ++p)
+        on_hit(a->pass_hits.data() + 5 * p, a->pass_toi[p]);
     return SELFCOL_OK;
 }
 
@@ -619,9 +658,9 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
     zones_reset(a->zone_parent.data(), n);
     // The last held-back pass's pairs (its positions are still the nodes'):
     // its sweep is not run again.
-    for (size_t i = 0; i + 5 <= a->last_hits.size(); i += 5)
+    for (size_t i = 0; i + 5 <= a->pass_hits.size(); i += 5)
         for (int k = 1; k < 5; ++k)
-            zones_unite(a->zone_parent.data(), a->last_hits[i], a->last_hits[i + size_t(k)]);
+            zones_unite(a->zone_parent.data(), a->pass_hits[i], a->pass_hits[i + size_t(k)]);
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES; ++pass) {
         for (const attached_body &b : a->bodies)
             for (int v = 0; v < b.node_count; ++v) {
@@ -636,12 +675,14 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
         zones_move(a->zone_parent.data(), n, a->previous.data(), a->zone_end.data(),
                    a->zone_inverse_mass.data(), a->zone_total.data(), freeze);
         uint64_t moved = 0;
+        std::fill(a->moved.begin(), a->moved.end(), uint8_t(0));
         for (const attached_body &b : a->bodies)
             for (int v = 0; v < b.node_count; ++v) {
                 const size_t node = size_t(b.first_node) + size_t(v);
                 btSoftBody::Node &nd = b.body->m_nodes[v];
                 if (nd.m_im <= 0 || a->zone_total[a->zone_parent[node]].size < 2)
-                    continue; // kinematic, or in no zone
+                    continue;       // kinematic, or in no zone
+                a->moved[node] = 1; // zones only grow: a zone's node moves every pass
                 const double *e = a->zone_end.data() + 3 * node;
                 const double *p = a->previous.data() + 3 * node;
                 const btVector3 x{btScalar(e[0]), btScalar(e[1]), btScalar(e[2])};
@@ -655,7 +696,7 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
             }
         st.zone_nodes = moved;
         uint64_t hits = 0;
-        int status = continuous_pass(a, &hits, [a](const uint32_t nodes[5], double) {
+        int status = continuous_pass(a, &hits, true, [a](const uint32_t nodes[5], double) {
             for (int k = 1; k < 5; ++k)
                 zones_unite(a->zone_parent.data(), nodes[0], nodes[k]);
         });
@@ -690,16 +731,16 @@ int hold_back(selfcol_bullet *a, double dt) {
                 return status;
         }
     a->keep.assign(a->node_total, 1.0);
+    a->moved.assign(a->node_total, 0);
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
         std::fill(a->keep.begin(), a->keep.end(), 1.0);
-        a->last_hits.clear();
         uint64_t hits = 0, held = 0;
-        int status = continuous_pass(a, &hits, [a](const uint32_t nodes[5], double toi) {
+        // The first pass queries every pair, the later ones those of the
+        // nodes the last pass held back.
+        int status = continuous_pass(a, &hits, pass > 0, [a](const uint32_t nodes[5], double toi) {
             const double factor = SELFCOL_BULLET_CONTINUOUS_HOLD * toi;
-            for (int k = 0; k < 5; ++k) {
+            for (int k = 0; k < 5; ++k)
                 a->keep[nodes[k]] = std::min(a->keep[nodes[k]], factor);
-                a->last_hits.push_back(nodes[k]);
-            }
         });
         if (status != SELFCOL_OK)
             return status;
@@ -711,6 +752,7 @@ int hold_back(selfcol_bullet *a, double dt) {
             return SELFCOL_OK;
         if (pass + 1 == SELFCOL_BULLET_CONTINUOUS_PASSES)
             break;
+        std::fill(a->moved.begin(), a->moved.end(), uint8_t(0));
         for (const attached_body &b : a->bodies)
             for (int v = 0; v < b.node_count; ++v) {
                 const uint32_t node = b.first_node + uint32_t(v);
@@ -726,13 +768,14 @@ int hold_back(selfcol_bullet *a, double dt) {
                 n.m_q = x;
                 n.m_v *= btScalar(f);
                 n.m_vn = n.m_v;
+                a->moved[node] = 1;
                 held++;
             }
         st.continuous_held += held;
         if (held == 0)
             break; // only kinematic nodes are involved
     }
-    // The last held-back pass's pairs (a->last_hits) are the zones' first.
+    // The last held-back pass's pairs (a->pass_hits) are the zones' first.
     return impact_zones(a, dt, &st.continuous_remaining);
 }
 
