@@ -194,6 +194,7 @@ typedef struct selfcol_sweep_options {
     unsigned int version; uint32_t method; uint32_t kinds; uint32_t mode;
     double separation;
     int (*progress)(void *payload, double done); void *progress_payload;
+    const uint8_t *active_vertices[2];
 } selfcol_sweep_options;
 extern "Python" int _selfcol_sweep_progress(void *payload, double done);
 typedef struct selfcol_sweep_hit {
