@@ -809,36 +809,48 @@ static void test_sweep_allocation_failures(void **state) {
     crumple_step(&from, &to, 10, 3, 2.0, 4.0, 0.3);
     step s;
     step_make(&s, to.vertex_count, from.positions, to.positions, to.triangle_count, to.triangles);
-    size_t expected = 0;
-    for (long fail = 1;; ++fail) {
-        test_allocator_state as = {0};
-        as.fail_at = fail;
-        const selfcol_allocator al = test_allocator(&as);
-        selfcol_sweep *result;
-        int status = selfcol_sweep_create(&result, &al);
-        if (status == SELFCOL_ENOMEM) {
-            assert_int_equal(as.live, 0);
-            continue;
-        }
-        assert_int_equal(status, SELFCOL_OK);
-        status = selfcol_hierarchy_self_sweep(s.hierarchy, s.start, result, NULL);
-        const selfcol_sweep_hit *h;
-        size_t n;
-        assert_int_equal(selfcol_sweep_hits(result, &h, &n), SELFCOL_OK);
-        if (status == SELFCOL_ENOMEM) {
-            assert_int_equal(n, 0);
+    uint8_t *active = calloc(to.vertex_count, 1);
+    assert_non_null(active);
+    for (size_t v = 0; v < to.vertex_count; v += 3)
+        active[v] = 1;
+    // Unrestricted, then restricted to every third vertex (its node flags
+    // are one more array).
+    for (int restricted = 0; restricted < 2; ++restricted) {
+        selfcol_sweep_options o;
+        selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
+        o.active_vertices[0] = restricted ? active : NULL;
+        size_t expected = 0;
+        for (long fail = 1;; ++fail) {
+            test_allocator_state as = {0};
+            as.fail_at = fail;
+            const selfcol_allocator al = test_allocator(&as);
+            selfcol_sweep *result;
+            int status = selfcol_sweep_create(&result, &al);
+            if (status == SELFCOL_ENOMEM) {
+                assert_int_equal(as.live, 0);
+                continue;
+            }
+            assert_int_equal(status, SELFCOL_OK);
+            status = selfcol_hierarchy_self_sweep(s.hierarchy, s.start, result, &o);
+            const selfcol_sweep_hit *h;
+            size_t n;
+            assert_int_equal(selfcol_sweep_hits(result, &h, &n), SELFCOL_OK);
+            if (status == SELFCOL_ENOMEM) {
+                assert_int_equal(n, 0);
+                selfcol_sweep_destroy(result);
+                assert_int_equal(as.live, 0);
+                continue;
+            }
+            assert_int_equal(status, SELFCOL_OK);
+            expected = n;
             selfcol_sweep_destroy(result);
             assert_int_equal(as.live, 0);
-            continue;
+            assert_true(fail > 2); // some allocations did fail on the way
+            break;
         }
-        assert_int_equal(status, SELFCOL_OK);
-        expected = n;
-        selfcol_sweep_destroy(result);
-        assert_int_equal(as.live, 0);
-        assert_true(fail > 2); // some allocations did fail on the way
-        break;
+        assert_true(expected > 0);
     }
-    assert_true(expected > 0);
+    free(active);
     step_free(&s);
     fixture_free(&from);
     fixture_free(&to);
