@@ -181,7 +181,7 @@ fi
 # x 35 nodes, 400 steps) beside the ordinary 20k ribbon's discrete step, in
 # one run (selfcol-bullet-bench; docs/benchmarks.md, "the continuous option on
 # the fast-compression ribbon"): OUT/bullet_step_fast.csv and its per-step
-# trace OUT/bullet_step_fast_trace.csv. About 5 minutes (the continuous
+# trace OUT/bullet_step_fast_trace.csv. About 2 minutes (the continuous
 # run stops at 20, its row then 'partial').
 bulrunner="$build/adapters/bullet/bench/selfcol-bullet-bench"
 if [ "$subset" = default ] && [ -z "$only" ] && [ -x "$bulrunner" ]; then
