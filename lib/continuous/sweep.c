@@ -121,30 +121,31 @@ static int reserve_hits(selfcol_sweep *s, int which, size_t n) {
     return SELFCOL_OK;
 }
 
-// Room for n node flags of a restricted query (not kept: refilled).
-static int reserve_node_active(selfcol_sweep *s, size_t n) {
-    if (n <= s->node_active_capacity)
+// Room for n elements of `size` bytes in a scratch array whose content is
+// not kept (each query refills it): a new block when it is too small, the
+// old one freed. SELFCOL_OK, or SELFCOL_ENOMEM with the old array kept.
+static int reserve_scratch(selfcol_sweep *s, void **array, size_t *capacity, size_t n,
+                           size_t size) {
+    if (n <= *capacity)
         return SELFCOL_OK;
-    uint8_t *flags = selfcol_alloc__array(&s->allocator, n, sizeof *flags);
-    if (flags == NULL)
+    void *grown = selfcol_alloc__array(&s->allocator, n, size);
+    if (grown == NULL)
         return SELFCOL_ENOMEM;
-    selfcol_alloc__free_array(&s->allocator, s->node_active, s->node_active_capacity,
-                              sizeof *s->node_active);
-    s->node_active = flags;
-    s->node_active_capacity = n;
+    selfcol_alloc__free_array(&s->allocator, *array, *capacity, size);
+    *array = grown;
+    *capacity = n;
     return SELFCOL_OK;
 }
 
+// Room for the swept boxes (doubles), and for n node flags of a restricted
+// query.
 static int reserve_boxes(selfcol_sweep *s, size_t doubles) {
-    if (doubles <= s->box_capacity)
-        return SELFCOL_OK;
-    double *boxes = selfcol_alloc__array(&s->allocator, doubles, sizeof *boxes);
-    if (boxes == NULL)
-        return SELFCOL_ENOMEM;
-    selfcol_alloc__free_array(&s->allocator, s->boxes, s->box_capacity, sizeof *s->boxes);
-    s->boxes = boxes;
-    s->box_capacity = doubles;
-    return SELFCOL_OK;
+    return reserve_scratch(s, (void **)&s->boxes, &s->box_capacity, doubles, sizeof *s->boxes);
+}
+
+static int reserve_node_active(selfcol_sweep *s, size_t n) {
+    return reserve_scratch(s, (void **)&s->node_active, &s->node_active_capacity, n,
+                           sizeof *s->node_active);
 }
 
 // ---------------------------------------------------------------------------
@@ -507,15 +508,9 @@ static int run_earliest(selfcol_sweep_query *q, uint32_t method, const selfcol_e
     q->restart_sweep = RESTART_SWEEP * edge / meshes;
     if (reserve_hits(s, 0, 1) != SELFCOL_OK)
         return SELFCOL_ENOMEM;
-    if (coordinates > s->positions_capacity) {
-        double *p = selfcol_alloc__array(&s->allocator, coordinates, sizeof *p);
-        if (p == NULL)
-            return SELFCOL_ENOMEM;
-        selfcol_alloc__free_array(&s->allocator, s->positions_at, s->positions_capacity,
-                                  sizeof *s->positions_at);
-        s->positions_at = p;
-        s->positions_capacity = coordinates;
-    }
+    if (reserve_scratch(s, (void **)&s->positions_at, &s->positions_capacity, coordinates,
+                        sizeof *s->positions_at) != SELFCOL_OK)
+        return SELFCOL_ENOMEM;
     q->earliest_mode = 1;
     q->earliest = 1.0;
     double t_box = 1.0;
