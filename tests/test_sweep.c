@@ -3,8 +3,9 @@
 
 // Continuous queries (sweep.h) through the public API: hand-derived hits on
 // small motions, the hierarchy's search against the exhaustive reference on
-// random steps, soundness against discrete queries at both ends of a step,
-// and bad input.
+// random steps, queries restricted to active vertices against the
+// reference's hits, soundness against discrete queries at both ends of a
+// step, and bad input.
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

@@ -674,7 +674,7 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
         const bool freeze = pass + 1 >= rigid_zone_passes;
         zones_move(a->zone_parent.data(), n, a->previous.data(), a->zone_end.data(),
                    a->zone_inverse_mass.data(), a->zone_total.data(), freeze);
-        uint64_t moved = 0;
+        uint64_t zone_moved = 0;
         std::fill(a->moved.begin(), a->moved.end(), uint8_t(0));
         for (const attached_body &b : a->bodies)
             for (int v = 0; v < b.node_count; ++v) {
@@ -692,9 +692,9 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
                 nd.m_v = btVector3(btScalar((e[0] - p[0]) / dt), btScalar((e[1] - p[1]) / dt),
                                    btScalar((e[2] - p[2]) / dt));
                 nd.m_vn = nd.m_v;
-                moved++;
+                zone_moved++;
             }
-        st.zone_nodes = moved;
+        st.zone_nodes = zone_moved;
         uint64_t hits = 0;
         bool merged = false;
         int status = continuous_pass(a, &hits, true, [a, &merged](const uint32_t nodes[5], double) {

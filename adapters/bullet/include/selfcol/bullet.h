@@ -188,14 +188,18 @@ typedef struct selfcol_bullet_options {
      * the step started (keeping its linear and angular momentum, or
      * following its kinematic nodes), and the query runs again, merging
      * zones, up to SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES times (after 8,
-     * zones without kinematic nodes stay where the step started): a step
+     * zones without kinematic nodes stay where the step started, and the
+     * passes end at the first that merges no zone, which every later one
+     * would repeat): a step
      * that starts with no crossing ends with none unless pairs are left
      * after the last pass (stats: continuous_remaining: zones that did not
      * settle within the passes, or kinematic nodes that do not move as one
      * body). Kinematic nodes (zero inverse mass) are never held or moved: a
      * pair of kinematic nodes only is left alone. The first step after an
      * attach or detach has no last positions and is not checked. Costs a
-     * continuous query per pass (stats), on the adapter's threads (or
+     * continuous query per pass (stats): the step's first over every pair,
+     * the later ones over the pairs of the nodes the last pass moved
+     * (selfcol_sweep_options.active_vertices), on the adapter's threads (or
      * Bullet's scheduler: selfcol_bullet_use_task_scheduler); the held
      * positions do not depend on the threads.
      * The option also gives the scene where each step starts (where the
@@ -237,7 +241,8 @@ typedef struct selfcol_bullet_options {
 /** Continuous option: held-back passes per step at most, before the impact zones. */
 #define SELFCOL_BULLET_CONTINUOUS_PASSES 4
 /** Continuous option: impact-zone passes per step at most (the last one's hits are counted);
- *  after the first 8, zones without kinematic nodes stay where the step started. */
+ *  after the first 8, zones without kinematic nodes stay where the step started, and a pass
+ *  that merges no zone is the last. */
 #define SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES 32
 
 /** Counters of the last step. The caller sets version. */
