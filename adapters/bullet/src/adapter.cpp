@@ -131,6 +131,14 @@ struct edge_face {
     }
 };
 
+// A VF or EE pair of nodes, as in_crossing compares them (vf_key, ee_key).
+struct crossing_key {
+    uint32_t v[5];
+    bool operator<(const crossing_key &o) const {
+        return std::lexicographical_compare(v, v + 5, o.v, o.v + 5);
+    }
+};
+
 inline uint64_t edge_key(uint32_t u, uint32_t w) {
     return u < w ? uint64_t(u) << 32 | w : uint64_t(w) << 32 | u;
 }
@@ -186,6 +194,13 @@ struct selfcol_bullet {
     hvector<uint32_t> pass_hits, next_hits;
     hvector<double> pass_toi, next_toi;
     hvector<uint8_t> moved;
+    // The continuous option's crossings where the last step left the nodes
+    // (mark_crossings): the keys of the VF and EE pairs each EF interference
+    // holds, sorted (crossing_key); valid when crossings_known.
+    // crossing_hits: the EF query's result.
+    hvector<crossing_key> crossing_keys;
+    bool crossings_known;
+    selfcol_contacts *crossing_hits;
     bool have_previous;
     selfcol_sweep *sweep;
     selfcol_bullet_step_stats stats;
@@ -208,7 +223,9 @@ struct selfcol_bullet {
           zone_inverse_mass(hook_allocator<double>(&hooks)),
           pass_hits(hook_allocator<uint32_t>(&hooks)), next_hits(hook_allocator<uint32_t>(&hooks)),
           pass_toi(hook_allocator<double>(&hooks)), next_toi(hook_allocator<double>(&hooks)),
-          moved(hook_allocator<uint8_t>(&hooks)), have_previous(false), sweep(nullptr), stats() {}
+          moved(hook_allocator<uint8_t>(&hooks)),
+          crossing_keys(hook_allocator<crossing_key>(&hooks)), crossings_known(false),
+          crossing_hits(nullptr), have_previous(false), sweep(nullptr), stats() {}
 };
 
 namespace {
@@ -345,6 +362,7 @@ void drop_body(selfcol_bullet *a, size_t index) {
     selfcol_hierarchy_destroy(gone.sweep_tree);
     selfcol_mesh_destroy(gone.mesh);
     a->have_previous = false; // the node numbering changes
+    a->crossings_known = false;
     a->bodies.erase(a->bodies.begin() + std::ptrdiff_t(index));
     const uint32_t count = uint32_t(gone.node_count);
     for (size_t i = index; i < a->bodies.size(); ++i)
@@ -553,6 +571,105 @@ size_t untangle(selfcol_bullet *a) {
                         SELFCOL_BULLET_UNTANGLE_STEP * a->distance);
 }
 
+// The key of a VF pair (kind 0: its vertex, then its triangle's nodes
+// sorted) or an EE pair (kind 1: each edge's nodes sorted, the two edges in
+// order, the last slot unused), in the adapter's node numbering.
+crossing_key vf_key(uint32_t vertex, uint32_t t0, uint32_t t1, uint32_t t2) {
+    uint32_t t[3] = {t0, t1, t2};
+    std::sort(t, t + 3);
+    return crossing_key{{0, vertex, t[0], t[1], t[2]}};
+}
+
+crossing_key ee_key(uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1) {
+    uint32_t e[2][2] = {{std::min(a0, a1), std::max(a0, a1)}, {std::min(b0, b1), std::max(b0, b1)}};
+    const int lo = e[0][0] < e[1][0] || (e[0][0] == e[1][0] && e[0][1] < e[1][1]) ? 0 : 1;
+    return crossing_key{{1, e[lo][0], e[lo][1], e[1 - lo][0], e[1 - lo][1]}};
+}
+
+// Whether a continuous pair (its 5 nodes, continuous_pass: a VF pair's
+// vertex twice) is part of an edge-triangle crossing where the step
+// started: a vertex of the crossing edge against the triangle, or the edge
+// against one of the triangle's edges. Such a pair's motion is let
+// through. A crossing that is there can only be undone by its elements
+// passing back through each other, which the hold-back stops: on the
+// fast-compression ribbon the crossings that got past the passes stayed
+// to the end (benchmarks.md). Only these pairs: letting through every pair
+// whose nodes share a face with a crossing's let the crossings spread from
+// step to step (the ribbon demo at full size: 583k contacts at step 334,
+// against a peak of 77k over the whole run without it).
+bool in_crossing(const selfcol_bullet *a, const uint32_t nodes[5]) {
+    if (!a->crossings_known || a->crossing_keys.empty())
+        return false;
+    const crossing_key k = nodes[0] == nodes[1] ? vf_key(nodes[0], nodes[2], nodes[3], nodes[4])
+                                                : ee_key(nodes[0], nodes[1], nodes[2], nodes[3]);
+    return std::binary_search(a->crossing_keys.begin(), a->crossing_keys.end(), k);
+}
+
+// Finds the crossings where the nodes are now (the next step's start): an
+// exact EF query (contacts.h: edges crossing triangles) of every body and
+// body pair on the continuous option's hierarchies, refit here; keeps the
+// keys of the pairs each crossing holds (in_crossing).
+int mark_crossings(selfcol_bullet *a) {
+    a->crossings_known = false;
+    a->crossing_keys.clear();
+    if (a->crossing_hits == nullptr) {
+        selfcol_contacts_options co;
+        selfcol_contacts_options_init(&co, SELFCOL_CONTACTS_OPTIONS_VERSION);
+        co.allocator = a->hooks;
+        int status = selfcol_contacts_create(&a->crossing_hits, &co);
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    selfcol_context *c = context_of(a);
+    for (attached_body &b : a->bodies) {
+        int status = selfcol_mesh_set_positions_float(
+            b.mesh, node_positions(b.body), sizeof(btSoftBody::Node), size_t(b.node_count));
+        if (status == SELFCOL_OK && b.sweep_tree == nullptr)
+            status = selfcol_hierarchy_create(&b.sweep_tree, b.mesh, nullptr);
+        if (status == SELFCOL_OK)
+            status = c != nullptr ? selfcol_context_refit(c, b.sweep_tree)
+                                  : selfcol_hierarchy_refit(b.sweep_tree);
+        if (status != SELFCOL_OK)
+            return status;
+    }
+    selfcol_query_options q;
+    selfcol_query_options_init(&q, SELFCOL_QUERY_OPTIONS_VERSION);
+    q.kinds = SELFCOL_KIND_EF;
+    q.distance = a->distance;
+    for (size_t i = 0; i < a->bodies.size(); ++i)
+        for (size_t j = i; j < a->bodies.size(); ++j) {
+            const attached_body &bi = a->bodies[i], &bj = a->bodies[j];
+            int status;
+            if (i == j)
+                status = c != nullptr
+                             ? selfcol_context_self_collide(c, bi.sweep_tree, a->crossing_hits, &q)
+                             : selfcol_hierarchy_self_collide(bi.sweep_tree, a->crossing_hits, &q);
+            else
+                status = c != nullptr ? selfcol_context_collide(c, bi.sweep_tree, bj.sweep_tree,
+                                                                a->crossing_hits, &q)
+                                      : selfcol_hierarchy_collide(bi.sweep_tree, bj.sweep_tree,
+                                                                  a->crossing_hits, &q);
+            if (status != SELFCOL_OK)
+                return status;
+            const selfcol_contact *r = nullptr;
+            size_t n = 0;
+            selfcol_contacts_data(a->crossing_hits, &r, &n);
+            for (size_t k = 0; k < n; ++k) {
+                const uint32_t fa = (r[k].first_mesh == 0 ? bi : bj).first_node;
+                const uint32_t fb = (r[k].second_mesh == 0 ? bi : bj).first_node;
+                const uint32_t e[2] = {fa + r[k].a[0], fa + r[k].a[1]};
+                const uint32_t t[3] = {fb + r[k].b[0], fb + r[k].b[1], fb + r[k].b[2]};
+                for (int v = 0; v < 2; ++v)
+                    a->crossing_keys.push_back(vf_key(e[v], t[0], t[1], t[2]));
+                for (int v = 0; v < 3; ++v)
+                    a->crossing_keys.push_back(ee_key(e[0], e[1], t[v], t[(v + 1) % 3]));
+            }
+        }
+    std::sort(a->crossing_keys.begin(), a->crossing_keys.end());
+    a->crossings_known = true;
+    return SELFCOL_OK;
+}
+
 // One continuous pass: every attached node's motion from where the last
 // step left it to where it is now, through the continuous query of every
 // body pair; on_hit(nodes, toi) for each pair that touches on the way, its
@@ -567,9 +684,14 @@ size_t untangle(selfcol_bullet *a) {
 // over. The pairs are those of a full pass (in another order, which
 // nothing downstream depends on: holds take minima, zones union-find roots
 // by lowest node), at the cost of the moved nodes' neighbourhoods.
+//
+// Pairs of a crossing where the step started (in_crossing) are let
+// through, not reported: *exempt counts those the query found.
 template <class F>
-int continuous_pass(selfcol_bullet *a, uint64_t *hits, bool restricted, F on_hit) {
+int continuous_pass(selfcol_bullet *a, uint64_t *hits, uint64_t *exempt, bool restricted,
+                    F on_hit) {
     *hits = 0;
+    *exempt = 0;
     for (const attached_body &b : a->bodies) {
         int status = selfcol_mesh_set_positions_float(
             b.mesh, node_positions(b.body), sizeof(btSoftBody::Node), size_t(b.node_count));
@@ -616,6 +738,10 @@ int continuous_pass(selfcol_bullet *a, uint64_t *hits, bool restricted, F on_hit
                     second.first_node + h[k].b[0], second.first_node + h[k].b[1],
                     h[k].b[2] == SELFCOL_INVALID_INDEX ? first.first_node + h[k].a[0]
                                                        : second.first_node + h[k].b[2]};
+                if (in_crossing(a, nodes)) {
+                    ++*exempt;
+                    continue;
+                }
                 a->next_hits.insert(a->next_hits.end(), nodes, nodes + 5);
                 a->next_toi.push_back(h[k].toi);
             }
@@ -697,13 +823,15 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
         st.zone_nodes = zone_moved;
         uint64_t hits = 0;
         bool merged = false;
-        int status = continuous_pass(a, &hits, true, [a, &merged](const uint32_t nodes[5], double) {
-            uint32_t *parent = a->zone_parent.data();
-            for (int k = 1; k < 5; ++k) {
-                merged = merged || zone_root(parent, nodes[0]) != zone_root(parent, nodes[k]);
-                zones_unite(parent, nodes[0], nodes[k]);
-            }
-        });
+        uint64_t exempt = 0;
+        int status =
+            continuous_pass(a, &hits, &exempt, true, [a, &merged](const uint32_t nodes[5], double) {
+                uint32_t *parent = a->zone_parent.data();
+                for (int k = 1; k < 5; ++k) {
+                    merged = merged || zone_root(parent, nodes[0]) != zone_root(parent, nodes[k]);
+                    zones_unite(parent, nodes[0], nodes[k]);
+                }
+            });
         if (status != SELFCOL_OK)
             return status;
         st.continuous_passes++;
@@ -748,15 +876,19 @@ int hold_back(selfcol_bullet *a, double dt) {
         uint64_t hits = 0, held = 0;
         // The first pass queries every pair, the later ones those of the
         // nodes the last pass held back.
-        int status = continuous_pass(a, &hits, pass > 0, [a](const uint32_t nodes[5], double toi) {
-            const double factor = SELFCOL_BULLET_CONTINUOUS_HOLD * toi;
-            for (int k = 0; k < 5; ++k)
-                a->keep[nodes[k]] = std::min(a->keep[nodes[k]], factor);
-        });
+        uint64_t exempt = 0;
+        int status =
+            continuous_pass(a, &hits, &exempt, pass > 0, [a](const uint32_t nodes[5], double toi) {
+                const double factor = SELFCOL_BULLET_CONTINUOUS_HOLD * toi;
+                for (int k = 0; k < 5; ++k)
+                    a->keep[nodes[k]] = std::min(a->keep[nodes[k]], factor);
+            });
         if (status != SELFCOL_OK)
             return status;
-        if (pass == 0)
+        if (pass == 0) {
             st.continuous_hits = hits;
+            st.continuous_exempt = exempt;
+        }
         st.continuous_passes++;
         st.continuous_remaining = hits;
         if (hits == 0)
@@ -884,7 +1016,7 @@ int step_impl(selfcol_bullet *a, double dt) {
     double t2 = now_seconds();
     a->stats.continuous_hits = a->stats.continuous_held = 0;
     a->stats.continuous_passes = a->stats.continuous_remaining = 0;
-    a->stats.zone_nodes = 0;
+    a->stats.zone_nodes = a->stats.continuous_exempt = 0;
     a->stats.seconds_continuous = 0;
     if (a->opts.continuous) {
         if (a->have_previous) {
@@ -892,6 +1024,9 @@ int step_impl(selfcol_bullet *a, double dt) {
             if (status != SELFCOL_OK)
                 return status;
         }
+        status = mark_crossings(a);
+        if (status != SELFCOL_OK)
+            return status;
         remember_positions(a);
         a->stats.seconds_continuous = now_seconds() - t2;
     }
@@ -1143,6 +1278,7 @@ void destroy_adapter(selfcol_bullet *a, bool world_alive) {
         selfcol_mesh_destroy(b.mesh);
     }
     selfcol_sweep_destroy(a->sweep);
+    selfcol_contacts_destroy(a->crossing_hits);
     selfcol_allocator hooks = a->hooks;
     a->~selfcol_bullet();
     hook_free(hooks, a, sizeof(selfcol_bullet));
@@ -1294,6 +1430,7 @@ extern "C" int selfcol_bullet_attach(selfcol_bullet *a, btSoftBody *body, uint32
     a->node_total += uint32_t(node_count);
     a->next_surface = surface + 1;
     a->have_previous = false; // a new body has no last positions
+    a->crossings_known = false;
     // Bullet's own self-collision off, and the mark that makes Bullet's
     // soft-soft handling skip this body's pairs with other attached bodies
     // (attached_mark): selfcol is their collision now.

@@ -194,7 +194,12 @@ typedef struct selfcol_bullet_options {
      * that starts with no crossing ends with none unless pairs are left
      * after the last pass (stats: continuous_remaining: zones that did not
      * settle within the passes, or kinematic nodes that do not move as one
-     * body). Kinematic nodes (zero inverse mass) are never held or moved: a
+     * body). A crossing already there when the step starts (an edge through
+     * a triangle: an exact EF query at the end of each step finds them) is
+     * not held in place: the pairs it is made of (a vertex of the edge
+     * against the triangle, the edge against the triangle's edges) are let
+     * through (stats: continuous_exempt), so the response and the
+     * untangling can undo it. Kinematic nodes (zero inverse mass) are never held or moved: a
      * pair of kinematic nodes only is left alone. The first step after an
      * attach or detach has no last positions and is not checked. Costs a
      * continuous query per pass (stats): the step's first over every pair,
@@ -276,6 +281,9 @@ typedef struct selfcol_bullet_step_stats {
     uint64_t passed_around;
     /** nodes the impact zones moved in their last pass (continuous option) */
     uint64_t zone_nodes;
+    /** pairs of the step's first continuous pass let through because they
+     *  are part of a crossing where the step started (continuous option) */
+    uint64_t continuous_exempt;
 } selfcol_bullet_step_stats;
 
 #define SELFCOL_BULLET_STEP_STATS_VERSION 4
