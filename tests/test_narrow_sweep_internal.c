@@ -67,6 +67,38 @@ static void test_vertex_parallel_far_away(void **state) {
     assert_true(toi >= 0.0 && toi <= 0.5); // above the triangle from t ~ 0.5 on
 }
 
+// The coplanarity filter (delta = 0): a vertex that stays on one side of
+// the triangle's plane is answered without a root search, whatever its
+// distance; one that goes through the plane beside the triangle, or touches
+// it, is not (the search decides); with delta > 0 the filter is off.
+static void test_never_coplanar_filter(void **state) {
+    (void)state;
+    const double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
+    const double p0[3] = {0.2, 0.2, 1e-3}, p1[3] = {0.3, 0.2, 1e-9}; // down to 1e-9 above
+    double toi = -1.0;
+    selfcol_narrow_sweep_info info;
+    assert_int_equal(selfcol_narrow_sweep__vf_info(p0, a, b, c, p1, a, b, c, 0.0, &toi, &info), 0);
+    assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_NEVER_COPLANAR);
+    assert_true(info.checks == 0);
+    // Through the plane beside the triangle: no contact, found by the search.
+    const double q0[3] = {0.75, 0.75, 1}, q1[3] = {0.75, 0.75, -1};
+    assert_int_equal(selfcol_narrow_sweep__vf_info(q0, a, b, c, q1, a, b, c, 0.0, &toi, &info), 0);
+    assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_SEPARATED);
+    // Onto the triangle at the step's end: coplanar at t = 1, a contact.
+    const double r1[3] = {0.3, 0.2, 0.0};
+    assert_int_equal(selfcol_narrow_sweep__vf_info(p0, a, b, c, r1, a, b, c, 0.0, &toi, &info), 1);
+    assert_true(toi <= 1.0 && toi >= 1.0 - 1e-5);
+    // delta > 0: the filter does not apply (1e-9 above is within 1e-8).
+    assert_int_equal(selfcol_narrow_sweep__vf_info(p0, a, b, c, p1, a, b, c, 1e-8, &toi, &info), 1);
+    // Two edges in parallel planes 1e-12 apart, sliding across each other.
+    const double e0[3] = {-1, 0, 0}, e1[3] = {1, 0, 0};
+    const double g0[3] = {3, -1, 1e-12}, g1[3] = {3, 1, 1e-12};
+    const double h0[3] = {-3, -1, 1e-12}, h1[3] = {-3, 1, 1e-12};
+    assert_int_equal(
+        selfcol_narrow_sweep__ee_info(e0, e1, g0, g1, e0, e1, h0, h1, 0.0, &toi, &info), 0);
+    assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_NEVER_COPLANAR);
+}
+
 // Edge a (along x) falls through edge b (along y): they cross at t* = 1/2.
 static void test_edges_crossing(void **state) {
     (void)state;
@@ -488,6 +520,7 @@ typedef struct family_result {
     long separated,
         separated_wrongly;  // selfcol_narrow_sweep__separated: said apart, of which truth 1
     long may_touch_wrongly; // selfcol_narrow_sweep__may_touch: 0 for a truth 1
+    long never_coplanar;    // answered by the coplanarity filter (answer 0)
     long max_checks;
     double ns;
 } family_result;
@@ -509,6 +542,7 @@ static void run_queries(const query_list *list, int vf, const char *family, fami
                                                        x[7], 0.0, &toi[k], &info);
         outcome[k] = info.outcome;
         checks[k] = info.checks;
+        r->never_coplanar += info.outcome == SELFCOL_NARROW_SWEEP_NEVER_COPLANAR;
     }
     r->ns = now_ns() - start;
     // The cheap separation filter must never call a colliding query apart.
@@ -563,6 +597,7 @@ static void test_ccd_sample_queries_when_present(void **state) {
     }
     long total_fn = 0, total[2] = {0, 0}, total_fp[2] = {0, 0}, total_pos[2] = {0, 0};
     long total_separated = 0, total_separated_wrongly = 0, total_may_touch_wrongly = 0;
+    long total_never_coplanar = 0;
     double total_ns[2] = {0.0, 0.0};
     print_message("%-28s %4s %7s %6s %4s %5s %9s %9s %9s\n", "family", "kind", "queries", "truth1",
                   "FN", "FP", "FPbudget", "maxboxes", "ns/query");
@@ -583,6 +618,7 @@ static void test_ccd_sample_queries_when_present(void **state) {
                           r.queries ? r.ns / (double)r.queries : 0.0);
             total_fn += r.false_negatives;
             total_separated += r.separated;
+            total_never_coplanar += r.never_coplanar;
             total_separated_wrongly += r.separated_wrongly;
             total_may_touch_wrongly += r.may_touch_wrongly;
             total[vf] += r.queries;
@@ -600,6 +636,9 @@ static void test_ccd_sample_queries_when_present(void **state) {
     print_message("rationals: %ld converted, %ld not exactly\n", conversions, inexact_conversions);
     print_message("separation filter: %ld queries shown apart, %ld of them colliding\n",
                   total_separated, total_separated_wrongly);
+    print_message("coplanarity filter: %ld queries never coplanar (answer 0; a false negative "
+                  "among them would count above)\n",
+                  total_never_coplanar);
     if (total[0] + total[1] == 0) {
         print_message("%s holds no queries: skipped\n", root);
         skip();
@@ -613,6 +652,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vertex_through_triangle_middle),
         cmocka_unit_test(test_vertex_parallel_far_away),
+        cmocka_unit_test(test_never_coplanar_filter),
         cmocka_unit_test(test_edges_crossing),
         cmocka_unit_test(test_delta_catches_near_miss),
         cmocka_unit_test(test_degenerate_motions),

@@ -411,6 +411,78 @@ static int prepare(sweep_query *q, int kind, const double *const start[4],
     return 1;
 }
 
+// ---------------------------------------------------------------------------
+// Never coplanar (delta = 0 only): two primitives that touch at time t have
+// their four points coplanar then. With X, Y, Z the differences
+//   VF: X = b - a, Y = c - a, Z = p - a;   EE: X = b - a, Y = d - c, Z = c - a
+// (the points as start[] lists them), coplanarity is f(t) = (X x Y) . Z = 0,
+// and f is a cubic in t: each difference moves linearly, and the triple
+// product is linear in each. Its Bernstein coefficients on [0, 1] are
+//   c0 = f(X0, Y0, Z0),  c3 = f(X1, Y1, Z1),
+//   3 c1 = f(X1, Y0, Z0) + f(X0, Y1, Z0) + f(X0, Y0, Z1),
+//   3 c2 = f(X0, Y1, Z1) + f(X1, Y0, Z1) + f(X1, Y1, Z0),
+// (index 0: start, 1: end), and f(t) = sum_k c_k B_k(t) with B_k >= 0
+// summing to 1 (the Bernstein basis of degree 3): when the four have one
+// strict sign, f has no root in [0, 1], and the primitives never touch.
+// Rounding: each triple product of rounded differences is computed as
+// Shewchuk's orient3d computes its determinant (one rounded subtraction per
+// entry, then the products), so its error is within (7 + 56 u) u of its
+// permanent (the same expression on absolute values; Shewchuk 1997,
+// "Adaptive precision floating-point arithmetic and fast robust geometric
+// predicates", o3derrboundA); summing three adds at most 2.2 u of their
+// permanents' sum. The test asks each coefficient to exceed 2e-15 times its
+// permanents' sum (more than 1.03e-15 needs), and gives no answer where a
+// permanent is below 2^-800 (products could underflow) or not finite.
+// This is the test the root search below would spend most of its boxes on
+// for a pair that comes near without touching (measured on the Bullet
+// adapter's fast-compression ribbon: benchmarks.md).
+#define SELFCOL_COPLANAR_ERROR 2e-15
+
+static double triple(const double x[3], const double y[3], const double z[3], double *permanent) {
+    const double a = x[1] * y[2], b = x[2] * y[1], c = x[2] * y[0], d = x[0] * y[2];
+    const double e = x[0] * y[1], f = x[1] * y[0];
+    *permanent = fabs(z[0]) * (fabs(a) + fabs(b)) + fabs(z[1]) * (fabs(c) + fabs(d)) +
+                 fabs(z[2]) * (fabs(e) + fabs(f));
+    return z[0] * (a - b) + z[1] * (c - d) + z[2] * (e - f);
+}
+
+static int never_coplanar(int kind, const double *const start[4], const double *const end[4]) {
+    double x[2][3], y[2][3], z[2][3];
+    for (int s = 0; s < 2; ++s) {
+        const double *const *q = s == 0 ? start : end;
+        for (int i = 0; i < 3; ++i) {
+            if (kind == KIND_VF) {
+                x[s][i] = q[2][i] - q[1][i];
+                y[s][i] = q[3][i] - q[1][i];
+                z[s][i] = q[0][i] - q[1][i];
+            } else {
+                x[s][i] = q[1][i] - q[0][i];
+                y[s][i] = q[3][i] - q[2][i];
+                z[s][i] = q[2][i] - q[0][i];
+            }
+        }
+    }
+    double c[4], permanent[4], p1, p2, p3;
+    c[0] = triple(x[0], y[0], z[0], &permanent[0]);
+    c[1] = triple(x[1], y[0], z[0], &p1) + triple(x[0], y[1], z[0], &p2) +
+           triple(x[0], y[0], z[1], &p3);
+    permanent[1] = p1 + p2 + p3;
+    c[2] = triple(x[0], y[1], z[1], &p1) + triple(x[1], y[0], z[1], &p2) +
+           triple(x[1], y[1], z[0], &p3);
+    permanent[2] = p1 + p2 + p3;
+    c[3] = triple(x[1], y[1], z[1], &permanent[3]);
+    int positive = 1, negative = 1;
+    for (int k = 0; k < 4; ++k) {
+        // !(p >= min && p <= max) also catches NaN.
+        if (!(permanent[k] >= 0x1p-800 && permanent[k] <= DBL_MAX))
+            return 0;
+        const double bound = SELFCOL_COPLANAR_ERROR * permanent[k];
+        positive = positive && c[k] > bound;
+        negative = negative && c[k] < -bound;
+    }
+    return positive || negative;
+}
+
 static int sweep(int kind, const double *const start[4], const double *const end[4], double delta,
                  double t_max, double *toi, selfcol_narrow_sweep_info *info) {
     sweep_query q;
@@ -424,6 +496,8 @@ static int sweep(int kind, const double *const start[4], const double *const end
         delta = 0.0; // negative or NaN
     if (!prepare(&q, kind, start, end, delta))
         return finish(1, 0.0, SELFCOL_NARROW_SWEEP_INVALID, &st, toi, info);
+    if (delta == 0.0 && never_coplanar(kind, start, end))
+        return finish(0, 1.0, SELFCOL_NARROW_SWEEP_NEVER_COPLANAR, &st, toi, info);
 
     // Best-first while the heap has room.
     sweep_box heap[HEAP_CAPACITY];

@@ -62,7 +62,10 @@ enum {
     SELFCOL_NARROW_SWEEP_ACCEPTED = 1,  // answer 1: a box met the tolerance
     SELFCOL_NARROW_SWEEP_BUDGET = 2,    // answer 1: box budget or depth ran out
     SELFCOL_NARROW_SWEEP_INVALID = 3,   // answer 1: non-finite or huge coordinates
-    SELFCOL_NARROW_SWEEP_WITNESS = 4    // answer 1 (may_touch only): a point within tolerance
+    SELFCOL_NARROW_SWEEP_WITNESS = 4,   // answer 1 (may_touch only): a point within tolerance
+    // answer 0 (delta = 0 only): the four points are coplanar at no time of
+    // the step (narrow_sweep.c, never_coplanar), so they never touch
+    SELFCOL_NARROW_SWEEP_NEVER_COPLANAR = 5
 };
 
 typedef struct selfcol_narrow_sweep_info {
