@@ -39,7 +39,10 @@
  *   pair's eight positions' bounding box; except pairs flagged
  *   SELFCOL_SWEEP_UNRESOLVED, for which the root finder's work budget (1e5
  *   boxes) ran out before it could decide: reported, conservatively, with
- *   the earliest time still undecided.
+ *   the earliest time still undecided. At delta = 0 a pair whose four
+ *   points are provably coplanar at no time of the step (a cubic's
+ *   Bernstein coefficients of one sign, lib/narrow/narrow_sweep.c) is not
+ *   reported: it cannot touch.
  * - **Pairs already within delta at t = 0 are reported** with toi 0 (and
  *   SELFCOL_SWEEP_INITIAL when the closed-form distance at t = 0 is at most
  *   delta), so the collision-free fraction is then 0. That is the honest
