@@ -418,7 +418,7 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
                     1e3 * step_seconds, 1e3 * s.seconds_detect, 1e3 * s.seconds_response);
     if (w.adapter != nullptr && s.continuous_passes > 0)
         std::printf("      continuous: %llu passes %.2f ms, %llu pairs touching, %llu nodes held, "
-                    "%llu in impact zones, %llu pairs left, %llu let through in tangles\n",
+                    "%llu in impact zones, %llu pairs left, %llu let through at crossings\n",
                     (unsigned long long)s.continuous_passes, 1e3 * s.seconds_continuous,
                     (unsigned long long)s.continuous_hits, (unsigned long long)s.continuous_held,
                     (unsigned long long)s.zone_nodes, (unsigned long long)s.continuous_remaining,
@@ -462,8 +462,8 @@ int finish(const world &w, const options &o, const report &r, int steps) {
         std::printf(
             "interferences: last step %llu, peak %llu; continuous: %llu pairs touching "
             "within steps, %llu nodes held, %llu steps with impact zones, %llu pairs left "
-            "after the last pass, %llu sign changes passed around, %llu pairs let through in "
-            "tangles\n",
+            "after the last pass, %llu sign changes passed around, %llu pairs let through at "
+            "crossings\n",
             (unsigned long long)r.last_interferences, (unsigned long long)r.peak_interferences,
             (unsigned long long)r.continuous_hits, (unsigned long long)r.continuous_held,
             (unsigned long long)r.zone_steps, (unsigned long long)r.continuous_remaining,
