@@ -571,6 +571,17 @@ size_t untangle(selfcol_bullet *a) {
                         SELFCOL_BULLET_UNTANGLE_STEP * a->distance);
 }
 
+// The continuous option's hierarchy of a body (made once, on the adapter's
+// allocator like every handle it makes).
+int ensure_sweep_tree(selfcol_bullet *a, attached_body &b) {
+    if (b.sweep_tree != nullptr)
+        return SELFCOL_OK;
+    selfcol_hierarchy_options ho;
+    selfcol_hierarchy_options_init(&ho, SELFCOL_HIERARCHY_OPTIONS_VERSION);
+    ho.allocator = a->hooks;
+    return selfcol_hierarchy_create(&b.sweep_tree, b.mesh, &ho);
+}
+
 // The key of a VF pair (kind 0: its vertex, then its triangle's nodes
 // sorted) or an EE pair (kind 1: each edge's nodes sorted, the two edges in
 // order, the last slot unused), in the adapter's node numbering.
@@ -624,8 +635,8 @@ int mark_crossings(selfcol_bullet *a) {
     for (attached_body &b : a->bodies) {
         int status = selfcol_mesh_set_positions_float(
             b.mesh, node_positions(b.body), sizeof(btSoftBody::Node), size_t(b.node_count));
-        if (status == SELFCOL_OK && b.sweep_tree == nullptr)
-            status = selfcol_hierarchy_create(&b.sweep_tree, b.mesh, nullptr);
+        if (status == SELFCOL_OK)
+            status = ensure_sweep_tree(a, b);
         if (status == SELFCOL_OK)
             status = c != nullptr ? selfcol_context_refit(c, b.sweep_tree)
                                   : selfcol_hierarchy_refit(b.sweep_tree);
@@ -863,12 +874,11 @@ int hold_back(selfcol_bullet *a, double dt) {
         if (status != SELFCOL_OK)
             return status;
     }
-    for (attached_body &b : a->bodies)
-        if (b.sweep_tree == nullptr) {
-            int status = selfcol_hierarchy_create(&b.sweep_tree, b.mesh, nullptr);
-            if (status != SELFCOL_OK)
-                return status;
-        }
+    for (attached_body &b : a->bodies) {
+        int status = ensure_sweep_tree(a, b);
+        if (status != SELFCOL_OK)
+            return status;
+    }
     a->keep.assign(a->node_total, 1.0);
     a->moved.assign(a->node_total, 0);
     for (int pass = 0; pass < SELFCOL_BULLET_CONTINUOUS_PASSES; ++pass) {
