@@ -56,7 +56,7 @@
 // the whole chain). Both coefficients are exact doubles: 3 + 2^-49 and
 // 7 + 7 * 2^-50 fit in 53 bits.
 #define ORIENT2D_BOUND ((3.0 + 16.0 * PRED_EPS) * PRED_EPS)
-#define ORIENT3D_BOUND ((7.0 + 56.0 * PRED_EPS) * PRED_EPS)
+#define ORIENT3D_BOUND SELFCOL_PREDICATES_ORIENT3D_BOUND
 
 // The orient3d filter is trusted only when its permanent is at least this; see
 // the underflow argument in selfcol_predicates__orient3d.
@@ -191,14 +191,8 @@ int selfcol_predicates__orient2d(const double a[2], const double b[2], const dou
 // expanded along the z column as in Shewchuk's orient3d: the proven sign, 0
 // for an exactly zero determinant, or 2 when the exact path is needed.
 static int det3_filtered(const double u[3], const double v[3], const double w[3]) {
-    double vxwy = v[0] * w[1], wxvy = w[0] * v[1];
-    double wxuy = w[0] * u[1], uxwy = u[0] * w[1];
-    double uxvy = u[0] * v[1], vxuy = v[0] * u[1];
-
-    double det = u[2] * (vxwy - wxvy) + v[2] * (wxuy - uxwy) + w[2] * (uxvy - vxuy);
-    double permanent = (fabs(vxwy) + fabs(wxvy)) * fabs(u[2]) +
-                       (fabs(wxuy) + fabs(uxwy)) * fabs(v[2]) +
-                       (fabs(uxvy) + fabs(vxuy)) * fabs(w[2]);
+    double permanent;
+    const double det = selfcol_predicates__det3(u, v, w, &permanent);
     if (permanent >= ORIENT3D_FILTER_MIN) {
         double errbound = ORIENT3D_BOUND * permanent;
         if (det > errbound)

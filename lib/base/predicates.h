@@ -10,6 +10,29 @@
 #ifndef SELFCOL_PREDICATES_H
 #define SELFCOL_PREDICATES_H
 
+#include <math.h>
+
+// The error bound A coefficient of orient3d (Shewchuk 1997): a determinant
+// computed by selfcol_predicates__det3 from rows that are rounded
+// differences is within this times its permanent of the exact determinant
+// of those differences (predicates.c, where the coefficient is derived).
+#define SELFCOL_PREDICATES_ORIENT3D_BOUND ((7.0 + 56.0 * 0x1p-53) * 0x1p-53)
+
+// det[u; v; w] in floating point, expanded along the z column as Shewchuk's
+// orient3d expands it, and its permanent (the same expression with every
+// term in absolute value) in *permanent: the filter's computation, shared by
+// orient3d's filter and by callers that bound a sum of such determinants
+// (the continuous narrow phase's coplanarity filter).
+static inline double selfcol_predicates__det3(const double u[3], const double v[3],
+                                              const double w[3], double *permanent) {
+    const double vxwy = v[0] * w[1], wxvy = w[0] * v[1];
+    const double wxuy = w[0] * u[1], uxwy = u[0] * w[1];
+    const double uxvy = u[0] * v[1], vxuy = v[0] * u[1];
+    *permanent = (fabs(vxwy) + fabs(wxvy)) * fabs(u[2]) + (fabs(wxuy) + fabs(uxwy)) * fabs(v[2]) +
+                 (fabs(uxvy) + fabs(vxuy)) * fabs(w[2]);
+    return u[2] * (vxwy - wxvy) + v[2] * (wxuy - uxwy) + w[2] * (uxvy - vxuy);
+}
+
 // Sign (+1, 0, -1) of det[b - a, c - a] = (b-a) x (c-a): +1 when a, b, c turn
 // counter-clockwise.
 int selfcol_predicates__orient2d(const double a[2], const double b[2], const double c[2]);
