@@ -254,7 +254,7 @@ void trace_step(FILE *trace, const config &cfg, const size_spec &size, demo::mod
                 const double times_ms[4], const selfcol_bullet_step_stats &s, size_t bullet_now) {
     std::fprintf(trace,
                  "%s,%s,%g,%d,%d,%.4f,%.4f,%.4f,%.4f,%llu,%llu,%llu,%llu,%llu,%llu,%.4g,%zu,"
-                 "%.4f,%llu,%llu,%llu,%llu,%llu\n",
+                 "%.4f,%llu,%llu,%llu,%llu,%llu,%llu\n",
                  size.label.c_str(), mode_name(m), cfg.scale, rep + 1, i, times_ms[0], times_ms[1],
                  times_ms[2], times_ms[3], (unsigned long long)s.contacts,
                  (unsigned long long)s.interferences, (unsigned long long)s.crossed,
@@ -262,7 +262,8 @@ void trace_step(FILE *trace, const config &cfg, const size_spec &size, demo::mod
                  (unsigned long long)s.responses, s.max_push, bullet_now,
                  1e3 * s.seconds_continuous, (unsigned long long)s.continuous_passes,
                  (unsigned long long)s.zone_nodes, (unsigned long long)s.continuous_remaining,
-                 (unsigned long long)s.passed_around, (unsigned long long)s.continuous_exempt);
+                 (unsigned long long)s.passed_around, (unsigned long long)s.continuous_exempt,
+                 (unsigned long long)s.crossings_after);
 }
 
 // The window's figures (steps a..b) from the per-step series (seconds, and
@@ -652,7 +653,7 @@ int print_plan(const config &cfg) {
         std::fprintf(f, "size,mode,scale,run,step,step_ms,detect_ms,response_ms,store_ms,contacts,"
                         "interferences,crossed,flipped,corrected,responses,max_push,"
                         "bullet_contacts,continuous_ms,continuous_passes,zone_nodes,"
-                        "continuous_remaining,passed_around,continuous_exempt\n");
+                        "continuous_remaining,passed_around,continuous_exempt,crossings_after\n");
         std::fclose(f);
     }
     return 0;

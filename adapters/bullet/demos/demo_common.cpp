@@ -402,6 +402,7 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
         r.passed_around += s.passed_around;
         r.zone_steps += s.zone_nodes > 0;
         r.continuous_exempt += s.continuous_exempt;
+        r.last_crossings = s.crossings_after;
     } else {
         contacts = bullet_contacts(w);
     }
@@ -418,11 +419,13 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
                     1e3 * step_seconds, 1e3 * s.seconds_detect, 1e3 * s.seconds_response);
     if (w.adapter != nullptr && s.continuous_passes > 0)
         std::printf("      continuous: %llu passes %.2f ms, %llu pairs touching, %llu nodes held, "
-                    "%llu in impact zones, %llu pairs left, %llu let through at crossings\n",
+                    "%llu in impact zones, %llu pairs left, %llu let through at crossings, "
+                    "%llu crossings after the step\n",
                     (unsigned long long)s.continuous_passes, 1e3 * s.seconds_continuous,
                     (unsigned long long)s.continuous_hits, (unsigned long long)s.continuous_held,
                     (unsigned long long)s.zone_nodes, (unsigned long long)s.continuous_remaining,
-                    (unsigned long long)s.continuous_exempt);
+                    (unsigned long long)s.continuous_exempt,
+                    (unsigned long long)s.crossings_after);
     if (w.adapter == nullptr)
         std::printf("step %5d  bullet vertex-face contacts %7zu  KE %.4g J  step %.2f ms\n", step,
                     contacts, energy, 1e3 * step_seconds);
@@ -463,11 +466,12 @@ int finish(const world &w, const options &o, const report &r, int steps) {
             "interferences: last step %llu, peak %llu; continuous: %llu pairs touching "
             "within steps, %llu nodes held, %llu steps with impact zones, %llu pairs left "
             "after the last pass, %llu sign changes passed around, %llu pairs let through at "
-            "crossings\n",
+            "crossings, %llu crossings after the last step\n",
             (unsigned long long)r.last_interferences, (unsigned long long)r.peak_interferences,
             (unsigned long long)r.continuous_hits, (unsigned long long)r.continuous_held,
             (unsigned long long)r.zone_steps, (unsigned long long)r.continuous_remaining,
-            (unsigned long long)r.passed_around, (unsigned long long)r.continuous_exempt);
+            (unsigned long long)r.passed_around, (unsigned long long)r.continuous_exempt,
+            (unsigned long long)r.last_crossings);
     bool ok = !r.ever_nonfinite && status == SELFCOL_OK;
     if (o.check) {
         double mass = 0;

@@ -134,6 +134,7 @@ struct report {
     uint64_t last_interferences = 0, peak_interferences = 0;
     uint64_t continuous_hits = 0, continuous_held = 0, continuous_remaining = 0;
     uint64_t passed_around = 0, zone_steps = 0, continuous_exempt = 0;
+    uint64_t last_crossings = 0; // crossings_after of the last step (continuous option)
 };
 void print_step(const world &w, const options &o, int step, double step_seconds, report &r);
 // Writes the frame of this step if asked; returns false on an I/O error.

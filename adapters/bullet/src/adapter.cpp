@@ -676,6 +676,8 @@ int mark_crossings(selfcol_bullet *a) {
                     a->crossing_keys.push_back(ee_key(e[0], e[1], t[v], t[(v + 1) % 3]));
             }
         }
+    // Five keys per crossing, before the sort (a pair may be in several).
+    a->stats.crossings_after = a->crossing_keys.size() / 5;
     std::sort(a->crossing_keys.begin(), a->crossing_keys.end());
     a->crossings_known = true;
     return SELFCOL_OK;
@@ -1027,6 +1029,7 @@ int step_impl(selfcol_bullet *a, double dt) {
     a->stats.continuous_hits = a->stats.continuous_held = 0;
     a->stats.continuous_passes = a->stats.continuous_remaining = 0;
     a->stats.zone_nodes = a->stats.continuous_exempt = 0;
+    a->stats.crossings_after = 0;
     a->stats.seconds_continuous = 0;
     if (a->opts.continuous) {
         if (a->have_previous) {

@@ -1187,6 +1187,9 @@ static untangle_result poked_through(int continuous) {
         CHECK(selfcol_bullet_stats(a, &st) == SELFCOL_OK);
         r.status = st.status;
         r.exempt += st.continuous_exempt;
+        // The step's own count of the crossings it leaves: this test's EF
+        // query on meshes of its own, with the option (0 without it).
+        CHECK(st.crossings_after == (continuous ? crossings_of(low, high) : 0));
     }
     r.crossings_end = crossings_of(low, high);
     selfcol_bullet_destroy(a);

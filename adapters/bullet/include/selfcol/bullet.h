@@ -284,6 +284,11 @@ typedef struct selfcol_bullet_step_stats {
     /** pairs of the step's first continuous pass let through because they
      *  are part of a crossing where the step started (continuous option) */
     uint64_t continuous_exempt;
+    /** EF interferences (edges crossing triangles) where the step left the
+     *  nodes, after its response and continuous passes: the crossings the
+     *  next step starts with (continuous option: its exact EF query at the
+     *  step's end; 0 when it is off, where `interferences` is the count) */
+    uint64_t crossings_after;
 } selfcol_bullet_step_stats;
 
 #define SELFCOL_BULLET_STEP_STATS_VERSION 4
