@@ -188,9 +188,10 @@ typedef struct selfcol_bullet_options {
      * the step started (keeping its linear and angular momentum, or
      * following its kinematic nodes), and the query runs again, merging
      * zones, up to SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES times (after 8,
-     * zones without kinematic nodes stay where the step started, and the
-     * passes end at the first that merges no zone, which every later one
-     * would repeat): a step
+     * zones without kinematic nodes stay where the step started, and a
+     * pass that merges no zone pins the free nodes of its pairs where the
+     * step started; the passes end at the first that merges no zone and
+     * pins no new node, which every later one would repeat): a step
      * that starts with no crossing ends with none unless pairs are left
      * after the last pass (stats: continuous_remaining: zones that did not
      * settle within the passes, or kinematic nodes that do not move as one
@@ -246,8 +247,9 @@ typedef struct selfcol_bullet_options {
 /** Continuous option: held-back passes per step at most, before the impact zones. */
 #define SELFCOL_BULLET_CONTINUOUS_PASSES 4
 /** Continuous option: impact-zone passes per step at most (the last one's hits are counted);
- *  after the first 8, zones without kinematic nodes stay where the step started, and a pass
- *  that merges no zone is the last. */
+ *  after the first 8, zones without kinematic nodes stay where the step started, a pass that
+ *  merges no zone pins its pairs' free nodes where the step started, and one that merges no
+ *  zone and pins no new node is the last. */
 #define SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES 32
 
 /** Counters of the last step. The caller sets version. */
