@@ -424,8 +424,7 @@ void print_step(const world &w, const options &o, int step, double step_seconds,
                     (unsigned long long)s.continuous_passes, 1e3 * s.seconds_continuous,
                     (unsigned long long)s.continuous_hits, (unsigned long long)s.continuous_held,
                     (unsigned long long)s.zone_nodes, (unsigned long long)s.continuous_remaining,
-                    (unsigned long long)s.continuous_exempt,
-                    (unsigned long long)s.crossings_after);
+                    (unsigned long long)s.continuous_exempt, (unsigned long long)s.crossings_after);
     if (w.adapter == nullptr)
         std::printf("step %5d  bullet vertex-face contacts %7zu  KE %.4g J  step %.2f ms\n", step,
                     contacts, energy, 1e3 * step_seconds);

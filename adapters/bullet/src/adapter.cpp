@@ -225,9 +225,9 @@ struct selfcol_bullet {
           keep(hook_allocator<double>(&hooks)), zone_parent(hook_allocator<uint32_t>(&hooks)),
           zone_total(hook_allocator<zone_sums>(&hooks)), zone_end(hook_allocator<double>(&hooks)),
           zone_inverse_mass(hook_allocator<double>(&hooks)),
-          pinned(hook_allocator<uint8_t>(&hooks)), pass_hits(hook_allocator<uint32_t>(&hooks)), next_hits(hook_allocator<uint32_t>(&hooks)),
-          pass_toi(hook_allocator<double>(&hooks)), next_toi(hook_allocator<double>(&hooks)),
-          moved(hook_allocator<uint8_t>(&hooks)),
+          pinned(hook_allocator<uint8_t>(&hooks)), pass_hits(hook_allocator<uint32_t>(&hooks)),
+          next_hits(hook_allocator<uint32_t>(&hooks)), pass_toi(hook_allocator<double>(&hooks)),
+          next_toi(hook_allocator<double>(&hooks)), moved(hook_allocator<uint8_t>(&hooks)),
           crossing_keys(hook_allocator<crossing_key>(&hooks)), crossings_known(false),
           crossing_hits(nullptr), have_previous(false), sweep(nullptr), stats() {}
 };
