@@ -186,10 +186,14 @@ static void lerp(double out[3], const double x0[3], const double x1[3], double t
 // and an offset; the closed-form distance sampled at 65 times is the
 // reference: a sampled time closer than delta - margin must be reported, with
 // toi no later; an ACCEPTED answer must be within the header's bound at toi.
-static void test_random_motions_against_sampled_distance(void **state) {
-    (void)state;
+// Twice: with the default tolerance, and with a coarse one (1e-3, the _before
+// functions' argument), which must keep both guarantees with its own bound
+// and evaluate fewer boxes.
+static void random_motions(double tolerance, long *checks) {
     const int samples = 64;
     int reported = 0, sampled_close = 0, separated = 0;
+    *checks = 0;
+    rng_state = 0x9E3779B97F4A7C15u; // the same pairs for both tolerances
     for (int trial = 0; trial < 2000; ++trial) {
         const int vf = trial % 2;
         const double scale = trial % 3 == 0 ? 1e-3 : (trial % 3 == 1 ? 1.0 : 1e3);
@@ -201,14 +205,22 @@ static void test_random_motions_against_sampled_distance(void **state) {
         const double delta = trial % 4 == 0 ? 0.0 : scale * uniform(0.0, 0.3);
         double toi = -1.0;
         selfcol_narrow_sweep_info info;
-        const int hit = vf ? selfcol_narrow_sweep__vf_info(x[0], x[1], x[2], x[3], x[4], x[5], x[6],
-                                                           x[7], delta, &toi, &info)
-                           : selfcol_narrow_sweep__ee_info(x[0], x[1], x[2], x[3], x[4], x[5], x[6],
-                                                           x[7], delta, &toi, &info);
-        reported += hit;
-        assert_true(!hit || (toi >= 0.0 && toi <= 1.0));
         const double *const start[4] = {x[0], x[1], x[2], x[3]};
         const double *const end[4] = {x[4], x[5], x[6], x[7]};
+        int hit;
+        if (tolerance == SELFCOL_NARROW_SWEEP_TOLERANCE)
+            hit = vf ? selfcol_narrow_sweep__vf_info(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7],
+                                                     delta, &toi, &info)
+                     : selfcol_narrow_sweep__ee_info(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7],
+                                                     delta, &toi, &info);
+        else
+            hit =
+                vf ? selfcol_narrow_sweep__vf_before(start, end, delta, 1.0, tolerance, &toi, &info)
+                   : selfcol_narrow_sweep__ee_before(start, end, delta, 1.0, tolerance, &toi,
+                                                     &info);
+        *checks += info.checks;
+        reported += hit;
+        assert_true(!hit || (toi >= 0.0 && toi <= 1.0));
         const int apart = selfcol_narrow_sweep__separated(start, end, !vf, delta);
         separated += apart;
         const double margin = 1e-9 * scale;
@@ -244,8 +256,7 @@ static void test_random_motions_against_sampled_distance(void **state) {
                 }
                 extent = h - l > extent ? h - l : extent;
             }
-            const double bound =
-                sqrt(3.0) * (delta + SELFCOL_NARROW_SWEEP_TOLERANCE * extent) + 1e-12 * scale;
+            const double bound = sqrt(3.0) * (delta + tolerance * extent) + 1e-12 * scale;
             double y[4][3];
             for (int k = 0; k < 4; ++k)
                 lerp(y[k], x[k], x[k + 4], toi);
@@ -257,11 +268,19 @@ static void test_random_motions_against_sampled_distance(void **state) {
                          trial, vf ? "VF" : "EE", toi, dist, bound);
         }
     }
-    print_message("random motions: 2000 pairs, %d reported, %d with a sampled time within delta, "
-                  "%d shown apart by the separation filter\n",
-                  reported, sampled_close, separated);
+    print_message("random motions, tolerance %g: 2000 pairs, %d reported, %d with a sampled time "
+                  "within delta, %d shown apart by the separation filter, %ld boxes\n",
+                  tolerance, reported, sampled_close, separated, *checks);
     assert_true(sampled_close > 100); // the families do exercise contacts
     assert_true(separated > 100);     // and the filter does say something
+}
+
+static void test_random_motions_against_sampled_distance(void **state) {
+    (void)state;
+    long fine, coarse;
+    random_motions(SELFCOL_NARROW_SWEEP_TOLERANCE, &fine);
+    random_motions(1e-3, &coarse);
+    assert_true(coarse < fine);
 }
 
 // ------------------------------------------------------------- may_touch
@@ -375,8 +394,10 @@ static void test_may_touch_against_search(void **state) {
         const int answer = selfcol_narrow_sweep__may_touch(start, end, !vf, &info);
         double toi;
         const int reference =
-            vf ? selfcol_narrow_sweep__vf_before(start, end, 0.0, 1.0, &toi, NULL)
-               : selfcol_narrow_sweep__ee_before(start, end, 0.0, 1.0, &toi, NULL);
+            vf ? selfcol_narrow_sweep__vf_before(start, end, 0.0, 1.0,
+                                                 SELFCOL_NARROW_SWEEP_TOLERANCE, &toi, NULL)
+               : selfcol_narrow_sweep__ee_before(start, end, 0.0, 1.0,
+                                                 SELFCOL_NARROW_SWEEP_TOLERANCE, &toi, NULL);
         if (answer != reference)
             fail_msg("trial %d (%s, %s): may_touch %d (outcome %d), the search %d", trial,
                      vf ? "VF" : "EE", crossing ? "crossing" : "random", answer, info.outcome,

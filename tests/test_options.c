@@ -266,7 +266,7 @@ static void test_sweep_options_name_the_field(void **state) {
     world *w = *state;
     const double *start = selfcol_mesh_positions(w->mesh);
     selfcol_sweep_options o;
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < 8; ++k) {
         selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
         const char *field = NULL, *value = NULL;
         int want = SELFCOL_EINVAL;
@@ -295,6 +295,16 @@ static void test_sweep_options_name_the_field(void **state) {
             field = "version";
             value = "older layout";
             want = SELFCOL_EVERSION;
+            break;
+        case 5:
+            o.tolerance = 0.5;
+            field = "tolerance";
+            value = "0.5";
+            break;
+        case 6:
+            o.tolerance = NAN;
+            field = "tolerance";
+            value = "nan";
             break;
         default: field = ""; want = SELFCOL_OK;
         }

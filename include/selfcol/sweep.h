@@ -36,7 +36,8 @@
  *   steps (`mma_bool`).
  * - **Bounded false positives**: a reported pair came, at t = toi, within
  *   about sqrt(3) (delta + 1e-6 L) of touching, L being the extent of the
- *   pair's eight positions' bounding box; except pairs flagged
+ *   pair's eight positions' bounding box (1e-6: the option `tolerance`,
+ *   which the caller may raise); except pairs flagged
  *   SELFCOL_SWEEP_UNRESOLVED, for which the root finder's work budget (1e5
  *   boxes) ran out before it could decide: reported, conservatively, with
  *   the earliest time still undecided. At delta = 0 a pair whose four
@@ -132,7 +133,20 @@ typedef struct selfcol_sweep_options {
      *  zones) marks those vertices, since no other pair's answer can have changed; the
      *  traversal then skips node pairs with no active vertex below them. */
     const uint8_t *active_vertices[2];
+    /** The root finder's relative tolerance, in 1e-12 .. 0.1 (default
+     *  SELFCOL_SWEEP_DEFAULT_TOLERANCE): a pair is reported when, at its toi, two of its points
+     *  are within sqrt(3) (separation + tolerance L + a rounding term of 2^-45 times the
+     *  coordinates' magnitude) of each other, L the largest extent of the box of its four
+     *  points' start and end positions. Never a false negative, whatever the tolerance. A
+     *  larger one stops each pair's search sooner: a simulation that only holds back what may
+     *  touch can take 1e-3 (the Bullet adapter's continuous option: 5 to 8 times fewer root
+     *  boxes on its fast-compression ribbon), at the cost of pairs reported within that band. */
+    double tolerance;
 } selfcol_sweep_options;
+
+/** Default of selfcol_sweep_options.tolerance: Tight-Inclusion's (Wang et al. 2021) 1e-6,
+ *  relative here (times the pair's extent L). */
+#define SELFCOL_SWEEP_DEFAULT_TOLERANCE 1e-6
 
 /** 3 since 0.4 (threads moved to the context: selfcol_context_self_sweep());
  *  0.3's versions 1 and 2 are refused. */

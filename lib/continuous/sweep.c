@@ -30,6 +30,7 @@ int selfcol_sweep_options_init(selfcol_sweep_options *opts, unsigned int version
     opts->kinds = SELFCOL_KIND_VF | SELFCOL_KIND_EE;
     opts->mode = SELFCOL_SWEEP_ALL;
     opts->separation = 0.0;
+    opts->tolerance = SELFCOL_SWEEP_DEFAULT_TOLERANCE;
     return SELFCOL_OK;
 }
 
@@ -193,8 +194,10 @@ static int root_before(const selfcol_sweep_query *q, const selfcol_sweep_hit *h,
     const double *start[4], *end[4];
     hit_points(q, h, start, end);
     return h->kind == SELFCOL_CONTACT_VF
-               ? selfcol_narrow_sweep__vf_before(start, end, q->separation, t_max, toi, info)
-               : selfcol_narrow_sweep__ee_before(start, end, q->separation, t_max, toi, info);
+               ? selfcol_narrow_sweep__vf_before(start, end, q->separation, t_max, q->tolerance,
+                                                 toi, info)
+               : selfcol_narrow_sweep__ee_before(start, end, q->separation, t_max, q->tolerance,
+                                                 toi, info);
 }
 
 // Whether a hit is within the separation already at t = 0: the closed form
@@ -637,6 +640,8 @@ static int sweep_options(selfcol_sweep_options *o, const selfcol_sweep_options *
                             o->separation <= SELFCOL_MESH_MAX_COORDINATE,
                         "separation", "= %g is not a distance in 0 .. %g", o->separation,
                         SELFCOL_MESH_MAX_COORDINATE);
+    SELFCOL_CHECK_FIELD(at, o->tolerance >= 1e-12 && o->tolerance <= 0.1, "tolerance",
+                        "= %g is not a relative tolerance in 1e-12 .. 0.1", o->tolerance);
     return SELFCOL_OK;
 }
 
@@ -685,6 +690,7 @@ static int run_sweep(const selfcol_context *context, const selfcol_hierarchy *fi
     q.start[1] = second_start;
     q.self = self;
     q.separation = o.separation;
+    q.tolerance = o.tolerance;
     q.kinds = o.kinds;
     q.out = result;
     q.t_box = 1.0;

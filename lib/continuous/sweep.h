@@ -92,6 +92,7 @@ typedef struct selfcol_sweep_query {
     const double *vertex_boxes[2]; // swept box per vertex (lo, hi), set by the search
     int self;
     double separation;
+    double tolerance; // the root finder's (options.tolerance)
     uint32_t kinds;
     selfcol_sweep *out;
     // Restricted to pairs with an active vertex (options.active_vertices;

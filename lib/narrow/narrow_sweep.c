@@ -396,7 +396,7 @@ static int depth_first(sweep_search *st, const sweep_box *start, const sweep_box
 // E_i + tau_i, the derivation above). Returns 0 for non-finite or huge
 // coordinates (the conservative answer 1, INVALID).
 static int prepare(sweep_query *q, int kind, const double *const start[4],
-                   const double *const end[4], double delta) {
+                   const double *const end[4], double delta, double tolerance) {
     q->kind = kind;
     double extent = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -419,7 +419,7 @@ static int prepare(sweep_query *q, int kind, const double *const start[4],
         q->accept[i] = 2.0 * eps; // tau_i: raised to tau below
         extent = hi - lo > extent ? hi - lo : extent;
     }
-    const double tau = SELFCOL_NARROW_SWEEP_TOLERANCE * extent;
+    const double tau = tolerance * extent;
     for (int i = 0; i < 3; ++i)
         q->accept[i] = q->threshold[i] + (tau > q->accept[i] ? tau : q->accept[i]);
     return 1;
@@ -498,7 +498,7 @@ static int never_coplanar(int kind, const double *const start[4], const double *
 }
 
 static int sweep(int kind, const double *const start[4], const double *const end[4], double delta,
-                 double t_max, double *toi, selfcol_narrow_sweep_info *info) {
+                 double t_max, double tolerance, double *toi, selfcol_narrow_sweep_info *info) {
     sweep_query q;
     // Boxes starting at or after t_max are never examined: a box holds the
     // times [t_lo, t_hi], so a root at t < t_max lies in a box with t_lo <
@@ -508,7 +508,9 @@ static int sweep(int kind, const double *const start[4], const double *const end
     sweep_search st = {&q, t_max, 0, 0, 0, 0, 0.0};
     if (!(delta >= 0.0))
         delta = 0.0; // negative or NaN
-    if (!prepare(&q, kind, start, end, delta))
+    if (!(tolerance > 0.0 && tolerance <= 1.0))
+        tolerance = SELFCOL_NARROW_SWEEP_TOLERANCE; // out of range or NaN
+    if (!prepare(&q, kind, start, end, delta, tolerance))
         return finish(1, 0.0, SELFCOL_NARROW_SWEEP_INVALID, &st, toi, info);
     if (delta == 0.0 && never_coplanar(kind, start, end))
         return finish(0, 1.0, SELFCOL_NARROW_SWEEP_NEVER_COPLANAR, &st, toi, info);
@@ -564,7 +566,7 @@ int selfcol_narrow_sweep__vf_info(const double p0[3], const double a0[3], const 
                                   selfcol_narrow_sweep_info *info) {
     const double *const start[4] = {p0, a0, b0, c0};
     const double *const end[4] = {p1, a1, b1, c1};
-    return sweep(KIND_VF, start, end, delta, 1.0, toi, info);
+    return sweep(KIND_VF, start, end, delta, 1.0, SELFCOL_NARROW_SWEEP_TOLERANCE, toi, info);
 }
 
 int selfcol_narrow_sweep__ee_info(const double a0[3], const double b0[3], const double c0[3],
@@ -573,7 +575,7 @@ int selfcol_narrow_sweep__ee_info(const double a0[3], const double b0[3], const 
                                   selfcol_narrow_sweep_info *info) {
     const double *const start[4] = {a0, b0, c0, d0};
     const double *const end[4] = {a1, b1, c1, d1};
-    return sweep(KIND_EE, start, end, delta, 1.0, toi, info);
+    return sweep(KIND_EE, start, end, delta, 1.0, SELFCOL_NARROW_SWEEP_TOLERANCE, toi, info);
 }
 
 int selfcol_narrow_sweep__vf(const double p0[3], const double a0[3], const double b0[3],
@@ -589,15 +591,15 @@ int selfcol_narrow_sweep__ee(const double a0[3], const double b0[3], const doubl
 }
 
 int selfcol_narrow_sweep__vf_before(const double *const start[4], const double *const end[4],
-                                    double delta, double t_max, double *toi,
+                                    double delta, double t_max, double tolerance, double *toi,
                                     selfcol_narrow_sweep_info *info) {
-    return sweep(KIND_VF, start, end, delta, t_max, toi, info);
+    return sweep(KIND_VF, start, end, delta, t_max, tolerance, toi, info);
 }
 
 int selfcol_narrow_sweep__ee_before(const double *const start[4], const double *const end[4],
-                                    double delta, double t_max, double *toi,
+                                    double delta, double t_max, double tolerance, double *toi,
                                     selfcol_narrow_sweep_info *info) {
-    return sweep(KIND_EE, start, end, delta, t_max, toi, info);
+    return sweep(KIND_EE, start, end, delta, t_max, tolerance, toi, info);
 }
 
 // ---------------------------------------------------------------------------
@@ -949,7 +951,8 @@ int selfcol_narrow_sweep__may_touch(const double *const start[4], const double *
         return 0;
     }
     sweep_query q;
-    const int valid = prepare(&q, edge_edge ? KIND_EE : KIND_VF, start, end, 0.0);
+    const int valid =
+        prepare(&q, edge_edge ? KIND_EE : KIND_VF, start, end, 0.0, SELFCOL_NARROW_SWEEP_TOLERANCE);
     if (valid && find_witness(&q)) {
         if (info != NULL)
             *info = (selfcol_narrow_sweep_info){SELFCOL_NARROW_SWEEP_WITNESS, 0, 0};
@@ -960,5 +963,6 @@ int selfcol_narrow_sweep__may_touch(const double *const start[4], const double *
             *info = (selfcol_narrow_sweep_info){SELFCOL_NARROW_SWEEP_SEPARATED, 0, 0};
         return 0;
     }
-    return sweep(edge_edge ? KIND_EE : KIND_VF, start, end, 0.0, 1.0, NULL, info);
+    return sweep(edge_edge ? KIND_EE : KIND_VF, start, end, 0.0, 1.0,
+                 SELFCOL_NARROW_SWEEP_TOLERANCE, NULL, info);
 }

@@ -29,7 +29,8 @@
 //   delta + tau_i + 2 eps_i in each coordinate i (up to a relative 2^-49,
 //   the rounding of that sum), so their Euclidean distance is at most the
 //   norm of that vector, below sqrt(3) (delta + tau + 4 eps), where
-//     tau_i = max(tau, 2 eps_i), tau = SELFCOL_NARROW_SWEEP_TOLERANCE * L,
+//     tau_i = max(tau, 2 eps_i), tau = SELFCOL_NARROW_SWEEP_TOLERANCE * L
+//         (the _before functions: their tolerance argument times L),
 //     L = the largest extent, over the three axes, of the bounding box of the
 //         8 input points (the relative tolerance is scale- and
 //         translation-invariant),
@@ -99,15 +100,19 @@ int selfcol_narrow_sweep__ee_info(const double a0[3], const double b0[3], const 
 // The same two over [0, t_max) only, for a search of the earliest time over
 // many pairs: no box starting at or after t_max is examined, so the answer is
 // 1 only with *toi < t_max, and 0 means no contact before t_max (within the
-// guarantees above). t_max = 1 gives exactly the functions above (no box
-// starts at 1); t_max > 1 or NaN is taken as 1. The points are given as
-// arrays: start[k] and end[k] of point k, in the argument order of the
-// functions above (VF: p, a, b, c; EE: a, b, c, d).
+// guarantees above), and with the relative tolerance `tolerance` in place of
+// SELFCOL_NARROW_SWEEP_TOLERANCE (outside (0, 1] or NaN: that default): a
+// larger one accepts boxes sooner, so the search evaluates fewer boxes,
+// with the false-positive bound above for that tolerance and no false
+// negative whatever it is. t_max = 1 and the default tolerance give exactly
+// the functions above (no box starts at 1); t_max > 1 or NaN is taken as 1.
+// The points are given as arrays: start[k] and end[k] of point k, in the
+// argument order of the functions above (VF: p, a, b, c; EE: a, b, c, d).
 int selfcol_narrow_sweep__vf_before(const double *const start[4], const double *const end[4],
-                                    double delta, double t_max, double *toi,
+                                    double delta, double t_max, double tolerance, double *toi,
                                     selfcol_narrow_sweep_info *info);
 int selfcol_narrow_sweep__ee_before(const double *const start[4], const double *const end[4],
-                                    double delta, double t_max, double *toi,
+                                    double delta, double t_max, double tolerance, double *toi,
                                     selfcol_narrow_sweep_info *info);
 
 // A cheap sufficient test of separation over the whole step (no false

@@ -195,6 +195,7 @@ typedef struct selfcol_sweep_options {
     double separation;
     int (*progress)(void *payload, double done); void *progress_payload;
     const uint8_t *active_vertices[2];
+    double tolerance;
 } selfcol_sweep_options;
 extern "Python" int _selfcol_sweep_progress(void *payload, double done);
 typedef struct selfcol_sweep_hit {

@@ -875,7 +875,7 @@ class Hierarchy:
 
     def self_sweep(self, start: Any, separation: float = 0.0, method: Union[str, int] = "bvh",
                    kinds: KindsArg = "vf,ee", mode: str = "all", threads: int = 1,
-                   progress: Any = None) -> "Sweep":
+                   progress: Any = None, tolerance: Optional[float] = None) -> "Sweep":
         """Continuous self-query over one step, from ``start`` (t = 0) to the
         mesh's current positions (t = 1) (selfcol_hierarchy_self_sweep).
         ``method``: "bvh" (default), "exact" (BVH and the curvature criterion
@@ -885,9 +885,12 @@ class Hierarchy:
         of contact only, what a simulator needs: much faster). ``progress``
         (mode "all"): True for a line on standard error, or a callable
         given the fraction done that returns True to cancel (then
-        selfcol.Cancelled); Ctrl-C stops the query in every case."""
+        selfcol.Cancelled); Ctrl-C stops the query in every case.
+        ``tolerance``: the root finder's relative tolerance (None: 1e-6,
+        SELFCOL_SWEEP_DEFAULT_TOLERANCE; at most 0.1): larger is faster and
+        reports pairs that come within that band of touching, never fewer."""
         S = _as_double_positions(start, self.mesh.vertex_count, "start")
-        opts = _sweep_options(separation, method, kinds, mode)
+        opts = _sweep_options(separation, method, kinds, mode, tolerance)
         context = _context(threads)
         sw = _new_sweep()
         if context is None:
@@ -904,14 +907,15 @@ class Hierarchy:
 
     def sweep(self, start: Any, other: "Hierarchy", other_start: Any, separation: float = 0.0,
               method: Union[str, int] = "bvh", kinds: KindsArg = "vf,ee", mode: str = "all",
-              threads: int = 1, progress: Any = None) -> "Sweep":
+              threads: int = 1, progress: Any = None,
+              tolerance: Optional[float] = None) -> "Sweep":
         """Continuous query between this mesh (0) and other's (1) over one step
-        (selfcol_hierarchy_sweep); ``progress`` as self_sweep."""
+        (selfcol_hierarchy_sweep); ``progress`` and ``tolerance`` as self_sweep."""
         if not isinstance(other, Hierarchy):
             raise _invalid("sweep needs another selfcol.Hierarchy")
         S0 = _as_double_positions(start, self.mesh.vertex_count, "start")
         S1 = _as_double_positions(other_start, other.mesh.vertex_count, "other_start")
-        opts = _sweep_options(separation, method, kinds, mode)
+        opts = _sweep_options(separation, method, kinds, mode, tolerance)
         context = _context(threads)
         sw = _new_sweep()
         if context is None:
@@ -1078,7 +1082,7 @@ _SWEEP_MODES = {"all": 0, "earliest": 1}
 
 
 def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg,
-                   mode: str) -> Any:
+                   mode: str, tolerance: Optional[float] = None) -> Any:
     opts = ffi.new("selfcol_sweep_options *")
     _check(lib.selfcol_sweep_options_init(opts, lib.SELFCOL_SWEEP_OPTIONS_VERSION),
            "selfcol_sweep_options_init")
@@ -1089,6 +1093,11 @@ def _sweep_options(separation: float, method: Union[str, int], kinds: KindsArg,
         opts.separation = float(separation)
     except (TypeError, ValueError):
         raise _invalid("separation must be a number, got %r" % (separation,)) from None
+    if tolerance is not None:
+        try:
+            opts.tolerance = float(tolerance)
+        except (TypeError, ValueError):
+            raise _invalid("tolerance must be a number, got %r" % (tolerance,)) from None
     _check_options(lib.selfcol_sweep_options_check, opts, "sweep options")
     return opts
 
@@ -1601,11 +1610,12 @@ def collide(V1: Any, F1: Any, V2: Any = None, F2: Any = None, distance: Optional
 
 def self_sweep(V0: Any, V1: Any, F: Any, separation: float = 0.0,
                method: Union[str, int] = "bvh", kinds: KindsArg = "vf,ee",
-               mode: str = "all", threads: int = 1, progress: Any = None) -> Sweep:
+               mode: str = "all", threads: int = 1, progress: Any = None,
+               tolerance: Optional[float] = None) -> Sweep:
     """Continuous self-query of the surface F moving linearly from V0 (t = 0)
     to V1 (t = 1): every VF/EE pair coming within ``separation``, with
     conservative times of impact and the collision-free fraction.
     ``mode="earliest"`` gives the first time of contact only, much faster;
-    ``progress``: see Hierarchy.self_sweep."""
+    ``progress`` and ``tolerance``: see Hierarchy.self_sweep."""
     return Hierarchy(Mesh(V1, F)).self_sweep(V0, separation, method, kinds, mode, threads,
-                                             progress)
+                                             progress, tolerance)

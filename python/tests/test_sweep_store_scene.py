@@ -3,6 +3,7 @@
 """Continuous queries, the store across frames, scenes and colliders."""
 
 import numpy as np
+import pytest
 
 import selfcol
 from conftest import folded, grid
@@ -42,6 +43,24 @@ def test_self_sweep_free_step():
     assert len(s2) == 0 and s2.free_fraction == 1.0
     h = selfcol.Hierarchy(selfcol.Mesh(V2 * 1.1, F2))
     assert np.array_equal(h.self_sweep(V2, method="exhaustive").hits, s2.hits)
+
+
+def test_sweep_tolerance():
+    # A coarser root-finder tolerance: the same crossing pairs found (no
+    # false negative), in fewer root boxes; out of range is refused.
+    V, F = grid(6, 6)
+    V0 = np.concatenate([V, V + [0.05, 0.05, 0.2]])
+    V1 = np.concatenate([V, V + [0.05, 0.05, -0.2]])
+    F2 = np.concatenate([F, F + len(V)])
+    fine = selfcol.self_sweep(V0, V1, F2)
+    coarse = selfcol.self_sweep(V0, V1, F2, tolerance=1e-3)
+    assert len(fine) > 0
+    assert set(map(tuple, fine.hits[["kind", "first", "second"]].tolist())) <= \
+        set(map(tuple, coarse.hits[["kind", "first", "second"]].tolist()))
+    assert coarse.stats["narrow_boxes"] < fine.stats["narrow_boxes"]
+    assert coarse.free_fraction <= fine.free_fraction
+    with pytest.raises(selfcol.InvalidArgument, match="tolerance"):
+        selfcol.self_sweep(V0, V1, F2, tolerance=0.5)
 
 
 def test_self_sweep_exact_method():
