@@ -538,22 +538,25 @@ def table_sequence(paths):
         if not os.path.exists(path):
             continue
         fresh = {}
+        # The run a row comes from: `make bench` (sequence.csv) or `make
+        # bench-full` (sequence-full.csv); both hold the 20k cases.
+        run = "full" if os.path.basename(path) == "sequence-full.csv" else "default"
         with open(path) as f:
             for r in csv.DictReader(f):
                 if r["method"] == "FRESH":
                     fresh[r["case"]] = r
                 elif r["case"] in fresh:
-                    rows.append((fresh[r["case"]], r))
-    out = ["| case | triangles | fresh mean / median ms | coherent mean / median / max ms | "
+                    rows.append((run, fresh[r["case"]], r))
+    out = ["| run | case | triangles | fresh mean / median ms | coherent mean / median / max ms | "
            "mean ratio | rebuilds (partial), fresh frames | near pairs | sequence bytes / tri |",
-           "|---|---|---|---|---|---|---|---|"]
-    for f, c in rows:
+           "|---|---|---|---|---|---|---|---|---|"]
+    for run, f, c in rows:
         fm, cm = float(f["frame_ms_mean"]), float(c["frame_ms_mean"])
         near = float(c["near_pairs_mean"])
         near_text = ("%.2fM" % (near / 1e6) if near >= 1e6 else
                      "%.0fk" % (near / 1e3) if near >= 1e3 else "%.0f" % near)
-        out.append("| %s | %s | %s / %s | %s / %s / %s | %.1fx | %s (%s), %s of %s | %s | %.0f |" % (
-            c["case"], "{:,}".format(int(c["triangles"])), ms1(fm), ms1(float(f["frame_ms_median"])),
+        out.append("| %s | %s | %s | %s / %s | %s / %s / %s | %.1fx | %s (%s), %s of %s | %s | %.0f |" % (
+            run, c["case"], "{:,}".format(int(c["triangles"])), ms1(fm), ms1(float(f["frame_ms_median"])),
             ms1(cm), ms1(float(c["frame_ms_median"])), ms1(float(c["frame_ms_max"])),
             fm / cm if cm > 0 else float("nan"), c["rebuilds"], c["partial_rebuilds"],
             c["fresh_frames"], c["frames"], near_text, float(c["bytes_per_tri"])))
