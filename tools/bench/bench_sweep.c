@@ -17,9 +17,11 @@
 // 3 nf int32 indices, native byte order.
 //
 // usage: selfcol-bench-sweep [--data DIR] [--reps N] [--only NAME] [--dump DIR] [--smoke]
-//        [--earliest] [--threads N]
+//        [--earliest] [--threads N] [--tolerance T]
 // --earliest runs the EARLIEST rows only (the ALL rows take seconds each);
-// --threads N runs the rows marked "2 threads" on N (2 to 64) instead.
+// --threads N runs the rows marked "2 threads" on N (2 to 64) instead;
+// --tolerance T sets selfcol_sweep_options.tolerance (default 1e-6, the
+// library's: the committed rows and ipc-toolkit's 1e-6 are at it).
 #include <selfcol/selfcol.h>
 
 #include "fixtures.h"
@@ -95,7 +97,7 @@ static double median(double *v, int n) {
 
 #define MAX_REPS 64
 
-static void run(const bench_step *b, int reps, int earliest_only, unsigned many) {
+static void run(const bench_step *b, int reps, int earliest_only, unsigned many, double tolerance) {
     selfcol_mesh *m;
     selfcol_hierarchy *h;
     selfcol_sweep *r;
@@ -139,6 +141,7 @@ static void run(const bench_step *b, int reps, int earliest_only, unsigned many)
             selfcol_sweep_options_init(&o, SELFCOL_SWEEP_OPTIONS_VERSION);
             o.method = row_method[mode];
             o.mode = mode >= 3 ? SELFCOL_SWEEP_EARLIEST : SELFCOL_SWEEP_ALL;
+            o.tolerance = tolerance;
             const int status =
                 mode == 2 || mode == 5
                     ? selfcol_context_self_sweep(many_context, h, b->start.positions, r, &o)
@@ -177,6 +180,7 @@ static void run(const bench_step *b, int reps, int earliest_only, unsigned many)
 int main(int argc, char **argv) {
     const char *data = BENCH_DEFAULT_DATA_DIR, *only = NULL, *dump_dir = NULL;
     int reps = 5, smoke = 0, earliest_only = 0, many = 2;
+    double tolerance = SELFCOL_SWEEP_DEFAULT_TOLERANCE;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--data") == 0 && i + 1 < argc)
             data = argv[++i];
@@ -192,14 +196,26 @@ int main(int argc, char **argv) {
             earliest_only = 1;
         else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
             many = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--tolerance") == 0 && i + 1 < argc)
+            tolerance = atof(argv[++i]);
         else {
             fprintf(stderr, "usage: selfcol-bench-sweep [--data DIR] [--reps N] [--only NAME] "
-                            "[--dump DIR] [--smoke] [--earliest] [--threads N]\n");
+                            "[--dump DIR] [--smoke] [--earliest] [--threads N] "
+                            "[--tolerance T]\n");
             return 2;
         }
     }
     if (many < 2 || many > 64) {
         fprintf(stderr, "bench-sweep: --threads (of the many-thread rows) must be 2 to 64\n");
+        return 2;
+    }
+    selfcol_sweep_options checked;
+    selfcol_sweep_options_init(&checked, SELFCOL_SWEEP_OPTIONS_VERSION);
+    checked.tolerance = tolerance;
+    selfcol_options_problem problem;
+    problem.version = SELFCOL_OPTIONS_PROBLEM_VERSION;
+    if (selfcol_sweep_options_check(&checked, &problem) != SELFCOL_OK) {
+        fprintf(stderr, "bench-sweep: --tolerance: %s\n", problem.message);
         return 2;
     }
     if (reps < 1 || reps > MAX_REPS) {
@@ -234,7 +250,7 @@ int main(int argc, char **argv) {
         if (only == NULL || strcmp(only, b.name) == 0) {
             if (dump_dir != NULL)
                 dump(&b, dump_dir);
-            run(&b, reps, earliest_only, (unsigned)many);
+            run(&b, reps, earliest_only, (unsigned)many, tolerance);
         }
         fixture_free(&b.start);
         fixture_free(&b.end);

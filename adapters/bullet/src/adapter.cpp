@@ -719,7 +719,6 @@ int continuous_pass(selfcol_bullet *a, uint64_t *hits, uint64_t *exempt, bool re
     a->next_toi.clear();
     selfcol_sweep_options so;
     selfcol_sweep_options_init(&so, SELFCOL_SWEEP_OPTIONS_VERSION);
-    so.tolerance = SELFCOL_BULLET_CONTINUOUS_TOLERANCE;
     for (size_t i = 0; i < a->bodies.size(); ++i)
         for (size_t j = i; j < a->bodies.size(); ++j) {
             const attached_body &bi = a->bodies[i], &bj = a->bodies[j];

@@ -244,11 +244,6 @@ typedef struct selfcol_bullet_options {
 #define SELFCOL_BULLET_UNTANGLE_STEP 0.25
 /** Continuous option: the fraction of a pair's time of impact its nodes keep of their motion. */
 #define SELFCOL_BULLET_CONTINUOUS_HOLD 0.8
-/** Continuous option: the root finder's relative tolerance (selfcol_sweep_options.tolerance):
- *  a pair within about 1e-3 of its extent (an edge and the step's motion) of touching is held
- *  as if it touched, far inside the thickness; the core's default, 1e-6, cost 5 to 8 times the
- *  root boxes on the fast-compression ribbon (benchmarks.md). */
-#define SELFCOL_BULLET_CONTINUOUS_TOLERANCE 1e-3
 /** Continuous option: held-back passes per step at most, before the impact zones. */
 #define SELFCOL_BULLET_CONTINUOUS_PASSES 4
 /** Continuous option: impact-zone passes per step at most (the last one's hits are counted);
