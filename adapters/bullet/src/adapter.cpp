@@ -806,22 +806,6 @@ int continuous_pass(selfcol_bullet *a, uint64_t *hits, uint64_t *exempt, bool re
 // pass's.
 const int rigid_zone_passes = 8;
 
-// Pins the free nodes of the last pass's pairs (a->pinned); returns whether
-// any was not pinned yet.
-bool pin_pairs(selfcol_bullet *a) {
-    bool pinned_new = false;
-    for (const attached_body &b : a->bodies)
-        for (size_t i = 0; i < a->pass_hits.size(); ++i) {
-            const uint32_t node = a->pass_hits[i];
-            if (node < b.first_node || node - b.first_node >= uint32_t(b.node_count) ||
-                a->pinned[node] || b.body->m_nodes[int(node - b.first_node)].m_im <= 0)
-                continue;
-            a->pinned[node] = 1;
-            pinned_new = true;
-        }
-    return pinned_new;
-}
-
 int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
     selfcol_bullet_step_stats &st = a->stats;
     const size_t n = a->node_total;
@@ -849,10 +833,7 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
         const bool freeze = pass + 1 >= rigid_zone_passes;
         zones_move(a->zone_parent.data(), n, a->previous.data(), a->zone_end.data(),
                    a->zone_inverse_mass.data(), a->zone_total.data(), freeze);
-        for (size_t node = 0; node < n; ++node)
-            if (a->pinned[node])
-                for (int k = 0; k < 3; ++k)
-                    a->zone_end[3 * node + size_t(k)] = a->previous[3 * node + size_t(k)];
+        zones_hold_pinned(a->pinned.data(), n, a->previous.data(), a->zone_end.data());
         uint64_t zone_moved = 0;
         std::fill(a->moved.begin(), a->moved.end(), uint8_t(0));
         for (const attached_body &b : a->bodies)
@@ -896,7 +877,9 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
         // cap. Such pairs are those within the query's error band of
         // touching at the step's start, reported at time 0 in every pass
         // (benchmarks.md, the fast-compression ribbon): no pass clears them.
-        if (hits == 0 || (freeze && !merged && !pin_pairs(a)))
+        if (hits == 0 || (freeze && !merged &&
+                          !zones_pin(a->pinned.data(), a->pass_hits.data(), a->pass_hits.size(),
+                                     a->zone_inverse_mass.data())))
             break;
     }
     return SELFCOL_OK;

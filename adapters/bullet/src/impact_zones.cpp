@@ -147,4 +147,23 @@ size_t zones_move(uint32_t *parent, size_t count, const double *start, double *e
     return moved;
 }
 
+bool zones_pin(uint8_t *pinned, const uint32_t *nodes, size_t n, const double *inverse_mass) {
+    bool pinned_new = false;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t node = nodes[i];
+        if (pinned[node] || !(inverse_mass[node] > 0))
+            continue; // pinned already, or kinematic: never held
+        pinned[node] = 1;
+        pinned_new = true;
+    }
+    return pinned_new;
+}
+
+void zones_hold_pinned(const uint8_t *pinned, size_t count, const double *start, double *end) {
+    for (size_t i = 0; i < count; ++i)
+        if (pinned[i])
+            for (int k = 0; k < 3; ++k)
+                end[3 * i + size_t(k)] = start[3 * i + size_t(k)];
+}
+
 } // namespace selfcol_bullet_detail

@@ -732,6 +732,21 @@ static void impact_zone_rules() {
     CHECK(zones_move(parent, 7, start, end, inverse_mass, sums, true) == 5);
     CHECK(std::memcmp(end, start, 12 * sizeof *end) == 0);
     CHECK(end[12] == 5.5 && std::fabs(end[15] - 8.5) < 1e-12 && end[18] == 9.5);
+    // Pinned: a pair in the kinematic zone (nodes 5 and 6, as a pass gives
+    // a pair's five) pins its free node only, once; after the zones' move
+    // the pinned node is where it started, bit for bit, and the kinematic
+    // node keeps its own motion.
+    uint8_t pinned[7] = {0, 0, 0, 0, 0, 0, 0};
+    const uint32_t pair[5] = {5, 5, 6, 6, 5};
+    CHECK(zones_pin(pinned, pair, 5, inverse_mass));
+    CHECK(pinned[5] == 1 && pinned[6] == 0 && pinned[0] == 0);
+    CHECK(!zones_pin(pinned, pair, 5, inverse_mass)); // nothing new: the passes stop
+    std::memcpy(end, before, sizeof end);
+    CHECK(zones_move(parent, 7, start, end, inverse_mass, sums, true) == 5);
+    zones_hold_pinned(pinned, 7, start, end);
+    CHECK(std::memcmp(end + 15, start + 15, 3 * sizeof *end) == 0);
+    CHECK(end[18] == 9.5 && end[19] == 0.25 && end[12] == 5.5);
+    CHECK(std::memcmp(end, start, 12 * sizeof *end) == 0);
 }
 
 static void untangle_rules() {
