@@ -92,7 +92,6 @@ typedef struct selfcol_sweep_query {
     const double *vertex_boxes[2]; // swept box per vertex (lo, hi), set by the search
     int self;
     double separation;
-    double tolerance; // the root finder's (options.tolerance)
     uint32_t kinds;
     selfcol_sweep *out;
     // Restricted to pairs with an active vertex (options.active_vertices;
@@ -120,6 +119,9 @@ typedef struct selfcol_sweep_query {
     // are skipped (sweep_cull.c).
     int cull;
     selfcol_contour_job cull_job;
+    // The root finder's relative tolerance (options.tolerance): last, so
+    // that the broad phase's fields keep their places.
+    double tolerance;
 } selfcol_sweep_query;
 
 // What a broad phase returns, besides SELFCOL_OK and SELFCOL_ENOMEM, when
