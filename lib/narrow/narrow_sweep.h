@@ -51,9 +51,12 @@
 #ifndef SELFCOL_NARROW_SWEEP_H
 #define SELFCOL_NARROW_SWEEP_H
 
-// Relative co-domain tolerance (times L, see above); Tight-Inclusion's default
-// is 1e-6 in absolute units on unit-scale scenes.
-#define SELFCOL_NARROW_SWEEP_TOLERANCE 1e-6
+#include <selfcol/sweep.h>
+
+// Relative co-domain tolerance (times L, see above): the public default of
+// selfcol_sweep_options.tolerance, Tight-Inclusion's 1e-6 (absolute there,
+// on unit-scale scenes).
+#define SELFCOL_NARROW_SWEEP_TOLERANCE SELFCOL_SWEEP_DEFAULT_TOLERANCE
 // Boxes evaluated per query at most (Tight-Inclusion's default is 1e6).
 #define SELFCOL_NARROW_SWEEP_MAX_CHECKS 100000
 
