@@ -1042,7 +1042,16 @@ typedef struct store_sample {
     uint64_t detected; // records of the query fed to it
     size_t bytes;      // selfcol_store_byte_count after it
     int grew;          // the byte count grew in this update
+    uint64_t digest;   // FNV-1a of the held records and the regions (store_digest)
 } store_sample;
+
+// FNV-1a over n bytes, continuing from h.
+static uint64_t fnv1a(uint64_t h, const void *data, size_t n) {
+    const unsigned char *b = data;
+    for (size_t i = 0; i < n; ++i)
+        h = (h ^ b[i]) * 0x100000001b3ull;
+    return h;
+}
 
 // One timed update (selfcol_store_update_swept from `start` when not NULL),
 // on `context`'s threads (NULL: one); the sample's refit and query are the
@@ -1073,6 +1082,11 @@ static int store_measure(selfcol_context *threads_ctx, selfcol_store *store,
     static selfcol_store_contact e[BLOCK];
     const size_t n = selfcol_store_contact_count(store);
     sm->held[0] = sm->held[1] = sm->held[2] = 0;
+    // The digest: every field of every held record (copied whole: the
+    // struct has no padding, 14 words then doubles) and every region, so
+    // that a change to the store's code that should not change its result
+    // is checked on the bench's frames (the log's digest, before and after).
+    uint64_t digest = 0xcbf29ce484222325ull;
     for (size_t at = 0; at < n; at += BLOCK) {
         const size_t k = n - at < BLOCK ? n - at : BLOCK;
         rc = selfcol_store_copy_contacts(store, at, k, e);
@@ -1082,7 +1096,16 @@ static int store_measure(selfcol_context *threads_ctx, selfcol_store *store,
         }
         for (size_t i = 0; i < k; ++i)
             sm->held[e[i].kind < 3 ? e[i].kind : 2]++;
+        digest = fnv1a(digest, e, k * sizeof *e);
     }
+    const selfcol_store_region *regions;
+    size_t region_count;
+    rc = selfcol_store_regions(store, &regions, &region_count);
+    if (rc != SELFCOL_OK) {
+        fprintf(stderr, "selfcol-bench: store regions: %s\n", selfcol_status_string(rc));
+        return rc;
+    }
+    sm->digest = fnv1a(digest, regions, region_count * sizeof *regions);
     const selfcol_contact *d;
     size_t m;
     selfcol_contacts_data(detected, &d, &m);
@@ -1096,14 +1119,14 @@ static void store_log(const char *name, const char *what, const store_sample *sm
     fprintf(stderr,
             "selfcol-bench: %s %s: detected %llu, held VF %llu EE %llu EF %llu, new %llu kept "
             "%llu remnant %llu dropped %llu flipped %llu corrected %llu, regions %llu; update "
-            "%.2f ms, query %.1f ms, store %zu bytes%s\n",
+            "%.2f ms, query %.1f ms, store %zu bytes%s, digest %016llx\n",
             name, what, (unsigned long long)sm->detected, (unsigned long long)sm->held[0],
             (unsigned long long)sm->held[1], (unsigned long long)sm->held[2],
             (unsigned long long)sm->st.new_contacts, (unsigned long long)sm->st.kept,
             (unsigned long long)sm->st.remnant, (unsigned long long)sm->st.dropped,
             (unsigned long long)sm->st.flipped, (unsigned long long)sm->st.corrected,
             (unsigned long long)sm->st.regions, 1e3 * sm->update, 1e3 * sm->query, sm->bytes,
-            sm->grew ? " (grew)" : "");
+            sm->grew ? " (grew)" : "", (unsigned long long)sm->digest);
 }
 
 enum { S_REFIT, S_QUERY, S_UPDATE, S_NS, S_BYTES };
@@ -1274,6 +1297,11 @@ static int run_store_sequence(const store_case *sc, unsigned subset, const char 
                 rc = store_measure(NULL, store, mesh, c, NULL, &sm);
             if (rc == SELFCOL_OK) // the same update on two threads, right after
                 rc = store_measure(two, store2, mesh, c, NULL, &sm2);
+            if (rc == SELFCOL_OK && sm2.digest != sm.digest) {
+                fprintf(stderr, "selfcol-bench: %s frame %u: the store on 2 threads differs\n",
+                        sc->name, f);
+                rc = SELFCOL_ERROR;
+            }
             if (rc != SELFCOL_OK)
                 break;
             if (run == 0) {
@@ -1460,6 +1488,15 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
         store_log(sc->name, what, &fresh[0]);
         snprintf(what, sizeof what, "frame %g after %g, grown store", sc->p[2], sc->p[1]);
         store_log(sc->name, what, &steady[0]);
+        snprintf(what, sizeof what, "frame %g after %g, swept from %g", sc->p[2], sc->p[1],
+                 sc->p[1]);
+        store_log(sc->name, what, &swept[0]);
+        for (unsigned i = 0; i < reps; ++i)
+            if (steady2[i].digest != steady[i].digest || fresh[i].digest != steady[i].digest) {
+                fprintf(stderr, "selfcol-bench: %s: the stores of frame %g differ (fresh, "
+                        "grown, 2 threads)\n", sc->name, sc->p[2]);
+                status = 1;
+            }
         double t[MAX_REPS];
         for (unsigned i = 0; i < reps; ++i)
             t[i] = fresh[i].update;
