@@ -67,6 +67,53 @@ static void test_vertex_parallel_far_away(void **state) {
     assert_true(toi >= 0.0 && toi <= 0.5); // above the triangle from t ~ 0.5 on
 }
 
+// The separation filter's in-plane directions: a vertex sliding beside a
+// triangle in the triangle's own plane (as the vertices of one smooth sheet
+// do, a ring or two apart), 0.21 beyond its long edge, in a rotated frame.
+// Neither an axis nor the plane's normal separates them (the filter had only
+// those until the in-plane normals were added, and answered 0 here); the
+// long edge's in-plane normal does, at both ends of the step.
+static void test_separation_in_the_plane(void **state) {
+    (void)state;
+    // A rotated orthonormal frame e[0], e[1], e[2].
+    const double e[3][3] = {{0.2672612419124244, 0.5345224838248488, 0.8017837257372732},
+                            {0.8728715609439696, 0.2182178902359924, -0.4364357804719848},
+                            {-0.4082482904638631, 0.8164965809277261, -0.4082482904638631}};
+    // p0, p1, a, b, c; and q, a point beyond the long edge for an edge (p0, q)
+    const double local[6][2] = {{0.7, 0.6}, {0.6, 0.7}, {0, 0}, {1, 0}, {0, 1}, {0.9, 0.9}};
+    double x[6][3];
+    for (int k = 0; k < 6; ++k)
+        for (int i = 0; i < 3; ++i)
+            x[k][i] = 2.0 + local[k][0] * e[0][i] + local[k][1] * e[1][i];
+    const double *start[4] = {x[0], x[2], x[3], x[4]}, *end[4] = {x[1], x[2], x[3], x[4]};
+    // Apart by more than 0.1 over the whole step, not by more than 0.25.
+    assert_int_equal(selfcol_narrow_sweep__separated(start, end, 0, 0.1), 1);
+    assert_int_equal(selfcol_narrow_sweep__separated(start, end, 0, 0.25), 0);
+    // No single axis or normal: the hint reports which direction did it.
+    unsigned hint = 0;
+    assert_int_equal(selfcol_narrow_sweep__separated_from(start, end, 0, 0.1, &hint), 1);
+    assert_true(hint == 5 || hint == 6);
+    // The root finder agrees, and so does the distance along the way.
+    double toi = -1.0;
+    assert_int_equal(selfcol_narrow_sweep__vf(x[0], x[2], x[3], x[4], x[1], x[2], x[3], x[4], 0.1,
+                                              &toi),
+                     0);
+    for (int s = 0; s <= 16; ++s) {
+        const double t = s / 16.0;
+        double p[3];
+        for (int i = 0; i < 3; ++i)
+            p[i] = (1 - t) * x[0][i] + t * x[1][i];
+        assert_true(selfcol_narrow__vf(p, x[2], x[3], x[4], NULL) > 0.2);
+    }
+    // The same for an edge beside another edge of one plane (not parallel:
+    // parallel edges give no normal), still.
+    const double *ee[4] = {x[0], x[5], x[3], x[4]};
+    assert_int_equal(selfcol_narrow_sweep__separated(ee, ee, 1, 0.1), 1);
+    hint = 0;
+    assert_int_equal(selfcol_narrow_sweep__separated_from(ee, ee, 1, 0.1, &hint), 1);
+    assert_true(hint == 5 || hint == 6);
+}
+
 // The coplanarity filter (delta = 0): a vertex that stays on one side of
 // the triangle's plane is answered without a root search, whatever its
 // distance; one that goes through the plane beside the triangle, or touches
@@ -673,6 +720,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vertex_through_triangle_middle),
         cmocka_unit_test(test_vertex_parallel_far_away),
+        cmocka_unit_test(test_separation_in_the_plane),
         cmocka_unit_test(test_never_coplanar_filter),
         cmocka_unit_test(test_edges_crossing),
         cmocka_unit_test(test_delta_catches_near_miss),
