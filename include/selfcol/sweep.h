@@ -199,7 +199,8 @@ typedef struct selfcol_sweep_query_stats {
     uint64_t vf_candidates; /**< of which VF */
     uint64_t ee_candidates; /**< of which EE */
     /** candidates shown apart by a fixed direction separating them at both
-     *  ends of the step (an axis or a normal), before any root finding */
+     *  ends of the step (an axis, the pair's normal, or one of its in-plane
+     *  normals), before any root finding */
     uint64_t separated;
     uint64_t narrow_boxes; /**< root finder boxes evaluated, over all candidates */
     uint64_t hits;         /**< colliding pairs (SELFCOL_SWEEP_ALL) */
