@@ -117,7 +117,7 @@ static void test_separation_in_the_plane(void **state) {
 // The coplanarity filter (delta = 0): a vertex that stays on one side of
 // the triangle's plane is answered without a root search, whatever its
 // distance; one that goes through the plane beside the triangle, or touches
-// it, is not (the search decides); with delta > 0 the filter is off.
+// it, is not (the pieces or the search decide); with delta > 0 the filter is off.
 static void test_never_coplanar_filter(void **state) {
     (void)state;
     const double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
@@ -127,10 +127,17 @@ static void test_never_coplanar_filter(void **state) {
     assert_int_equal(selfcol_narrow_sweep__vf_info(p0, a, b, c, p1, a, b, c, 0.0, &toi, &info), 0);
     assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_NEVER_COPLANAR);
     assert_true(info.checks == 0);
-    // Through the plane beside the triangle: no contact, found by the search.
+    // Through the plane beside the triangle: no contact, shown apart before
+    // any box (the separation filter piece by piece: the long edge's
+    // in-plane normal separates them on every piece).
     const double q0[3] = {0.75, 0.75, 1}, q1[3] = {0.75, 0.75, -1};
     assert_int_equal(selfcol_narrow_sweep__vf_info(q0, a, b, c, q1, a, b, c, 0.0, &toi, &info), 0);
     assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_SEPARATED);
+    assert_int_equal(info.checks, 0);
+    // With delta > 0 the pieces are not tried: the search proves it, box by box.
+    assert_int_equal(selfcol_narrow_sweep__vf_info(q0, a, b, c, q1, a, b, c, 0.1, &toi, &info), 0);
+    assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_SEPARATED);
+    assert_true(info.checks > 0);
     // Onto the triangle at the step's end: coplanar at t = 1, a contact.
     const double r1[3] = {0.3, 0.2, 0.0};
     assert_int_equal(selfcol_narrow_sweep__vf_info(p0, a, b, c, r1, a, b, c, 0.0, &toi, &info), 1);

@@ -62,7 +62,9 @@
 
 // How an answer was reached, for tests and statistics.
 enum {
-    SELFCOL_NARROW_SWEEP_SEPARATED = 0, // answer 0: every box was proven root-free
+    // answer 0: every box was proven root-free, or (delta = 0) every piece
+    // of the step was shown apart by a separating direction (narrow_sweep.c)
+    SELFCOL_NARROW_SWEEP_SEPARATED = 0,
     SELFCOL_NARROW_SWEEP_ACCEPTED = 1,  // answer 1: a box met the tolerance
     SELFCOL_NARROW_SWEEP_BUDGET = 2,    // answer 1: box budget or depth ran out
     SELFCOL_NARROW_SWEEP_INVALID = 3,   // answer 1: non-finite or huge coordinates
