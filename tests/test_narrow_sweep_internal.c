@@ -95,9 +95,8 @@ static void test_separation_in_the_plane(void **state) {
     assert_true(hint == 5 || hint == 6);
     // The root finder agrees, and so does the distance along the way.
     double toi = -1.0;
-    assert_int_equal(selfcol_narrow_sweep__vf(x[0], x[2], x[3], x[4], x[1], x[2], x[3], x[4], 0.1,
-                                              &toi),
-                     0);
+    assert_int_equal(
+        selfcol_narrow_sweep__vf(x[0], x[2], x[3], x[4], x[1], x[2], x[3], x[4], 0.1, &toi), 0);
     for (int s = 0; s <= 16; ++s) {
         const double t = s / 16.0;
         double p[3];

@@ -65,10 +65,10 @@ enum {
     // answer 0: every box was proven root-free, or (delta = 0) every piece
     // of the step was shown apart by a separating direction (narrow_sweep.c)
     SELFCOL_NARROW_SWEEP_SEPARATED = 0,
-    SELFCOL_NARROW_SWEEP_ACCEPTED = 1,  // answer 1: a box met the tolerance
-    SELFCOL_NARROW_SWEEP_BUDGET = 2,    // answer 1: box budget or depth ran out
-    SELFCOL_NARROW_SWEEP_INVALID = 3,   // answer 1: non-finite or huge coordinates
-    SELFCOL_NARROW_SWEEP_WITNESS = 4,   // answer 1 (may_touch only): a point within tolerance
+    SELFCOL_NARROW_SWEEP_ACCEPTED = 1, // answer 1: a box met the tolerance
+    SELFCOL_NARROW_SWEEP_BUDGET = 2,   // answer 1: box budget or depth ran out
+    SELFCOL_NARROW_SWEEP_INVALID = 3,  // answer 1: non-finite or huge coordinates
+    SELFCOL_NARROW_SWEEP_WITNESS = 4,  // answer 1 (may_touch only): a point within tolerance
     // answer 0 (delta = 0 only): the four points are coplanar at no time of
     // the step (narrow_sweep.c, never_coplanar), so they never touch
     SELFCOL_NARROW_SWEEP_NEVER_COPLANAR = 5
@@ -124,8 +124,9 @@ int selfcol_narrow_sweep__ee_before(const double *const start[4], const double *
 // negatives: 1 only when the primitives never come within delta, proof in
 // narrow_sweep.c): a fixed direction -- an axis, the reference normal at
 // t = 0 or t = 1, or one of that plane's in-plane normals (normal x edge) --
-// along which they are more than delta apart at both ends, the same way round. 0 means "not shown", not "collide". Points as in the
-// _before functions; edge_edge 0 for VF (p; a, b, c), 1 for EE (a, b; c, d).
+// along which they are more than delta apart at both ends, the same way round. 0 means "not shown",
+// not "collide". Points as in the _before functions; edge_edge 0 for VF (p; a, b, c), 1 for EE (a,
+// b; c, d).
 int selfcol_narrow_sweep__separated(const double *const start[4], const double *const end[4],
                                     int edge_edge, double delta);
 
