@@ -1493,8 +1493,10 @@ static int run_store_pair(const store_case *sc, unsigned subset, const char *sub
         store_log(sc->name, what, &swept[0]);
         for (unsigned i = 0; i < reps; ++i)
             if (steady2[i].digest != steady[i].digest || fresh[i].digest != steady[i].digest) {
-                fprintf(stderr, "selfcol-bench: %s: the stores of frame %g differ (fresh, "
-                        "grown, 2 threads)\n", sc->name, sc->p[2]);
+                fprintf(stderr,
+                        "selfcol-bench: %s: the stores of frame %g differ (fresh, "
+                        "grown, 2 threads)\n",
+                        sc->name, sc->p[2]);
                 status = 1;
             }
         double t[MAX_REPS];
