@@ -127,8 +127,9 @@ static void test_never_coplanar_filter(void **state) {
     assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_NEVER_COPLANAR);
     assert_true(info.checks == 0);
     // Through the plane beside the triangle: no contact, shown apart before
-    // any box (the separation filter piece by piece: the long edge's
-    // in-plane normal separates them on every piece).
+    // any box (the separation filter piece by piece: the z axis on the
+    // pieces above or below the plane, the vector between the closest
+    // points on the piece where the vertex passes it).
     const double q0[3] = {0.75, 0.75, 1}, q1[3] = {0.75, 0.75, -1};
     assert_int_equal(selfcol_narrow_sweep__vf_info(q0, a, b, c, q1, a, b, c, 0.0, &toi, &info), 0);
     assert_int_equal(info.outcome, SELFCOL_NARROW_SWEEP_SEPARATED);

@@ -123,10 +123,10 @@ int selfcol_narrow_sweep__ee_before(const double *const start[4], const double *
 // A cheap sufficient test of separation over the whole step (no false
 // negatives: 1 only when the primitives never come within delta, proof in
 // narrow_sweep.c): a fixed direction -- an axis, the reference normal at
-// t = 0 or t = 1, or one of that plane's in-plane normals (normal x edge) --
-// along which they are more than delta apart at both ends, the same way round. 0 means "not shown",
-// not "collide". Points as in the _before functions; edge_edge 0 for VF (p; a, b, c), 1 for EE (a,
-// b; c, d).
+// t = 0 or t = 1, or one of that plane's in-plane normals (normal x edge)
+// -- along which they are more than delta apart at both ends, the same way
+// round. 0 means "not shown", not "collide". Points as in the _before
+// functions; edge_edge 0 for VF (p; a, b, c), 1 for EE (a, b; c, d).
 int selfcol_narrow_sweep__separated(const double *const start[4], const double *const end[4],
                                     int edge_edge, double delta);
 
