@@ -120,6 +120,7 @@
 #include "narrow/narrow_sweep.h"
 
 #include "base/predicates.h"
+#include "base/vec3.h"
 #include "narrow/narrow.h"
 
 #include <float.h>
@@ -505,8 +506,11 @@ static int never_coplanar(int kind, const double *const start[4], const double *
 static int separated_piecewise(const sweep_query *q, const double *const start[4],
                                const double *const end[4], int edge_edge);
 
-static int sweep(int kind, const double *const start[4], const double *const end[4], double delta,
-                 double t_max, double tolerance, double *toi, selfcol_narrow_sweep_info *info) {
+// The search, after the filters of delta = 0 (try_pieces: with the pieces;
+// may_touch, which tried them already, passes 0).
+static int sweep_filtered(int kind, const double *const start[4], const double *const end[4],
+                          double delta, double t_max, double tolerance, int try_pieces, double *toi,
+                          selfcol_narrow_sweep_info *info) {
     sweep_query q;
     // Boxes starting at or after t_max are never examined: a box holds the
     // times [t_lo, t_hi], so a root at t < t_max lies in a box with t_lo <
@@ -527,7 +531,7 @@ static int sweep(int kind, const double *const start[4], const double *const end
     // settle pairs that pass near each other without touching, which the
     // search proves apart only box by box (rod-twist 3036 -> 3037, ALL: root
     // boxes 37.6 M -> 29.2 M, the same hits; benchmarks.md).
-    if (delta == 0.0 && separated_piecewise(&q, start, end, kind == KIND_EE))
+    if (delta == 0.0 && try_pieces && separated_piecewise(&q, start, end, kind == KIND_EE))
         return finish(0, 1.0, SELFCOL_NARROW_SWEEP_SEPARATED, &st, toi, info);
 
     // Best-first while the heap has room.
@@ -573,6 +577,11 @@ static int sweep(int kind, const double *const start[4], const double *const end
                       st.best_forced ? SELFCOL_NARROW_SWEEP_BUDGET : SELFCOL_NARROW_SWEEP_ACCEPTED,
                       &st, toi, info);
     return finish(0, 1.0, SELFCOL_NARROW_SWEEP_SEPARATED, &st, toi, info);
+}
+
+static int sweep(int kind, const double *const start[4], const double *const end[4], double delta,
+                 double t_max, double tolerance, double *toi, selfcol_narrow_sweep_info *info) {
+    return sweep_filtered(kind, start, end, delta, t_max, tolerance, 1, toi, info);
 }
 
 int selfcol_narrow_sweep__vf_info(const double p0[3], const double a0[3], const double b0[3],
@@ -683,12 +692,6 @@ static int separated_along(const double *const start[4], const double *const end
 // 100-170 boxes a search).
 #define SEPARATING_DIRECTIONS 7u
 
-static void cross(const double u[3], const double w[3], double n[3]) {
-    n[0] = u[1] * w[2] - u[2] * w[1];
-    n[1] = u[2] * w[0] - u[0] * w[2];
-    n[2] = u[0] * w[1] - u[1] * w[0];
-}
-
 static int separated_by(const double *const start[4], const double *const end[4], int edge_edge,
                         unsigned k, double delta, double error) {
     const int na = edge_edge ? 2 : 1;
@@ -706,15 +709,15 @@ static int separated_by(const double *const start[4], const double *const end[4]
         u[i] = p[i] - o[i];
         w[i] = q1[i] - q0[i];
     }
-    cross(u, w, n);
+    vec3_cross(n, u, w);
     if (k < 5)
         return separated_along(start, end, na, n, delta, error);
     double in_plane[3];
     if (edge_edge) {
-        cross(n, u, in_plane);
+        vec3_cross(in_plane, n, u);
         if (separated_along(start, end, na, in_plane, delta, error))
             return 1;
-        cross(n, w, in_plane);
+        vec3_cross(in_plane, n, w);
         return separated_along(start, end, na, in_plane, delta, error);
     }
     // The triangle's edges: b - a (u), c - b, a - c (w reversed: the sign of
@@ -724,7 +727,7 @@ static int separated_by(const double *const start[4], const double *const end[4]
         v[i] = x[3][i] - x[2][i];
     const double *const edges[3] = {u, v, w};
     for (int e = 0; e < 3; ++e) {
-        cross(n, edges[e], in_plane);
+        vec3_cross(in_plane, n, edges[e]);
         if (separated_along(start, end, na, in_plane, delta, error))
             return 1;
     }
@@ -1014,6 +1017,6 @@ int selfcol_narrow_sweep__may_touch(const double *const start[4], const double *
             *info = (selfcol_narrow_sweep_info){SELFCOL_NARROW_SWEEP_SEPARATED, 0, 0};
         return 0;
     }
-    return sweep(edge_edge ? KIND_EE : KIND_VF, start, end, 0.0, 1.0,
-                 SELFCOL_NARROW_SWEEP_TOLERANCE, NULL, info);
+    return sweep_filtered(edge_edge ? KIND_EE : KIND_VF, start, end, 0.0, 1.0,
+                          SELFCOL_NARROW_SWEEP_TOLERANCE, 0, NULL, info);
 }

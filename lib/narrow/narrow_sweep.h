@@ -132,9 +132,9 @@ int selfcol_narrow_sweep__separated(const double *const start[4], const double *
 
 // The same test trying direction *hint first (0-2: the axes, 3 and 4: the
 // reference normals at t = 0 and t = 1, 5 and 6: their in-plane normals),
-// then the others; *hint becomes the
-// direction that showed the pair apart. Neighbouring candidates tend to be
-// apart along the same direction, so a caller testing many keeps one hint.
+// then the others; *hint becomes the direction that showed the pair apart.
+// Neighbouring candidates tend to be apart along the same direction, so a
+// caller testing many keeps one hint.
 int selfcol_narrow_sweep__separated_from(const double *const start[4], const double *const end[4],
                                          int edge_edge, double delta, unsigned *hint);
 
