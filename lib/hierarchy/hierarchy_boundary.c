@@ -14,11 +14,17 @@
 
 #include <string.h>
 
-// The triangle after t in edge e's (ascending) list, or SELFCOL_INVALID_INDEX.
-static uint32_t successor_on_edge(const selfcol_mesh *m, uint32_t e, uint32_t t) {
-    const uint32_t first = m->edge_tri_offsets[e], n = m->edge_tri_offsets[e + 1] - first;
-    uint32_t at = selfcol_hierarchy__position_in(m->edge_tris + first, n, t);
-    return at + 1 < n ? m->edge_tris[first + at + 1] : SELFCOL_INVALID_INDEX;
+// The corner of triangle t at vertex v (t has v), as 3 t + slot.
+static uint32_t corner_of(const selfcol_mesh *m, uint32_t t, uint32_t v) {
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    return 3 * t + (tri[0] == v ? 0u : (tri[1] == v ? 1u : 2u));
+}
+
+// Joins the sets of corners a and b (the smaller root stays).
+static void join_corners(uint32_t *uf, uint32_t a, uint32_t b) {
+    uint32_t ra = selfcol_union_find__root(uf, a), rb = selfcol_union_find__root(uf, b);
+    if (ra != rb)
+        uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
 }
 
 // The boundary half-edge of triangle t on edge e, oriented with t (after the
@@ -94,20 +100,35 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     uint32_t *stamp = selfcol_alloc__array(al, N, sizeof(uint32_t));
     uint32_t *vcount = selfcol_alloc__array(al, N, sizeof(uint32_t));
     uint8_t *nondisk = selfcol_alloc__array(al, N, sizeof(uint8_t));
-    size_t max_degree = 1;
-    for (size_t v = 0; v < m->vertex_count; ++v) {
-        size_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
-        max_degree = k > max_degree ? k : max_degree;
-    }
-    uint32_t *uf = selfcol_alloc__array(al, max_degree, sizeof(uint32_t));
+    const size_t corners = 3 * m->triangle_count;
+    uint32_t *uf = selfcol_alloc__array(al, corners, sizeof(uint32_t)); // corner sets
+    uint32_t *fans = selfcol_alloc__array(al, m->vertex_count, sizeof(uint32_t));
     uint32_t *offset = selfcol_alloc__array(al, N + 1, sizeof(uint32_t));
-    if (stamp == NULL || vcount == NULL || nondisk == NULL || uf == NULL || offset == NULL)
+    if (stamp == NULL || vcount == NULL || nondisk == NULL || uf == NULL || fans == NULL ||
+        offset == NULL)
         goto done;
     memset(nondisk, 0, N);
     memset(vcount, 0, N * sizeof(uint32_t));
+    // A triangle's corners at one vertex (a repeated index) are one corner.
+    for (uint32_t c = 0; c < corners; ++c)
+        uf[c] = c;
+    for (size_t t = 0; t < m->triangle_count; ++t)
+        if (m->triangle_flags[t] & SELFCOL_TRIANGLE_REPEATED_INDEX) {
+            const uint32_t *tri = m->triangles + 3 * t;
+            for (uint32_t i = 0; i < 3; ++i)
+                join_corners(uf, (uint32_t)(3 * t) + i, corner_of(m, (uint32_t)t, tri[i]));
+        }
     for (size_t e = 0; e < m->edge_count; ++e) {
         uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
         const uint32_t *tris = m->edge_tris + first;
+        // Fans: the corners at each end of the edge of each triangle and the
+        // next one in the edge's list are joined (a chain connects the edge's
+        // triangles as all pairs would).
+        for (uint32_t j = 0; j + 1 < k; ++j)
+            for (int end = 0; end < 2; ++end) {
+                const uint32_t x = m->edges[2 * e + (size_t)end];
+                join_corners(uf, corner_of(m, tris[j], x), corner_of(m, tris[j + 1], x));
+            }
         if (k >= 3) {
             for (uint32_t j = 0; j < k; ++j)
                 mark_path(nondisk, parent, leaf_of_tri[tris[j]]);
@@ -146,40 +167,19 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
                 stamp[n] = v;
                 vcount[n]++;
             }
-        // Fan connectivity: union the star's triangles across their edges at
-        // v. Each triangle is joined to its successor in each such edge's
-        // list (a chain connects the edge's triangles as all pairs would),
-        // found in the ascending star by binary search, with path halving:
-        // O(k log k) for a star of k triangles, also when k pages share one
-        // edge (all pairs with linear searches took O(k^3)).
+    }
+    // A vertex whose corners form more than one set (a bowtie: its
+    // triangles are not one edge-connected fan) makes its ancestors non-disks.
+    memset(fans, 0, m->vertex_count * sizeof(uint32_t));
+    for (uint32_t c = 0; c < corners; ++c)
+        fans[m->triangles[c]] += uf[c] == c;
+    for (uint32_t v = 0; v < m->vertex_count; ++v) {
+        if (fans[v] <= 1)
+            continue;
+        const uint32_t *star = m->vertex_tris + m->vertex_tri_offsets[v];
+        const uint32_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
         for (uint32_t j = 0; j < k; ++j)
-            uf[j] = j;
-        uint32_t components = k;
-        for (uint32_t j = 0; j < k; ++j) {
-            const uint32_t *te = m->triangle_edges + 3 * (size_t)star[j];
-            const uint32_t *tri = m->triangles + 3 * (size_t)star[j];
-            for (int i = 0; i < 3; ++i) {
-                // Slot i is the edge (tri[i], tri[i + 1]) (mesh.h): its ends
-                // are read from the triangle, already in cache, rather than
-                // from the edge list (a fifth of this stage's time).
-                uint32_t e = te[i];
-                if (e == SELFCOL_INVALID_INDEX || (tri[i] != v && tri[(i + 1) % 3] != v))
-                    continue;
-                uint32_t next = successor_on_edge(m, e, star[j]);
-                if (next == SELFCOL_INVALID_INDEX)
-                    continue;
-                uint32_t ra = selfcol_union_find__root(uf, j),
-                         rb = selfcol_union_find__root(
-                             uf, selfcol_hierarchy__position_in(star, k, next));
-                if (ra != rb) {
-                    uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
-                    components--;
-                }
-            }
-        }
-        if (components > 1)
-            for (uint32_t j = 0; j < k; ++j)
-                mark_path(nondisk, parent, leaf_of_tri[star[j]]);
+            mark_path(nondisk, parent, leaf_of_tri[star[j]]);
     }
     // Counting sort of the half-edges by node. Edges were visited in
     // increasing order, so each node's slice comes out sorted by edge.
@@ -219,6 +219,7 @@ done:
     selfcol_alloc__free_array(al, stamp, N, sizeof(uint32_t));
     selfcol_alloc__free_array(al, vcount, N, sizeof(uint32_t));
     selfcol_alloc__free_array(al, nondisk, N, sizeof(uint8_t));
-    selfcol_alloc__free_array(al, uf, max_degree, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, uf, corners, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, fans, m->vertex_count, sizeof(uint32_t));
     return status;
 }
