@@ -60,6 +60,11 @@ static void orient_components(selfcol_hierarchy *h, uint32_t *queue, uint8_t *se
             for (int i = 0; i < 3; ++i)
                 if (m->triangle_edges[3 * t + (size_t)i] != SELFCOL_INVALID_INDEX)
                     bad[m->triangle_edges[3 * t + (size_t)i]] = 1;
+    // With every two-triangle edge traversed once each way (the mesh's count
+    // of misoriented edges is 0), the walk would flip nothing and find no
+    // inconsistent edge: the bad flags above are all there is.
+    if (m->misoriented_edges == 0)
+        return;
     for (size_t start = 0; start < F; ++start) {
         if (seen[start])
             continue;

@@ -130,8 +130,16 @@ static size_t count_edges(size_t V, const uint32_t *bucket_start, half_edge *hal
 // triangles into edge_tri_offsets (the two slots of a repeated-index
 // triangle (a, a, b) on edge (a, b) are adjacent in the bucket order, so
 // one look back removes the repeat). Returns the number of entries.
+//
+// Also counts the misoriented edges: two-triangle edges that the two
+// triangles do not traverse once in each direction (the signed count of the
+// slots using the edge, +1 from lower to higher index, is not 0). An edge's
+// slots are consecutive here, and the slot's own triangle says which way
+// it runs.
 static size_t number_edges(selfcol_mesh *m, const uint32_t *bucket_start, const half_edge *half) {
     size_t e = 0, tri_entries = 0;
+    int direction = 0; // of the current edge's slots
+    m->misoriented_edges = 0;
     m->edge_tri_offsets[0] = 0;
     for (size_t v = 0; v < m->vertex_count; ++v) {
         const half_edge *items = half + bucket_start[v];
@@ -139,18 +147,26 @@ static size_t number_edges(selfcol_mesh *m, const uint32_t *bucket_start, const 
         for (size_t i = 0; i < count; ++i) {
             int new_edge = (i == 0 || items[i].hi != items[i - 1].hi);
             if (new_edge) {
+                if (e > 0)
+                    m->misoriented_edges +=
+                        m->edge_tri_offsets[e] - m->edge_tri_offsets[e - 1] == 2 && direction != 0;
+                direction = 0;
                 m->edges[2 * e] = (uint32_t)v;
                 m->edges[2 * e + 1] = items[i].hi;
                 m->edge_tri_offsets[e + 1] = m->edge_tri_offsets[e];
                 e++;
             }
             m->triangle_edges[items[i].slot] = (uint32_t)(e - 1);
+            direction += m->triangles[items[i].slot] == (uint32_t)v ? 1 : -1;
             if (new_edge || items[i].slot / 3 != items[i - 1].slot / 3) {
                 m->edge_tri_offsets[e]++;
                 tri_entries++;
             }
         }
     }
+    if (e > 0)
+        m->misoriented_edges +=
+            m->edge_tri_offsets[e] - m->edge_tri_offsets[e - 1] == 2 && direction != 0;
     return tri_entries;
 }
 
@@ -277,29 +293,6 @@ static void count_boundary_loops(selfcol_mesh *m, uint32_t *parent) {
     m->boundary_loops = boundary_vertices - unions;
 }
 
-// Misoriented edges: two-triangle edges that the two triangles do not
-// traverse once in each direction (the signed count of the slots using the
-// edge, +1 from lower to higher index, is not 0). O(E), no memory.
-static void count_misoriented_edges(selfcol_mesh *m) {
-    m->misoriented_edges = 0;
-    for (size_t e = 0; e < m->edge_count; ++e) {
-        const uint32_t begin = m->edge_tri_offsets[e];
-        if (m->edge_tri_offsets[e + 1] - begin != 2)
-            continue;
-        int direction = 0;
-        for (int i = 0; i < 2; ++i) {
-            const size_t t = m->edge_tris[begin + (uint32_t)i];
-            for (int k = 0; k < 3; ++k)
-                if (m->triangle_edges[3 * t + (size_t)k] == e)
-                    direction +=
-                        m->triangles[3 * t + (size_t)k] < m->triangles[3 * t + (size_t)(k + 1) % 3]
-                            ? 1
-                            : -1;
-        }
-        m->misoriented_edges += direction != 0;
-    }
-}
-
 static int build_components(selfcol_mesh *m) {
     const selfcol_allocator *al = &m->allocator;
     const size_t V = m->vertex_count, F = m->triangle_count;
@@ -393,7 +386,6 @@ int selfcol_mesh__build_topology(selfcol_mesh *m) {
         status = build_components(m);
     if (status == SELFCOL_OK) {
         find_duplicates(m);
-        count_misoriented_edges(m);
     }
     return status;
 }
