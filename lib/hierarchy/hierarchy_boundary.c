@@ -12,6 +12,7 @@
 #include "base/union_find.h"
 #include "hierarchy/hierarchy_build.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 // The corner of triangle t at vertex v (t has v), as 3 t + slot.
@@ -27,18 +28,58 @@ static void join_corners(uint32_t *uf, uint32_t a, uint32_t b) {
         uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
 }
 
-// The boundary half-edge of triangle t on edge e, oriented with t (after the
-// build's flip) so the patch containing t lies on its left, encoded as
-// (e << 1) | reversed: reversed when it runs from the edge's larger vertex to
-// its smaller one.
-static uint32_t half_edge_of(const selfcol_hierarchy *h, uint32_t t, uint32_t e) {
+// Triangle t on edge e = (lo, hi): its slot i on e and the half-edge there,
+// oriented with t (after the build's flip) so the patch containing t lies
+// on its left, encoded as (e << 1) | reversed: reversed when it runs from
+// the edge's larger vertex to its smaller one; corner[0] and corner[1] get
+// t's corners (3 t + slot) at lo and at hi.
+static uint32_t half_edge_of(const selfcol_hierarchy *h, uint32_t t, uint32_t e, uint32_t lo,
+                             uint32_t corner[2]) {
     const selfcol_mesh *m = h->mesh;
-    int i = selfcol_hierarchy__slot_of_edge(m, t, e);
+    const int i = selfcol_hierarchy__slot_of_edge(m, t, e), j = (i + 1) % 3;
     const uint32_t *tri = m->triangles + 3 * (size_t)t;
-    int reversed = tri[i] > tri[(i + 1) % 3];
+    const int from_lo = tri[i] == lo;
+    corner[0] = 3 * t + (uint32_t)(from_lo ? i : j);
+    corner[1] = 3 * t + (uint32_t)(from_lo ? j : i);
+    int reversed = !from_lo;
     if (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED)
         reversed = !reversed;
     return (e << 1) | (uint32_t)reversed;
+}
+
+// The lowest common ancestor of nodes a and b.
+static uint32_t common_ancestor(const uint32_t *parent, const uint32_t *depth, uint32_t a,
+                                uint32_t b) {
+    while (depth[a] > depth[b])
+        a = parent[a];
+    while (depth[b] > depth[a])
+        b = parent[b];
+    while (a != b) {
+        a = parent[a];
+        b = parent[b];
+    }
+    return a;
+}
+
+static int slot_compare(const void *a, const void *b) {
+    const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+// Sorts a vertex star's slots: insertion sort for the usual few, qsort for
+// a wide fan.
+static void sort_slots(uint32_t *slots, uint32_t k) {
+    if (k > 32) {
+        qsort(slots, k, sizeof *slots, slot_compare);
+        return;
+    }
+    for (uint32_t i = 1; i < k; ++i) {
+        const uint32_t key = slots[i];
+        uint32_t j = i;
+        for (; j > 0 && slots[j - 1] > key; --j)
+            slots[j] = slots[j - 1];
+        slots[j] = key;
+    }
 }
 
 typedef struct pair_list {
@@ -97,14 +138,20 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     int status = SELFCOL_ENOMEM;
     pair_list l;
     memset(&l, 0, sizeof l);
-    uint32_t *stamp = selfcol_alloc__array(al, N, sizeof(uint32_t));
+    size_t max_degree = 1;
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        const size_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
+        max_degree = k > max_degree ? k : max_degree;
+    }
+    uint32_t *slot_of = selfcol_alloc__array(al, m->triangle_count + 1, sizeof(uint32_t));
+    uint32_t *star_slots = selfcol_alloc__array(al, max_degree, sizeof(uint32_t));
     uint32_t *vcount = selfcol_alloc__array(al, N, sizeof(uint32_t));
     uint8_t *nondisk = selfcol_alloc__array(al, N, sizeof(uint8_t));
     const size_t corners = 3 * m->triangle_count;
     uint32_t *uf = selfcol_alloc__array(al, corners, sizeof(uint32_t)); // corner sets
     uint32_t *fans = selfcol_alloc__array(al, m->vertex_count, sizeof(uint32_t));
     uint32_t *offset = selfcol_alloc__array(al, N + 1, sizeof(uint32_t));
-    if (stamp == NULL || vcount == NULL || nondisk == NULL || uf == NULL || fans == NULL ||
+    if (slot_of == NULL || star_slots == NULL || vcount == NULL || nondisk == NULL || uf == NULL || fans == NULL ||
         offset == NULL)
         goto done;
     memset(nondisk, 0, N);
@@ -118,56 +165,89 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
             for (uint32_t i = 0; i < 3; ++i)
                 join_corners(uf, (uint32_t)(3 * t) + i, corner_of(m, (uint32_t)t, tri[i]));
         }
+    // Each node's boundary count b goes to offset[n + 1]; the half-edges
+    // themselves to l for internal nodes only (leaves keep no list; see the
+    // counting sort below). The climbs start at leaves.
+    memset(offset, 0, (N + 1) * sizeof(uint32_t));
     for (size_t e = 0; e < m->edge_count; ++e) {
-        uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
+        const uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
         const uint32_t *tris = m->edge_tris + first;
-        // Fans: the corners at each end of the edge of each triangle and the
-        // next one in the edge's list are joined (a chain connects the edge's
-        // triangles as all pairs would).
-        for (uint32_t j = 0; j + 1 < k; ++j)
-            for (int end = 0; end < 2; ++end) {
-                const uint32_t x = m->edges[2 * e + (size_t)end];
-                join_corners(uf, corner_of(m, tris[j], x), corner_of(m, tris[j + 1], x));
-            }
+        const uint32_t lo = m->edges[2 * e], hi = m->edges[2 * e + 1];
         if (k >= 3) {
+            // Fans: the corners at each end of the edge of each triangle and
+            // the next one in the edge's list are joined (a chain connects
+            // the edge's triangles as all pairs would).
+            for (uint32_t j = 0; j + 1 < k; ++j) {
+                join_corners(uf, corner_of(m, tris[j], lo), corner_of(m, tris[j + 1], lo));
+                join_corners(uf, corner_of(m, tris[j], hi), corner_of(m, tris[j + 1], hi));
+            }
             for (uint32_t j = 0; j < k; ++j)
                 mark_path(nondisk, parent, leaf_of_tri[tris[j]]);
             continue;
         }
+        uint32_t c1[2], c2[2];
+        const uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e, lo, c1);
+        uint32_t n1 = leaf_of_tri[tris[0]];
         if (k == 1) {
-            uint32_t he = half_edge_of(h, tris[0], (uint32_t)e);
-            for (uint32_t n = leaf_of_tri[tris[0]]; n != SELFCOL_INVALID_INDEX; n = parent[n])
-                if ((status = pair_add(al, &l, n, he)) != SELFCOL_OK)
-                    goto done;
-            continue;
-        }
-        uint32_t n1 = leaf_of_tri[tris[0]], n2 = leaf_of_tri[tris[1]];
-        uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e);
-        uint32_t he2 = half_edge_of(h, tris[1], (uint32_t)e);
-        while (n1 != n2) {
-            if (depth[n1] >= depth[n2]) {
+            offset[n1 + 1]++;
+            for (n1 = parent[n1]; n1 != SELFCOL_INVALID_INDEX; n1 = parent[n1]) {
+                offset[n1 + 1]++;
                 if ((status = pair_add(al, &l, n1, he1)) != SELFCOL_OK)
                     goto done;
+            }
+            continue;
+        }
+        const uint32_t he2 = half_edge_of(h, tris[1], (uint32_t)e, lo, c2);
+        join_corners(uf, c1[0], c2[0]);
+        join_corners(uf, c1[1], c2[1]);
+        uint32_t n2 = leaf_of_tri[tris[1]];
+        int leaf1 = 1, leaf2 = 1; // n1, n2 still the leaves
+        while (n1 != n2) {
+            if (depth[n1] >= depth[n2]) {
+                offset[n1 + 1]++;
+                if (!leaf1 && (status = pair_add(al, &l, n1, he1)) != SELFCOL_OK)
+                    goto done;
+                leaf1 = 0;
                 n1 = parent[n1];
             } else {
-                if ((status = pair_add(al, &l, n2, he2)) != SELFCOL_OK)
+                offset[n2 + 1]++;
+                if (!leaf2 && (status = pair_add(al, &l, n2, he2)) != SELFCOL_OK)
                     goto done;
+                leaf2 = 0;
                 n2 = parent[n2];
             }
         }
     }
-    status = SELFCOL_ENOMEM;
-    memset(stamp, 0xff, N * sizeof(uint32_t));
+    // Vertex counts. A vertex's leaves in depth-first order (the order of
+    // their triangles' slots), L1 < ... < Lj: +1 at each and -1 at the
+    // lowest common ancestor of each consecutive two. A node holding some of
+    // them holds a contiguous run and the ancestors of the run's consecutive
+    // pairs, but not those of pairs leaving the run (proper ancestors of the
+    // node): its subtree sums to 1, and that of a node holding none to 0.
+    // One reverse sweep sums the subtrees (children come after their
+    // parents). Climbing from every leaf to the first node already stamped
+    // went to the root once per vertex.
+    for (uint32_t slot = 0; slot < m->triangle_count; ++slot)
+        slot_of[h->tri_order[slot]] = slot;
     for (uint32_t v = 0; v < m->vertex_count; ++v) {
         const uint32_t *star = m->vertex_tris + m->vertex_tri_offsets[v];
-        uint32_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
+        const uint32_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
         for (uint32_t j = 0; j < k; ++j)
-            for (uint32_t n = leaf_of_tri[star[j]]; n != SELFCOL_INVALID_INDEX && stamp[n] != v;
-                 n = parent[n]) {
-                stamp[n] = v;
-                vcount[n]++;
-            }
+            star_slots[j] = slot_of[star[j]];
+        sort_slots(star_slots, k);
+        uint32_t previous = SELFCOL_INVALID_INDEX;
+        for (uint32_t j = 0; j < k; ++j) {
+            const uint32_t leaf = leaf_of_tri[h->tri_order[star_slots[j]]];
+            if (leaf == previous)
+                continue;
+            vcount[leaf]++;
+            if (previous != SELFCOL_INVALID_INDEX)
+                vcount[common_ancestor(parent, depth, previous, leaf)]--;
+            previous = leaf;
+        }
     }
+    for (size_t id = N; id-- > 1;)
+        vcount[parent[id]] += vcount[id];
     // A vertex whose corners form more than one set (a bowtie: its
     // triangles are not one edge-connected fan) makes its ancestors non-disks.
     memset(fans, 0, m->vertex_count * sizeof(uint32_t));
@@ -187,9 +267,6 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     // triangle): their few triangles give their boundary on demand
     // (the adjacency test of traverse.c), and EXACT's contour proof does not
     // try nodes that small. Their counts still decide SELFCOL_NODE_DISK.
-    memset(offset, 0, (N + 1) * sizeof(uint32_t));
-    for (size_t i = 0; i < l.count; ++i)
-        offset[l.node[i] + 1]++;
     size_t stored = 0;
     for (size_t n = 0; n < N; ++n) {
         selfcol_node *node = &h->nodes[n];
@@ -209,14 +286,14 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     if (h->bedge == NULL)
         goto done;
     for (size_t i = 0; i < l.count; ++i)
-        if (h->nodes[l.node[i]].child_count > 0)
-            h->bedge[offset[l.node[i]]++] = l.half_edge[i];
+        h->bedge[offset[l.node[i]]++] = l.half_edge[i];
     status = SELFCOL_OK;
 done:
     selfcol_alloc__free_array(al, l.node, l.capacity, sizeof(uint32_t));
     selfcol_alloc__free_array(al, l.half_edge, l.capacity, sizeof(uint32_t));
     selfcol_alloc__free_array(al, offset, N + 1, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, stamp, N, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, slot_of, m->triangle_count + 1, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, star_slots, max_degree, sizeof(uint32_t));
     selfcol_alloc__free_array(al, vcount, N, sizeof(uint32_t));
     selfcol_alloc__free_array(al, nondisk, N, sizeof(uint8_t));
     selfcol_alloc__free_array(al, uf, corners, sizeof(uint32_t));
