@@ -281,6 +281,7 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
         offset[n] = (uint32_t)stored; // from here on: the write position
         stored += node->boundary_count;
     }
+    status = SELFCOL_ENOMEM;
     h->bedge_total = stored + 1;
     h->bedge = selfcol_alloc__array(al, stored + 1, sizeof(uint32_t));
     if (h->bedge == NULL)
