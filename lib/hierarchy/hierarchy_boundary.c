@@ -82,34 +82,41 @@ static void sort_slots(uint32_t *slots, uint32_t k) {
     }
 }
 
-typedef struct pair_list {
-    uint32_t *node, *half_edge;
-    size_t count, capacity;
-} pair_list;
-
-static int pair_add(const selfcol_allocator *al, pair_list *l, uint32_t node, uint32_t half_edge) {
-    if (l->count == l->capacity) {
-        size_t cap = l->capacity ? 2 * l->capacity : 1024;
-        uint32_t *node_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
-        uint32_t *he_grown = selfcol_alloc__array(al, cap, sizeof(uint32_t));
-        if (node_grown == NULL || he_grown == NULL) {
-            selfcol_alloc__free_array(al, node_grown, cap, sizeof(uint32_t));
-            selfcol_alloc__free_array(al, he_grown, cap, sizeof(uint32_t));
-            return SELFCOL_ENOMEM; // the old arrays stay valid
+// Climbs from the leaves n1 and n2 of a manifold edge's two triangles to
+// their lowest common ancestor, or from the leaf n1 of a mesh-boundary
+// edge's triangle (n2 = SELFCOL_INVALID_INDEX) to the root: the edge is on
+// the boundary of every node passed, as half-edge he1 on n1's side and he2
+// on n2's. Without bedge, counts them (offset[n + 1]++); with it, writes
+// the half-edge at offset[n]++ for the internal nodes (leaves keep no list).
+static void climb(const uint32_t *parent, const uint32_t *depth, uint32_t n1, uint32_t he1,
+                  uint32_t n2, uint32_t he2, uint32_t *offset, uint32_t *bedge) {
+    int leaf1 = 1, leaf2 = 1; // n1, n2 still the leaves
+    if (n2 == SELFCOL_INVALID_INDEX) {
+        for (; n1 != SELFCOL_INVALID_INDEX; n1 = parent[n1], leaf1 = 0) {
+            if (bedge == NULL)
+                offset[n1 + 1]++;
+            else if (!leaf1)
+                bedge[offset[n1]++] = he1;
         }
-        if (l->count > 0) {
-            memcpy(node_grown, l->node, l->count * sizeof(uint32_t));
-            memcpy(he_grown, l->half_edge, l->count * sizeof(uint32_t));
-        }
-        selfcol_alloc__free_array(al, l->node, l->capacity, sizeof(uint32_t));
-        selfcol_alloc__free_array(al, l->half_edge, l->capacity, sizeof(uint32_t));
-        l->node = node_grown;
-        l->half_edge = he_grown;
-        l->capacity = cap;
+        return;
     }
-    l->node[l->count] = node;
-    l->half_edge[l->count++] = half_edge;
-    return SELFCOL_OK;
+    while (n1 != n2) {
+        if (depth[n1] >= depth[n2]) {
+            if (bedge == NULL)
+                offset[n1 + 1]++;
+            else if (!leaf1)
+                bedge[offset[n1]++] = he1;
+            leaf1 = 0;
+            n1 = parent[n1];
+        } else {
+            if (bedge == NULL)
+                offset[n2 + 1]++;
+            else if (!leaf2)
+                bedge[offset[n2]++] = he2;
+            leaf2 = 0;
+            n2 = parent[n2];
+        }
+    }
 }
 
 static void mark_path(uint8_t *mark, const uint32_t *parent, uint32_t node) {
@@ -136,8 +143,6 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     const selfcol_allocator *al = &h->allocator;
     const size_t N = h->node_count;
     int status = SELFCOL_ENOMEM;
-    pair_list l;
-    memset(&l, 0, sizeof l);
     size_t max_degree = 1;
     for (size_t v = 0; v < m->vertex_count; ++v) {
         const size_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
@@ -151,8 +156,8 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     uint32_t *uf = selfcol_alloc__array(al, corners, sizeof(uint32_t)); // corner sets
     uint32_t *fans = selfcol_alloc__array(al, m->vertex_count, sizeof(uint32_t));
     uint32_t *offset = selfcol_alloc__array(al, N + 1, sizeof(uint32_t));
-    if (slot_of == NULL || star_slots == NULL || vcount == NULL || nondisk == NULL || uf == NULL || fans == NULL ||
-        offset == NULL)
+    if (slot_of == NULL || star_slots == NULL || vcount == NULL || nondisk == NULL || uf == NULL ||
+        fans == NULL || offset == NULL)
         goto done;
     memset(nondisk, 0, N);
     memset(vcount, 0, N * sizeof(uint32_t));
@@ -165,9 +170,8 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
             for (uint32_t i = 0; i < 3; ++i)
                 join_corners(uf, (uint32_t)(3 * t) + i, corner_of(m, (uint32_t)t, tri[i]));
         }
-    // Each node's boundary count b goes to offset[n + 1]; the half-edges
-    // themselves to l for internal nodes only (leaves keep no list; see the
-    // counting sort below). The climbs start at leaves.
+    // Each node's boundary count b goes to offset[n + 1] (climb); the
+    // half-edges are written in a second pass, once the counts place them.
     memset(offset, 0, (N + 1) * sizeof(uint32_t));
     for (size_t e = 0; e < m->edge_count; ++e) {
         const uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
@@ -186,37 +190,15 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
             continue;
         }
         uint32_t c1[2], c2[2];
-        const uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e, lo, c1);
-        uint32_t n1 = leaf_of_tri[tris[0]];
-        if (k == 1) {
-            offset[n1 + 1]++;
-            for (n1 = parent[n1]; n1 != SELFCOL_INVALID_INDEX; n1 = parent[n1]) {
-                offset[n1 + 1]++;
-                if ((status = pair_add(al, &l, n1, he1)) != SELFCOL_OK)
-                    goto done;
-            }
-            continue;
+        (void)half_edge_of(h, tris[0], (uint32_t)e, lo, c1);
+        uint32_t n2 = SELFCOL_INVALID_INDEX;
+        if (k == 2) {
+            (void)half_edge_of(h, tris[1], (uint32_t)e, lo, c2);
+            join_corners(uf, c1[0], c2[0]);
+            join_corners(uf, c1[1], c2[1]);
+            n2 = leaf_of_tri[tris[1]];
         }
-        const uint32_t he2 = half_edge_of(h, tris[1], (uint32_t)e, lo, c2);
-        join_corners(uf, c1[0], c2[0]);
-        join_corners(uf, c1[1], c2[1]);
-        uint32_t n2 = leaf_of_tri[tris[1]];
-        int leaf1 = 1, leaf2 = 1; // n1, n2 still the leaves
-        while (n1 != n2) {
-            if (depth[n1] >= depth[n2]) {
-                offset[n1 + 1]++;
-                if (!leaf1 && (status = pair_add(al, &l, n1, he1)) != SELFCOL_OK)
-                    goto done;
-                leaf1 = 0;
-                n1 = parent[n1];
-            } else {
-                offset[n2 + 1]++;
-                if (!leaf2 && (status = pair_add(al, &l, n2, he2)) != SELFCOL_OK)
-                    goto done;
-                leaf2 = 0;
-                n2 = parent[n2];
-            }
-        }
+        climb(parent, depth, leaf_of_tri[tris[0]], 0, n2, 0, offset, NULL);
     }
     // Vertex counts. A vertex's leaves in depth-first order (the order of
     // their triangles' slots), L1 < ... < Lj: +1 at each and -1 at the
@@ -261,12 +243,12 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
         for (uint32_t j = 0; j < k; ++j)
             mark_path(nondisk, parent, leaf_of_tri[star[j]]);
     }
-    // Counting sort of the half-edges by node. Edges were visited in
-    // increasing order, so each node's slice comes out sorted by edge.
-    // Leaves keep no list (a quarter of all entries, ~6 bytes per
-    // triangle): their few triangles give their boundary on demand
-    // (the adjacency test of traverse.c), and EXACT's contour proof does not
-    // try nodes that small. Their counts still decide SELFCOL_NODE_DISK.
+    // The lists, laid out by node. Edges are visited in increasing order, so
+    // each node's list comes out sorted by edge. Leaves keep no list (a
+    // quarter of all entries, ~6 bytes per triangle): their few triangles
+    // give their boundary on demand (the adjacency test of traverse.c), and
+    // EXACT's contour proof does not try nodes that small. Their counts still
+    // decide SELFCOL_NODE_DISK.
     size_t stored = 0;
     for (size_t n = 0; n < N; ++n) {
         selfcol_node *node = &h->nodes[n];
@@ -286,12 +268,20 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     h->bedge = selfcol_alloc__array(al, stored + 1, sizeof(uint32_t));
     if (h->bedge == NULL)
         goto done;
-    for (size_t i = 0; i < l.count; ++i)
-        h->bedge[offset[l.node[i]]++] = l.half_edge[i];
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        const uint32_t first = m->edge_tri_offsets[e], k = m->edge_tri_offsets[e + 1] - first;
+        if (k >= 3)
+            continue;
+        const uint32_t *tris = m->edge_tris + first;
+        const uint32_t lo = m->edges[2 * e];
+        uint32_t corner[2];
+        const uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e, lo, corner);
+        const uint32_t he2 = k == 2 ? half_edge_of(h, tris[1], (uint32_t)e, lo, corner) : 0;
+        climb(parent, depth, leaf_of_tri[tris[0]], he1,
+              k == 2 ? leaf_of_tri[tris[1]] : SELFCOL_INVALID_INDEX, he2, offset, h->bedge);
+    }
     status = SELFCOL_OK;
 done:
-    selfcol_alloc__free_array(al, l.node, l.capacity, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, l.half_edge, l.capacity, sizeof(uint32_t));
     selfcol_alloc__free_array(al, offset, N + 1, sizeof(uint32_t));
     selfcol_alloc__free_array(al, slot_of, m->triangle_count + 1, sizeof(uint32_t));
     selfcol_alloc__free_array(al, star_slots, max_degree, sizeof(uint32_t));
