@@ -6,8 +6,9 @@
 // edge (the adjacency test of SEED/CONE in traverse.c and the contour test
 // of EXACT in contour.c read it), and every node whose patch is a
 // topological disk gets SELFCOL_NODE_DISK (EXACT's contour criterion applies
-// only to disks). Two passes, over the edges and over the vertex stars, each
-// climbing the tree from the triangles' leaves.
+// only to disks). Passes over the edges (climbing the tree from their
+// triangles' leaves: counts, then the lists), over the vertex stars (vertex
+// counts) and over the triangles' corners (fans).
 #include "base/alloc.h"
 #include "base/union_find.h"
 #include "hierarchy/hierarchy_build.h"
@@ -131,8 +132,9 @@ static void mark_path(uint8_t *mark, const uint32_t *parent, uint32_t node) {
 //   its triangle's leaf. A non-manifold edge makes every node holding one of
 //   its triangles a non-disk.
 // - Vertex counts: a vertex belongs to every ancestor of its triangles'
-//   leaves (each counted once with a stamp). A vertex whose triangles do not
-//   form one edge-connected fan (a bowtie) makes its ancestors non-disks.
+//   leaves (counted once per node; see below). A vertex whose triangles do
+//   not form one edge-connected fan (a bowtie: its corners joined across
+//   its edges form more than one set) makes its ancestors non-disks.
 // - With interior edges manifold (the ORIENTED flag), a patch of F triangles
 //   and b boundary edges has E = (3F + b) / 2 edges; it is a disk iff it is
 //   connected, oriented, manifold and V - E + F = 1 (an orientable connected
