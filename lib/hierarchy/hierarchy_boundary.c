@@ -158,8 +158,11 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     uint32_t *uf = selfcol_alloc__array(al, corners, sizeof(uint32_t)); // corner sets
     uint32_t *fans = selfcol_alloc__array(al, m->vertex_count, sizeof(uint32_t));
     uint32_t *offset = selfcol_alloc__array(al, N + 1, sizeof(uint32_t));
+    // Each edge's half-edges (its first triangle's, then its second's, if
+    // any), found by the counting pass for the writing one.
+    uint32_t *edge_half = selfcol_alloc__array(al, 2 * m->edge_count + 1, sizeof(uint32_t));
     if (slot_of == NULL || star_slots == NULL || vcount == NULL || nondisk == NULL || uf == NULL ||
-        fans == NULL || offset == NULL)
+        fans == NULL || offset == NULL || edge_half == NULL)
         goto done;
     memset(nondisk, 0, N);
     memset(vcount, 0, N * sizeof(uint32_t));
@@ -192,10 +195,11 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
             continue;
         }
         uint32_t c1[2], c2[2];
-        (void)half_edge_of(h, tris[0], (uint32_t)e, lo, c1);
+        edge_half[2 * e] = half_edge_of(h, tris[0], (uint32_t)e, lo, c1);
         uint32_t n2 = SELFCOL_INVALID_INDEX;
+        edge_half[2 * e + 1] = 0; // no second side (a mesh-boundary edge)
         if (k == 2) {
-            (void)half_edge_of(h, tris[1], (uint32_t)e, lo, c2);
+            edge_half[2 * e + 1] = half_edge_of(h, tris[1], (uint32_t)e, lo, c2);
             join_corners(uf, c1[0], c2[0]);
             join_corners(uf, c1[1], c2[1]);
             n2 = leaf_of_tri[tris[1]];
@@ -275,16 +279,14 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
         if (k >= 3)
             continue;
         const uint32_t *tris = m->edge_tris + first;
-        const uint32_t lo = m->edges[2 * e];
-        uint32_t corner[2];
-        const uint32_t he1 = half_edge_of(h, tris[0], (uint32_t)e, lo, corner);
-        const uint32_t he2 = k == 2 ? half_edge_of(h, tris[1], (uint32_t)e, lo, corner) : 0;
-        climb(parent, depth, leaf_of_tri[tris[0]], he1,
-              k == 2 ? leaf_of_tri[tris[1]] : SELFCOL_INVALID_INDEX, he2, offset, h->bedge);
+        climb(parent, depth, leaf_of_tri[tris[0]], edge_half[2 * e],
+              k == 2 ? leaf_of_tri[tris[1]] : SELFCOL_INVALID_INDEX, edge_half[2 * e + 1], offset,
+              h->bedge);
     }
     status = SELFCOL_OK;
 done:
     selfcol_alloc__free_array(al, offset, N + 1, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, edge_half, 2 * m->edge_count + 1, sizeof(uint32_t));
     selfcol_alloc__free_array(al, slot_of, m->triangle_count + 1, sizeof(uint32_t));
     selfcol_alloc__free_array(al, star_slots, max_degree, sizeof(uint32_t));
     selfcol_alloc__free_array(al, vcount, N, sizeof(uint32_t));
