@@ -132,10 +132,183 @@ static void test_validate_rejects_each_corruption(void **state) {
     fixture_free(&s);
 }
 
+// ---------------------------------------------------------------------------
+// SELFCOL_NODE_DISK against a direct count. EXACT skips a node pair on the
+// contour criterion only for disks, so a node flagged DISK must hold a
+// topological disk: edge-connected, every edge in at most two of its
+// triangles and traversed once each way (after the build's flips), every
+// vertex's triangles one edge-connected fan, and V - E + F = 1. The build
+// derives the flag from counts climbing the tree (hierarchy_boundary.c);
+// here each node's patch is examined on its own.
+
+static uint32_t root_of(uint32_t *parent, uint32_t x) {
+    while (parent[x] != x)
+        x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+static void join(uint32_t *parent, uint32_t a, uint32_t b) {
+    a = root_of(parent, a);
+    b = root_of(parent, b);
+    if (a != b)
+        parent[a > b ? a : b] = a < b ? a : b;
+}
+
+// 1 when the triangles of node id form a topological disk.
+static int patch_is_disk(const selfcol_hierarchy *h, size_t id) {
+    const selfcol_mesh *m = h->mesh;
+    const selfcol_node *n = &h->nodes[id];
+    const size_t F = n->tri_count, E = m->edge_count, V = m->vertex_count;
+    int *uses = test_calloc(E, sizeof(int)), *turn = test_calloc(E, sizeof(int));
+    uint32_t *first = test_calloc(E, sizeof(uint32_t)); // a patch triangle on each edge
+    uint32_t *tri_set = test_calloc(m->triangle_count, sizeof(uint32_t));
+    uint32_t *corner_set = test_calloc(3 * m->triangle_count, sizeof(uint32_t));
+    uint8_t *in = test_calloc(m->triangle_count, 1), *seen_vertex = test_calloc(V, 1);
+    uint32_t *fans = test_calloc(V, sizeof(uint32_t));
+    int disk = 1;
+    for (uint32_t t = 0; t < m->triangle_count; ++t)
+        tri_set[t] = t;
+    for (uint32_t c = 0; c < 3 * m->triangle_count; ++c)
+        corner_set[c] = c;
+    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s)
+        in[h->tri_order[s]] = 1;
+    size_t vertices = 0, edges = 0;
+    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count && disk; ++s) {
+        const uint32_t t = h->tri_order[s];
+        const uint32_t *tri = m->triangles + 3 * (size_t)t;
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) {
+            disk = 0; // a collapsed triangle: no disk
+            break;
+        }
+        const int flip = (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED) != 0;
+        for (int i = 0; i < 3; ++i) {
+            if (!seen_vertex[tri[i]]) {
+                seen_vertex[tri[i]] = 1;
+                vertices++;
+            }
+            const uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)i];
+            const int forward = tri[i] < tri[(i + 1) % 3];
+            turn[e] += (forward != flip) ? 1 : -1;
+            if (uses[e]++ == 0) {
+                edges++;
+                first[e] = t;
+                continue;
+            }
+            // The second triangle on e: one triangle set, and each end's
+            // corners in one fan.
+            const uint32_t u = first[e];
+            join(tri_set, t, u);
+            for (int end = 0; end < 2; ++end) {
+                const uint32_t x = m->edges[2 * (size_t)e + (size_t)end];
+                const uint32_t *ut = m->triangles + 3 * (size_t)u;
+                const uint32_t cu = 3 * u + (ut[0] == x ? 0u : ut[1] == x ? 1u : 2u);
+                const uint32_t ct = 3 * t + (tri[0] == x ? 0u : tri[1] == x ? 1u : 2u);
+                join(corner_set, cu, ct);
+            }
+        }
+    }
+    for (size_t e = 0; e < E && disk; ++e)
+        if (uses[e] > 2 || (uses[e] == 2 && turn[e] != 0))
+            disk = 0; // not manifold, or not oriented
+    if (disk) {
+        size_t sets = 0;
+        for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
+            const uint32_t t = h->tri_order[s];
+            sets += root_of(tri_set, t) == t;
+            for (uint32_t i = 0; i < 3; ++i)
+                fans[m->triangles[3 * (size_t)t + i]] +=
+                    root_of(corner_set, 3 * t + i) == 3 * t + i;
+        }
+        disk = sets == 1;
+        for (size_t v = 0; v < V && disk; ++v)
+            disk = fans[v] <= 1;
+        disk = disk && (long)vertices - (long)edges + (long)F == 1;
+    }
+    test_free(uses);
+    test_free(turn);
+    test_free(first);
+    test_free(tri_set);
+    test_free(corner_set);
+    test_free(in);
+    test_free(seen_vertex);
+    test_free(fans);
+    return disk;
+}
+
+// Checks every node's flag against patch_is_disk; returns how many are
+// disks. root_is_disk: 1 when the whole surface is a disk the build must
+// recognise (an open sheet), else -1.
+static size_t check_disk_flags(const fixture *s, int root_is_disk) {
+    selfcol_mesh *m = NULL;
+    selfcol_hierarchy *h = make(s, &m);
+    size_t disks = 0;
+    for (size_t id = 0; id < h->node_count; ++id) {
+        if (!(h->nodes[id].flags & SELFCOL_NODE_DISK))
+            continue;
+        disks++;
+        if (!patch_is_disk(h, id))
+            fail_msg("node %zu (%u triangles) is flagged DISK but is no disk", id,
+                     h->nodes[id].tri_count);
+    }
+    if (root_is_disk == 1) {
+        assert_true(h->nodes[0].flags & SELFCOL_NODE_DISK);
+        assert_true(patch_is_disk(h, 0)); // the reference recognises a disk too
+    }
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(m);
+    return disks;
+}
+
+static void test_disk_flags_only_on_topological_disks(void **state) {
+    (void)state;
+    fixture s, b;
+    // An open sheet: its root and most nodes are disks.
+    assert_int_equal(fixture_grid(&s, 16, 12, 1.0), 0);
+    assert_true(check_disk_flags(&s, 1) > 10);
+    fixture_free(&s);
+    assert_int_equal(fixture_crumpled(&s, 20, 18, 3, 5.0), 0);
+    assert_true(check_disk_flags(&s, 1) > 10);
+    fixture_free(&s);
+    assert_int_equal(fixture_holed(&s, 16, 14, 3.0, 2, 1.0), 0);
+    (void)check_disk_flags(&s, -1);
+    fixture_free(&s);
+    assert_int_equal(fixture_moebius(&s, 48, 4, 6.0, 2.0, 1, 0.1), 0);
+    (void)check_disk_flags(&s, -1);
+    fixture_free(&s);
+    assert_int_equal(fixture_icosphere(&s, 2, 1.0), 0);
+    (void)check_disk_flags(&s, -1);
+    // The same sphere pinched: two far vertices welded into one, whose
+    // triangles form two fans. V - E + F = 1 with no boundary: only the fan
+    // test tells the whole (and every patch holding both fans) from a disk.
+    uint32_t a = 0, far = 0;
+    double best = -1.0;
+    for (uint32_t v = 1; v < s.vertex_count; ++v) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const double x = s.positions[3 * (size_t)v + (size_t)k] - s.positions[k];
+            d2 += x * x;
+        }
+        if (d2 > best)
+            best = d2, far = v;
+    }
+    for (size_t i = 0; i < 3 * s.triangle_count; ++i)
+        if (s.triangles[i] == far)
+            s.triangles[i] = a;
+    (void)check_disk_flags(&s, -1);
+    fixture_free(&s);
+    // Two sheets crossing (two components, joined at the root).
+    assert_int_equal(fixture_sheet_pair(&s, &b, 12, 3, 0.5, 0.0), 0);
+    assert_int_equal(fixture_append(&s, &b), 0);
+    fixture_free(&b);
+    (void)check_disk_flags(&s, -1);
+    fixture_free(&s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_validate_accepts_what_the_build_makes),
         cmocka_unit_test(test_validate_rejects_each_corruption),
+        cmocka_unit_test(test_disk_flags_only_on_topological_disks),
     };
     return cmocka_run_group_tests_name("validate", tests, NULL, NULL);
 }
