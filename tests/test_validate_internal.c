@@ -304,11 +304,85 @@ static void test_disk_flags_only_on_topological_disks(void **state) {
     fixture_free(&s);
 }
 
+// Each internal node's boundary list (hierarchy_boundary.c) against a direct
+// count: the half-edges of the edges that one of the patch's triangles uses
+// and no other of them does (manifold edges of the mesh only: a
+// non-manifold edge is on no list), oriented with that triangle after the
+// build's flips, sorted by edge. Leaves keep no list.
+static void check_boundary_lists(const fixture *s) {
+    selfcol_mesh *m = NULL;
+    selfcol_hierarchy *h = make(s, &m);
+    const size_t E = m->edge_count;
+    uint32_t *uses = test_calloc(E, sizeof(uint32_t)), *half = test_calloc(E, sizeof(uint32_t));
+    size_t listed = 0;
+    for (size_t id = 0; id < h->node_count; ++id) {
+        const selfcol_node *n = &h->nodes[id];
+        if (n->child_count == 0) {
+            assert_int_equal(n->boundary_count, 0);
+            continue;
+        }
+        memset(uses, 0, E * sizeof(uint32_t));
+        for (uint32_t sl = n->tri_begin; sl < n->tri_begin + n->tri_count; ++sl) {
+            const uint32_t t = h->tri_order[sl];
+            const uint32_t *tri = m->triangles + 3 * (size_t)t;
+            const int flip = (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED) != 0;
+            for (int i = 0; i < 3; ++i) {
+                const uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)i];
+                if (e == SELFCOL_INVALID_INDEX)
+                    continue;
+                if (uses[e]++ == 0) {
+                    const int reversed = (tri[i] > tri[(i + 1) % 3]) != flip;
+                    half[e] = e << 1 | (uint32_t)reversed;
+                }
+            }
+        }
+        size_t k = 0;
+        for (uint32_t e = 0; e < E; ++e) {
+            const uint32_t on_edge = m->edge_tri_offsets[e + 1] - m->edge_tri_offsets[e];
+            if (uses[e] != 1 || on_edge > 2)
+                continue;
+            assert_true(k < n->boundary_count);
+            assert_int_equal(h->bedge[n->boundary_begin + k], half[e]);
+            ++k;
+        }
+        assert_int_equal(k, n->boundary_count);
+        listed += k;
+    }
+    assert_true(listed > 0);
+    test_free(uses);
+    test_free(half);
+    selfcol_hierarchy_destroy(h);
+    selfcol_mesh_destroy(m);
+}
+
+static void test_boundary_lists_match_a_direct_count(void **state) {
+    (void)state;
+    fixture s, b;
+    assert_int_equal(fixture_crumpled(&s, 20, 18, 3, 5.0), 0);
+    check_boundary_lists(&s);
+    fixture_free(&s);
+    assert_int_equal(fixture_holed(&s, 16, 14, 3.0, 2, 1.0), 0);
+    check_boundary_lists(&s);
+    fixture_free(&s);
+    assert_int_equal(fixture_moebius(&s, 48, 4, 6.0, 2.0, 1, 0.1), 0);
+    check_boundary_lists(&s);
+    fixture_free(&s);
+    assert_int_equal(fixture_icosphere(&s, 2, 1.0), 0);
+    check_boundary_lists(&s);
+    fixture_free(&s);
+    assert_int_equal(fixture_sheet_pair(&s, &b, 12, 3, 0.5, 0.0), 0);
+    assert_int_equal(fixture_append(&s, &b), 0);
+    fixture_free(&b);
+    check_boundary_lists(&s);
+    fixture_free(&s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_validate_accepts_what_the_build_makes),
         cmocka_unit_test(test_validate_rejects_each_corruption),
         cmocka_unit_test(test_disk_flags_only_on_topological_disks),
+        cmocka_unit_test(test_boundary_lists_match_a_direct_count),
     };
     return cmocka_run_group_tests_name("validate", tests, NULL, NULL);
 }
