@@ -106,11 +106,14 @@ static size_t ef_bound(const selfcol_mesh *const mesh[2], const selfcol_contact 
 
 // Sorts the n EF candidates at p and drops repeats; returns how many are
 // left, or (size_t)-1 when the keys' buffer cannot grow. An LSD radix sort
-// on 64-bit keys: the first mesh (which also decides the second, and the
-// tag's order), the edge (32 bits) and the triangle (below 2^31:
-// SELFCOL_MESH_MAX_TRIANGLES), 11-bit digits, skipping digits every key
-// shares. The keys live in the sort buffer of the contact set the rebuild's
-// query ran in (which has just sorted the reach set's records there).
+// on 64-bit keys: the first mesh (bit 63; it also decides the second, and
+// the tag's order), then the edge, then the triangle in its lowest w bits,
+// w the width of the largest triangle index here (below 2^31:
+// SELFCOL_MESH_MAX_TRIANGLES), so that the varying bits are contiguous;
+// 11-bit digits, skipping digits every key shares (a 20k-triangle sheet:
+// 3 passes where a fixed 31-bit field took 5). The keys live in the sort
+// buffer of the contact set the rebuild's query ran in (which has just
+// sorted the reach set's records there).
 #define RADIX_BITS 11
 #define RADIX_MASK ((1u << RADIX_BITS) - 1u)
 typedef struct sort_item {
@@ -130,10 +133,17 @@ static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, ne
     if (item == NULL)
         return (size_t)-1;
     sort_item *other = item + n;
+    uint32_t largest = 0;
+    for (size_t i = 0; i < n; ++i)
+        largest = p[i].second > largest ? p[i].second : largest;
+    int w = 1;
+    while (w < 31 && (largest >> w) != 0)
+        ++w;
+    const uint64_t low = ((uint64_t)1 << w) - 1u;
     uint64_t all_or = 0, all_and = ~(uint64_t)0;
     for (size_t i = 0; i < n; ++i) {
         const uint64_t first_mesh = TAG_FIRST_MESH(p[i].tag);
-        item[i].key = first_mesh << 63 | (uint64_t)p[i].first << 31 | p[i].second;
+        item[i].key = first_mesh << 63 | (uint64_t)p[i].first << w | p[i].second;
         item[i].near = p[i].near;
         item[i].unused = 0;
         all_or |= item[i].key;
@@ -168,8 +178,8 @@ static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, ne
         const uint32_t first_mesh = (uint32_t)(item[i].key >> 63);
         const uint32_t second_mesh = s->self ? 0u : 1u - first_mesh;
         p[m++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, first_mesh, second_mesh),
-                             (uint32_t)(item[i].key >> 31), (uint32_t)(item[i].key & 0x7fffffffu),
-                             item[i].near};
+                             (uint32_t)((item[i].key & ~((uint64_t)1 << 63)) >> w),
+                             (uint32_t)(item[i].key & low), item[i].near};
     }
     return m;
 }
