@@ -367,7 +367,7 @@ int selfcol_sequence__rebuild(selfcol_sequence *s, selfcol_hierarchy *const h[2]
     if (status == SELFCOL_OK)
         status = selfcol_sequence__query(s, h, scratch, &r);
     if (status == SELFCOL_OK)
-        status = selfcol_sequence__build_list(s, &s->pairs, 0, &s->pair_count, mesh,
+        status = selfcol_sequence__build_list(s, &s->pairs, 0, &s->pair_count, h,
                                               scratch->records.items, scratch->records.count,
                                               selfcol_sequence__scratch_work(s, scratch));
     selfcol_contacts_clear(scratch);

@@ -9,6 +9,7 @@
 #include "base/box.h"
 #include "base/core.h"
 #include "base/parallel.h"
+#include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
 #include "query/contacts.h"
 #include "query/pairs.h"
@@ -36,7 +37,8 @@ static int is_corner(uint32_t v, const uint32_t *tri) {
 
 // EF candidates derived from one record of the reach set (the proof above).
 static size_t ef_candidates(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
-                            const selfcol_contact *r, near_pair *out) {
+                            const uint8_t *const owned[2], const selfcol_contact *r,
+                            near_pair *out) {
     size_t n = 0;
     const int self = s->self;
     // The record's distance bounds the candidate's from above; the smallest
@@ -47,14 +49,19 @@ static size_t ef_candidates(const selfcol_sequence *s, const selfcol_mesh *const
         out[n++] = (near_pair){tag_of(SELFCOL_CONTACT_EF, r->first_mesh, r->second_mesh), r->first,
                                r->second, 0.0f};
     } else if (r->kind == SELFCOL_CONTACT_VF) {
-        // Every edge at vertex v against triangle t.
+        // Every edge at vertex v against triangle t, each once: from the
+        // triangle that owns it (the hierarchy's owner, its first triangle,
+        // is one of v's since the edge has v), not from both of its sides.
         const selfcol_mesh *mv = mesh[r->first_mesh], *mt = mesh[r->second_mesh];
+        const uint8_t *own = owned[r->first_mesh];
         const uint32_t v = r->first;
         const uint32_t *tri = mt->triangles + 3 * (size_t)r->second;
         const uint32_t tag = tag_of(SELFCOL_CONTACT_EF, r->first_mesh, r->second_mesh);
         for (uint32_t k = mv->vertex_tri_offsets[v]; k < mv->vertex_tri_offsets[v + 1]; ++k) {
             const uint32_t u = mv->vertex_tris[k];
             for (int i = 0; i < 3; ++i) {
+                if (!(own[u] & SELFCOL_OWNS_EDGE(i)))
+                    continue;
                 const uint32_t e = mv->triangle_edges[3 * (size_t)u + (size_t)i];
                 if (e == SELFCOL_INVALID_INDEX)
                     continue;
@@ -190,8 +197,10 @@ static size_t sort_unique(const selfcol_sequence *s, selfcol_workspace *work, ne
 // about twice its final size, not the repeats' (each crossing pair is
 // derived from up to five records).
 int selfcol_sequence__build_list(selfcol_sequence *s, buffer *into, size_t offset,
-                                 size_t *pair_count, const selfcol_mesh *const mesh[2],
+                                 size_t *pair_count, selfcol_hierarchy *const h[2],
                                  const selfcol_contact *rec, size_t n, selfcol_workspace *work) {
+    const selfcol_mesh *const mesh[2] = {h[0]->mesh, h[1]->mesh};
+    const uint8_t *const owned[2] = {h[0]->owned, h[1]->owned};
     const selfcol_allocator *a = &s->allocator;
     const size_t before = offset * sizeof(near_pair); // kept when `into` grows
     size_t count = 0;
@@ -231,7 +240,7 @@ int selfcol_sequence__build_list(selfcol_sequence *s, buffer *into, size_t offse
                     list = (near_pair *)into->data + offset;
                 }
             }
-            m += ef_candidates(s, mesh, &rec[i], list + count + m);
+            m += ef_candidates(s, mesh, owned, &rec[i], list + count + m);
         }
         m = sort_unique(s, work, list + count, m);
         if (m == (size_t)-1)

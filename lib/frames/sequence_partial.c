@@ -231,8 +231,8 @@ int selfcol_sequence__partial_rebuild(selfcol_sequence *s, selfcol_hierarchy *co
     // STATE_NONE.)
     const size_t kept = keep_requeried(s->pairs.data, s->pair_count, partners, 0);
     if (status == SELFCOL_OK)
-        status = selfcol_sequence__build_list(s, &s->pairs, kept, &added, mesh,
-                                              scratch->records.items, scratch->records.count,
+        status = selfcol_sequence__build_list(s, &s->pairs, kept, &added, h, scratch->records.items,
+                                              scratch->records.count,
                                               selfcol_sequence__scratch_work(s, scratch));
     selfcol_contacts_clear(scratch);
     if (status != SELFCOL_OK)
@@ -288,7 +288,7 @@ int selfcol_sequence__check_partial(selfcol_sequence *s, selfcol_hierarchy *firs
     size_t n = 0;
     int status = selfcol_sequence__query(s, h, scratch, &r);
     if (status == SELFCOL_OK)
-        status = selfcol_sequence__build_list(s, &full, 0, &n, mesh, scratch->records.items,
+        status = selfcol_sequence__build_list(s, &full, 0, &n, h, scratch->records.items,
                                               scratch->records.count,
                                               selfcol_sequence__scratch_work(s, scratch));
     selfcol_contacts_clear(scratch);

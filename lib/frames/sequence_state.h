@@ -160,7 +160,7 @@ double selfcol_sequence__deformation_ratio(selfcol_sequence *s, const selfcol_me
 // The near list and its evaluation (sequence_list.c).
 float selfcol_sequence__float_below(double x);
 int selfcol_sequence__build_list(selfcol_sequence *s, buffer *into, size_t offset,
-                                 size_t *pair_count, const selfcol_mesh *const mesh[2],
+                                 size_t *pair_count, selfcol_hierarchy *const h[2],
                                  const selfcol_contact *rec, size_t n, selfcol_workspace *work);
 int selfcol_sequence__evaluate(const selfcol_sequence *s, const selfcol_mesh *const mesh[2],
                                const selfcol_query_options *o, selfcol_contacts *contacts);
