@@ -13,6 +13,7 @@
 
 #include <cmocka.h>
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "fixtures.h"
@@ -163,15 +164,13 @@ static int patch_is_disk(const selfcol_hierarchy *h, size_t id) {
     uint32_t *first = test_calloc(E, sizeof(uint32_t)); // a patch triangle on each edge
     uint32_t *tri_set = test_calloc(m->triangle_count, sizeof(uint32_t));
     uint32_t *corner_set = test_calloc(3 * m->triangle_count, sizeof(uint32_t));
-    uint8_t *in = test_calloc(m->triangle_count, 1), *seen_vertex = test_calloc(V, 1);
+    uint8_t *seen_vertex = test_calloc(V, 1);
     uint32_t *fans = test_calloc(V, sizeof(uint32_t));
     int disk = 1;
     for (uint32_t t = 0; t < m->triangle_count; ++t)
         tri_set[t] = t;
     for (uint32_t c = 0; c < 3 * m->triangle_count; ++c)
         corner_set[c] = c;
-    for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s)
-        in[h->tri_order[s]] = 1;
     size_t vertices = 0, edges = 0;
     for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count && disk; ++s) {
         const uint32_t t = h->tri_order[s];
@@ -229,7 +228,6 @@ static int patch_is_disk(const selfcol_hierarchy *h, size_t id) {
     test_free(first);
     test_free(tri_set);
     test_free(corner_set);
-    test_free(in);
     test_free(seen_vertex);
     test_free(fans);
     return disk;
@@ -257,6 +255,46 @@ static size_t check_disk_flags(const fixture *s, int root_is_disk) {
     selfcol_hierarchy_destroy(h);
     selfcol_mesh_destroy(m);
     return disks;
+}
+
+// A crumpled sheet with what the build treats apart: a third triangle on an
+// interior edge (a book: the edge is non-manifold), a copy of a triangle (a
+// duplicate), a triangle (a, b, a) on a border edge and a triangle
+// (c, c, c).
+static void make_mixed(fixture *s) {
+    assert_int_equal(fixture_crumpled(s, 18, 16, 5, 4.0), 0);
+    const size_t V = s->vertex_count, F = s->triangle_count;
+    s->positions = realloc(s->positions, 3 * (V + 1) * sizeof(double)); // fixture_free frees
+    s->triangles = realloc(s->triangles, 3 * (F + 4) * sizeof(uint32_t));
+    assert_non_null(s->positions);
+    assert_non_null(s->triangles);
+    const uint32_t *t0 = s->triangles + 3 * (F / 2);
+    for (int k = 0; k < 3; ++k) // the page's tip: above the middle triangle
+        s->positions[3 * V + (size_t)k] =
+            s->positions[3 * (size_t)t0[0] + (size_t)k] + (k == 2 ? 3.0 : 0.5);
+    const uint32_t a = t0[0], b = t0[1], dup[3] = {t0[0], t0[1], t0[2]};
+    // (a, b, a) on a border edge (a, b): the edge then has two triangles.
+    const uint32_t *t1 = NULL;
+    for (size_t t = 0; t < F && t1 == NULL; ++t) {
+        const uint32_t *x = s->triangles + 3 * t;
+        size_t sharing = 0;
+        for (size_t u = 0; u < F; ++u) {
+            const uint32_t *y = s->triangles + 3 * u;
+            int has0 = y[0] == x[0] || y[1] == x[0] || y[2] == x[0];
+            int has1 = y[0] == x[1] || y[1] == x[1] || y[2] == x[1];
+            sharing += has0 && has1;
+        }
+        if (sharing == 1)
+            t1 = x;
+    }
+    assert_non_null(t1);
+    const uint32_t added[4][3] = {{a, b, (uint32_t)V},
+                                  {dup[0], dup[1], dup[2]},
+                                  {t1[0], t1[1], t1[0]},
+                                  {t1[2], t1[2], t1[2]}};
+    memcpy(s->triangles + 3 * F, added, sizeof added);
+    s->vertex_count = V + 1;
+    s->triangle_count = F + 4;
 }
 
 static void test_disk_flags_only_on_topological_disks(void **state) {
@@ -302,13 +340,18 @@ static void test_disk_flags_only_on_topological_disks(void **state) {
     fixture_free(&b);
     (void)check_disk_flags(&s, -1);
     fixture_free(&s);
+    // A book page, a duplicate and collapsed triangles (make_mixed).
+    make_mixed(&s);
+    assert_true(check_disk_flags(&s, -1) > 0);
+    fixture_free(&s);
 }
 
 // Each internal node's boundary list (hierarchy_boundary.c) against a direct
 // count: the half-edges of the edges that one of the patch's triangles uses
 // and no other of them does (manifold edges of the mesh only: a
 // non-manifold edge is on no list), oriented with that triangle after the
-// build's flips, sorted by edge. Leaves keep no list.
+// build's flips (at the first of its slots on the edge: a triangle (a, b, a)
+// has two), sorted by edge. Leaves keep no list.
 static void check_boundary_lists(const fixture *s) {
     selfcol_mesh *m = NULL;
     selfcol_hierarchy *h = make(s, &m);
@@ -328,8 +371,10 @@ static void check_boundary_lists(const fixture *s) {
             const int flip = (h->owned[t] & SELFCOL_TRIANGLE_FLIPPED) != 0;
             for (int i = 0; i < 3; ++i) {
                 const uint32_t e = m->triangle_edges[3 * (size_t)t + (size_t)i];
-                if (e == SELFCOL_INVALID_INDEX)
-                    continue;
+                if (e == SELFCOL_INVALID_INDEX ||
+                    (i > 0 && e == m->triangle_edges[3 * (size_t)t]) ||
+                    (i > 1 && e == m->triangle_edges[3 * (size_t)t + 1]))
+                    continue; // each triangle counts once per edge
                 if (uses[e]++ == 0) {
                     const int reversed = (tri[i] > tri[(i + 1) % 3]) != flip;
                     half[e] = e << 1 | (uint32_t)reversed;
@@ -368,6 +413,9 @@ static void test_boundary_lists_match_a_direct_count(void **state) {
     check_boundary_lists(&s);
     fixture_free(&s);
     assert_int_equal(fixture_icosphere(&s, 2, 1.0), 0);
+    check_boundary_lists(&s);
+    fixture_free(&s);
+    make_mixed(&s);
     check_boundary_lists(&s);
     fixture_free(&s);
     assert_int_equal(fixture_sheet_pair(&s, &b, 12, 3, 0.5, 0.0), 0);

@@ -2,8 +2,8 @@
 // SPDX-License-Identifier: MIT
 
 // Union-find over uint32_t parent arrays (parent[x] == x at a root), shared
-// by the mesh's components, the hierarchy's vertex stars and the store's
-// groups. Root lookup halves the path as it goes (Tarjan and van Leeuwen
+// by the mesh's components, the hierarchy's triangle corners (fans) and the
+// store's groups. Root lookup halves the path as it goes (Tarjan and van Leeuwen
 // 1984); each caller links roots by its own rule (the store keeps the
 // smaller index as the root, so groups are numbered by their first entry).
 #ifndef SELFCOL_UNION_FIND_H

@@ -6,9 +6,11 @@
 // edge (the adjacency test of SEED/CONE in traverse.c and the contour test
 // of EXACT in contour.c read it), and every node whose patch is a
 // topological disk gets SELFCOL_NODE_DISK (EXACT's contour criterion applies
-// only to disks). Passes over the edges (climbing the tree from their
-// triangles' leaves: counts, then the lists), over the vertex stars (vertex
-// counts) and over the triangles' corners (fans).
+// only to disks). Two passes over the edges, climbing the tree from their
+// triangles' leaves (the first counts each node's boundary and joins the
+// triangles' corners across the edge, the second writes the lists), one over
+// the vertex stars (vertex counts) and one over the corners (fans: the sets
+// the joins left at each vertex).
 #include "base/alloc.h"
 #include "base/union_find.h"
 #include "hierarchy/hierarchy_build.h"
@@ -213,8 +215,8 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     // pairs, but not those of pairs leaving the run (proper ancestors of the
     // node): its subtree sums to 1, and that of a node holding none to 0.
     // One reverse sweep sums the subtrees (children come after their
-    // parents). Climbing from every leaf to the first node already stamped
-    // went to the root once per vertex.
+    // parents). A vertex costs its few leaves and the short climbs between
+    // neighbouring ones, not a climb to the root.
     for (uint32_t slot = 0; slot < m->triangle_count; ++slot)
         slot_of[h->tri_order[slot]] = slot;
     for (uint32_t v = 0; v < m->vertex_count; ++v) {
