@@ -185,27 +185,10 @@ static void refit_leaf(const selfcol_hierarchy *h, selfcol_node *n, float *altit
     double unit[SELFCOL_LEAF_MAX_TRIANGLES][3];
     double slack = 0.0;
     int coned = n->tri_count <= SELFCOL_LEAF_MAX_TRIANGLES;
-    // The corners are gathered first, a run of slots at a time: their loads
-    // depend on nothing computed, so they overlap instead of waiting behind
-    // each triangle's arithmetic (the positions are read through two
-    // indirections, and most of a refit was waiting for them).
-    double gathered[SELFCOL_LEAF_MAX_TRIANGLES][3][3];
-    uint32_t run_begin = n->tri_begin;
     for (uint32_t s = n->tri_begin; s < n->tri_begin + n->tri_count; ++s) {
-        if (s == run_begin) {
-            uint32_t run_end = n->tri_begin + n->tri_count;
-            if (run_end - run_begin > SELFCOL_LEAF_MAX_TRIANGLES)
-                run_end = run_begin + SELFCOL_LEAF_MAX_TRIANGLES;
-            for (uint32_t g = run_begin; g < run_end; ++g) {
-                const uint32_t *corners = m->triangles + 3 * (size_t)h->tri_order[g];
-                for (int i = 0; i < 3; ++i)
-                    memcpy(gathered[g - run_begin][i], selfcol_mesh__position(m, corners[i]),
-                           3 * sizeof(double));
-            }
-            run_begin = run_end;
-        }
-        const uint32_t in_run = (s - n->tri_begin) % SELFCOL_LEAF_MAX_TRIANGLES;
-        const double *p[3] = {gathered[in_run][0], gathered[in_run][1], gathered[in_run][2]};
+        const uint32_t *tri = m->triangles + 3 * (size_t)h->tri_order[s];
+        const double *p[3] = {selfcol_mesh__position(m, tri[0]), selfcol_mesh__position(m, tri[1]),
+                              selfcol_mesh__position(m, tri[2])};
         for (int i = 0; i < 3; ++i)
             selfcol_box__grow_point(lo, hi, p[i]);
         double u[3], v[3], nrm[3];
