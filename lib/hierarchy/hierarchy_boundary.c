@@ -85,37 +85,36 @@ static void sort_slots(uint32_t *slots, uint32_t k) {
     }
 }
 
+// One node on an edge's climb: counted (offset[n + 1]++) without bedge,
+// else its half-edge written at offset[n]++ unless n is the climb's leaf
+// (leaves keep no list).
+static void on_boundary(uint32_t n, uint32_t he, int leaf, uint32_t *offset, uint32_t *bedge) {
+    if (bedge == NULL)
+        offset[n + 1]++;
+    else if (!leaf)
+        bedge[offset[n]++] = he;
+}
+
 // Climbs from the leaves n1 and n2 of a manifold edge's two triangles to
 // their lowest common ancestor, or from the leaf n1 of a mesh-boundary
 // edge's triangle (n2 = SELFCOL_INVALID_INDEX) to the root: the edge is on
 // the boundary of every node passed, as half-edge he1 on n1's side and he2
-// on n2's. Without bedge, counts them (offset[n + 1]++); with it, writes
-// the half-edge at offset[n]++ for the internal nodes (leaves keep no list).
+// on n2's (on_boundary: counted, or written).
 static void climb(const uint32_t *parent, const uint32_t *depth, uint32_t n1, uint32_t he1,
                   uint32_t n2, uint32_t he2, uint32_t *offset, uint32_t *bedge) {
     int leaf1 = 1, leaf2 = 1; // n1, n2 still the leaves
     if (n2 == SELFCOL_INVALID_INDEX) {
-        for (; n1 != SELFCOL_INVALID_INDEX; n1 = parent[n1], leaf1 = 0) {
-            if (bedge == NULL)
-                offset[n1 + 1]++;
-            else if (!leaf1)
-                bedge[offset[n1]++] = he1;
-        }
+        for (; n1 != SELFCOL_INVALID_INDEX; n1 = parent[n1], leaf1 = 0)
+            on_boundary(n1, he1, leaf1, offset, bedge);
         return;
     }
     while (n1 != n2) {
         if (depth[n1] >= depth[n2]) {
-            if (bedge == NULL)
-                offset[n1 + 1]++;
-            else if (!leaf1)
-                bedge[offset[n1]++] = he1;
+            on_boundary(n1, he1, leaf1, offset, bedge);
             leaf1 = 0;
             n1 = parent[n1];
         } else {
-            if (bedge == NULL)
-                offset[n2 + 1]++;
-            else if (!leaf2)
-                bedge[offset[n2]++] = he2;
+            on_boundary(n2, he2, leaf2, offset, bedge);
             leaf2 = 0;
             n2 = parent[n2];
         }
