@@ -1,16 +1,18 @@
 // SPDX-FileCopyrightText: 2026 selfcol authors
 // SPDX-License-Identifier: MIT
 
-// The two-lane (SSE2) filters of lib/query/pairs.c against their one-lane
-// references, which are the definition: for every pair of triangles of a
-// random soup (scales from 1e-3 to 1e3, far from the origin, coplanar
-// copies, degenerate triangles) and several distances, the plane flags of
-// selfcol_pairs__candidate and the slots of selfcol_pairs__near_slots must be
-// those of selfcol_pairs__candidate_scalar and _near_slots_scalar, bit for
-// bit, and selfcol_pairs__run must push the records of
-// selfcol_pairs__run_scalar, in its order, with the same counters. In a
-// build without SSE2 (or with SELFCOL_SCALAR) both sides are the reference
-// and the test still checks the row filter against a plain loop.
+// The two-lane (SSE2) and four-lane (AVX, where this CPU runs it) filters
+// of lib/query/pairs.c against their one-lane references, which are the
+// definition: for every pair of triangles of a random soup (scales from
+// 1e-3 to 1e3, far from the origin, coplanar copies, degenerate triangles)
+// and several distances, the plane flags of selfcol_pairs__candidate and
+// _candidate_avx and the slots of selfcol_pairs__near_slots and
+// _near_slots_avx must be those of selfcol_pairs__candidate_scalar and
+// _near_slots_scalar, bit for bit, and selfcol_pairs__run must push the
+// records of selfcol_pairs__run_scalar, in its order, with the same
+// counters. In a build without SSE2 (or with SELFCOL_SCALAR) every side is
+// the reference and the test still checks the row filter against a plain
+// loop. A whole query with each path's lanes: test_hierarchy_lanes_agree.
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -22,6 +24,7 @@
 #include "base/box.h"
 #include "hierarchy/hierarchy.h"
 #include "narrow/narrow.h"
+#include "query/context.h"
 #include "query/pairs.h"
 #include "query/query.h"
 #include "query/records.h"
@@ -67,6 +70,8 @@ typedef struct frames {
     selfcol_mesh *mesh;
     selfcol_hierarchy *hierarchy;
     selfcol_tri_frame *frame; // by slot
+    selfcol_slot_boxes boxes; // their boxes by slot
+    double *box_memory;
     uint32_t count;
 } frames;
 
@@ -80,8 +85,16 @@ static void frames_of(frames *f, size_t vertex_count, const double *positions,
     f->count = triangle_count;
     f->frame = calloc(triangle_count, sizeof *f->frame);
     assert_non_null(f->frame);
-    for (uint32_t slot = 0; slot < triangle_count; ++slot)
+    f->box_memory = malloc(6 * (size_t)triangle_count * sizeof(double));
+    assert_non_null(f->box_memory);
+    for (int k = 0; k < 3; ++k) {
+        f->boxes.lo[k] = f->box_memory + (size_t)k * triangle_count;
+        f->boxes.hi[k] = f->box_memory + (size_t)(3 + k) * triangle_count;
+    }
+    for (uint32_t slot = 0; slot < triangle_count; ++slot) {
         selfcol_pairs__frame(&f->frame[slot], f->hierarchy, slot);
+        selfcol_pairs__set_box(&f->boxes, slot, &f->frame[slot]);
+    }
 }
 
 static void frames_make(frames *f, unsigned seed) {
@@ -97,6 +110,7 @@ static void frames_make(frames *f, unsigned seed) {
 
 static void frames_free(frames *f) {
     free(f->frame);
+    free(f->box_memory);
     selfcol_hierarchy_destroy(f->hierarchy);
     selfcol_mesh_destroy(f->mesh);
 }
@@ -105,6 +119,7 @@ static const double distances[] = {0.0, 1e-4, 0.01, 0.3, 30.0};
 
 static void test_pairs_plane_flags_equal_the_reference(void **state) {
     (void)state;
+    const int avx = selfcol_pairs__has_avx();
     for (unsigned seed = 1; seed <= 3; ++seed) {
         frames f;
         frames_make(&f, seed);
@@ -113,13 +128,20 @@ static void test_pairs_plane_flags_equal_the_reference(void **state) {
             const double d = distances[di];
             for (uint32_t a = 0; a < f.count; ++a)
                 for (uint32_t b = 0; b < f.count; ++b) {
-                    uint32_t fast = 0xDEADu, slow = 0xBEEFu;
+                    uint32_t fast = 0xDEADu, wide = 0xFEEDu, slow = 0xBEEFu;
                     const int got = selfcol_pairs__candidate(&f.frame[a], &f.frame[b], d, &fast);
                     const int want =
                         selfcol_pairs__candidate_scalar(&f.frame[a], &f.frame[b], d, &slow);
                     if (got != want || (want && fast != slow))
                         fail_msg("seed %u, d %g, slots %u, %u: %d/%#x, reference %d/%#x", seed, d,
                                  a, b, got, fast, want, slow);
+                    if (avx) {
+                        const int four =
+                            selfcol_pairs__candidate_avx(&f.frame[a], &f.frame[b], d, &wide);
+                        if (four != want || (want && wide != slow))
+                            fail_msg("AVX: seed %u, d %g, slots %u, %u: %d/%#x, reference %d/%#x",
+                                     seed, d, a, b, four, wide, want, slow);
+                    }
                     separated += !want;
                     kept += want;
                 }
@@ -132,6 +154,7 @@ static void test_pairs_plane_flags_equal_the_reference(void **state) {
 
 static void test_pairs_near_slots_equal_the_reference(void **state) {
     (void)state;
+    const int avx = selfcol_pairs__has_avx();
     unsigned pick = 7;
     for (unsigned seed = 1; seed <= 3; ++seed) {
         frames f;
@@ -145,13 +168,19 @@ static void test_pairs_near_slots_equal_the_reference(void **state) {
                     const uint32_t length = (uint32_t)(uniform(&pick) * 17.0);
                     const uint32_t begin = (uint32_t)(uniform(&pick) * (f.count - length));
                     uint32_t fast[SELFCOL_LEAF_MAX_TRIANGLES + 1],
-                        slow[SELFCOL_LEAF_MAX_TRIANGLES + 1];
-                    const uint32_t got = selfcol_pairs__near_slots(&f.frame[a], f.frame, begin,
+                        wide[SELFCOL_LEAF_MAX_TRIANGLES + 1], slow[SELFCOL_LEAF_MAX_TRIANGLES + 1];
+                    const uint32_t got = selfcol_pairs__near_slots(&f.frame[a], &f.boxes, begin,
                                                                    begin + length, d, fast);
                     const uint32_t want = selfcol_pairs__near_slots_scalar(
-                        &f.frame[a], f.frame, begin, begin + length, d, slow);
+                        &f.frame[a], &f.boxes, begin, begin + length, d, slow);
                     assert_int_equal(got, want);
                     assert_memory_equal(fast, slow, want * sizeof(uint32_t));
+                    if (avx) {
+                        const uint32_t four = selfcol_pairs__near_slots_avx(
+                            &f.frame[a], &f.boxes, begin, begin + length, d, wide);
+                        assert_int_equal(four, want);
+                        assert_memory_equal(wide, slow, want * sizeof(uint32_t));
+                    }
                     // The reference is the plain loop over selfcol_box__near.
                     uint32_t plain = 0;
                     for (uint32_t s = begin; s < begin + length; ++s)
@@ -261,6 +290,71 @@ static void test_pairs_run_equals_the_reference(void **state) {
     }
 }
 
+// Whole queries with the widest lanes this CPU runs and with the two-lane
+// baseline (the context's baseline_lanes): the same records, in the same
+// order, and the same counters, for a self query of the crumpled sheet and
+// of the soup (every method and distance) and a query of the sheet against
+// the soup. Where AVX does not run, both are the baseline and agree trivially.
+static void query_both_lanes(const selfcol_hierarchy *first, const selfcol_hierarchy *second,
+                             uint32_t method, double d, size_t *records) {
+    selfcol_context *context[2];
+    selfcol_contacts *out[2];
+    selfcol_query_options o;
+    assert_int_equal(selfcol_query_options_init(&o, SELFCOL_QUERY_OPTIONS_VERSION), SELFCOL_OK);
+    o.method = method;
+    o.distance = d;
+    for (int v = 0; v < 2; ++v) {
+        assert_int_equal(selfcol_context_create(&context[v], NULL), SELFCOL_OK);
+        context[v]->baseline_lanes = v;
+        assert_int_equal(selfcol_contacts_create(&out[v], NULL), SELFCOL_OK);
+        assert_int_equal(second == NULL
+                             ? selfcol_context_self_collide(context[v], first, out[v], &o)
+                             : selfcol_context_collide(context[v], first, second, out[v], &o),
+                         SELFCOL_OK);
+    }
+    const selfcol_contact *x, *y;
+    size_t nx, ny;
+    assert_int_equal(selfcol_contacts_data(out[0], &x, &nx), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_data(out[1], &y, &ny), SELFCOL_OK);
+    assert_int_equal(nx, ny);
+    if (nx > 0)
+        assert_memory_equal(x, y, nx * sizeof *x);
+    selfcol_query_stats sx, sy;
+    sx.version = sy.version = SELFCOL_QUERY_STATS_VERSION;
+    assert_int_equal(selfcol_contacts_stats(out[0], &sx), SELFCOL_OK);
+    assert_int_equal(selfcol_contacts_stats(out[1], &sy), SELFCOL_OK);
+    assert_int_equal(sx.nodes_visited, sy.nodes_visited);
+    assert_int_equal(sx.triangle_pairs, sy.triangle_pairs);
+    assert_int_equal(sx.pairs_separated, sy.pairs_separated);
+    assert_int_equal(sx.primitives_filtered, sy.primitives_filtered);
+    assert_int_equal(sx.vf_tests, sy.vf_tests);
+    assert_int_equal(sx.ee_tests, sy.ee_tests);
+    assert_int_equal(sx.ef_tests, sy.ef_tests);
+    *records += nx;
+    for (int v = 0; v < 2; ++v) {
+        selfcol_contacts_destroy(out[v]);
+        selfcol_context_destroy(context[v]);
+    }
+}
+
+static void test_hierarchy_lanes_agree(void **state) {
+    (void)state;
+    frames sheet, soup;
+    sheet_frames(&sheet, 5);
+    frames_make(&soup, 9);
+    const uint32_t methods[] = {SELFCOL_METHOD_EXACT, SELFCOL_METHOD_BVH};
+    size_t records = 0;
+    for (size_t mi = 0; mi < sizeof methods / sizeof methods[0]; ++mi)
+        for (size_t di = 0; di < sizeof distances / sizeof distances[0]; ++di) {
+            query_both_lanes(sheet.hierarchy, NULL, methods[mi], distances[di], &records);
+            query_both_lanes(soup.hierarchy, NULL, methods[mi], distances[di], &records);
+            query_both_lanes(sheet.hierarchy, soup.hierarchy, methods[mi], distances[di], &records);
+        }
+    assert_true(records > 1000); // contacts were found and compared
+    frames_free(&sheet);
+    frames_free(&soup);
+}
+
 // Whether the lines of (p0, p1) and (q0, q1) are closer than d (1 - 1e-15),
 // computed without a square root in a wide type: with __float128 (113-bit
 // significands) the differences and the products of doubles are exact and
@@ -351,6 +445,7 @@ int main(void) {
         cmocka_unit_test(test_pairs_plane_flags_equal_the_reference),
         cmocka_unit_test(test_pairs_near_slots_equal_the_reference),
         cmocka_unit_test(test_pairs_run_equals_the_reference),
+        cmocka_unit_test(test_hierarchy_lanes_agree),
         cmocka_unit_test(test_pairs_lines_apart_is_conservative),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

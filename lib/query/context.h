@@ -34,6 +34,10 @@ struct selfcol_context {
     // Workers 1 .. pending_workers hold records of the running query that
     // selfcol_context__sort takes in; 0 after it.
     unsigned pending_workers;
+    // The leaf tests' lanes: 0 the widest this CPU runs (pairs.h,
+    // selfcol_pairs__has_avx), 1 the two-lane baseline even where AVX runs
+    // (set by the tests, which hold the two paths' queries equal).
+    int baseline_lanes;
 };
 
 // Worker w >= 1's records (cleared) and working memory, made at first use

@@ -54,6 +54,27 @@
 #define SELFCOL_PAIRS_SSE2 0
 #endif
 
+// Four-lane paths (AVX's 256-bit doubles), compiled beside the baseline for
+// x86-64 with GCC or Clang and chosen at run time (selfcol_pairs__has_avx):
+// the same operations per lane in the same order, so the same bits again.
+// AVX alone (no FMA): nothing can contract a product and a sum.
+#if SELFCOL_PAIRS_SSE2 && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define SELFCOL_PAIRS_AVX 1
+#include <immintrin.h>
+#define SELFCOL_TARGET_AVX __attribute__((target("avx")))
+#else
+#define SELFCOL_PAIRS_AVX 0
+#endif
+
+int selfcol_pairs__has_avx(void) {
+#if SELFCOL_PAIRS_AVX
+    // The CPU has AVX and the OS saves its registers (libgcc reads both).
+    return __builtin_cpu_supports("avx") != 0;
+#else
+    return 0;
+#endif
+}
+
 // ---------------------------------------------------------------------------
 // Records
 
@@ -236,6 +257,7 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
     const uint32_t *tri = m->triangles + 3 * (size_t)t;
     f->id = t;
     f->owned = h->owned[t];
+    f->duplicate = (m->triangle_flags[t] & SELFCOL_TRIANGLE_DUPLICATE) != 0;
     f->edge_reversed = 0;
     for (int i = 0; i < 3; ++i) {
         f->corner_id[i] = tri[i];
@@ -245,7 +267,10 @@ void selfcol_pairs__frame(selfcol_tri_frame *f, const selfcol_hierarchy *h, uint
         f->edge[i] = SELFCOL_INVALID_INDEX;
         if (f->owned & SELFCOL_OWNS_EDGE(i)) {
             f->edge[i] = m->triangle_edges[3 * (size_t)t + (size_t)i];
-            if (m->edges[2 * (size_t)f->edge[i]] != tri[i])
+            // The mesh lists an edge's ends (lo, hi) (mesh.h), and an owned
+            // edge has two distinct ends: reversed when corner i is the hi
+            // end, read without the edge array (a random read per edge).
+            if (tri[i] > tri[(i + 1) % 3])
                 f->edge_reversed |= (uint8_t)(1u << i);
         }
     }
@@ -281,7 +306,7 @@ enum { FAR_POS = 0, FAR_NEG = 3, SIDE_POS = 6, SIDE_NEG = 9, FLAG_BITS = 12 };
 
 static uint32_t plane_flags_scalar(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
                                    double d) {
-    const double *a = self->corner[0];
+    const double a[3] = {self->xyz[0][0], self->xyz[1][0], self->xyz[2][0]}; // corner 0
     const double t = far_threshold(d, self->length, self->abs_max);
     uint32_t out = 0;
     for (int j = 0; j < 3; ++j) {
@@ -304,7 +329,7 @@ static uint32_t plane_flags_scalar(const selfcol_tri_frame *self, const selfcol_
 // never contracts a product and a sum into one rounding (-ffp-contract=off).
 static inline uint32_t plane_flags(const selfcol_tri_frame *self, const selfcol_tri_frame *other,
                                    double d) {
-    const double *a = self->corner[0];
+    const double a[3] = {self->xyz[0][0], self->xyz[1][0], self->xyz[2][0]}; // corner 0
     const double t = far_threshold(d, self->length, self->abs_max);
     const __m128d a0 = _mm_set1_pd(a[0]), a1 = _mm_set1_pd(a[1]), a2 = _mm_set1_pd(a[2]);
     const __m128d n0 = _mm_set1_pd(self->normal[0]), n1 = _mm_set1_pd(self->normal[1]),
@@ -367,17 +392,70 @@ int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_t
     return candidate_with(plane_flags_scalar, fa, fb, d, flags);
 }
 
+#if SELFCOL_PAIRS_AVX
+// plane_flags_scalar for the three corners at once (lanes: corners 0, 1, 2
+// and a copy of 0, xyz[k][0 .. 3]), term for term.
+SELFCOL_TARGET_AVX static inline uint32_t
+plane_flags_avx(const selfcol_tri_frame *self, const selfcol_tri_frame *other, double d) {
+    const double a[3] = {self->xyz[0][0], self->xyz[1][0], self->xyz[2][0]}; // corner 0
+    const double t = far_threshold(d, self->length, self->abs_max);
+    const __m256d D0 = _mm256_sub_pd(_mm256_loadu_pd(other->xyz[0]), _mm256_set1_pd(a[0]));
+    const __m256d D1 = _mm256_sub_pd(_mm256_loadu_pd(other->xyz[1]), _mm256_set1_pd(a[1]));
+    const __m256d D2 = _mm256_sub_pd(_mm256_loadu_pd(other->xyz[2]), _mm256_set1_pd(a[2]));
+    const __m256d s =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(D0, _mm256_set1_pd(self->normal[0])),
+                                    _mm256_mul_pd(D1, _mm256_set1_pd(self->normal[1]))),
+                      _mm256_mul_pd(D2, _mm256_set1_pd(self->normal[2])));
+    const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+    const __m256d sum =
+        _mm256_add_pd(_mm256_add_pd(_mm256_and_pd(D0, magnitude), _mm256_and_pd(D1, magnitude)),
+                      _mm256_and_pd(D2, magnitude));
+    const __m256d e =
+        _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0x1p-48), sum), _mm256_set1_pd(self->abs_max));
+    const __m256d below = _mm256_sub_pd(s, e), above = _mm256_add_pd(s, e);
+    const __m256d zero = _mm256_setzero_pd();
+    const uint32_t far_pos =
+        (uint32_t)_mm256_movemask_pd(_mm256_cmp_pd(below, _mm256_set1_pd(t), _CMP_GT_OQ));
+    const uint32_t far_neg =
+        (uint32_t)_mm256_movemask_pd(_mm256_cmp_pd(above, _mm256_set1_pd(-t), _CMP_LT_OQ));
+    const uint32_t side_pos = (uint32_t)_mm256_movemask_pd(_mm256_cmp_pd(below, zero, _CMP_GT_OQ));
+    const uint32_t side_neg = (uint32_t)_mm256_movemask_pd(_mm256_cmp_pd(above, zero, _CMP_LT_OQ));
+    return (far_pos & 7u) << FAR_POS | (far_neg & 7u) << FAR_NEG | (side_pos & 7u) << SIDE_POS |
+           (side_neg & 7u) << SIDE_NEG;
+}
+
+SELFCOL_TARGET_AVX int selfcol_pairs__candidate_avx(const selfcol_tri_frame *fa,
+                                                    const selfcol_tri_frame *fb, double d,
+                                                    uint32_t *flags) {
+    const uint32_t of_a = plane_flags_avx(fb, fa, d);
+    if (all_far(of_a))
+        return 0;
+    const uint32_t of_b = plane_flags_avx(fa, fb, d);
+    if (all_far(of_b))
+        return 0;
+    *flags = of_a | (of_b << FLAG_BITS);
+    return 1;
+}
+#else
+int selfcol_pairs__candidate_avx(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
+                                 uint32_t *flags) {
+    return selfcol_pairs__candidate(fa, fb, d, flags);
+}
+#endif
+
 // ---------------------------------------------------------------------------
 // Leaf rows
 
-uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a,
-                                          const selfcol_tri_frame *frames, uint32_t begin,
-                                          uint32_t end, double d, uint32_t *out) {
+uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
+                                          uint32_t begin, uint32_t end, double d, uint32_t *out) {
+    const double *lo0 = b->lo[0], *lo1 = b->lo[1], *lo2 = b->lo[2];
+    const double *hi0 = b->hi[0], *hi1 = b->hi[1], *hi2 = b->hi[2];
     uint32_t count = 0;
     for (uint32_t s = begin; s < end; ++s) {
+        const double lo[3] = {lo0[s], lo1[s], lo2[s]}, hi[3] = {hi0[s], hi1[s], hi2[s]};
         // Every slot is written; the count advances by the test's outcome.
         out[count] = s;
-        count += (uint32_t)selfcol_box__near(a->lo, a->hi, frames[s].lo, frames[s].hi, d);
+        count += (uint32_t)selfcol_box__near(a->lo, a->hi, lo, hi, d);
     }
     return count;
 }
@@ -385,21 +463,22 @@ uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a,
 #if SELFCOL_PAIRS_SSE2
 // Two slots at a time: the six comparisons of selfcol_box__near per lane
 // (a_lo - d > b_hi or b_lo - d > a_hi on some axis: apart), one mask.
-uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri_frame *frames,
+uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
                                    uint32_t begin, uint32_t end, double d, uint32_t *out) {
     const __m128d dd = _mm_set1_pd(d);
     __m128d a_lo_d[3], a_hi[3];
+    const double *lo[3], *hi[3];
     for (int k = 0; k < 3; ++k) {
         a_lo_d[k] = _mm_set1_pd(a->lo[k] - d);
         a_hi[k] = _mm_set1_pd(a->hi[k]);
+        lo[k] = b->lo[k];
+        hi[k] = b->hi[k];
     }
     uint32_t count = 0, s = begin;
     for (; s + 1 < end; s += 2) {
-        const selfcol_tri_frame *f0 = &frames[s], *f1 = &frames[s + 1];
         __m128d apart = _mm_setzero_pd();
         for (int k = 0; k < 3; ++k) {
-            const __m128d b_lo = _mm_loadh_pd(_mm_load_sd(&f0->lo[k]), &f1->lo[k]);
-            const __m128d b_hi = _mm_loadh_pd(_mm_load_sd(&f0->hi[k]), &f1->hi[k]);
+            const __m128d b_lo = _mm_loadu_pd(&lo[k][s]), b_hi = _mm_loadu_pd(&hi[k][s]);
             apart = _mm_or_pd(apart, _mm_cmpgt_pd(a_lo_d[k], b_hi));
             apart = _mm_or_pd(apart, _mm_cmpgt_pd(_mm_sub_pd(b_lo, dd), a_hi[k]));
         }
@@ -409,16 +488,61 @@ uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri
         out[count] = s + 1;
         count += (near >> 1) & 1u;
     }
-    if (s < end) {
+    if (s < end)
+        count += selfcol_pairs__near_slots_scalar(a, b, s, end, d, out + count);
+    return count;
+}
+#else
+uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
+                                   uint32_t begin, uint32_t end, double d, uint32_t *out) {
+    return selfcol_pairs__near_slots_scalar(a, b, begin, end, d, out);
+}
+#endif
+
+#if SELFCOL_PAIRS_AVX
+// Four slots at a time, as the two-lane version.
+SELFCOL_TARGET_AVX uint32_t selfcol_pairs__near_slots_avx(const selfcol_tri_frame *a,
+                                                          const selfcol_slot_boxes *b,
+                                                          uint32_t begin, uint32_t end, double d,
+                                                          uint32_t *out) {
+    const __m256d dd = _mm256_set1_pd(d);
+    __m256d a_lo_d[3], a_hi[3];
+    const double *lo[3], *hi[3];
+    for (int k = 0; k < 3; ++k) {
+        a_lo_d[k] = _mm256_set1_pd(a->lo[k] - d);
+        a_hi[k] = _mm256_set1_pd(a->hi[k]);
+        lo[k] = b->lo[k];
+        hi[k] = b->hi[k];
+    }
+    uint32_t count = 0, s = begin;
+    for (; s + 3 < end; s += 4) {
+        __m256d apart = _mm256_setzero_pd();
+        for (int k = 0; k < 3; ++k) {
+            const __m256d b_lo = _mm256_loadu_pd(&lo[k][s]), b_hi = _mm256_loadu_pd(&hi[k][s]);
+            apart = _mm256_or_pd(apart, _mm256_cmp_pd(a_lo_d[k], b_hi, _CMP_GT_OQ));
+            apart =
+                _mm256_or_pd(apart, _mm256_cmp_pd(_mm256_sub_pd(b_lo, dd), a_hi[k], _CMP_GT_OQ));
+        }
+        const uint32_t near = ~(uint32_t)_mm256_movemask_pd(apart);
+        for (uint32_t lane = 0; lane < 4; ++lane) {
+            out[count] = s + lane;
+            count += (near >> lane) & 1u;
+        }
+    }
+    // The last slots here, not by a call into the two-lane code: legacy SSE
+    // instructions right after AVX ones stall (the call had no vzeroupper).
+    for (; s < end; ++s) {
+        const double b_lo[3] = {lo[0][s], lo[1][s], lo[2][s]},
+                     b_hi[3] = {hi[0][s], hi[1][s], hi[2][s]};
         out[count] = s;
-        count += (uint32_t)selfcol_box__near(a->lo, a->hi, frames[s].lo, frames[s].hi, d);
+        count += (uint32_t)selfcol_box__near(a->lo, a->hi, b_lo, b_hi, d);
     }
     return count;
 }
 #else
-uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri_frame *frames,
-                                   uint32_t begin, uint32_t end, double d, uint32_t *out) {
-    return selfcol_pairs__near_slots_scalar(a, frames, begin, end, d, out);
+uint32_t selfcol_pairs__near_slots_avx(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
+                                       uint32_t begin, uint32_t end, double d, uint32_t *out) {
+    return selfcol_pairs__near_slots(a, b, begin, end, d, out);
 }
 #endif
 

@@ -10,6 +10,8 @@
 #include "hierarchy/hierarchy.h"
 #include "query/query.h"
 
+#include <math.h>
+
 // Primitive-pair tests (pairs.c). Vertex v of mesh[mv] against triangle t of
 // mesh[mt]; the caller guarantees (for self queries) that v is not a corner
 // of t. A hit becomes a record.
@@ -32,21 +34,25 @@ int selfcol_pairs__lines_apart(const double *p0, const double *p1, const double 
 // gathering from the mesh: its corners, box and unnormalised normal
 // (p1 - p0) x (p2 - p0) in the triangle's own winding, with the computed
 // length and the scale of its rounding error, and what it owns (pairs.c).
+// The fields the triangle-pair candidate test reads (selfcol_pairs__candidate:
+// xyz, normal, length, abs_max) come first, in 160 bytes, so that the test
+// of a pair touches fewer of the other frame's cache lines.
 typedef struct selfcol_tri_frame {
-    double corner[3][3];
-    // The corners again, axis by axis: xyz[k] = corners 0, 1, 2, 0, 1, so
-    // that two-lane loads at c and c + 1 hold the ends of edge slots c and
-    // c + 1 (the two-lane filters of pairs.c).
+    // The corners axis by axis: xyz[k] = corners 0, 1, 2, 0, 1, so that
+    // two-lane loads at c and c + 1 hold the ends of edge slots c and c + 1
+    // (the two-lane filters of pairs.c).
     double xyz[3][5];
-    double lo[3], hi[3];
     double normal[3];
     double length;
     double abs_max;
+    double lo[3], hi[3];
+    double corner[3][3];   // the corners again, point by point
     uint32_t id;           // the triangle
     uint32_t corner_id[3]; // its vertices
     uint32_t edge[3];      // edge of slot i (corners i, i + 1) when owned
     uint8_t owned;         // SELFCOL_OWNS_* bits
     uint8_t edge_reversed; // bit i: edge i's record lists corner i + 1 first
+    uint8_t duplicate;     // 1: SELFCOL_TRIANGLE_DUPLICATE (pairs with it are skipped)
 } selfcol_tri_frame;
 
 void selfcol_pairs__frame(selfcol_tri_frame *frame, const struct selfcol_hierarchy *h,
@@ -66,21 +72,53 @@ typedef struct selfcol_slot_pair {
 int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
                              uint32_t *flags);
 
+// 1 when this CPU runs the four-lane (AVX) paths below; 0 where they are
+// not compiled (not x86-64 with GCC or Clang, or SELFCOL_SCALAR) or the CPU
+// or OS lacks AVX. The caller chooses once per query.
+int selfcol_pairs__has_avx(void);
+
+// selfcol_pairs__candidate in four lanes: the same result and flags, bit for
+// bit (test_pairs_internal). Only where selfcol_pairs__has_avx(); elsewhere
+// it is selfcol_pairs__candidate.
+int selfcol_pairs__candidate_avx(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
+                                 uint32_t *flags);
+
+// The triangles' boxes by slot, axis by axis (lo[k][slot], hi[k][slot]: the
+// frames' lo and hi), so that a leaf row's box tests load consecutive slots
+// (a frame is 312 bytes; its box would cost a cache line per slot).
+typedef struct selfcol_slot_boxes {
+    double *lo[3], *hi[3];
+} selfcol_slot_boxes;
+
+// A duplicate triangle's box is stored empty (lo +inf, hi -inf), so no row
+// finds it near: pairs with it hold no contact (hierarchy.h), and the rows
+// then skip it without reading its frame.
+static inline void selfcol_pairs__set_box(const selfcol_slot_boxes *b, uint32_t slot,
+                                          const selfcol_tri_frame *f) {
+    for (int k = 0; k < 3; ++k) {
+        b->lo[k][slot] = f->duplicate ? HUGE_VAL : f->lo[k];
+        b->hi[k][slot] = f->duplicate ? -HUGE_VAL : f->hi[k];
+    }
+}
+
 // The slots s in [begin, end) whose triangle's box is within d of a's
-// (selfcol_box__near on the frames' boxes), written to out in increasing
-// order; returns their count. Decided without a branch per slot: which
-// slots of a leaf pass looks random to a branch predictor.
-uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_tri_frame *frames,
+// (selfcol_box__near on the boxes), written to out in increasing order;
+// returns their count. Decided without a branch per slot: which slots of a
+// leaf pass looks random to a branch predictor. out has room for end -
+// begin slots.
+uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
                                    uint32_t begin, uint32_t end, double d, uint32_t *out);
+// The same in four lanes (only where selfcol_pairs__has_avx()).
+uint32_t selfcol_pairs__near_slots_avx(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
+                                       uint32_t begin, uint32_t end, double d, uint32_t *out);
 
 // The one-lane references of the two functions above, always compiled: the
 // SSE2 paths (x86-64's baseline) must equal them bit for bit
 // (test_pairs_internal); a build with SELFCOL_SCALAR defined uses them.
 int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb,
                                     double d, uint32_t *flags);
-uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a,
-                                          const selfcol_tri_frame *frames, uint32_t begin,
-                                          uint32_t end, double d, uint32_t *out);
+uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
+                                          uint32_t begin, uint32_t end, double d, uint32_t *out);
 
 // The narrow phase over a candidate list: every primitive pair the triangle
 // pairs own, through the per-primitive filters, into records. frames[0] and

@@ -69,9 +69,11 @@ typedef struct shared {
     uint32_t method;
     double distance;
     selfcol_tri_frame *frames[2]; // by slot; the same array twice for a self query
+    selfcol_slot_boxes boxes[2];  // their boxes by slot, in the same buffer
     uint32_t *stamps[2];          // by node: serial of the query that computed its frames
     uint32_t serial;
     int concurrent; // more than one worker: stamps are claimed atomically
+    int avx;        // the four-lane leaf tests (selfcol_pairs__has_avx)
     const node_pair *tasks;
     size_t task_count;
     size_t next_task; // atomic
@@ -259,8 +261,10 @@ static void ensure_frames(traversal *t, int side, uint32_t id) {
     }
     const selfcol_hierarchy *h = s->h[side];
     const selfcol_node *n = &h->nodes[id];
-    for (uint32_t slot = n->tri_begin; slot < n->tri_begin + n->tri_count; ++slot)
+    for (uint32_t slot = n->tri_begin; slot < n->tri_begin + n->tri_count; ++slot) {
         selfcol_pairs__frame(&s->frames[side][slot], h, slot);
+        selfcol_pairs__set_box(&s->boxes[side], slot, &s->frames[side][slot]);
+    }
     if (s->concurrent)
         SELFCOL_ATOMIC_STORE(stamp, s->serial);
 }
@@ -275,22 +279,23 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
     ensure_frames(t, 1, b_id);
     const selfcol_tri_frame *fa = s->frames[0], *fb = s->frames[1];
     selfcol_query_stats *st = &t->q.out->stats;
-    const uint8_t *dup_a = s->h[0]->mesh->triangle_flags, *dup_b = s->h[1]->mesh->triangle_flags;
     const uint32_t b_end = b->tri_begin + b->tri_count;
     uint32_t near[SELFCOL_LEAF_MAX_TRIANGLES];
     for (uint32_t sa = a->tri_begin; sa < a->tri_begin + a->tri_count; ++sa) {
-        if (dup_a[fa[sa].id] & SELFCOL_TRIANGLE_DUPLICATE)
+        if (fa[sa].duplicate)
             continue; // owns nothing and is no contact's triangle
         // The row's box tests at once (pairs.h), then the pairs that passed.
+        const uint32_t row = same ? sa + 1 : b->tri_begin;
         const uint32_t near_count =
-            selfcol_pairs__near_slots(&fa[sa], fb, same ? sa + 1 : b->tri_begin, b_end, d, near);
+            s->avx ? selfcol_pairs__near_slots_avx(&fa[sa], &s->boxes[1], row, b_end, d, near)
+                   : selfcol_pairs__near_slots(&fa[sa], &s->boxes[1], row, b_end, d, near);
         for (uint32_t i = 0; i < near_count; ++i) {
-            const uint32_t sb = near[i];
-            if (dup_b[fb[sb].id] & SELFCOL_TRIANGLE_DUPLICATE)
-                continue;
+            const uint32_t sb = near[i]; // never a duplicate (selfcol_pairs__set_box)
             st->triangle_pairs++;
             uint32_t flags;
-            if (!selfcol_pairs__candidate(&fa[sa], &fb[sb], d, &flags)) {
+            const int candidate = s->avx ? selfcol_pairs__candidate_avx(&fa[sa], &fb[sb], d, &flags)
+                                         : selfcol_pairs__candidate(&fa[sa], &fb[sb], d, &flags);
+            if (!candidate) {
                 st->pairs_separated++;
                 continue;
             }
@@ -489,16 +494,26 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     s.method = method;
     s.distance = q->distance;
     s.query = q;
+    s.avx = !context->baseline_lanes && selfcol_pairs__has_avx();
     selfcol_records *c = q->out;
     selfcol_workspace *work = &context->work;
     const int sides = q->self ? 1 : 2;
     for (int side = 0; side < sides; ++side) {
         const selfcol_hierarchy *h = side ? h1 : h0;
-        if (h->mesh->triangle_count > SIZE_MAX / sizeof(selfcol_tri_frame))
+        // The frames, then their boxes' six arrays (pairs.h).
+        const size_t n = h->mesh->triangle_count;
+        const size_t per_triangle = sizeof(selfcol_tri_frame) + 6 * sizeof(double);
+        if (n > SIZE_MAX / per_triangle)
             return SELFCOL_ENOMEM;
         s.frames[side] = selfcol_workspace__buffer(
-            work, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
-            h->mesh->triangle_count * sizeof(selfcol_tri_frame), 0);
+            work, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0, n * per_triangle, 0);
+        if (s.frames[side] != NULL) {
+            double *box = (double *)(void *)(s.frames[side] + n);
+            for (int k = 0; k < 3; ++k) {
+                s.boxes[side].lo[k] = box + (size_t)k * n;
+                s.boxes[side].hi[k] = box + (size_t)(3 + k) * n;
+            }
+        }
         s.stamps[side] = stamps_for(work, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0,
                                     h->node_count);
         if (s.frames[side] == NULL || s.stamps[side] == NULL)
@@ -506,6 +521,7 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     }
     if (q->self) {
         s.frames[1] = s.frames[0];
+        s.boxes[1] = s.boxes[0];
         s.stamps[1] = s.stamps[0];
     }
     // A new serial invalidates every stamp; at wrap-around they are cleared.
