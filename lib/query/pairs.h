@@ -85,7 +85,10 @@ int selfcol_pairs__candidate_avx(const selfcol_tri_frame *fa, const selfcol_tri_
 
 // The triangles' boxes by slot, axis by axis (lo[k][slot], hi[k][slot]: the
 // frames' lo and hi), so that a leaf row's box tests load consecutive slots
-// (a frame is 312 bytes; its box would cost a cache line per slot).
+// (a frame is 312 bytes; its box would cost a cache line per slot). Each
+// array has SELFCOL_SLOT_BOX_PAD readable entries past the last slot (any
+// finite or infinite values): the four-lane rows read whole groups.
+#define SELFCOL_SLOT_BOX_PAD 4
 typedef struct selfcol_slot_boxes {
     double *lo[3], *hi[3];
 } selfcol_slot_boxes;
@@ -105,7 +108,7 @@ static inline void selfcol_pairs__set_box(const selfcol_slot_boxes *b, uint32_t 
 // (selfcol_box__near on the boxes), written to out in increasing order;
 // returns their count. Decided without a branch per slot: which slots of a
 // leaf pass looks random to a branch predictor. out has room for end -
-// begin slots.
+// begin + 4 slots (the four-lane version stores whole groups).
 uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
                                    uint32_t begin, uint32_t end, double d, uint32_t *out);
 // The same in four lanes (only where selfcol_pairs__has_avx()).
