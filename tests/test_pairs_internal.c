@@ -226,8 +226,10 @@ static void run_both(frames *f, double d, uint32_t kinds, size_t *records) {
                 pairs[n++] = (selfcol_slot_pair){a, b, flags};
         }
     const selfcol_allocator standard = {NULL, NULL, NULL};
-    selfcol_records out[2];
-    for (int v = 0; v < 2; ++v) {
+    // 0: the reference, 1: two lanes, 2: four lanes (the reference again
+    // where AVX does not run).
+    selfcol_records out[3];
+    for (int v = 0; v < 3; ++v) {
         selfcol_records__init(&out[v], &standard);
         selfcol_query q;
         memset(&q, 0, sizeof q);
@@ -238,23 +240,27 @@ static void run_both(frames *f, double d, uint32_t kinds, size_t *records) {
         q.narrow = SELFCOL_NARROW_CLOSED_FORM;
         q.out = &out[v];
         const selfcol_tri_frame *const both[2] = {f->frame, f->frame};
-        assert_int_equal(v ? selfcol_pairs__run(&q, both, pairs, n)
-                           : selfcol_pairs__run_scalar(&q, both, pairs, n),
-                         SELFCOL_OK);
+        const int status = v == 0 ? selfcol_pairs__run_scalar(&q, both, pairs, n)
+                           : v == 1 || !selfcol_pairs__has_avx()
+                               ? selfcol_pairs__run(&q, both, pairs, n)
+                               : selfcol_pairs__run_avx(&q, both, pairs, n);
+        assert_int_equal(status, SELFCOL_OK);
     }
-    assert_int_equal(out[0].count, out[1].count);
-    assert_memory_equal(out[0].items, out[1].items, out[0].count * sizeof(selfcol_contact));
-    const selfcol_query_stats *x = &out[0].stats, *y = &out[1].stats;
-    assert_int_equal(x->vf_tests, y->vf_tests);
-    assert_int_equal(x->ee_tests, y->ee_tests);
-    assert_int_equal(x->ef_tests, y->ef_tests);
-    assert_int_equal(x->vf_contacts, y->vf_contacts);
-    assert_int_equal(x->ee_contacts, y->ee_contacts);
-    assert_int_equal(x->ef_contacts, y->ef_contacts);
-    assert_int_equal(x->primitives_filtered, y->primitives_filtered);
+    for (int v = 1; v < 3; ++v) {
+        assert_int_equal(out[0].count, out[v].count);
+        assert_memory_equal(out[0].items, out[v].items, out[0].count * sizeof(selfcol_contact));
+        const selfcol_query_stats *x = &out[0].stats, *y = &out[v].stats;
+        assert_int_equal(x->vf_tests, y->vf_tests);
+        assert_int_equal(x->ee_tests, y->ee_tests);
+        assert_int_equal(x->ef_tests, y->ef_tests);
+        assert_int_equal(x->vf_contacts, y->vf_contacts);
+        assert_int_equal(x->ee_contacts, y->ee_contacts);
+        assert_int_equal(x->ef_contacts, y->ef_contacts);
+        assert_int_equal(x->primitives_filtered, y->primitives_filtered);
+    }
     *records += out[0].count;
-    selfcol_records__free(&out[0]);
-    selfcol_records__free(&out[1]);
+    for (int v = 0; v < 3; ++v)
+        selfcol_records__free(&out[v]);
     free(pairs);
 }
 

@@ -886,8 +886,49 @@ static int edge_pair_tests(selfcol_query *q, const selfcol_tri_frame *a, const s
     return status;
 }
 
-int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
-                       const selfcol_slot_pair *pairs, size_t count) {
+// What the filters leave of a triangle pair: a's vertices and edges tested
+// against b (vf_ab, ef_ab), b's against a, and the edge pairs (ee).
+typedef struct pair_masks {
+    uint32_t vf_ab, ef_ab, vf_ba, ef_ba, ee;
+} pair_masks;
+
+// Bit 3 i + j: corner i of a is corner j of b (a self query; 0 otherwise).
+static inline uint32_t corner_matches(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                      uint32_t self_mask) {
+    uint32_t matches = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            matches |= (uint32_t)(a->corner_id[i] == b->corner_id[j]) << (3 * i + j);
+    return matches & self_mask;
+}
+
+// a's corners shared with b, and b's with a, from the matches.
+static inline void shared_corners(uint32_t matches, uint32_t *shared_a, uint32_t *shared_b) {
+    *shared_a = (uint32_t)((matches & 7u) != 0) | (uint32_t)((matches & 070u) != 0) << 1 |
+                (uint32_t)((matches & 0700u) != 0) << 2;
+    *shared_b = (matches | (matches >> 3) | (matches >> 6)) & 7u;
+}
+
+static inline uint32_t two_lane_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                      uint32_t of_a, uint32_t of_b, uint32_t self_mask, double d,
+                                      uint32_t kinds, pair_masks *m, uint64_t *filtered) {
+    const uint32_t matches = corner_matches(a, b, self_mask);
+    uint32_t shared_a, shared_b;
+    shared_corners(matches, &shared_a, &shared_b);
+    one_way_masks(a, b, of_a, shared_a, d, kinds, &m->vf_ab, &m->ef_ab, filtered);
+    one_way_masks(b, a, of_b, shared_b, d, kinds, &m->vf_ba, &m->ef_ba, filtered);
+    m->ee = kinds & SELFCOL_KIND_EE ? edge_pair_masks(a, b, of_a, of_b, matches, d, filtered) : 0;
+    return m->vf_ab | m->ef_ab | m->vf_ba | m->ef_ba | m->ee;
+}
+
+typedef uint32_t (*masks_fn)(const selfcol_tri_frame *, const selfcol_tri_frame *, uint32_t,
+                             uint32_t, uint32_t, double, uint32_t, pair_masks *, uint64_t *);
+
+// The filtered run with either implementation of the masks (inlined with a
+// constant `masks`), then the tests of what is left.
+static inline int run_with(masks_fn masks, selfcol_query *q,
+                           const selfcol_tri_frame *const frames[2], const selfcol_slot_pair *pairs,
+                           size_t count) {
     int status = SELFCOL_OK;
     const uint32_t mask = (1u << FLAG_BITS) - 1u;
     const double d = q->distance;
@@ -897,36 +938,154 @@ int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2
     for (size_t k = 0; k < count && status == SELFCOL_OK; ++k) {
         const selfcol_tri_frame *a = &frames[0][pairs[k].a], *b = &frames[1][pairs[k].b];
         const uint32_t of_a = pairs[k].flags & mask, of_b = pairs[k].flags >> FLAG_BITS;
-        // Bit 3 i + j: corner i of a is corner j of b.
-        uint32_t matches = 0;
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-                matches |= (uint32_t)(a->corner_id[i] == b->corner_id[j]) << (3 * i + j);
-        matches &= self_mask;
-        const uint32_t columns = matches | (matches >> 3) | (matches >> 6);
-        const uint32_t shared_a = (uint32_t)((matches & 7u) != 0) |
-                                  (uint32_t)((matches & 070u) != 0) << 1 |
-                                  (uint32_t)((matches & 0700u) != 0) << 2;
-        const uint32_t shared_b = columns & 7u;
-        uint32_t vf_ab, ef_ab, vf_ba, ef_ba, ee = 0;
-        one_way_masks(a, b, of_a, shared_a, d, kinds, &vf_ab, &ef_ab, &filtered);
-        one_way_masks(b, a, of_b, shared_b, d, kinds, &vf_ba, &ef_ba, &filtered);
-        if (kinds & SELFCOL_KIND_EE)
-            ee = edge_pair_masks(a, b, of_a, of_b, matches, d, &filtered);
-        if ((vf_ab | ef_ab | vf_ba | ef_ba | ee) == 0)
+        pair_masks m;
+        if (masks(a, b, of_a, of_b, self_mask, d, kinds, &m, &filtered) == 0)
             continue;
-        status = one_way_tests(q, 0, a, 1, b, vf_ab, ef_ab);
+        status = one_way_tests(q, 0, a, 1, b, m.vf_ab, m.ef_ab);
         if (status == SELFCOL_OK)
-            status = one_way_tests(q, 1, b, 0, a, vf_ba, ef_ba);
+            status = one_way_tests(q, 1, b, 0, a, m.vf_ba, m.ef_ba);
         if (status == SELFCOL_OK)
-            status = edge_pair_tests(q, a, b, ee);
+            status = edge_pair_tests(q, a, b, m.ee);
     }
     q->out->stats.primitives_filtered += filtered;
     return status;
 }
+
+int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                       const selfcol_slot_pair *pairs, size_t count) {
+    return run_with(two_lane_masks, q, frames, pairs, count);
+}
+
+#if SELFCOL_PAIRS_AVX
+// corners_against_box in one pass: lanes corners 0, 1, 2 (and a copy of 0);
+// edge slot i's ends are lanes i of xyz[k][0 ..] and xyz[k][1 ..].
+SELFCOL_TARGET_AVX static inline void corners_against_box_avx(const selfcol_tri_frame *a,
+                                                              const selfcol_tri_frame *b, double d,
+                                                              uint32_t *outside_d,
+                                                              uint32_t *apart) {
+    __m256d out = _mm256_setzero_pd(), sep = _mm256_setzero_pd();
+    for (int k = 0; k < 3; ++k) {
+        const __m256d lo = _mm256_set1_pd(b->lo[k]), hi = _mm256_set1_pd(b->hi[k]);
+        const __m256d lo_d = _mm256_set1_pd(b->lo[k] - d), hi_d = _mm256_set1_pd(b->hi[k] + d);
+        const __m256d c = _mm256_loadu_pd(&a->xyz[k][0]), next = _mm256_loadu_pd(&a->xyz[k][1]);
+        out = _mm256_or_pd(out, _mm256_or_pd(_mm256_cmp_pd(c, hi_d, _CMP_GT_OQ),
+                                             _mm256_cmp_pd(c, lo_d, _CMP_LT_OQ)));
+        sep = _mm256_or_pd(sep, _mm256_or_pd(_mm256_and_pd(_mm256_cmp_pd(c, hi, _CMP_GT_OQ),
+                                                           _mm256_cmp_pd(next, hi, _CMP_GT_OQ)),
+                                             _mm256_and_pd(_mm256_cmp_pd(c, lo, _CMP_LT_OQ),
+                                                           _mm256_cmp_pd(next, lo, _CMP_LT_OQ))));
+    }
+    *outside_d = (uint32_t)_mm256_movemask_pd(out) & 7u;
+    *apart = (uint32_t)_mm256_movemask_pd(sep) & 7u;
+}
+
+// one_way_masks with the one-pass box test.
+SELFCOL_TARGET_AVX static inline void one_way_masks_avx(const selfcol_tri_frame *a,
+                                                        const selfcol_tri_frame *b, uint32_t of_a,
+                                                        uint32_t shared, double d, uint32_t kinds,
+                                                        uint32_t *vf, uint32_t *ef,
+                                                        uint64_t *filtered) {
+    uint32_t vf_eligible = 0, vf_left = 0, ef_eligible = 0, ef_left = 0;
+    if (kinds & SELFCOL_KIND_VF) {
+        vf_eligible = a->owned & 7u & ~shared;
+        vf_left = vf_eligible & ~(((of_a >> FAR_POS) | (of_a >> FAR_NEG)) & 7u);
+    }
+    if (kinds & SELFCOL_KIND_EF) {
+        ef_eligible = (a->owned >> 3) & 7u & ~(shared | next3(shared));
+        const uint32_t pos = (of_a >> SIDE_POS) & 7u, neg = (of_a >> SIDE_NEG) & 7u;
+        ef_left = ef_eligible & ~((pos & next3(pos)) | (neg & next3(neg)));
+    }
+    uint32_t outside_d = 7u, apart = 7u;
+    if ((vf_left | ef_left) != 0)
+        corners_against_box_avx(a, b, d, &outside_d, &apart);
+    *vf = vf_left & ~outside_d;
+    *ef = ef_left & ~apart;
+    *filtered += bit_count(vf_eligible & ~*vf) + bit_count(ef_eligible & ~*ef);
+}
+
+// edge_pair_masks with a's three edge boxes in one vector per axis.
+SELFCOL_TARGET_AVX static inline uint32_t
+edge_pair_masks_avx(const selfcol_tri_frame *a, const selfcol_tri_frame *b, uint32_t of_a,
+                    uint32_t of_b, uint32_t matches, double d, uint64_t *filtered) {
+    const uint32_t owned_a = (a->owned >> 3) & 7u, owned_b = (b->owned >> 3) & 7u;
+    const uint32_t fp_a = (of_a >> FAR_POS) & 7u, fn_a = (of_a >> FAR_NEG) & 7u;
+    const uint32_t fp_b = (of_b >> FAR_POS) & 7u, fn_b = (of_b >> FAR_NEG) & 7u;
+    const uint32_t far_a = (fp_a & next3(fp_a)) | (fn_a & next3(fn_a));
+    const uint32_t far_b = (fp_b & next3(fp_b)) | (fn_b & next3(fn_b));
+    const uint32_t live_a = owned_a & ~far_a;
+    *filtered += bit_count(owned_a & far_a) * bit_count(owned_b);
+    const uint32_t rows =
+        ((live_a & 1u) * 7u) | ((live_a & 2u) * (7u << 2)) | ((live_a & 4u) * (7u << 4));
+    const uint32_t columns = owned_b * 0x49u, far_columns = far_b * 0x49u;
+    const uint32_t shared =
+        matches | next_rows(matches) | next_columns(matches) | next_rows(next_columns(matches));
+    const uint32_t eligible = rows & columns & ~shared;
+    if (eligible == 0)
+        return 0;
+    const __m256d dd = _mm256_set1_pd(d);
+    __m256d a_lo_d[3], a_hi[3];
+    double blo[3][4], bhi[3][4]; // b's slot j on axis k: [k][j] (lo less d)
+    for (int k = 0; k < 3; ++k) {
+        const __m256d p = _mm256_loadu_pd(&a->xyz[k][0]), q = _mm256_loadu_pd(&a->xyz[k][1]);
+        a_lo_d[k] = _mm256_sub_pd(_mm256_min_pd(p, q), dd);
+        a_hi[k] = _mm256_max_pd(p, q);
+        const __m256d r = _mm256_loadu_pd(&b->xyz[k][0]), t = _mm256_loadu_pd(&b->xyz[k][1]);
+        _mm256_storeu_pd(blo[k], _mm256_sub_pd(_mm256_min_pd(r, t), dd));
+        _mm256_storeu_pd(bhi[k], _mm256_max_pd(r, t));
+    }
+    uint32_t apart = 0;
+    for (int j = 0; j < 3; ++j) {
+        __m256d x = _mm256_setzero_pd();
+        for (int k = 0; k < 3; ++k) {
+            const __m256d lo = _mm256_set1_pd(blo[k][j]), hi = _mm256_set1_pd(bhi[k][j]);
+            x = _mm256_or_pd(x, _mm256_or_pd(_mm256_cmp_pd(a_lo_d[k], hi, _CMP_GT_OQ),
+                                             _mm256_cmp_pd(lo, a_hi[k], _CMP_GT_OQ)));
+        }
+        const uint32_t m = (uint32_t)_mm256_movemask_pd(x);
+        apart |= ((m & 1u) << j) | (((m >> 1) & 1u) << (3 + j)) | (((m >> 2) & 1u) << (6 + j));
+    }
+    const uint32_t tested = eligible & ~far_columns & ~apart;
+    *filtered += bit_count(eligible & ~tested);
+    return tested;
+}
+
+SELFCOL_TARGET_AVX static inline uint32_t four_lane_masks(const selfcol_tri_frame *a,
+                                                          const selfcol_tri_frame *b, uint32_t of_a,
+                                                          uint32_t of_b, uint32_t self_mask,
+                                                          double d, uint32_t kinds, pair_masks *m,
+                                                          uint64_t *filtered) {
+    const uint32_t matches = corner_matches(a, b, self_mask);
+    uint32_t shared_a, shared_b;
+    shared_corners(matches, &shared_a, &shared_b);
+    one_way_masks_avx(a, b, of_a, shared_a, d, kinds, &m->vf_ab, &m->ef_ab, filtered);
+    one_way_masks_avx(b, a, of_b, shared_b, d, kinds, &m->vf_ba, &m->ef_ba, filtered);
+    m->ee =
+        kinds & SELFCOL_KIND_EE ? edge_pair_masks_avx(a, b, of_a, of_b, matches, d, filtered) : 0;
+    // The tests that follow run two-lane (legacy SSE) code: leave no upper
+    // lane dirty (see the four-lane paths' comment).
+    _mm256_zeroupper();
+    return m->vf_ab | m->ef_ab | m->vf_ba | m->ef_ba | m->ee;
+}
+
+SELFCOL_TARGET_AVX int selfcol_pairs__run_avx(selfcol_query *q,
+                                              const selfcol_tri_frame *const frames[2],
+                                              const selfcol_slot_pair *pairs, size_t count) {
+    return run_with(four_lane_masks, q, frames, pairs, count);
+}
+#else
+int selfcol_pairs__run_avx(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                           const selfcol_slot_pair *pairs, size_t count) {
+    return selfcol_pairs__run(q, frames, pairs, count);
+}
+#endif
 #else
 int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
                        const selfcol_slot_pair *pairs, size_t count) {
+    return selfcol_pairs__run_scalar(q, frames, pairs, count);
+}
+
+int selfcol_pairs__run_avx(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                           const selfcol_slot_pair *pairs, size_t count) {
     return selfcol_pairs__run_scalar(q, frames, pairs, count);
 }
 #endif

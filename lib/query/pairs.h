@@ -128,6 +128,9 @@ uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a, const self
 // frames[1] are the two hierarchies' frame arrays (the same for self).
 int selfcol_pairs__run(selfcol_query *q, const selfcol_tri_frame *const frames[2],
                        const selfcol_slot_pair *pairs, size_t count);
+// The same with the four-lane masks (only where selfcol_pairs__has_avx()).
+int selfcol_pairs__run_avx(selfcol_query *q, const selfcol_tri_frame *const frames[2],
+                           const selfcol_slot_pair *pairs, size_t count);
 // Its one-lane reference (the same records and statistics; test_pairs_internal).
 int selfcol_pairs__run_scalar(selfcol_query *q, const selfcol_tri_frame *const frames[2],
                               const selfcol_slot_pair *pairs, size_t count);

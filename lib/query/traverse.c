@@ -117,7 +117,8 @@ static int flush_batch(traversal *t) {
         return SELFCOL_OK;
     double start = selfcol_core__seconds();
     const selfcol_tri_frame *const frames[2] = {t->s->frames[0], t->s->frames[1]};
-    int status = selfcol_pairs__run(&t->q, frames, t->batch, t->batch_count);
+    int status = t->s->avx ? selfcol_pairs__run_avx(&t->q, frames, t->batch, t->batch_count)
+                           : selfcol_pairs__run(&t->q, frames, t->batch, t->batch_count);
     t->batch_count = 0;
     t->narrow_seconds += selfcol_core__seconds() - start;
     return status;
