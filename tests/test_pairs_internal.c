@@ -5,10 +5,11 @@
 // of lib/query/pairs.c against their one-lane references, which are the
 // definition: for every pair of triangles of a random soup (scales from
 // 1e-3 to 1e3, far from the origin, coplanar copies, degenerate triangles)
-// and several distances, the plane flags of selfcol_pairs__candidate and
-// _candidate_avx and the slots of selfcol_pairs__near_slots and
-// _near_slots_avx must be those of selfcol_pairs__candidate_scalar and
-// _near_slots_scalar, bit for bit, and selfcol_pairs__run must push the
+// and several distances, the plane flags of selfcol_pairs__candidate (per
+// pair) and of selfcol_pairs__row_candidates and _row_candidates_avx (per
+// leaf row), and the slots of selfcol_pairs__near_slots and _near_slots_avx
+// must be those of selfcol_pairs__candidate_scalar and _near_slots_scalar,
+// bit for bit, and selfcol_pairs__run must push the
 // records of selfcol_pairs__run_scalar, in its order, with the same
 // counters. In a build without SSE2 (or with SELFCOL_SCALAR) every side is
 // the reference and the test still checks the row filter against a plain
@@ -134,25 +135,43 @@ static void test_pairs_plane_flags_equal_the_reference(void **state) {
         size_t separated = 0, kept = 0;
         for (size_t di = 0; di < sizeof distances / sizeof distances[0]; ++di) {
             const double d = distances[di];
-            for (uint32_t a = 0; a < f.count; ++a)
+            for (uint32_t a = 0; a < f.count; ++a) {
+                // Per pair: the two-lane test against the reference.
+                selfcol_slot_pair want[SOUP];
+                uint32_t wanted = 0;
                 for (uint32_t b = 0; b < f.count; ++b) {
-                    uint32_t fast = 0xDEADu, wide = 0xFEEDu, slow = 0xBEEFu;
+                    uint32_t fast = 0xDEADu, slow = 0xBEEFu;
                     const int got = selfcol_pairs__candidate(&f.frame[a], &f.frame[b], d, &fast);
-                    const int want =
+                    const int ref =
                         selfcol_pairs__candidate_scalar(&f.frame[a], &f.frame[b], d, &slow);
-                    if (got != want || (want && fast != slow))
+                    if (got != ref || (ref && fast != slow))
                         fail_msg("seed %u, d %g, slots %u, %u: %d/%#x, reference %d/%#x", seed, d,
-                                 a, b, got, fast, want, slow);
-                    if (avx) {
-                        const int four =
-                            selfcol_pairs__candidate_avx(&f.frame[a], &f.frame[b], d, &wide);
-                        if (four != want || (want && wide != slow))
-                            fail_msg("AVX: seed %u, d %g, slots %u, %u: %d/%#x, reference %d/%#x",
-                                     seed, d, a, b, four, wide, want, slow);
-                    }
-                    separated += !want;
-                    kept += want;
+                                 a, b, got, fast, ref, slow);
+                    if (ref)
+                        want[wanted++] = (selfcol_slot_pair){a, b, slow};
+                    separated += !ref;
+                    kept += ref;
                 }
+                // Per row (every slot, in rows of a leaf's length): the
+                // row functions keep the same pairs with the same flags.
+                selfcol_slot_pair got[2][SOUP];
+                uint32_t count[2] = {0, 0};
+                for (uint32_t begin = 0; begin < f.count; begin += SELFCOL_LEAF_MAX_TRIANGLES) {
+                    uint32_t near[SELFCOL_LEAF_MAX_TRIANGLES], n = 0;
+                    for (uint32_t b = begin; b < f.count && b < begin + SELFCOL_LEAF_MAX_TRIANGLES;
+                         ++b)
+                        near[n++] = b;
+                    count[0] += selfcol_pairs__row_candidates(&f.frame[a], a, f.frame, near, n, d,
+                                                              got[0] + count[0]);
+                    if (avx)
+                        count[1] += selfcol_pairs__row_candidates_avx(&f.frame[a], a, f.frame, near,
+                                                                      n, d, got[1] + count[1]);
+                }
+                for (int v = 0; v < 1 + avx; ++v) {
+                    assert_int_equal(count[v], wanted);
+                    assert_memory_equal(got[v], want, wanted * sizeof *want);
+                }
+            }
         }
         // Both outcomes occur, with every flag group exercised.
         assert_true(separated > 1000 && kept > 1000);

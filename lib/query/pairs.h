@@ -72,16 +72,10 @@ typedef struct selfcol_slot_pair {
 int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
                              uint32_t *flags);
 
-// 1 when this CPU runs the four-lane (AVX) paths below; 0 where they are
-// not compiled (not x86-64 with GCC or Clang, or SELFCOL_SCALAR) or the CPU
-// or OS lacks AVX. The caller chooses once per query.
+// 1 when this CPU runs the four-lane (AVX) paths (the _avx functions
+// below); 0 where they are not compiled (not x86-64 with GCC or Clang, or SELFCOL_SCALAR) or the
+// CPU or OS lacks AVX. The caller chooses once per query.
 int selfcol_pairs__has_avx(void);
-
-// selfcol_pairs__candidate in four lanes: the same result and flags, bit for
-// bit (test_pairs_internal). Only where selfcol_pairs__has_avx(); elsewhere
-// it is selfcol_pairs__candidate.
-int selfcol_pairs__candidate_avx(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb, double d,
-                                 uint32_t *flags);
 
 // The triangles' boxes by slot, axis by axis (lo[k][slot], hi[k][slot]: the
 // frames' lo and hi), so that a leaf row's box tests load consecutive slots
@@ -122,6 +116,19 @@ int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_t
                                     double d, uint32_t *flags);
 uint32_t selfcol_pairs__near_slots_scalar(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
                                           uint32_t begin, uint32_t end, double d, uint32_t *out);
+
+// A leaf row's candidates: for each of the `count` slots near[] of frames
+// (in order), selfcol_pairs__candidate of a (at slot sa) and that slot; the
+// pairs it keeps, with their flags, go to out in the same order (out has
+// room for `count`). Returns how many it kept.
+uint32_t selfcol_pairs__row_candidates(const selfcol_tri_frame *a, uint32_t sa,
+                                       const selfcol_tri_frame *frames, const uint32_t *near,
+                                       uint32_t count, double d, selfcol_slot_pair *out);
+// The same in four lanes, without a branch per pair (only where
+// selfcol_pairs__has_avx()).
+uint32_t selfcol_pairs__row_candidates_avx(const selfcol_tri_frame *a, uint32_t sa,
+                                           const selfcol_tri_frame *frames, const uint32_t *near,
+                                           uint32_t count, double d, selfcol_slot_pair *out);
 
 // The narrow phase over a candidate list: every primitive pair the triangle
 // pairs own, through the per-primitive filters, into records. frames[0] and

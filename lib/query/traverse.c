@@ -290,23 +290,20 @@ static int leaf_pair(traversal *t, uint32_t a_id, uint32_t b_id, int same) {
         const uint32_t near_count =
             s->avx ? selfcol_pairs__near_slots_avx(&fa[sa], &s->boxes[1], row, b_end, d, near)
                    : selfcol_pairs__near_slots(&fa[sa], &s->boxes[1], row, b_end, d, near);
-        for (uint32_t i = 0; i < near_count; ++i) {
-            const uint32_t sb = near[i]; // never a duplicate (selfcol_pairs__set_box)
-            st->triangle_pairs++;
-            uint32_t flags;
-            const int candidate = s->avx ? selfcol_pairs__candidate_avx(&fa[sa], &fb[sb], d, &flags)
-                                         : selfcol_pairs__candidate(&fa[sa], &fb[sb], d, &flags);
-            if (!candidate) {
-                st->pairs_separated++;
-                continue;
-            }
-            t->batch[t->batch_count++] = (selfcol_slot_pair){sa, sb, flags};
-            if (t->batch_count == PAIR_BATCH) {
-                int status = flush_batch(t);
-                if (status != SELFCOL_OK)
-                    return status;
-            }
+        // The row's candidates (never a duplicate: selfcol_pairs__set_box)
+        // into the batch, which has room for a whole row.
+        if (t->batch_count + SELFCOL_LEAF_MAX_TRIANGLES > PAIR_BATCH) {
+            const int status = flush_batch(t);
+            if (status != SELFCOL_OK)
+                return status;
         }
+        selfcol_slot_pair *to = t->batch + t->batch_count;
+        const uint32_t kept =
+            s->avx ? selfcol_pairs__row_candidates_avx(&fa[sa], sa, fb, near, near_count, d, to)
+                   : selfcol_pairs__row_candidates(&fa[sa], sa, fb, near, near_count, d, to);
+        t->batch_count += kept;
+        st->triangle_pairs += near_count;
+        st->pairs_separated += near_count - kept;
     }
     return SELFCOL_OK;
 }
