@@ -530,8 +530,16 @@ static const uint32_t lanes_of_mask[16][4] = {
     {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
     {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
 
-// Four slots at a time, as the two-lane version; the last group's lanes
-// past `end` read the padding (SELFCOL_SLOT_BOX_PAD) and are masked off.
+// Lane masks of vmaskmovpd: the first n of four lanes.
+static const int64_t first_lanes[5][4] = {
+    {0, 0, 0, 0}, {-1, 0, 0, 0}, {-1, -1, 0, 0}, {-1, -1, -1, 0}, {-1, -1, -1, -1}};
+
+// Four slots at a time, as the two-lane version. The last group of a row
+// that ends inside one is loaded with a lane mask (vmaskmovpd reads no
+// masked lane): the slots past the row's end belong to another leaf, whose
+// boxes another worker may be writing (traverse.c, ensure_frames). (Copying
+// the row's last slots into a local group instead cost 15 % of the query:
+// the four-lane load of four single stores cannot be forwarded.)
 SELFCOL_TARGET_AVX uint32_t selfcol_pairs__near_slots_avx(const selfcol_tri_frame *a,
                                                           const selfcol_slot_boxes *b,
                                                           uint32_t begin, uint32_t end, double d,
@@ -547,14 +555,16 @@ SELFCOL_TARGET_AVX uint32_t selfcol_pairs__near_slots_avx(const selfcol_tri_fram
     }
     uint32_t count = 0;
     for (uint32_t s = begin; s < end; s += 4) {
+        const uint32_t lanes = end - s < 4 ? end - s : 4;
+        const __m256i mask = _mm256_loadu_si256((const __m256i *)(const void *)first_lanes[lanes]);
         __m256d apart = _mm256_setzero_pd();
         for (int k = 0; k < 3; ++k) {
-            const __m256d b_lo = _mm256_loadu_pd(&lo[k][s]), b_hi = _mm256_loadu_pd(&hi[k][s]);
+            const __m256d b_lo = _mm256_maskload_pd(lo[k] + s, mask),
+                          b_hi = _mm256_maskload_pd(hi[k] + s, mask);
             apart = _mm256_or_pd(apart, _mm256_cmp_pd(a_lo_d[k], b_hi, _CMP_GT_OQ));
             apart =
                 _mm256_or_pd(apart, _mm256_cmp_pd(_mm256_sub_pd(b_lo, dd), a_hi[k], _CMP_GT_OQ));
         }
-        const uint32_t lanes = end - s < 4 ? end - s : 4;
         const uint32_t near = ~(uint32_t)_mm256_movemask_pd(apart) & ((1u << lanes) - 1u);
         const __m128i slots = _mm_add_epi32(_mm_set1_epi32((int)s),
                                             _mm_loadu_si128((const __m128i *)lanes_of_mask[near]));

@@ -79,10 +79,7 @@ int selfcol_pairs__has_avx(void);
 
 // The triangles' boxes by slot, axis by axis (lo[k][slot], hi[k][slot]: the
 // frames' lo and hi), so that a leaf row's box tests load consecutive slots
-// (a frame is 312 bytes; its box would cost a cache line per slot). Each
-// array has SELFCOL_SLOT_BOX_PAD readable entries past the last slot (any
-// finite or infinite values): the four-lane rows read whole groups.
-#define SELFCOL_SLOT_BOX_PAD 4
+// (a frame is 312 bytes; its box would cost a cache line per slot).
 typedef struct selfcol_slot_boxes {
     double *lo[3], *hi[3];
 } selfcol_slot_boxes;

@@ -498,22 +498,18 @@ int selfcol_traverse__run(selfcol_query *q, const selfcol_hierarchy *h0,
     const int sides = q->self ? 1 : 2;
     for (int side = 0; side < sides; ++side) {
         const selfcol_hierarchy *h = side ? h1 : h0;
-        // The frames, then their boxes' six arrays with their padding
-        // (pairs.h), which is set to zeros here.
-        const size_t n = h->mesh->triangle_count, stride = n + SELFCOL_SLOT_BOX_PAD;
+        // The frames, then their boxes' six arrays (pairs.h).
+        const size_t n = h->mesh->triangle_count;
         const size_t per_triangle = sizeof(selfcol_tri_frame) + 6 * sizeof(double);
-        if (n > (SIZE_MAX - 6 * SELFCOL_SLOT_BOX_PAD * sizeof(double)) / per_triangle)
+        if (n > SIZE_MAX / per_triangle)
             return SELFCOL_ENOMEM;
         s.frames[side] = selfcol_workspace__buffer(
-            work, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0,
-            n * per_triangle + 6 * SELFCOL_SLOT_BOX_PAD * sizeof(double), 0);
+            work, side ? SELFCOL_SCRATCH_FRAMES1 : SELFCOL_SCRATCH_FRAMES0, n * per_triangle, 0);
         if (s.frames[side] != NULL) {
             double *box = (double *)(void *)(s.frames[side] + n);
-            for (int k = 0; k < 6; ++k)
-                memset(box + (size_t)k * stride + n, 0, SELFCOL_SLOT_BOX_PAD * sizeof(double));
             for (int k = 0; k < 3; ++k) {
-                s.boxes[side].lo[k] = box + (size_t)k * stride;
-                s.boxes[side].hi[k] = box + (size_t)(3 + k) * stride;
+                s.boxes[side].lo[k] = box + (size_t)k * n;
+                s.boxes[side].hi[k] = box + (size_t)(3 + k) * n;
             }
         }
         s.stamps[side] = stamps_for(work, side ? SELFCOL_SCRATCH_STAMPS1 : SELFCOL_SCRATCH_STAMPS0,
