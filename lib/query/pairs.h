@@ -73,8 +73,9 @@ int selfcol_pairs__candidate(const selfcol_tri_frame *fa, const selfcol_tri_fram
                              uint32_t *flags);
 
 // 1 when this CPU runs the four-lane (AVX) paths (the _avx functions
-// below); 0 where they are not compiled (not x86-64 with GCC or Clang, or SELFCOL_SCALAR) or the
-// CPU or OS lacks AVX. The caller chooses once per query.
+// below); 0 where they are not compiled (not x86-64 with GCC or Clang, or
+// SELFCOL_SCALAR) or the CPU or OS lacks AVX. The caller chooses once per
+// query.
 int selfcol_pairs__has_avx(void);
 
 // The triangles' boxes by slot, axis by axis (lo[k][slot], hi[k][slot]: the
@@ -106,8 +107,9 @@ uint32_t selfcol_pairs__near_slots(const selfcol_tri_frame *a, const selfcol_slo
 uint32_t selfcol_pairs__near_slots_avx(const selfcol_tri_frame *a, const selfcol_slot_boxes *b,
                                        uint32_t begin, uint32_t end, double d, uint32_t *out);
 
-// The one-lane references of the two functions above, always compiled: the
-// SSE2 paths (x86-64's baseline) must equal them bit for bit
+// The one-lane references of selfcol_pairs__candidate and
+// selfcol_pairs__near_slots, always compiled: the SSE2 paths (x86-64's
+// baseline) and the AVX ones must equal them bit for bit
 // (test_pairs_internal); a build with SELFCOL_SCALAR defined uses them.
 int selfcol_pairs__candidate_scalar(const selfcol_tri_frame *fa, const selfcol_tri_frame *fb,
                                     double d, uint32_t *flags);
