@@ -786,9 +786,15 @@ static inline void corners_against_box(const selfcol_tri_frame *a, const selfcol
 // Which of a's owned vertices (VF) and edges (EF) are tested against b, and
 // how many owned ones the filters dropped (primitives_filtered). of_a: a's
 // corner flags against b's plane; shared: a's corners that are b's.
-static inline void one_way_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
-                                 uint32_t of_a, uint32_t shared, double d, uint32_t kinds,
-                                 uint32_t *vf, uint32_t *ef, uint64_t *filtered) {
+typedef void (*corner_box_fn)(const selfcol_tri_frame *, const selfcol_tri_frame *, double,
+                              uint32_t *, uint32_t *);
+
+// With either lane width's corners_against_box (inlined with a constant
+// `against_box`).
+static inline void one_way_masks_with(corner_box_fn against_box, const selfcol_tri_frame *a,
+                                      const selfcol_tri_frame *b, uint32_t of_a, uint32_t shared,
+                                      double d, uint32_t kinds, uint32_t *vf, uint32_t *ef,
+                                      uint64_t *filtered) {
     // First the filters of the plane flags (bits only), then the box tests
     // for what is left, if anything is.
     uint32_t vf_eligible = 0, vf_left = 0, ef_eligible = 0, ef_left = 0;
@@ -803,10 +809,16 @@ static inline void one_way_masks(const selfcol_tri_frame *a, const selfcol_tri_f
     }
     uint32_t outside_d = 7u, apart = 7u;
     if ((vf_left | ef_left) != 0)
-        corners_against_box(a, b, d, &outside_d, &apart);
+        against_box(a, b, d, &outside_d, &apart);
     *vf = vf_left & ~outside_d;
     *ef = ef_left & ~apart;
     *filtered += bit_count(vf_eligible & ~*vf) + bit_count(ef_eligible & ~*ef);
+}
+
+static inline void one_way_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                 uint32_t of_a, uint32_t shared, double d, uint32_t kinds,
+                                 uint32_t *vf, uint32_t *ef, uint64_t *filtered) {
+    one_way_masks_with(corners_against_box, a, b, of_a, shared, d, kinds, vf, ef, filtered);
 }
 
 // The boxes of a triangle's edge slots, axis by axis, two slots per vector:
@@ -831,9 +843,13 @@ static inline void edge_boxes(const selfcol_tri_frame *f, double d, __m128d lo_d
 // otherwise a pair is dropped when the edges share a vertex (self, not
 // counted), when b's edge is beyond d of a's plane, or when their boxes are
 // farther apart than d.
-static inline uint32_t edge_pair_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
-                                       uint32_t of_a, uint32_t of_b, uint32_t matches, double d,
-                                       uint64_t *filtered) {
+// The bit part of edge_pair_masks, either lane width: the edge pairs left
+// once a's far edges and the shared vertices are out (a's far edges
+// counted), and in *far_columns the pairs with an edge of b beyond d of a's
+// plane, dropped with the box test's.
+static inline uint32_t edge_pairs_eligible(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                           uint32_t of_a, uint32_t of_b, uint32_t matches,
+                                           uint32_t *far_columns, uint64_t *filtered) {
     const uint32_t owned_a = (a->owned >> 3) & 7u, owned_b = (b->owned >> 3) & 7u;
     const uint32_t fp_a = (of_a >> FAR_POS) & 7u, fn_a = (of_a >> FAR_NEG) & 7u;
     const uint32_t fp_b = (of_b >> FAR_POS) & 7u, fn_b = (of_b >> FAR_NEG) & 7u;
@@ -844,10 +860,19 @@ static inline uint32_t edge_pair_masks(const selfcol_tri_frame *a, const selfcol
     // Rows: a's live edges; columns: b's owned edges.
     const uint32_t rows =
         ((live_a & 1u) * 7u) | ((live_a & 2u) * (7u << 2)) | ((live_a & 4u) * (7u << 4));
-    const uint32_t columns = owned_b * 0x49u, far_columns = far_b * 0x49u;
+    const uint32_t columns = owned_b * 0x49u;
+    *far_columns = far_b * 0x49u;
     const uint32_t shared =
         matches | next_rows(matches) | next_columns(matches) | next_rows(next_columns(matches));
-    const uint32_t eligible = rows & columns & ~shared;
+    return rows & columns & ~shared;
+}
+
+static inline uint32_t edge_pair_masks(const selfcol_tri_frame *a, const selfcol_tri_frame *b,
+                                       uint32_t of_a, uint32_t of_b, uint32_t matches, double d,
+                                       uint64_t *filtered) {
+    uint32_t far_columns;
+    const uint32_t eligible =
+        edge_pairs_eligible(a, b, of_a, of_b, matches, &far_columns, filtered);
     if (eligible == 0)
         return 0;
     __m128d a_lo_d[3][2], a_hi[3][2], b_lo_d[3][2], b_hi[3][2];
@@ -1014,41 +1039,16 @@ SELFCOL_TARGET_AVX static inline void one_way_masks_avx(const selfcol_tri_frame 
                                                         uint32_t shared, double d, uint32_t kinds,
                                                         uint32_t *vf, uint32_t *ef,
                                                         uint64_t *filtered) {
-    uint32_t vf_eligible = 0, vf_left = 0, ef_eligible = 0, ef_left = 0;
-    if (kinds & SELFCOL_KIND_VF) {
-        vf_eligible = a->owned & 7u & ~shared;
-        vf_left = vf_eligible & ~(((of_a >> FAR_POS) | (of_a >> FAR_NEG)) & 7u);
-    }
-    if (kinds & SELFCOL_KIND_EF) {
-        ef_eligible = (a->owned >> 3) & 7u & ~(shared | next3(shared));
-        const uint32_t pos = (of_a >> SIDE_POS) & 7u, neg = (of_a >> SIDE_NEG) & 7u;
-        ef_left = ef_eligible & ~((pos & next3(pos)) | (neg & next3(neg)));
-    }
-    uint32_t outside_d = 7u, apart = 7u;
-    if ((vf_left | ef_left) != 0)
-        corners_against_box_avx(a, b, d, &outside_d, &apart);
-    *vf = vf_left & ~outside_d;
-    *ef = ef_left & ~apart;
-    *filtered += bit_count(vf_eligible & ~*vf) + bit_count(ef_eligible & ~*ef);
+    one_way_masks_with(corners_against_box_avx, a, b, of_a, shared, d, kinds, vf, ef, filtered);
 }
 
 // edge_pair_masks with a's three edge boxes in one vector per axis.
 SELFCOL_TARGET_AVX static inline uint32_t
 edge_pair_masks_avx(const selfcol_tri_frame *a, const selfcol_tri_frame *b, uint32_t of_a,
                     uint32_t of_b, uint32_t matches, double d, uint64_t *filtered) {
-    const uint32_t owned_a = (a->owned >> 3) & 7u, owned_b = (b->owned >> 3) & 7u;
-    const uint32_t fp_a = (of_a >> FAR_POS) & 7u, fn_a = (of_a >> FAR_NEG) & 7u;
-    const uint32_t fp_b = (of_b >> FAR_POS) & 7u, fn_b = (of_b >> FAR_NEG) & 7u;
-    const uint32_t far_a = (fp_a & next3(fp_a)) | (fn_a & next3(fn_a));
-    const uint32_t far_b = (fp_b & next3(fp_b)) | (fn_b & next3(fn_b));
-    const uint32_t live_a = owned_a & ~far_a;
-    *filtered += bit_count(owned_a & far_a) * bit_count(owned_b);
-    const uint32_t rows =
-        ((live_a & 1u) * 7u) | ((live_a & 2u) * (7u << 2)) | ((live_a & 4u) * (7u << 4));
-    const uint32_t columns = owned_b * 0x49u, far_columns = far_b * 0x49u;
-    const uint32_t shared =
-        matches | next_rows(matches) | next_columns(matches) | next_rows(next_columns(matches));
-    const uint32_t eligible = rows & columns & ~shared;
+    uint32_t far_columns;
+    const uint32_t eligible =
+        edge_pairs_eligible(a, b, of_a, of_b, matches, &far_columns, filtered);
     if (eligible == 0)
         return 0;
     const __m256d dd = _mm256_set1_pd(d);
