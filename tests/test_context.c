@@ -24,6 +24,7 @@
 
 #include "fixtures.h"
 #include "test_alloc.h"
+#include "world.h"
 
 typedef struct built {
     fixture shape;
@@ -57,16 +58,6 @@ static selfcol_query_options options(uint32_t method, double distance) {
     return o;
 }
 
-static selfcol_query_stats stats_of(const selfcol_contacts *c) {
-    selfcol_query_stats st;
-    memset(&st, 0, sizeof st);
-    st.version = SELFCOL_QUERY_STATS_VERSION;
-    assert_int_equal(selfcol_contacts_stats(c, &st), SELFCOL_OK);
-    st.broad_seconds = st.narrow_seconds = st.total_seconds = 0.0; // times vary
-    st.contour_seconds = st.sort_seconds = 0.0;
-    return st;
-}
-
 static void assert_same_records(const selfcol_contacts *x, const selfcol_contacts *y) {
     const selfcol_contact *a = NULL, *b = NULL;
     size_t n = 0, m = 0;
@@ -80,7 +71,7 @@ static void assert_same_records(const selfcol_contacts *x, const selfcol_contact
 // Same records, same counters.
 static void assert_same(const selfcol_contacts *x, const selfcol_contacts *y) {
     assert_same_records(x, y);
-    selfcol_query_stats sx = stats_of(x), sy = stats_of(y);
+    selfcol_query_stats sx = query_counters(x), sy = query_counters(y);
     assert_memory_equal(&sx, &sy, sizeof sx);
 }
 

@@ -60,17 +60,6 @@ static void query_ok(const world *a, const world *b, const selfcol_query_options
         fail_msg("method %u: %s", q->method, selfcol_status_string(status));
 }
 
-static selfcol_query_stats stats_of(const selfcol_contacts *c) {
-    selfcol_query_stats st;
-    memset(&st, 0, sizeof st);
-    st.version = SELFCOL_QUERY_STATS_VERSION;
-    assert_int_equal(selfcol_contacts_stats(c, &st), SELFCOL_OK);
-    // Times differ from run to run.
-    st.broad_seconds = st.narrow_seconds = st.total_seconds = 0.0;
-    st.contour_seconds = st.sort_seconds = 0.0;
-    return st;
-}
-
 static void test_options_init_checks_version_and_writes_only_its_version(void **state) {
     (void)state;
     selfcol_query_options q;
@@ -230,7 +219,7 @@ static void test_distance_at_the_coordinate_bound_makes_every_pair_a_contact(voi
         const uint32_t m = exact_methods[mi];
         selfcol_query_options q = options(m, SELFCOL_MESH_MAX_COORDINATE);
         query_ok(&w, NULL, &q);
-        selfcol_query_stats st = stats_of(w.contacts);
+        selfcol_query_stats st = query_counters(w.contacts);
         if (st.vf_contacts != vf || st.ee_contacts != ee || st.ef_contacts != 0)
             fail_msg("method %u at d = SELFCOL_MESH_MAX_COORDINATE: VF %llu (every pair: %llu), "
                      "EE %llu (%llu), EF %llu (0)",
@@ -279,7 +268,7 @@ static void test_null_options_are_the_defaults(void **state) {
         assert_true(nx > 0); // the sheets cross: EF at d = 0
         assert_int_equal(nx, ny);
         assert_memory_equal(x, y, nx * sizeof *x);
-        selfcol_query_stats sx = stats_of(a.contacts), sy = stats_of(defaults.contacts);
+        selfcol_query_stats sx = query_counters(a.contacts), sy = query_counters(defaults.contacts);
         assert_memory_equal(&sx, &sy, sizeof sx);
         // The default distance is 0: interferences only; the default method
         // is EXACT, which culls (self) by curvature.
@@ -403,7 +392,7 @@ static void check_masks(const world *a, const world *b, double d, const char *na
             if (j != n_got)
                 fail_msg("%s, method %u, kinds 0x%x: %zu records, %zu expected", name, m, mask,
                          n_got, j);
-            selfcol_query_stats st = stats_of(a->contacts);
+            selfcol_query_stats st = query_counters(a->contacts);
             if (!(mask & SELFCOL_KIND_VF))
                 assert_int_equal(st.vf_tests + st.vf_contacts, 0);
             if (!(mask & SELFCOL_KIND_EE))

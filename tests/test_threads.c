@@ -29,6 +29,7 @@
 
 #include "contact_keys.h"
 #include "fixtures.h"
+#include "world.h"
 
 typedef struct built {
     selfcol_mesh *mesh;
@@ -47,17 +48,6 @@ static built build(const fixture *s) {
 static void release(built *b) {
     selfcol_hierarchy_destroy(b->hierarchy);
     selfcol_mesh_destroy(b->mesh);
-}
-
-static selfcol_query_stats stats_of(const selfcol_contacts *c) {
-    selfcol_query_stats st;
-    memset(&st, 0, sizeof st);
-    st.version = SELFCOL_QUERY_STATS_VERSION;
-    assert_int_equal(selfcol_contacts_stats(c, &st), SELFCOL_OK);
-    // Times differ from run to run; everything else must not.
-    st.broad_seconds = st.narrow_seconds = st.total_seconds = 0.0;
-    st.contour_seconds = st.sort_seconds = 0.0;
-    return st;
 }
 
 // A context of `threads` threads whose memory comes from `al` (NULL: malloc);
@@ -122,7 +112,7 @@ static void check_scene(const built *a, const built *b, const char *name) {
                          SELFCOL_OK);
         for (int mi = 0; mi < 4; ++mi) {
             assert_int_equal(query(a, b, one, methods[mi], distances[di], 1), SELFCOL_OK);
-            selfcol_query_stats st1 = stats_of(one);
+            selfcol_query_stats st1 = query_counters(one);
             const selfcol_contact *x1;
             size_t n1;
             selfcol_contacts_data(one, &x1, &n1);
@@ -139,7 +129,7 @@ static void check_scene(const built *a, const built *b, const char *name) {
                         fail_msg("%s: method %u, d %g, %u threads: %zu records, one thread %zu "
                                  "(or different content)",
                                  name, methods[mi], distances[di], threads[ti], nn, n1);
-                    selfcol_query_stats stn = stats_of(many);
+                    selfcol_query_stats stn = query_counters(many);
                     if (memcmp(&st1, &stn, sizeof st1) != 0)
                         fail_msg("%s: method %u, d %g, %u threads: statistics differ", name,
                                  methods[mi], distances[di], threads[ti]);

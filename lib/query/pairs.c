@@ -33,7 +33,8 @@
 // below d (1 + 2^-20): the contact sets stay exactly those of the exhaustive
 // search, which the tests check on every scene. Filters 1-3 are evaluated
 // for a whole leaf row or triangle pair at once, as bit masks from two-lane
-// SSE2 comparisons, so that their outcomes cost no mispredicted branches;
+// SSE2 comparisons (four-lane AVX ones where the CPU has AVX, chosen per
+// query), so that their outcomes cost no mispredicted branches;
 // the one-lane code beside them is the reference the tests hold them to.
 #include "query/pairs.h"
 

@@ -39,8 +39,8 @@ int selfcol_pairs__lines_apart(const double *p0, const double *p1, const double 
 // of a pair touches fewer of the other frame's cache lines.
 typedef struct selfcol_tri_frame {
     // The corners axis by axis: xyz[k] = corners 0, 1, 2, 0, 1, so that
-    // two-lane loads at c and c + 1 hold the ends of edge slots c and c + 1
-    // (the two-lane filters of pairs.c).
+    // two- and four-lane loads at c and c + 1 hold the ends of edge slots c,
+    // c + 1 (.. c + 3) (the lane filters of pairs.c).
     double xyz[3][5];
     double normal[3];
     double length;

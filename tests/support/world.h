@@ -20,4 +20,8 @@ typedef struct world {
 void world_make(world *w, const fixture *s);
 void world_free(world *w);
 
+// A contact set's query statistics with the times (which differ from run
+// to run) zeroed: what two runs of one query must share, field for field.
+selfcol_query_stats query_counters(const selfcol_contacts *c);
+
 #endif // SELFCOL_TEST_WORLD_H
