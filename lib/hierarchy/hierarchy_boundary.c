@@ -9,13 +9,12 @@
 // only to disks). Two passes over the edges, climbing the tree from their
 // triangles' leaves (the first counts each node's boundary and joins the
 // triangles' corners across the edge, the second writes the lists), one over
-// the vertex stars (vertex counts) and one over the corners (fans: the sets
-// the joins left at each vertex).
+// the slots (vertex counts) and one over the corners (fans: the sets the
+// joins left at each vertex).
 #include "base/alloc.h"
 #include "base/union_find.h"
 #include "hierarchy/hierarchy_build.h"
 
-#include <stdlib.h>
 #include <string.h>
 
 // The corner of triangle t at vertex v (t has v), as 3 t + slot.
@@ -73,27 +72,6 @@ static uint32_t common_ancestor(const uint32_t *parent, const uint32_t *depth, u
         b = parent[b];
     }
     return a;
-}
-
-static int slot_compare(const void *a, const void *b) {
-    const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : (x > y ? 1 : 0);
-}
-
-// Sorts a vertex star's slots: insertion sort for the usual few, qsort for
-// a wide fan.
-static void sort_slots(uint32_t *slots, uint32_t k) {
-    if (k > 32) {
-        qsort(slots, k, sizeof *slots, slot_compare);
-        return;
-    }
-    for (uint32_t i = 1; i < k; ++i) {
-        const uint32_t key = slots[i];
-        uint32_t j = i;
-        for (; j > 0 && slots[j - 1] > key; --j)
-            slots[j] = slots[j - 1];
-        slots[j] = key;
-    }
 }
 
 // One node on an edge's climb: counted (offset[n + 1]++) without bedge,
@@ -157,13 +135,8 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     const selfcol_allocator *al = &h->allocator;
     const size_t N = h->node_count;
     int status = SELFCOL_ENOMEM;
-    size_t max_degree = 1;
-    for (size_t v = 0; v < m->vertex_count; ++v) {
-        const size_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
-        max_degree = k > max_degree ? k : max_degree;
-    }
-    uint32_t *slot_of = selfcol_alloc__array(al, m->triangle_count + 1, sizeof(uint32_t));
-    uint32_t *star_slots = selfcol_alloc__array(al, max_degree, sizeof(uint32_t));
+    // Each vertex's last leaf in the vertex-count sweep (below).
+    uint32_t *last_leaf = selfcol_alloc__array(al, m->vertex_count + 1, sizeof(uint32_t));
     uint32_t *vcount = selfcol_alloc__array(al, N, sizeof(uint32_t));
     uint8_t *nondisk = selfcol_alloc__array(al, N, sizeof(uint8_t));
     const size_t corners = 3 * m->triangle_count;
@@ -173,8 +146,8 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     // Each edge's half-edges (its first triangle's, then its second's, if
     // any), found by the counting pass for the writing one.
     uint32_t *edge_half = selfcol_alloc__array(al, 2 * m->edge_count + 1, sizeof(uint32_t));
-    if (slot_of == NULL || star_slots == NULL || vcount == NULL || nondisk == NULL || uf == NULL ||
-        fans == NULL || offset == NULL || edge_half == NULL)
+    if (last_leaf == NULL || vcount == NULL || nondisk == NULL || uf == NULL || fans == NULL ||
+        offset == NULL || edge_half == NULL)
         goto done;
     memset(nondisk, 0, N);
     memset(vcount, 0, N * sizeof(uint32_t));
@@ -225,25 +198,23 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
     // pairs, but not those of pairs leaving the run (proper ancestors of the
     // node): its subtree sums to 1, and that of a node holding none to 0.
     // One reverse sweep sums the subtrees (children come after their
-    // parents). A vertex costs its few leaves and the short climbs between
-    // neighbouring ones, not a climb to the root.
-    for (uint32_t slot = 0; slot < m->triangle_count; ++slot)
-        slot_of[h->tri_order[slot]] = slot;
-    for (uint32_t v = 0; v < m->vertex_count; ++v) {
-        const uint32_t *star = m->vertex_tris + m->vertex_tri_offsets[v];
-        const uint32_t k = m->vertex_tri_offsets[v + 1] - m->vertex_tri_offsets[v];
-        for (uint32_t j = 0; j < k; ++j)
-            star_slots[j] = slot_of[star[j]];
-        sort_slots(star_slots, k);
-        uint32_t previous = SELFCOL_INVALID_INDEX;
-        for (uint32_t j = 0; j < k; ++j) {
-            const uint32_t leaf = leaf_of_tri[h->tri_order[star_slots[j]]];
-            if (leaf == previous)
-                continue;
+    // parents). One sweep over the slots in order meets every vertex's
+    // leaves in that order: last_leaf[v] is the one before, so a vertex
+    // costs its corners and the short climbs between neighbouring leaves,
+    // with no sort of its star and no climb to the root.
+    for (size_t v = 0; v < m->vertex_count; ++v)
+        last_leaf[v] = SELFCOL_INVALID_INDEX;
+    for (uint32_t slot = 0; slot < m->triangle_count; ++slot) {
+        const uint32_t t = h->tri_order[slot], leaf = leaf_of_tri[t];
+        const uint32_t *tri = m->triangles + 3 * (size_t)t;
+        for (int i = 0; i < 3; ++i) {
+            const uint32_t v = tri[i], previous = last_leaf[v];
+            if (previous == leaf)
+                continue; // a repeated corner, or v seen already in this leaf
             vcount[leaf]++;
             if (previous != SELFCOL_INVALID_INDEX)
                 vcount[common_ancestor(parent, depth, previous, leaf)]--;
-            previous = leaf;
+            last_leaf[v] = leaf;
         }
     }
     for (size_t id = N; id-- > 1;)
@@ -299,8 +270,7 @@ int selfcol_hierarchy__build_boundaries(selfcol_hierarchy *h, const uint32_t *pa
 done:
     selfcol_alloc__free_array(al, offset, N + 1, sizeof(uint32_t));
     selfcol_alloc__free_array(al, edge_half, 2 * m->edge_count + 1, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, slot_of, m->triangle_count + 1, sizeof(uint32_t));
-    selfcol_alloc__free_array(al, star_slots, max_degree, sizeof(uint32_t));
+    selfcol_alloc__free_array(al, last_leaf, m->vertex_count + 1, sizeof(uint32_t));
     selfcol_alloc__free_array(al, vcount, N, sizeof(uint32_t));
     selfcol_alloc__free_array(al, nondisk, N, sizeof(uint8_t));
     selfcol_alloc__free_array(al, uf, corners, sizeof(uint32_t));
