@@ -98,7 +98,7 @@
 // second stack array (a split pushes two boxes for the one taken, one level
 // deeper in one parameter: at most 3 MAX_LEVEL + 1 pending), its earlier
 // half first (for u or v: the half whose earlier face looks closer to a
-// contact, by face_gap()), pruned at best; then the next heap box. At the end
+// contact, by face_gaps()), pruned at best; then the next heap box. At the end
 // the answer is 1 with toi = best, or 0 when nothing was accepted.
 // toi <= every time within delta: such a time t_r < best would lie in a chain
 // of boxes, each containing it, never discarded, and with t_lo <= t_r < best
@@ -154,6 +154,9 @@ typedef struct sweep_box {
     int level[3];
     uint64_t key;
 } sweep_box;
+
+// The stack budget of narrow_sweep.h counts boxes of at most 48 bytes.
+typedef char sweep_box_fits_the_stack_budget[sizeof(sweep_box) <= 48 ? 1 : -1];
 
 typedef struct sweep_query {
     int kind;
