@@ -803,8 +803,43 @@ int continuous_pass(selfcol_bullet *a, uint64_t *hits, uint64_t *exempt, bool re
 // (benchmarks.md). A pair whose free nodes are all pinned ends exactly
 // where it started (the start positions are Bullet's floats), and the pairs
 // that pinning makes between pinned nodes and moving ones are the next
-// pass's.
+// pass's. When pinning pins nothing new, follow_driven() may release nodes
+// that a driven element sweeps into.
 const int rigid_zone_passes = 8;
+
+// When pinning pins nothing new: the free nodes of the last pass's pairs
+// that hold a driven node (kinematic, or following) and first touch after
+// the step's start follow their zone again (ZONE_NODE_FOLLOWS: a zone with
+// kinematic nodes moves with them), so that a driven element sweeping into
+// a pinned node pushes it along instead of passing through it, and the
+// passes go on. Pairs that touch at the start keep their nodes pinned (the
+// rounding above). On the fast-compression ribbon a perturbed trajectory
+// (the continuous search's coplanarity test, 2026-11-29) ended the passes
+// of step 366 with 3 such pairs left, the driven end against pinned nodes,
+// and 16 to 30 EF stayed to the end; with this, 1 pair was left there, 8 EF
+// came in and were undone by step 368 (benchmarks.md).
+static bool follow_driven(selfcol_bullet *a) {
+    bool started = false;
+    for (size_t p = 0; p < a->pass_toi.size(); ++p) {
+        const uint32_t *nodes = a->pass_hits.data() + 5 * p;
+        if (!(a->pass_toi[p] > 0))
+            continue;
+        bool driven = false;
+        for (int k = 0; k < 5; ++k)
+            driven = driven || !(a->zone_inverse_mass[nodes[k]] > 0) ||
+                     a->pinned[nodes[k]] == ZONE_NODE_FOLLOWS;
+        if (!driven)
+            continue;
+        for (int k = 0; k < 5; ++k) {
+            const uint32_t v = nodes[k];
+            if (!(a->zone_inverse_mass[v] > 0) || a->pinned[v] == ZONE_NODE_FOLLOWS)
+                continue;
+            a->pinned[v] = ZONE_NODE_FOLLOWS;
+            started = true;
+        }
+    }
+    return started;
+}
 
 int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
     selfcol_bullet_step_stats &st = a->stats;
@@ -879,7 +914,8 @@ int impact_zones(selfcol_bullet *a, double dt, uint64_t *remaining) {
         // (benchmarks.md, the fast-compression ribbon): no pass clears them.
         if (hits == 0 || (freeze && !merged &&
                           !zones_pin(a->pinned.data(), a->pass_hits.data(), a->pass_hits.size(),
-                                     a->zone_inverse_mass.data())))
+                                     a->zone_inverse_mass.data()) &&
+                          !follow_driven(a)))
             break;
     }
     return SELFCOL_OK;

@@ -151,9 +151,9 @@ bool zones_pin(uint8_t *pinned, const uint32_t *nodes, size_t n, const double *i
     bool pinned_new = false;
     for (size_t i = 0; i < n; ++i) {
         const uint32_t node = nodes[i];
-        if (pinned[node] || !(inverse_mass[node] > 0))
+        if (pinned[node] != ZONE_NODE_FREE || !(inverse_mass[node] > 0))
             continue; // pinned already, or kinematic: never held
-        pinned[node] = 1;
+        pinned[node] = ZONE_NODE_PINNED;
         pinned_new = true;
     }
     return pinned_new;
@@ -161,7 +161,7 @@ bool zones_pin(uint8_t *pinned, const uint32_t *nodes, size_t n, const double *i
 
 void zones_hold_pinned(const uint8_t *pinned, size_t count, const double *start, double *end) {
     for (size_t i = 0; i < count; ++i)
-        if (pinned[i])
+        if (pinned[i] == ZONE_NODE_PINNED)
             for (int k = 0; k < 3; ++k)
                 end[3 * i + size_t(k)] = start[3 * i + size_t(k)];
 }

@@ -66,6 +66,10 @@ void zones_unite(uint32_t *parent, uint32_t x, uint32_t y);
 // scratch. Returns the nodes moved.
 size_t zones_move(uint32_t *parent, size_t count, const double *start, double *end,
                   const double *inverse_mass, zone_sums *sums, bool freeze);
+// A node's state in the last resort below: free (moves with its zone),
+// pinned where the step started, or following its zone again after a pin
+// (the caller's: a driven element swept into it; never pinned again).
+enum zone_pin_state : uint8_t { ZONE_NODE_FREE = 0, ZONE_NODE_PINNED = 1, ZONE_NODE_FOLLOWS = 2 };
 // The last resort once zones are still (the caller's): pins the free nodes
 // (inverse_mass > 0) among nodes[0 .. n - 1] (a pass's pairs, 5 nodes each)
 // where the step started for the rest of the step (pinned: one byte per
@@ -74,7 +78,7 @@ size_t zones_move(uint32_t *parent, size_t count, const double *start, double *e
 // at the step's start is carried by the zone's rigid motion, which keeps
 // its side in exact arithmetic but not once rounded to the caller's floats.
 bool zones_pin(uint8_t *pinned, const uint32_t *nodes, size_t n, const double *inverse_mass);
-// end = start, exactly, for every pinned node (after zones_move).
+// end = start, exactly, for every ZONE_NODE_PINNED node (after zones_move).
 void zones_hold_pinned(const uint8_t *pinned, size_t count, const double *start, double *end);
 
 } // namespace selfcol_bullet_detail
