@@ -2,7 +2,8 @@
 // SPDX-License-Identifier: MIT
 
 // The continuous narrow phase (narrow_sweep.c): hand-made motions with known
-// answers, random motions against a sampled closed-form distance, and the
+// answers, random motions built to touch at a known time in exact
+// arithmetic, random motions against a sampled closed-form distance, and the
 // sample queries of the CCD benchmark of Wang et al. 2021 (their ground truth,
 // computed with exact rational arithmetic) when ../shared/data holds them:
 // zero false negatives is asserted for every family, the false positives and
@@ -234,6 +235,68 @@ static double uniform(double lo, double hi) {
 static void lerp(double out[3], const double x0[3], const double x1[3], double t) {
     for (int i = 0; i < 3; ++i)
         out[i] = x0[i] + t * (x1[i] - x0[i]);
+}
+
+// ----------------------------------------------- exact contacts by design
+
+// An integer in [-n, n], times 4 (so that halves and quarters stay exact).
+static double random_multiple_of_4(int n) {
+    return 4.0 * floor(uniform(-(double)n, (double)n + 1.0));
+}
+
+// Random motions that touch exactly at t* = 11/32, built in integers so
+// that every coordinate, every position at t* and the contact point are
+// exact doubles (t* inside the early boxes, not on their ends): VF with the vertex at barycentric
+// (1/2, 1/4, 1/4) of the triangle, EE with both edges' midpoints at one point. Each point moves by
+// a random multiple of 32 through its position at t*, often much larger
+// than the triangle (so that the four points are coplanar at other times
+// too, with the primitives apart, where the search drops boxes by the
+// coplanarity test), then the whole pair is scaled by a power of two and
+// offset by a large integer (exact). Every pair must be reported, with toi
+// <= t*: the search drops boxes whose times keep the points away from
+// coplanar (narrow_sweep.c, "Coplanar moments box by box"), which must
+// never drop the contact's.
+static void test_exact_contacts_are_found(void **state) {
+    (void)state;
+    rng_state = 0x2545F4914F6CDD1Du;
+    const double scales[3] = {1.0, 0x1p-20, 0x1p12};
+    const double offsets[3] = {0.0, 1048576.0, -3.0 * 65536.0};
+    long reported = 0, total = 0;
+    for (int rep = 0; rep < 1500; ++rep) {
+        const int edge_edge = rep % 2;
+        const double scale = scales[rep % 3], offset = offsets[(rep / 3) % 3];
+        const double contact = 11.0 / 32.0;
+        double mid[4][3]; // positions at t = contact
+        for (int k = 0; k < 3; ++k)
+            for (int i = 0; i < 3; ++i)
+                mid[k + 1][i] = random_multiple_of_4(64);
+        for (int i = 0; i < 3; ++i)
+            mid[0][i] = edge_edge ? mid[1][i] + mid[2][i] - mid[3][i] // d: midpoints meet
+                                  : 0.5 * mid[1][i] + 0.25 * mid[2][i] + 0.25 * mid[3][i];
+        double start[4][3], end[4][3];
+        const int reach = rep % 4 == 0 ? 1024 : 64; // some much faster than the pair's size
+        for (int k = 0; k < 4; ++k)
+            for (int i = 0; i < 3; ++i) {
+                const double move = 8.0 * random_multiple_of_4(reach); // 32 n
+                start[k][i] = (mid[k][i] - contact * move) * scale + offset;
+                end[k][i] = (mid[k][i] + (1.0 - contact) * move) * scale + offset;
+            }
+        double toi = -1.0;
+        int answer;
+        if (edge_edge) // a, b, c, d: mid[1], mid[2] against mid[3], mid[0]
+            answer = selfcol_narrow_sweep__ee(start[1], start[2], start[3], start[0], end[1],
+                                              end[2], end[3], end[0], 0.0, &toi);
+        else // p = mid[0] against the triangle mid[1..3]
+            answer = selfcol_narrow_sweep__vf(start[0], start[1], start[2], start[3], end[0],
+                                              end[1], end[2], end[3], 0.0, &toi);
+        ++total;
+        if (!answer || !(toi <= contact))
+            fail_msg("%s pair %d (scale %g, offset %g): answer %d, toi %.17g; its contact is at "
+                     "t = 11/32",
+                     edge_edge ? "EE" : "VF", rep, scale, offset, answer, toi);
+        reported += answer;
+    }
+    print_message("exact contacts: %ld of %ld reported, toi <= 11/32\n", reported, total);
 }
 
 // Random pairs moving within [-1, 1]^3, some sharing a scale s far from 1
@@ -732,6 +795,7 @@ int main(void) {
         cmocka_unit_test(test_edges_crossing),
         cmocka_unit_test(test_delta_catches_near_miss),
         cmocka_unit_test(test_degenerate_motions),
+        cmocka_unit_test(test_exact_contacts_are_found),
         cmocka_unit_test(test_random_motions_against_sampled_distance),
         cmocka_unit_test(test_may_touch_hand_made),
         cmocka_unit_test(test_may_touch_against_search),
