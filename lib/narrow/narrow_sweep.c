@@ -153,7 +153,7 @@ static inline double power_of_half(int k) {
 typedef struct sweep_box {
     double lo[3];
     int level[3];
-    int t_checked; // its times may hold a coplanar moment (times_never_coplanar: no)
+    int t_checked; // 1: its times passed times_never_coplanar() (u, v splits keep them)
     uint64_t key;
 } sweep_box;
 
