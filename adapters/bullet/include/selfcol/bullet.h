@@ -190,8 +190,11 @@ typedef struct selfcol_bullet_options {
      * zones, up to SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES times (after 8,
      * zones without kinematic nodes stay where the step started, and a
      * pass that merges no zone pins the free nodes of its pairs where the
-     * step started; the passes end at the first that merges no zone and
-     * pins no new node, which every later one would repeat): a step
+     * step started; when it pins no new node, the free nodes of its pairs
+     * that a kinematic or following node first touches after the step's
+     * start follow their zone again; the passes end at the first that
+     * merges no zone, pins no new node and sets none following, which
+     * every later one would repeat): a step
      * that starts with no crossing ends with none unless pairs are left
      * after the last pass (stats: continuous_remaining: zones that did not
      * settle within the passes, or kinematic nodes that do not move as one
@@ -248,8 +251,9 @@ typedef struct selfcol_bullet_options {
 #define SELFCOL_BULLET_CONTINUOUS_PASSES 4
 /** Continuous option: impact-zone passes per step at most (the last one's hits are counted);
  *  after the first 8, zones without kinematic nodes stay where the step started, a pass that
- *  merges no zone pins its pairs' free nodes where the step started, and one that merges no
- *  zone and pins no new node is the last. */
+ *  merges no zone pins its pairs' free nodes where the step started (or, pinning none, lets
+ *  those that a driven node sweeps into follow their zone), and one that merges no zone and
+ *  changes no node's state is the last. */
 #define SELFCOL_BULLET_CONTINUOUS_ZONE_PASSES 32
 
 /** Counters of the last step. The caller sets version. */
