@@ -166,9 +166,10 @@ typedef struct sweep_query {
     double d[4][3];        // x1 - x0 (step 1 of the derivation)
     double threshold[3];   // E_i
     double accept[3];      // E_i + tau_i
-    double coplanar_slack; // > 0: boxes' times checked for coplanarity (delta 0)
-    double coplanar_band;
-    double length_error;
+    double coplanar_slack; // > 0: boxes' times checked for coplanarity (delta 0);
+                           // the piece ends' rounding, 2^-40 M^3
+    double coplanar_band;  // 3.5 max_i accept_i: times_never_coplanar's band per |X| |Y|
+    double length_error;   // 2^-45 M: the piece ends' rounding in |X| and |Y|
 } sweep_query;
 
 // Heap order: the least t_lo first; at equal t_lo the deeper box (levels
@@ -503,10 +504,6 @@ static int prepare(sweep_query *q, int kind, const double *const start[4],
 
 // (X x Y) . Z = det[X; Y; Z] = det of the matrix with columns X, Y, Z, with
 // its permanent: selfcol_predicates__det3 on the rows (X_i, Y_i, Z_i).
-static double dot_self(const double x[3]) {
-    return x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-}
-
 static double triple(const double x[3], const double y[3], const double z[3], double *permanent) {
     const double u[3] = {x[0], y[0], z[0]}, v[3] = {x[1], y[1], z[1]}, w[3] = {x[2], y[2], z[2]};
     return selfcol_predicates__det3(u, v, w, permanent);
@@ -532,7 +529,7 @@ static int cubic_one_sign(int kind, const double *const start[4], const double *
     if (band > 0.0) {
         double xx = 0.0, yy = 0.0;
         for (int e = 0; e < 2; ++e) {
-            const double lx = dot_self(x[e]), ly = dot_self(y[e]);
+            const double lx = vec3_dot(x[e], x[e]), ly = vec3_dot(y[e], y[e]);
             xx = lx > xx ? lx : xx;
             yy = ly > yy ? ly : yy;
         }
