@@ -10,6 +10,7 @@
 
 #include <selfcol/store.h>
 
+#include "base/parallel.h"
 #include "mesh/mesh.h"
 #include "narrow/narrow.h"
 
